@@ -1,0 +1,39 @@
+# gearsim set-up: `make run` and `make test` do everything on a fresh machine.
+PY ?= python3
+VENV := .venv
+BIN := $(VENV)/bin
+STAMP := $(VENV)/.installed
+OUT ?= out
+
+.PHONY: run test lint bench sysdeps clean
+
+# System libraries that the gmsh wheel links (libGLU, libX11, libXcursor, libXft,
+# libXinerama, fontconfig). Installed with apt only when the import of gmsh fails.
+sysdeps: $(STAMP)
+	@if ! $(BIN)/python -c "import gmsh" >/dev/null 2>&1; then \
+	  echo "gmsh cannot load its system libraries: installing them with apt-get"; \
+	  SUDO=""; [ "$$(id -u)" = "0" ] || SUDO="sudo"; \
+	  $$SUDO apt-get update -qq && $$SUDO apt-get install -y -qq libglu1-mesa libx11-6 \
+	    libxcursor1 libxft2 libxinerama1 fontconfig libxrender1 libxext6 libgl1 >/dev/null; \
+	fi
+
+$(STAMP): pyproject.toml constraints.txt
+	$(PY) -m venv $(VENV)
+	$(BIN)/python -m pip install -q --upgrade pip
+	$(BIN)/python -m pip install -q -c constraints.txt -e ".[test]"
+	touch $(STAMP)
+
+run: sysdeps
+	$(BIN)/gearsim run-default --out $(OUT)
+
+test: sysdeps
+	$(BIN)/python -m pytest -q tests
+
+lint: $(STAMP)
+	$(BIN)/ruff check src tests benchmarks
+
+bench: sysdeps
+	$(BIN)/python benchmarks/run_all.py
+
+clean:
+	rm -rf $(VENV) $(OUT) .pytest_cache

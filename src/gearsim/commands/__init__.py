@@ -1,0 +1,1 @@
+"""CLI verb groups; each module defines ``register(app)``."""

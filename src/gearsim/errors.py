@@ -1,0 +1,43 @@
+"""Error types of gearsim.
+
+Every refusal of bad input raises :class:`InputError`, whose message is one line that
+names the parameter, the value given and the limit it broke. The command-line interface
+prints that line and exits with status 2 instead of showing a traceback.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = ["InputError", "SimulationError", "require"]
+
+
+class InputError(ValueError):
+    """Bad input: a parameter value outside its valid range or of the wrong kind.
+
+    Parameters
+    ----------
+    parameter
+        Dotted name of the parameter as the user wrote it, e.g. ``gears[0].teeth``.
+    value
+        The offending value (printed with ``repr`` unless it is a string).
+    limit
+        What the value must satisfy, e.g. ``"must be >= 7"``.
+    """
+
+    def __init__(self, parameter: str, value: Any, limit: str) -> None:
+        self.parameter = parameter
+        self.value = value
+        self.limit = limit
+        shown = value if isinstance(value, str) else repr(value)
+        super().__init__(f"{parameter} = {shown}: {limit}")
+
+
+class SimulationError(RuntimeError):
+    """A computation that started with valid input but could not finish (e.g. diverged)."""
+
+
+def require(ok: bool, parameter: str, value: Any, limit: str) -> None:
+    """Raise :class:`InputError` unless ``ok``."""
+    if not ok:
+        raise InputError(parameter, value, limit)

@@ -1,0 +1,182 @@
+"""The generated transverse tooth outline: involute flank and trochoidal root fillet.
+
+Generation by a basic rack (Litvin & Fuentes 2004, ch. 10): the rack's tip round, a
+circle of radius ``rho = rho_f* m_n`` in the normal section, appears in the transverse
+plane of a helical gear as an ellipse (semi-axes ``rho / cos(beta)`` across and ``rho``
+in depth). A point of the round generates the gear where its normal passes through the
+pitch point (the instantaneous centre of the rolling motion); the locus of such points
+in the gear frame is the fillet. The rack's straight flank generates the involute.
+
+Coordinates: tooth frame with the origin at the gear centre, ``y`` along the tooth
+centre line, ``x`` across it (the outline is symmetric; the ``+x`` half is computed).
+
+References
+----------
+.. [Litvin] F. L. Litvin, A. Fuentes, Gear Geometry and Applied Theory, 2nd ed., 2004.
+.. [ISO6336-3] ISO 6336-3:2019, critical section at the 30 degree tangent of the fillet.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from gearsim.errors import InputError
+from gearsim.geometry import _kernels as K
+from gearsim.geometry.gear import Gear
+
+__all__ = ["ToothProfile"]
+
+
+@dataclass(frozen=True)
+class ToothProfile:
+    """Outline of one tooth of ``gear`` (see module docstring for the frame)."""
+
+    gear: Gear
+
+    @cached_property
+    def packed(self) -> np.ndarray:
+        """Profile parameters packed for the compiled kernels (layout ``K.P_*``)."""
+        g = self.gear
+        m = g.normal_module
+        an = g.normal_pressure_angle
+        rho = g.fillet_radius_coefficient * m
+        hfp = g.dedendum_coefficient * m
+        p = K.empty_profile()
+        p[K.P_R] = g.pitch_radius
+        p[K.P_RB] = g.base_radius
+        p[K.P_PSIB] = g.base_half_thickness_angle
+        # rack space centre at u = 0; the straight flank of the rack tooth in the normal
+        # section is u = p_n/4 + (x m - v) tan(a_n); the tip round of radius rho is tangent
+        # to it and to the tip line v = x m - h_fP.
+        p[K.P_UC] = (math.pi * m / 4.0 + (hfp - rho) * math.tan(an) + rho / math.cos(an)
+)
+        p[K.P_VC] = g.profile_shift * m - hfp + rho
+        p[K.P_RHO] = rho
+        p[K.P_CB] = math.cos(g.helix_angle)
+        p[K.P_AN] = an
+        p[K.P_RA] = g.tip_radius
+        p[K.P_RROOT] = g.root_radius
+        if rho == 0.0:  # sharp rack tip: the fillet degenerates to a point
+            p[K.P_RHO] = 1e-9 * m
+        xf, yf = K.fillet_point(an, p)
+        p[K.P_RF] = math.hypot(xf, yf)
+        xr, yr = K.fillet_point(0.5 * math.pi, p)
+        p[K.P_YROOT] = yr
+        p[K.P_THF] = math.atan2(xr, yr)
+        return p
+
+    @property
+    def form_radius(self) -> float:
+        """Radius where the fillet joins the involute (start of the active flank) [m]."""
+        return float(self.packed[K.P_RF])
+
+    @property
+    def root_half_angle(self) -> float:
+        """Half angle theta_f subtended by the tooth at the root circle [rad]."""
+        return float(self.packed[K.P_THF])
+
+    @property
+    def root_height(self) -> float:
+        """Height on the centre line of the fillet's end at the root circle [m]."""
+        return float(self.packed[K.P_YROOT])
+
+    def fillet_point(self, g: float) -> tuple[float, float]:
+        """Fillet point for the rack-round angle ``g`` in [alpha_n, pi/2] [m]."""
+        return K.fillet_point(g, self.packed)
+
+    def involute_point(self, radius: float) -> tuple[float, float]:
+        """Involute point at ``radius`` in [r_b, r_a] [m]."""
+        return K.involute_point(radius, self.packed)
+
+    def outline(self, n_fillet: int = 60, n_involute: int = 80) -> np.ndarray:
+        """Half outline from the root circle to the tip, shape (n, 2) as (x, y) [m]."""
+        out = np.empty((n_fillet + n_involute, 2))
+        return K.sample_outline(self.packed, n_fillet, n_involute, out)
+
+    def full_outline(self, n_fillet: int = 60, n_involute: int = 80) -> np.ndarray:
+        """Closed outline of one tooth (both flanks), counter-clockwise, shape (n, 2) [m]."""
+        half = self.outline(n_fillet, n_involute)
+        right = half  # +x flank, root to tip
+        left = half[::-1].copy()
+        left[:, 0] *= -1.0
+        return np.vstack([right, left])
+
+    def half_width_at_height(self, y: float) -> float:
+        """Half width of the tooth section at height ``y`` on the centre line [m]."""
+        p = self.packed
+        xr, yr = K.fillet_point(0.5 * math.pi, p)
+        xf, yf = K.fillet_point(p[K.P_AN], p)
+        xa, ya = K.involute_point(p[K.P_RA], p)
+        if not (yr <= y <= ya):
+            raise InputError("height", y, f"must be within the tooth, [{yr:.6g}, {ya:.6g}] m")
+        if y <= yf:
+            g = K.param_at_height(0, y, 0.5 * math.pi, p[K.P_AN], p)
+            return K.fillet_point(g, p)[0]
+        r = K.param_at_height(1, y, p[K.P_RF], p[K.P_RA], p)
+        return K.involute_point(r, p)[0]
+
+    def thickness_at_radius(self, radius: float) -> float:
+        """Transverse chordal tooth thickness at ``radius`` (fillet or involute) [m]."""
+        p = self.packed
+        rr = self.gear.root_radius
+        if not (rr <= radius <= self.gear.tip_radius * (1 + 1e-12)):
+            raise InputError("radius", radius,
+                             f"must be within [root {rr:.6g}, tip {self.gear.tip_radius:.6g}] m")
+        if radius >= self.form_radius:
+            x, y = K.involute_point(radius, p)
+        else:  # the fillet radius grows monotonically from root to form circle
+            lo, hi = p[K.P_AN], 0.5 * math.pi
+            for _ in range(200):
+                mid = 0.5 * (lo + hi)
+                x, y = K.fillet_point(mid, p)
+                if math.hypot(x, y) > radius:
+                    lo = mid
+                else:
+                    hi = mid
+            x, y = K.fillet_point(0.5 * (lo + hi), p)
+        return 2.0 * x * radius / math.hypot(x, y)
+
+    def tangent_point(self, angle_to_centre_line: float = math.radians(30.0)) -> tuple[float, float]:
+        """Fillet point whose tangent makes ``angle`` with the tooth centre line.
+
+        The default 30 degrees gives the critical section of ISO 6336-3 (method B); it is
+        the default start point of a tooth-root crack. Returns the rack-round angle ``g``
+        and the radius of the point.
+        """
+        p = self.packed
+        target = math.tan(angle_to_centre_line)
+        lo, hi = p[K.P_AN], 0.5 * math.pi
+        # slope |dx/dy| grows from the involute end (steep) towards the root (flat)
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            dx, dy = K.profile_dy(0, mid, p)
+            slope = abs(dx / dy) if dy != 0.0 else math.inf
+            if slope < target:
+                lo = mid
+            else:
+                hi = mid
+        g = 0.5 * (lo + hi)
+        x, y = K.fillet_point(g, p)
+        return g, math.hypot(x, y)
+
+    def fillet_param_at_radius(self, radius: float) -> float:
+        """Rack-round angle ``g`` of the fillet point at ``radius`` (root <= r <= form)."""
+        p = self.packed
+        if not (self.gear.root_radius * (1 - 1e-12) <= radius <= self.form_radius * (1 + 1e-12)):
+            raise InputError("crack.start_radius", radius,
+                             f"must lie on the root fillet, between the root radius "
+                             f"{self.gear.root_radius:.6g} m and the form radius "
+                             f"{self.form_radius:.6g} m")
+        lo, hi = p[K.P_AN], 0.5 * math.pi
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            x, y = K.fillet_point(mid, p)
+            if math.hypot(x, y) > radius:
+                lo = mid
+            else:
+                hi = mid
+        return 0.5 * (lo + hi)

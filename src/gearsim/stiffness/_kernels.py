@@ -1,0 +1,254 @@
+"""Compiled kernels of the potential-energy tooth compliance (numba, floats only).
+
+Per unit face width (L = 1 m) and unit contact force, for a contact point at radius
+``rc`` on the involute, the kernel integrates over the tooth from the root circle to
+the height of the contact point, with fixed Gauss-Legendre rules in the outline's own
+parameters (fillet angle, involute radius):
+
+    1/k_b = int (F_b (y_c - y) - F_a x_c)^2 / (E I_y) dy       (bending, seed eq. 4)
+    1/k_s = int 1.2 F_b^2 / (G A_y) dy                           (shear, seed eq. 6)
+    1/k_a = int F_a^2 / (E A_y) dy                               (axial compression, seed
+                                                                 eq. 5 with E: the printed
+                                                                 1.2 and G are a misprint)
+
+with F_b = cos(a1), F_a = sin(a1), a1 = alpha_r - psi(r_c) the angle of the contact
+force to the normal of the tooth centre line, A_y = 2 h L, I_y = (2h)^3 L / 12; and the
+fillet-foundation compliance of Sainsot, Velex & Duverger (2004), seed eq. 7,
+
+    1/k_f = cos^2(a1) / (E L) [L* (u_f/S_f)^2 + M* (u_f/S_f) + P* (1 + Q* tan^2 a1)].
+
+Cracked sections (limiting-line model, seed eqs. 10-11): between the crack tip height
+and the height ``g_c`` where the line through the tip parallel to the centre line meets
+the outline, the part of the section between that line (at distance h_c from the centre
+line, on the cracked side) and the cracked flank is lost:
+
+* ``open`` model: A = (h_c + h) L, I = (h_c + h)^3 L / 12, moment about the centre
+  line (the seed's equations as printed);
+* ``contact`` model: the lost part still carries normal stress where it is compressed
+  (frictionless crack faces: no shear). The effective section is [-h, c] (s towards the
+  cracked flank) with c in [h_c, h] fixed by zero stress at s = c:
+  c = 2h + 3 M_s / N; normal-stress energy M_e^2/(E I_e) + N^2/(E A_e) with the moment
+  M_e about the effective centroid; shear on (h_c + h) L.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from gearsim.geometry._kernels import (
+    P_AN,
+    P_RF,
+    P_RROOT,
+    P_THF,
+    P_YROOT,
+    involute_point,
+    profile_dy,
+    profile_point,
+)
+
+# crack record layout (one per slice of the cracked tooth)
+C_ACTIVE = 0  # 1.0 when a crack is present
+C_SIDE = 1  # +1 crack on the loaded flank (tension side), -1 on the unloaded flank
+C_HC = 2  # distance of the crack tip (limiting line) from the centre line, > 0 [m]
+C_YLO = 3  # lower end of the cracked range (crack tip height, >= root) [m]
+C_YHI = 4  # upper end g_c of the cracked range [m]
+C_SEGLO = 5  # outline segment of C_YLO (0 fillet, 1 involute)
+C_PLO = 6  # outline parameter of C_YLO
+C_SEGHI = 7
+C_PHI = 8
+C_SIZE = 9
+
+MODEL_OPEN = 0
+MODEL_CONTACT = 1
+
+
+@njit(cache=True)
+def _section_energy(h, y, cracked, cr, model, fb, fa, xc, yc, e_mod, g_mod):
+    """Energy densities (bending, shear, axial) per unit force^2 and length at height y."""
+    mom = fb * (yc - y) - fa * xc
+    if not cracked:
+        w = 2.0 * h
+        return mom * mom * 12.0 / (e_mod * w * w * w), 1.2 * fb * fb / (g_mod * w), \
+            fa * fa / (e_mod * w)
+    hc = cr[C_HC]
+    w_int = hc + h
+    shear = 1.2 * fb * fb / (g_mod * w_int)
+    if model == MODEL_OPEN:
+        return mom * mom * 12.0 / (e_mod * w_int ** 3), shear, fa * fa / (e_mod * w_int)
+    # contact model: find the load-carrying extent c in [hc, h]
+    n = -fa
+    ms = cr[C_SIDE] * mom
+    # fully closed: stress at s = h of the full section
+    sig_h = n / (2.0 * h) + 1.5 * ms / (h * h)
+    if sig_h <= 0.0:
+        c = h
+    else:
+        s0 = 0.5 * (hc - h)
+        sig_hc = n / w_int + 6.0 * (ms - s0 * n) / (w_int * w_int)
+        if sig_hc >= 0.0:
+            c = hc
+        else:
+            c = 2.0 * h + 3.0 * ms / n
+            if c < hc:
+                c = hc
+            elif c > h:
+                c = h
+    we = c + h
+    s0 = 0.5 * (c - h)
+    me = ms - s0 * n
+    return me * me * 12.0 / (e_mod * we ** 3), shear, n * n / (e_mod * we)
+
+
+@njit(cache=True)
+def _integrate_piece(seg, pa, pb, cracked, cr, model, prof, fb, fa, xc, yc, e_mod, g_mod,
+                     nodes, weights, acc):
+    """Add the Gauss-Legendre integral over outline parameters [pa, pb] to ``acc``."""
+    half = 0.5 * (pb - pa)
+    mid = 0.5 * (pb + pa)
+    for k in range(nodes.shape[0]):
+        p = mid + half * nodes[k]
+        x, y = profile_point(seg, p, prof)
+        dxdp, dydp = profile_dy(seg, p, prof)
+        jac = abs(dydp * half) * weights[k]
+        eb, es, ea = _section_energy(x, y, cracked, cr, model, fb, fa, xc, yc, e_mod, g_mod)
+        acc[0] += eb * jac
+        acc[1] += es * jac
+        acc[2] += ea * jac
+
+
+@njit(cache=True)
+def _segment(seg, pa, pb, cr, model, prof, fb, fa, xc, yc, e_mod, g_mod, nodes, weights, acc):
+    """Integrate one outline segment, split at the ends of the cracked range."""
+    # break points on this segment, in the direction pa -> pb
+    b0 = pa
+    b1 = pb
+    nb = 0
+    bp0 = 0.0
+    bp1 = 0.0
+    if cr[C_ACTIVE] > 0.0:
+        lo_in = cr[C_SEGLO] == seg and (cr[C_PLO] - pa) * (cr[C_PLO] - pb) < 0.0
+        hi_in = cr[C_SEGHI] == seg and (cr[C_PHI] - pa) * (cr[C_PHI] - pb) < 0.0
+        if lo_in:
+            bp0 = cr[C_PLO]
+            nb += 1
+        if hi_in:
+            if nb == 0:
+                bp0 = cr[C_PHI]
+            else:
+                bp1 = cr[C_PHI]
+            nb += 1
+        if nb == 2 and abs(bp1 - pa) < abs(bp0 - pa):
+            tmp = bp0
+            bp0 = bp1
+            bp1 = tmp
+    lo = b0
+    for i in range(nb + 1):
+        if i < nb:
+            hi = bp0 if i == 0 else bp1
+        else:
+            hi = b1
+        if hi != lo:
+            pm = 0.5 * (lo + hi)
+            xm, ym = profile_point(seg, pm, prof)
+            cracked = cr[C_ACTIVE] > 0.0 and cr[C_YLO] <= ym <= cr[C_YHI]
+            _integrate_piece(seg, lo, hi, cracked, cr, model, prof, fb, fa, xc, yc, e_mod,
+                             g_mod, nodes, weights, acc)
+        lo = hi
+
+
+@njit(cache=True)
+def tooth_compliance(prof, rc, cr, model, e_mod, g_mod, e_found, sainsot, nodes, weights,
+                     out):
+    """Compliances (bending, shear, axial, foundation) of one tooth, unit width [m/N].
+
+    Parameters
+    ----------
+    prof : packed outline (``gearsim.geometry._kernels``)
+    rc : contact radius on the involute [m]
+    cr : crack record (``C_*`` layout); ``cr[C_ACTIVE] = 0`` for a healthy tooth
+    model : ``MODEL_OPEN`` or ``MODEL_CONTACT``
+    e_mod, g_mod : moduli used in the beam terms (plane stress E or E/(1-nu^2)) [Pa]
+    e_found : Young's modulus of the Sainsot formula [Pa]
+    sainsot : (L*, M*, P*, Q*) for this gear
+    nodes, weights : Gauss-Legendre rule on [-1, 1]
+    out : array of 4, filled with the compliances for L = 1 m
+    """
+    rb = prof[1]
+    ca = rb / rc
+    if ca > 1.0:
+        ca = 1.0
+    ar = math.acos(ca)
+    xc, yc = involute_point(rc, prof)
+    psi = math.atan2(xc, yc)
+    a1 = ar - psi
+    fb = math.cos(a1)
+    fa = math.sin(a1)
+    acc = np.zeros(3)
+    # fillet from the root (g = pi/2) up to the form circle (g = alpha_n)
+    _segment(0, 0.5 * math.pi, prof[P_AN], cr, model, prof, fb, fa, xc, yc, e_mod, g_mod,
+             nodes, weights, acc)
+    # involute from the form circle to the contact point
+    if rc > prof[P_RF]:
+        _segment(1, prof[P_RF], rc, cr, model, prof, fb, fa, xc, yc, e_mod, g_mod, nodes,
+                 weights, acc)
+    out[0] = acc[0]
+    out[1] = acc[1]
+    out[2] = acc[2]
+    # Sainsot et al. (2004) fillet-foundation term
+    thf = prof[P_THF]
+    rf = prof[P_RROOT]
+    sf = 2.0 * rf * thf
+    uf = (yc - xc * math.tan(a1)) - prof[P_YROOT]
+    ratio = uf / sf
+    t = math.tan(a1)
+    out[3] = (fb * fb / e_found) * (sainsot[0] * ratio * ratio + sainsot[1] * ratio
+                                    + sainsot[2] * (1.0 + sainsot[3] * t * t))
+
+
+@njit(cache=True, parallel=False)
+def tooth_compliance_batch(prof, rcs, crs, model, e_mod, g_mod, e_found, sainsot, nodes,
+                           weights, out):
+    """:func:`tooth_compliance` for many contact radii; ``crs`` has one record per radius."""
+    buf = np.empty(4)
+    for i in range(rcs.shape[0]):
+        if rcs[i] <= 0.0:
+            out[i, :] = np.nan
+            continue
+        tooth_compliance(prof, rcs[i], crs[i], model, e_mod, g_mod, e_found, sainsot, nodes,
+                         weights, buf)
+        out[i, 0] = buf[0]
+        out[i, 1] = buf[1]
+        out[i, 2] = buf[2]
+        out[i, 3] = buf[3]
+    return out
+
+
+@njit(cache=True, parallel=True)
+def tooth_compliance_batch_parallel(prof, rcs, crs, model, e_mod, g_mod, e_found, sainsot,
+                                    nodes, weights, out):
+    """Threaded variant of :func:`tooth_compliance_batch` (numba prange)."""
+    for i in prange(rcs.shape[0]):
+        buf = np.empty(4)
+        if rcs[i] <= 0.0:
+            for j in range(4):
+                out[i, j] = np.nan
+            continue
+        tooth_compliance(prof, rcs[i], crs[i], model, e_mod, g_mod, e_found, sainsot, nodes,
+                         weights, buf)
+        for j in range(4):
+            out[i, j] = buf[j]
+    return out
+
+
+__all__ = [
+    "C_SIZE",
+    "MODEL_CONTACT",
+    "MODEL_OPEN",
+    "P_AN",
+    "tooth_compliance",
+    "tooth_compliance_batch",
+    "tooth_compliance_batch_parallel",
+]

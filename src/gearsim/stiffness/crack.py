@@ -1,0 +1,192 @@
+"""Tooth-root crack: geometry on the root fillet and the records the kernels use.
+
+A crack starts at a point of the root fillet of the working or the non-working flank
+(default: the 30 degree tangent point of ISO 6336-3, where the root stress peaks) and
+runs straight into the tooth, towards the centre line and the root, at ``angle`` to the
+tooth centre line, to ``depth``. Along the face width it extends from the face at
+``z = 0`` over ``extent`` (fraction of the face width) with a depth profile
+``uniform`` (q0), ``linear`` (q0 (1 - z/w)) or ``parabolic`` (q0 sqrt(1 - z/w), the
+crack front of Chen & Shao 2011).
+
+References
+----------
+.. [Chen2011] Z. Chen, Y. Shao, Dynamic simulation of spur gear with tooth root crack
+   propagating along tooth width and crack depth, Eng. Fail. Anal. 18 (2011) 2149-2164.
+.. [Tian2004] X. Tian, M.Sc. thesis, University of Alberta, 2004 (limiting line).
+.. [Seed] eqs. 10-11.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from gearsim.errors import InputError, require
+from gearsim.geometry import _kernels as G
+from gearsim.geometry.profile import ToothProfile
+from gearsim.stiffness import _kernels as K
+
+__all__ = ["Crack", "crack_geometry", "crack_record"]
+
+FLANKS = ("working", "non-working")
+PROFILES = ("uniform", "linear", "parabolic")
+
+
+@dataclass(frozen=True)
+class Crack:
+    """A tooth-root crack.
+
+    Parameters
+    ----------
+    gear
+        Name of the cracked gear.
+    tooth
+        Index of the cracked tooth (0 .. z-1, counted in the order the teeth enter mesh).
+    flank
+        ``"working"`` or ``"non-working"``. The working flank of a gear is the flank
+        loaded in the first mesh it takes part in along the power flow; an idler's
+        other mesh loads the other flank.
+    depth
+        Crack depth q0 at the face z = 0 [m] (>= 0).
+    angle
+        Angle between the crack and the tooth centre line [rad] (default 45 deg,
+        Chen & Shao 2011), in (0, 90] deg.
+    extent
+        Fraction of the face width covered, (0, 1].
+    profile
+        Depth profile along the face width: uniform, linear or parabolic.
+    start_radius
+        Radius of the start point on the fillet [m]; ``None`` = the 30 deg tangent point.
+    """
+
+    gear: str
+    tooth: int = 0
+    flank: str = "working"
+    depth: float = 0.0
+    angle: float = math.radians(45.0)
+    extent: float = 1.0
+    profile: str = "uniform"
+    start_radius: float | None = None
+
+    def __post_init__(self) -> None:
+        require(self.flank in FLANKS, "crack.flank", self.flank,
+                'must be "working" or "non-working"')
+        require(self.profile in PROFILES, "crack.profile", self.profile,
+                'must be "uniform", "linear" or "parabolic"')
+        require(self.depth >= 0.0, "crack.depth", self.depth, "must be >= 0 m")
+        require(0.0 < self.angle <= 0.5 * math.pi + 1e-12, "crack.angle",
+                f"{math.degrees(self.angle):.6g} deg", "must be in (0, 90] deg")
+        require(0.0 < self.extent <= 1.0, "crack.extent", self.extent, "must be in (0, 1]")
+        require(isinstance(self.tooth, int) and self.tooth >= 0, "crack.tooth", self.tooth,
+                "must be an integer >= 0")
+
+    def depth_at(self, z_fraction: np.ndarray) -> np.ndarray:
+        """Crack depth at axial positions given as fractions of the face width [m]."""
+        z = np.asarray(z_fraction, dtype=float)
+        xi = np.clip(1.0 - z / self.extent, 0.0, 1.0)
+        inside = z <= self.extent
+        if self.profile == "uniform":
+            f = np.ones_like(z)
+        elif self.profile == "linear":
+            f = xi
+        else:
+            f = np.sqrt(xi)
+        return np.where(inside, self.depth * f, 0.0)
+
+
+@dataclass(frozen=True)
+class CrackGeometry:
+    """Crack in the tooth frame of the cracked flank (x towards that flank) [m]."""
+
+    start: tuple[float, float]
+    tip: tuple[float, float]
+    max_depth: float
+
+
+def crack_geometry(profile: ToothProfile, crack: Crack, depth: float | None = None
+                   ) -> CrackGeometry:
+    """Start and tip of the crack, after checking it lies on the fillet and in the tooth."""
+    gear = profile.gear
+    if crack.start_radius is None:
+        g, _ = profile.tangent_point()
+    else:
+        g = profile.fillet_param_at_radius(crack.start_radius)
+    xs, ys = profile.fillet_point(g)
+    q = crack.depth if depth is None else depth
+    q_max = xs / math.sin(crack.angle)
+    if q >= q_max:
+        raise InputError("crack.depth", f"{q * 1e3:.6g} mm",
+                         f"crack is deeper than the tooth model allows on {gear.name}: the tip "
+                         f"must stay on the cracked side of the tooth centre line, depth < "
+                         f"{q_max * 1e3:.6g} mm at angle {math.degrees(crack.angle):.4g} deg")
+    xt = xs - q * math.sin(crack.angle)
+    yt = ys - q * math.cos(crack.angle)
+    return CrackGeometry(start=(xs, ys), tip=(xt, yt), max_depth=q_max)
+
+
+def _locate(profile: ToothProfile, y: float) -> tuple[int, float]:
+    """Outline segment and parameter at height ``y``."""
+    p = profile.packed
+    _, yf = G.fillet_point(p[G.P_AN], p)
+    if y <= yf:
+        return 0, G.param_at_height(0, y, 0.5 * math.pi, p[G.P_AN], p)
+    return 1, G.param_at_height(1, y, p[G.P_RF], p[G.P_RA], p)
+
+
+def crack_record(profile: ToothProfile, crack: Crack, depth: float, side: int) -> np.ndarray:
+    """Kernel record (``K.C_*`` layout) of a crack of ``depth`` at one axial slice.
+
+    Parameters
+    ----------
+    profile
+        Outline of the cracked gear.
+    crack
+        The crack (angle, start point).
+    depth
+        Local crack depth at this slice [m]; 0 gives an inactive (healthy) record.
+    side
+        +1 if the cracked flank is the loaded one in the mesh considered, -1 otherwise.
+    """
+    rec = np.zeros(K.C_SIZE)
+    if depth <= 0.0:
+        return rec
+    geo = crack_geometry(profile, crack, depth)
+    p = profile.packed
+    xt, yt = geo.tip
+    y_lo = max(yt, profile.root_height)
+    # g_c: first height above the tip where the outline half width falls to h_c
+    pts = profile.outline(400, 400)
+    above = pts[:, 1] > y_lo
+    idx = np.nonzero(above & (pts[:, 0] <= xt))[0]
+    if idx.size == 0:
+        seg_hi, p_hi = 1, p[G.P_RA]
+        y_hi = G.involute_point(p[G.P_RA], p)[1]
+    else:
+        i = int(idx[0])
+        # bracket between outline samples i-1 and i, refine on the segment parameter
+        seg_hi = 0 if i < 400 else 1
+        if seg_hi == 0:
+            gs = 0.5 * math.pi - (0.5 * math.pi - p[G.P_AN]) * np.arange(400) / 399
+            pa, pb = gs[max(i - 1, 0)], gs[i]
+        else:
+            rs = p[G.P_RF] + (p[G.P_RA] - p[G.P_RF]) * np.arange(400) / 399
+            j = i - 400
+            pa, pb = (rs[j - 1], rs[j]) if j > 0 else (rs[0], rs[0])
+            if j == 0:  # junction sample: the bracket is the fillet's last interval
+                seg_hi = 0
+                pa, pb = p[G.P_AN] + 1e-12, p[G.P_AN]
+        p_hi = G.param_at_halfwidth(seg_hi, xt, pa, pb, p) if pa != pb else pa
+        y_hi = G.profile_point(seg_hi, p_hi, p)[1]
+    seg_lo, p_lo = _locate(profile, y_lo)
+    rec[K.C_ACTIVE] = 1.0
+    rec[K.C_SIDE] = float(side)
+    rec[K.C_HC] = xt
+    rec[K.C_YLO] = y_lo
+    rec[K.C_YHI] = y_hi
+    rec[K.C_SEGLO] = seg_lo
+    rec[K.C_PLO] = p_lo
+    rec[K.C_SEGHI] = seg_hi
+    rec[K.C_PHI] = p_hi
+    return rec

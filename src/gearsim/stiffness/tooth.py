@@ -1,0 +1,171 @@
+"""Single-tooth compliance by the potential energy method (Python layer over the kernels).
+
+Equations: see :mod:`gearsim.stiffness._kernels` and ``docs/stiffness.md``.
+
+References
+----------
+.. [Yang1987] D. C. H. Yang, J. Y. Lin, Hertzian damping, tooth friction and bending
+   elasticity in gear impact dynamics, J. Mech. Trans. Autom. Des. 109 (1987) 189-196.
+.. [Tian2004] X. Tian, Dynamic simulation for system response of gearbox including
+   localized gear faults, M.Sc. thesis, University of Alberta, 2004.
+.. [Sainsot2004] P. Sainsot, P. Velex, O. Duverger, Contribution of gear body to tooth
+   deflections - a new bidimensional analytical formula, J. Mech. Des. 126 (2004) 748-752.
+.. [Seed] H. Shi, W. Li, W. Zhou, Actuators 14 (2025) 292, eqs. 3-11.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property, lru_cache
+
+import numpy as np
+
+from gearsim.errors import require
+from gearsim.geometry.gear import Gear, Material
+from gearsim.geometry.profile import ToothProfile
+from gearsim.stiffness import _kernels as K
+
+__all__ = [
+    "SAINSOT",
+    "ToothModel",
+    "gauss_rule",
+    "hertz_stiffness",
+    "sainsot_coefficients",
+]
+
+# Sainsot, Velex & Duverger (2004), Table 1: X = A/th^2 + B h^2 + C h/th + D/th + E h + F
+SAINSOT: dict[str, tuple[float, float, float, float, float, float]] = {
+    "L": (-5.574e-5, -1.9986e-3, -2.3015e-4, 4.7702e-3, 0.0271, 6.8045),
+    "M": (60.111e-5, 28.100e-3, -83.431e-4, -9.9256e-3, 0.1624, 0.9086),
+    "P": (-50.952e-5, 185.50e-3, 0.0538e-4, 53.300e-3, 0.2895, 0.9236),
+    "Q": (-6.2042e-5, 9.0889e-3, -4.0964e-4, 7.8297e-3, -0.1472, 0.6904),
+}
+
+
+def sainsot_coefficients(h_f: float, theta_f: float) -> np.ndarray:
+    """L*, M*, P*, Q* of the fillet-foundation formula [-].
+
+    Parameters
+    ----------
+    h_f
+        Ratio of root radius to bore radius r_f / r_int [-].
+    theta_f
+        Half angle of the tooth at the root circle [rad].
+
+    References
+    ----------
+    Sainsot, Velex & Duverger (2004), eq. (6) and Table 1; seed eq. (7).
+    """
+    out = np.empty(4)
+    for i, key in enumerate("LMPQ"):
+        a, b, c, d, e, f = SAINSOT[key]
+        out[i] = a / theta_f**2 + b * h_f**2 + c * h_f / theta_f + d / theta_f + e * h_f + f
+    return out
+
+
+def hertz_stiffness(m1: Material, m2: Material, length: float) -> float:
+    """Hertzian contact stiffness of a line contact of length ``length`` [N/m].
+
+    k_h = pi L / (2 [(1 - nu1^2)/E1 + (1 - nu2^2)/E2]); for equal materials this is the
+    seed's k_h = pi E L / (4 (1 - nu^2)) (Yang & Sun 1985; seed section 2).
+    """
+    s = (1 - m1.poisson_ratio**2) / m1.youngs_modulus + (1 - m2.poisson_ratio**2) / m2.youngs_modulus
+    return math.pi * length / (2.0 * s)
+
+
+@lru_cache(maxsize=16)
+def gauss_rule(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes and weights on [-1, 1] (numpy.polynomial.legendre)."""
+    x, w = np.polynomial.legendre.leggauss(n)
+    return x, w
+
+
+@dataclass(frozen=True)
+class ToothModel:
+    """Everything the compliance kernel needs for one gear.
+
+    Parameters
+    ----------
+    gear
+        The gear.
+    plane
+        ``"stress"`` (beam terms with E, as the seed) or ``"strain"`` (E / (1 - nu^2)).
+    gauss_points
+        Nodes of the Gauss-Legendre rule on each integration piece.
+    closure
+        ``"open"`` or ``"contact"`` crack-face model.
+    """
+
+    gear: Gear
+    plane: str = "stress"
+    gauss_points: int = 16
+    closure: str = "contact"
+
+    def __post_init__(self) -> None:
+        require(self.plane in ("stress", "strain"), "stiffness.plane", self.plane,
+                'must be "stress" or "strain"')
+        require(self.closure in ("open", "contact"), "stiffness.closure", self.closure,
+                'must be "open" or "contact"')
+        require(isinstance(self.gauss_points, int) and 2 <= self.gauss_points <= 200,
+                "stiffness.gauss_points", self.gauss_points, "must be an integer in [2, 200]")
+
+    @cached_property
+    def profile(self) -> ToothProfile:
+        return ToothProfile(self.gear)
+
+    @property
+    def beam_moduli(self) -> tuple[float, float]:
+        """(E_eff, G) of the beam terms [Pa]."""
+        mat = self.gear.material
+        e = mat.youngs_modulus
+        if self.plane == "strain":
+            e = e / (1.0 - mat.poisson_ratio**2)
+        return e, mat.shear_modulus
+
+    @cached_property
+    def sainsot(self) -> np.ndarray:
+        prof = self.profile
+        h_f = self.gear.root_radius / self.gear.bore_radius_value
+        return sainsot_coefficients(h_f, prof.root_half_angle)
+
+    @property
+    def model_code(self) -> int:
+        return K.MODEL_OPEN if self.closure == "open" else K.MODEL_CONTACT
+
+    def compliance(self, radii: np.ndarray, crack_records: np.ndarray | None = None,
+                   *, width: float = 1.0) -> np.ndarray:
+        """Tooth compliances at contact radii, columns (bending, shear, axial, foundation).
+
+        Parameters
+        ----------
+        radii
+            Contact radii on the involute [m], shape (n,).
+        crack_records
+            Crack records, shape (n, C_SIZE) or (C_SIZE,) for all; ``None`` = healthy.
+        width
+            Face width L carried by the tooth [m].
+
+        Returns
+        -------
+        ndarray, shape (n, 4)
+            Compliances [m/N] (seed eqs. 4-7), each 1/k for the given width.
+        """
+        r = np.ascontiguousarray(np.atleast_1d(radii), dtype=float)
+        cr = _broadcast_records(crack_records, r.shape[0])
+        e, g = self.beam_moduli
+        nodes, weights = gauss_rule(self.gauss_points)
+        out = np.empty((r.shape[0], 4))
+        K.tooth_compliance_batch(self.profile.packed, r, cr, self.model_code, e, g,
+                                 self.gear.material.youngs_modulus, self.sainsot, nodes,
+                                 weights, out)
+        return out / width
+
+
+def _broadcast_records(records: np.ndarray | None, n: int) -> np.ndarray:
+    if records is None:
+        return np.zeros((n, K.C_SIZE))
+    rec = np.asarray(records, dtype=float)
+    if rec.ndim == 1:
+        rec = np.broadcast_to(rec, (n, K.C_SIZE))
+    return np.ascontiguousarray(rec)

@@ -26,6 +26,9 @@ app = typer.Typer(
 COMMAND_MODULES = (
     "gearsim.commands.basic",
     "gearsim.commands.analysis",
+    "gearsim.commands.dynamics",
+    "gearsim.commands.fem",
+    "gearsim.commands.studies",
 )
 
 for _name in COMMAND_MODULES:

@@ -60,6 +60,10 @@ class StiffnessSettings:
         Gauss-Legendre nodes per integration piece.
     plane
         ``"stress"`` (seed) or ``"strain"``.
+    source
+        ``"pe"``: potential-energy tooth compliance (default); ``"fe"``: the tooth
+        compliance of the finite-element model (:func:`gearsim.fem.tables.fe_compliance`),
+        the counterpart of the seed's rigid-flexible coupling.
     """
 
     closure: str = "contact"
@@ -67,6 +71,7 @@ class StiffnessSettings:
     positions_per_cycle: int = 40
     gauss_points: int = 16
     plane: str = "stress"
+    source: str = "pe"
 
     def __post_init__(self) -> None:
         require(self.closure in ("open", "contact"), "stiffness.closure", self.closure,
@@ -80,6 +85,8 @@ class StiffnessSettings:
                 "stiffness.gauss_points", self.gauss_points, "must be an integer in [2, 200]")
         require(self.plane in ("stress", "strain"), "stiffness.plane", self.plane,
                 'must be "stress" or "strain"')
+        require(self.source in ("pe", "fe"), "stiffness.source", self.source,
+                'must be "pe" or "fe"')
 
 
 @dataclass(frozen=True)
@@ -221,9 +228,15 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     r2 = np.where(inside, np.hypot(g2.base_radius, pair.line_length - lmid), 0.0).ravel()
     shape = (npc, n_age, ns)
 
-    def table(tm: ToothModel, radii: np.ndarray, records: np.ndarray | None) -> np.ndarray:
-        if records is not None:  # one record per slice -> per grid point
-            records = np.broadcast_to(records[None, None, :, :], shape + (C_SIZE,)).reshape(
+    def table(tm: ToothModel, radii: np.ndarray, tc: ToothCrack | None) -> np.ndarray:
+        if settings.source == "fe":
+            return _fe_table(tm, radii.reshape(shape), tc, zfrac, settings)
+        records = None
+        if tc is not None:  # one record per slice -> per grid point
+            depths = tc.crack.depth_at(zfrac) if ns > 1 else np.array([tc.crack.depth])
+            recs = np.stack([crack_record(tm.profile, tc.crack, float(q), tc.side)
+                             for q in depths])
+            records = np.broadcast_to(recs[None, None, :, :], shape + (C_SIZE,)).reshape(
                 -1, C_SIZE)
         c = tm.compliance(radii, records)
         return np.nan_to_num(c, nan=0.0).reshape(shape + (4,))
@@ -234,9 +247,7 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     cracked2: dict[int, np.ndarray] = {}
     for tc in cracks:
         tm, radii, store = (tm1, r1, cracked1) if tc.gear == 1 else (tm2, r2, cracked2)
-        depths = tc.crack.depth_at(zfrac) if ns > 1 else np.array([tc.crack.depth])
-        recs = np.stack([crack_record(tm.profile, tc.crack, float(q), tc.side) for q in depths])
-        store[tc.crack.tooth] = table(tm, radii, recs)
+        store[tc.crack.tooth] = table(tm, radii, tc)
 
     # Hertz compliance per unit width
     ch = 1.0 / hertz_stiffness(g1.material, g2.material, 1.0)
@@ -288,3 +299,25 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
                "positions_per_cycle": npc, "plane": settings.plane,
                "gauss_points": settings.gauss_points},
     )
+
+
+def _fe_table(tm: ToothModel, radii: np.ndarray, tc: ToothCrack | None, zfrac: np.ndarray,
+              settings: StiffnessSettings) -> np.ndarray:
+    """Tooth compliance table from the finite-element model, same layout as the PE one."""
+    from gearsim.fem.tables import fe_compliance  # heavy import, only when asked
+
+    out = np.zeros(radii.shape + (4,))
+    ns = radii.shape[-1]
+    for k in range(ns):
+        rk = radii[..., k].ravel()
+        depth = 0.0
+        if tc is not None:
+            depth = float(tc.crack.depth_at(zfrac[k:k + 1])[0]) if ns > 1 else tc.crack.depth
+        sel = rk > 0
+        vals = np.zeros((rk.size, 4))
+        if np.any(sel):
+            vals[sel] = fe_compliance(tm.gear, rk[sel], crack=None if tc is None else tc.crack,
+                                      depth=depth, side=0 if tc is None else tc.side,
+                                      settings=settings)
+        out[..., k, :] = vals.reshape(radii.shape[:-1] + (4,))
+    return out

@@ -1,1 +1,97 @@
-"""gearsim.signals"""
+"""Signal analysis of simulated and measured gear vibration.
+
+Modules, one concept each:
+
+* :mod:`~gearsim.signals.timedomain` -- RMS, peak, crest factor, kurtosis, impacts;
+* :mod:`~gearsim.signals.spectrum` -- amplitude-corrected spectrum and tone estimation;
+* :mod:`~gearsim.signals.sidebands` -- mesh harmonics, sideband families, SER, uniformity;
+* :mod:`~gearsim.signals.timefreq` -- STFT spectrogram, band energy and band width;
+* :mod:`~gearsim.signals.tsa` -- time-synchronous averaging, FM0, FM4, NA4, M6A, M8A;
+* :mod:`~gearsim.signals.emd` -- empirical mode decomposition and IMF selection;
+* :mod:`~gearsim.signals.compare` -- simulated-versus-measured sidebands (seed Table 2);
+* :mod:`~gearsim.signals.analyze` -- everything above on one record.
+
+Readers of measured files are in :mod:`gearsim.io.measured`, figures in
+:mod:`gearsim.viz.signals`. Equations and sources: ``docs/signals.md``.
+"""
+
+from gearsim.signals.analyze import Analysis, GearTrain, analyze, gear_train
+from gearsim.signals.compare import SidebandComparison, compare_sidebands, percentage_error
+from gearsim.signals.emd import Decomposition, Selection, emd, select_imfs
+from gearsim.signals.sidebands import SidebandFamily, mesh_harmonics, sideband_families
+from gearsim.signals.spectrum import Spectrum, Tone, amplitude_spectrum, tone, zoom
+from gearsim.signals.timedomain import (
+    Impacts,
+    TimeStats,
+    crest_factor,
+    detect_impacts,
+    impact_threshold,
+    kurtosis,
+    peak,
+    ratios_to_baseline,
+    rms,
+    time_stats,
+)
+from gearsim.signals.timefreq import Spectrogram, band_energy, band_width, spectrogram
+from gearsim.signals.tsa import (
+    TSA,
+    Indicators,
+    condition_indicators,
+    difference_signal,
+    fm0,
+    fm4,
+    m6a,
+    m8a,
+    na4,
+    pulse_times,
+    residual_signal,
+    tsa,
+)
+
+__all__ = [
+    "TSA",
+    "Analysis",
+    "Decomposition",
+    "GearTrain",
+    "Impacts",
+    "Indicators",
+    "Selection",
+    "SidebandComparison",
+    "SidebandFamily",
+    "Spectrogram",
+    "Spectrum",
+    "TimeStats",
+    "Tone",
+    "amplitude_spectrum",
+    "analyze",
+    "band_energy",
+    "band_width",
+    "compare_sidebands",
+    "condition_indicators",
+    "crest_factor",
+    "detect_impacts",
+    "difference_signal",
+    "emd",
+    "fm0",
+    "fm4",
+    "gear_train",
+    "impact_threshold",
+    "kurtosis",
+    "m6a",
+    "m8a",
+    "mesh_harmonics",
+    "na4",
+    "peak",
+    "percentage_error",
+    "pulse_times",
+    "ratios_to_baseline",
+    "residual_signal",
+    "rms",
+    "select_imfs",
+    "sideband_families",
+    "spectrogram",
+    "time_stats",
+    "tone",
+    "tsa",
+    "zoom",
+]

@@ -27,7 +27,9 @@ def as_signal(x: object, *, name: str = "signal", min_length: int = 2) -> np.nda
     try:
         arr = np.asarray(x, dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        raise InputError(name, type(x).__name__, f"must be a 1-D array of numbers ({exc})") from None
+        raise InputError(
+            name, type(x).__name__, f"must be a 1-D array of numbers ({exc})"
+        ) from None
     if arr.ndim != 1:
         raise InputError(f"{name}.shape", arr.shape, "must be one-dimensional")
     if arr.size < min_length:

@@ -165,7 +165,9 @@ def select_imfs(
             th = float(threshold)
     elif method == "kurtosis":
         if threshold == "ayenu-prah":
-            raise InputError("threshold", threshold, "the Ayenu-Prah rule applies to correlation only")
+            raise InputError(
+                "threshold", threshold, "the Ayenu-Prah rule applies to correlation only"
+            )
         scores = imf_kurtoses(dec.imfs)
         th = float(threshold)
     else:

@@ -190,7 +190,9 @@ def impact_threshold(x: np.ndarray, fs: float, *, window: float, factor: float) 
     factor = check_positive("factor", factor)
     n = int(round(window * fs))
     if n < 2 or n > a.size:
-        raise InputError("window", f"{window:g} s", f"must span 2..{a.size} samples at fs={fs:g} Hz")
+        raise InputError(
+            "window", f"{window:g} s", f"must span 2..{a.size} samples at fs={fs:g} Hz"
+        )
     d = np.abs(a - a.mean())
     m = a.size // n
     peaks = d[: m * n].reshape(m, n).max(axis=1)

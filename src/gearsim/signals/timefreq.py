@@ -22,7 +22,7 @@ from scipy.signal import ShortTimeFFT, get_window
 from gearsim.errors import InputError
 from gearsim.signals._checks import as_signal, check_fs, check_positive
 
-__all__ = ["Spectrogram", "spectrogram", "band_energy", "band_width"]
+__all__ = ["Spectrogram", "spectrogram", "band_energy", "band_width", "modulation_index"]
 
 
 @dataclass(frozen=True)
@@ -173,7 +173,9 @@ def band_width(
     dist = np.abs(f - center)
     sel = dist <= half_window
     if sel.sum() < 2:
-        raise InputError("half_window", f"{half_window:g} Hz", f"holds < 2 bins around {center:g} Hz")
+        raise InputError(
+            "half_window", f"{half_window:g} Hz", f"holds < 2 bins around {center:g} Hz"
+        )
     order = np.argsort(dist[sel], kind="stable")
     d_sorted = dist[sel][order]
     cum = np.cumsum(p[sel][order])
@@ -182,3 +184,24 @@ def band_width(
         return float("nan")
     i = int(np.searchsorted(cum, fraction * total, side="left"))
     return float(2.0 * d_sorted[min(i, d_sorted.size - 1)])
+
+
+def modulation_index(series: np.ndarray, times: np.ndarray, *, frequency: float) -> float:
+    r"""Relative modulation of a series at one frequency, :math:`|c_f| / \bar e`.
+
+    .. math:: c_f = \frac{2}{J} \sum_j (e_j - \bar e)\, e^{-2\pi i f t_j}
+
+    i.e. the amplitude of the Fourier component of the band-energy series ``e(t_j)`` at
+    ``frequency`` (Hz) relative to its mean: 0 for a steady band, about 1 or more when the
+    band energy pulses once per revolution (seed Figure 8, time direction).
+    """
+    check_positive("frequency", frequency)
+    e = np.asarray(series, dtype=np.float64)
+    t = np.asarray(times, dtype=np.float64)
+    if e.shape != t.shape or e.size < 2:
+        raise InputError("series", e.shape, f"must match times {t.shape} with >= 2 values")
+    mean = e.mean()
+    if mean <= 0.0:
+        return float("nan")
+    c = 2.0 / e.size * np.sum((e - mean) * np.exp(-2j * np.pi * frequency * t))
+    return float(np.abs(c) / mean)

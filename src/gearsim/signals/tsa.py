@@ -351,12 +351,18 @@ def fm4(d: np.ndarray) -> float:
 
 
 def m6a(d: np.ndarray) -> float:
-    r"""M6A = :math:`N^2\sum(d_i-\bar d)^6 / [\sum(d_i-\bar d)^2]^3` (Martin 1989); 15 for Gaussian."""
+    r"""M6A = :math:`N^2\sum(d_i-\bar d)^6 / [\sum(d_i-\bar d)^2]^3` (Martin 1989).
+
+    15 for Gaussian noise.
+    """
     return _moment_ratio(d, 6, "difference")
 
 
 def m8a(d: np.ndarray) -> float:
-    r"""M8A = :math:`N^3\sum(d_i-\bar d)^8 / [\sum(d_i-\bar d)^2]^4` (Martin 1989); 105 for Gaussian."""
+    r"""M8A = :math:`N^3\sum(d_i-\bar d)^8 / [\sum(d_i-\bar d)^2]^4` (Martin 1989).
+
+    105 for Gaussian noise.
+    """
     return _moment_ratio(d, 8, "difference")
 
 

@@ -1,0 +1,89 @@
+"""CLI verbs: ``example``, ``stiffness`` and ``run-default``."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from gearsim.errors import InputError
+
+__all__ = ["register"]
+
+
+def _with_crack_choice(train, crack: str | None, closure: str | None):
+    from gearsim.stiffness.crack import Crack
+
+    if closure is not None:
+        if closure not in ("open", "contact"):
+            raise InputError("--closure", closure, 'must be "open" or "contact"')
+        train = dataclasses.replace(train, stiffness=dataclasses.replace(train.stiffness,
+                                                                         closure=closure))
+    if crack is None:
+        return train
+    if crack == "none":
+        return train.with_cracks(())
+    if crack not in ("working", "non-working"):
+        raise InputError("--crack", crack, 'must be "none", "working" or "non-working"')
+    cracks = train.cracks or (Crack(gear=train.gears[0].name, depth=2e-3),)
+    return train.with_cracks(tuple(dataclasses.replace(c, flank=crack) for c in cracks))
+
+
+def example(name: Annotated[str, typer.Argument(help="idler-table1 or spur-19-48")]) -> None:
+    """Print a built-in example configuration (TOML)."""
+    from gearsim.io.config import example_text
+
+    typer.echo(example_text(name), nl=False)
+
+
+def stiffness(
+    config: Annotated[str, typer.Argument(help="TOML file or built-in example name")],
+    out: Annotated[Path | None, typer.Option(help="TVMS table, .csv or .nc")] = None,
+    plot: Annotated[Path | None, typer.Option(help="PNG figure of the TVMS")] = None,
+    json_: Annotated[bool, typer.Option("--json", help="print a JSON summary")] = False,
+    crack: Annotated[str | None, typer.Option(help="none, working or non-working")] = None,
+    closure: Annotated[str | None, typer.Option(help="open or contact")] = None,
+) -> None:
+    """Time-varying mesh stiffness of every mesh over one revolution of each gear."""
+    from gearsim.io.config import load
+    from gearsim.stiffness.report import train_stiffness
+
+    train = _with_crack_choice(load(config), crack, closure)
+    ts = train_stiffness(train)
+    if out is not None:
+        ts.write(out)
+    if plot is not None:
+        from gearsim.viz.stiffness import plot_train_stiffness
+
+        plot_train_stiffness(ts, plot)
+    summary = ts.summary()
+    if json_:
+        typer.echo(json.dumps(summary, indent=2))
+    else:
+        for m in summary["meshes"]:
+            typer.echo(f"mesh {m['mesh']} ({m['gears'][0]} -> {m['gears'][1]}): "
+                       f"k mean {m['k_mean'] / 1e9:.4f} GN/m, min {m['k_min'] / 1e9:.4f}, "
+                       f"max {m['k_max'] / 1e9:.4f}; eps_alpha {m['eps_alpha']:.3f}, "
+                       f"eps_beta {m['eps_beta']:.3f}; mean / ISO 6336 c_ga b = "
+                       f"{m['ratio_to_iso6336']:.3f}")
+
+
+def run_default(
+    out: Annotated[Path, typer.Option(help="output folder")] = Path("out"),
+) -> None:
+    """The main job on the built-in Table-1 idler train (``make run``)."""
+    from gearsim.studies.default import run_default_job
+
+    report = run_default_job(out)
+    typer.echo(f"gearsim: results written to {report}")
+
+
+def register(app: typer.Typer) -> None:
+    """Add the verbs of this module to ``app``."""
+    app.command("example")(example)
+    app.command("stiffness")(stiffness)
+    app.command("run-default")(run_default)
+

@@ -1,0 +1,49 @@
+"""Mesh stiffness estimate of ISO 6336-1:2019, method B (section 9).
+
+Single stiffness of a tooth pair (per unit face width, transverse plane):
+
+    q' = C1 + C2/z_n1 + C3/z_n2 + C4 x1 + C5 x1/z_n1 + C6 x2 + C7 x2/z_n2
+         + C8 x1^2 + C9 x2^2                                   [mm um / N]
+    c'_th = 1/q',  c' = c'_th C_M C_R C_B cos(beta),
+    c_gamma_alpha = c' (0.75 eps_alpha + 0.25)                 [N / (mm um)]
+
+with z_n = z / (cos^2(beta_b) cos(beta)), C_M = 0.8 (solid discs), C_R = 1 (solid
+gear blanks), C_B = 0.975 for the standard basic rack (h_fP = 1.25 m_n, alpha_n = 20
+deg) [ISO 6336-1:2019, eqs. 96-103]. The steel reference: E = 206 000 N/mm^2.
+"""
+
+from __future__ import annotations
+
+import math
+
+from gearsim.geometry.pair import GearPair
+
+__all__ = ["ISO_C", "mean_mesh_stiffness", "single_stiffness"]
+
+ISO_C = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
+
+
+def single_stiffness(pair: GearPair, *, c_m: float = 0.8, c_r: float = 1.0,
+                     c_b: float = 0.975) -> float:
+    """Single stiffness c' of ISO 6336-1 method B [N/(mm um) = 1e9 N/m^2]."""
+    g1, g2 = pair.driver, pair.driven
+    beta = abs(g1.helix_angle)
+    bb = g1.base_helix_angle
+    zn1 = g1.teeth / (math.cos(bb) ** 2 * math.cos(beta))
+    zn2 = g2.teeth / (math.cos(bb) ** 2 * math.cos(beta))
+    x1, x2 = g1.profile_shift, g2.profile_shift
+    c = ISO_C
+    q = (c[0] + c[1] / zn1 + c[2] / zn2 + c[3] * x1 + c[4] * x1 / zn1 + c[5] * x2
+         + c[6] * x2 / zn2 + c[7] * x1**2 + c[8] * x2**2)
+    return (1.0 / q) * c_m * c_r * c_b * math.cos(beta)
+
+
+def mean_mesh_stiffness(pair: GearPair) -> float:
+    """ISO 6336-1 mesh stiffness c_gamma_alpha times the face width [N/m].
+
+    The material correction E/E_steel of ISO 6336-1 (9.3) is applied for equal
+    materials other than steel.
+    """
+    c1 = single_stiffness(pair) * (0.75 * pair.transverse_contact_ratio + 0.25)
+    e_ratio = pair.driver.material.youngs_modulus / 206e9
+    return c1 * 1e9 * pair.face_width * e_ratio

@@ -210,11 +210,11 @@ class Analysis:
             }
         return out
 
-    def plot(self, directory: str, *, fmt: str = "png") -> list[str]:
-        """Write the standard figures to ``directory``; returns the file paths."""
+    def plot(self, directory: str, *, fmt: str = "png", units: str | None = None) -> list[str]:
+        """Write the standard figures to ``directory`` (see :mod:`gearsim.viz.signals`)."""
         from gearsim.viz.signals import plot_analysis
 
-        return plot_analysis(self, directory, fmt=fmt)
+        return plot_analysis(self, directory, fmt=fmt, units=units)
 
 
 def _samples_per_rev(fs: float, f_r: float) -> int:
@@ -375,7 +375,10 @@ def analyze(
         raise InputError("stft_frames_per_rev", stft_frames_per_rev,
                          f"gives a frame of {nperseg} samples, longer than the record")
     hop = max(1, nperseg // 2)
-    sg = spectrogram(a, fs, nperseg=nperseg, hop=hop, window="hann")
+    # The static part (e.g. the mean mesh force) would swamp the lowest bins; the STFT
+    # analyses the dynamic part when remove_mean is set.
+    sg = spectrogram(a - stats.mean if remove_mean else a, fs, nperseg=nperseg, hop=hop,
+                     window="hann")
     mean_psd = sg.psd.mean(axis=1)
     energies, bw_stft, mod_peak = {}, {}, {}
     for n in orders:

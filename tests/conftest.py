@@ -1,0 +1,19 @@
+"""Shared fixtures."""
+
+from __future__ import annotations
+
+import pytest
+
+from gearsim.io.config import load
+
+
+@pytest.fixture(scope="session")
+def table1():
+    """The built-in Table-1 idler train (with its example crack)."""
+    return load("idler-table1")
+
+
+@pytest.fixture(scope="session")
+def spur():
+    """The built-in 19/48 spur pair."""
+    return load("spur-19-48")

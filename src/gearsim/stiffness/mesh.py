@@ -184,7 +184,7 @@ def _slice_grid(pair: GearPair, settings: StiffnessSettings):
         lmid = 0.5 * (a + c)
     else:
         lmid = base
-        frac = ((base >= la) & (base < le)).astype(float)
+        frac = ((base > la) & (base <= le)).astype(float)  # same side as helical limit
     lmid = np.where(frac > 0, lmid, la)
     return lmid, frac, dz, n_age, ns, (z0 + 0.5 * dz) / b
 

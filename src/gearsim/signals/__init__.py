@@ -11,13 +11,18 @@ Modules, one concept each:
 * :mod:`~gearsim.signals.compare` -- simulated-versus-measured sidebands (seed Table 2);
 * :mod:`~gearsim.signals.analyze` -- everything above on one record.
 
+The package exports :func:`analyze` (the function, which shadows the module of the same
+name: import module constants with ``from gearsim.signals.analyze import IMPACT_FACTOR``).
+The functions ``tsa.tsa`` and ``emd.emd`` are not re-exported, so that
+``gearsim.signals.tsa`` and ``gearsim.signals.emd`` stay the modules.
+
 Readers of measured files are in :mod:`gearsim.io.measured`, figures in
 :mod:`gearsim.viz.signals`. Equations and sources: ``docs/signals.md``.
 """
 
 from gearsim.signals.analyze import Analysis, GearTrain, analyze, gear_train
 from gearsim.signals.compare import SidebandComparison, compare_sidebands, percentage_error
-from gearsim.signals.emd import Decomposition, Selection, emd, select_imfs
+from gearsim.signals.emd import Decomposition, Selection, select_imfs
 from gearsim.signals.sidebands import SidebandFamily, mesh_harmonics, sideband_families
 from gearsim.signals.spectrum import Spectrum, Tone, amplitude_spectrum, tone, zoom
 from gearsim.signals.timedomain import (
@@ -45,7 +50,6 @@ from gearsim.signals.tsa import (
     na4,
     pulse_times,
     residual_signal,
-    tsa,
 )
 
 __all__ = [
@@ -71,7 +75,6 @@ __all__ = [
     "crest_factor",
     "detect_impacts",
     "difference_signal",
-    "emd",
     "fm0",
     "fm4",
     "gear_train",
@@ -92,6 +95,5 @@ __all__ = [
     "spectrogram",
     "time_stats",
     "tone",
-    "tsa",
     "zoom",
 ]

@@ -42,8 +42,8 @@ def _contact_extent(h: float, hc: float, n: float, ms: float) -> float:
     return 0.5 * (lo + hi)
 
 
-def reference_compliance(tm: ToothModel, radius: float, record: np.ndarray | None = None
-                         ) -> np.ndarray:
+def reference_compliance(tm: ToothModel, radius: float, record: np.ndarray | None = None,
+                         *, epsrel: float = 1e-10) -> np.ndarray:
     """Compliances (bending, shear, axial, foundation) at one contact radius, L = 1 m.
 
     Parameters
@@ -54,6 +54,8 @@ def reference_compliance(tm: ToothModel, radius: float, record: np.ndarray | Non
         Contact radius on the involute [m].
     record
         Crack record (``K.C_*`` layout) or ``None``.
+    epsrel
+        Relative tolerance of ``quad``.
     """
     prof = tm.profile
     gear = tm.gear
@@ -107,7 +109,7 @@ def reference_compliance(tm: ToothModel, radius: float, record: np.ndarray | Non
                 return energies(x, y)[comp] * abs(dy(fun, p, h))
 
             lo, hi = min(pa, pb), max(pa, pb)
-            val, _ = quad(integrand, lo, hi, points=brk or None, epsabs=0.0, epsrel=1e-10,
+            val, _ = quad(integrand, lo, hi, points=brk or None, epsabs=0.0, epsrel=epsrel,
                           limit=200)
             out[comp] += val
     # Sainsot et al. 2004 (seed eq. 7)

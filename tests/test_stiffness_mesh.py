@@ -42,9 +42,9 @@ def test_slice_convergence(table1):
     pair = table1.pairs[0]
     counts = (5, 10, 20, 40, 80)
     res = [mesh_stiffness(pair, settings=StiffnessSettings(slices=n)) for n in counts]
-    changes = [float(np.max(np.abs(b.k - a.k)) / np.mean(b.k)) for a, b in zip(res, res[1:])]
+    changes = [float(np.max(np.abs(b.k - a.k)) / np.mean(b.k)) for a, b in zip(res, res[1:], strict=False)]
     assert changes[-1] < SLICE_CONVERGENCE
-    assert all(x > y for x, y in zip(changes, changes[1:]))  # monotone refinement
+    assert all(x > y for x, y in zip(changes, changes[1:], strict=False))  # monotone refinement
     i_default = counts.index(DEFAULT_SLICES)
     assert changes[i_default - 1] < SLICE_CONVERGENCE  # DEFAULT vs half of it
 

@@ -6,7 +6,7 @@ Plain numbers are taken as SI. Strings carry a unit (``"6 mm"``, ``"1900 rpm"``,
 
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import cache
 from typing import Any
 
 import pint
@@ -38,7 +38,7 @@ DIMENSIONS: dict[str, str] = {
 }
 
 
-@lru_cache(maxsize=None)
+@cache
 def _si_unit(kind: str) -> pint.Unit:
     return ureg.Unit(DIMENSIONS[kind])
 

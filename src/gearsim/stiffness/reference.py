@@ -104,7 +104,7 @@ def reference_compliance(tm: ToothModel, radius: float, record: np.ndarray | Non
                 if (seg == 0) == (fun is fillet) and min(pa, pb) < p < max(pa, pb):
                     brk.append(p)
         for comp in range(3):
-            def integrand(p: float, comp: int = comp) -> float:
+            def integrand(p: float, comp: int = comp, fun=fun, h: float = h) -> float:
                 x, y = fun(p)
                 return energies(x, y)[comp] * abs(dy(fun, p, h))
 

@@ -45,7 +45,7 @@ class TrainStiffness:
     def to_table(self) -> list[dict]:
         """Long-format rows: mesh, revolution_of, position, angles, k and components."""
         rows = []
-        for (i, rev), r in self.results.items():
+        for (i, _rev), r in self.results.items():
             for j in range(r.k.size):
                 row = {"mesh": self.train.pairs[i].name, "revolution_of": r.revolution_of,
                        "cycle": r.cycles[j], "theta1_deg": math.degrees(r.theta1[j]),

@@ -39,8 +39,9 @@ COMPONENTS = ("hertz", "bending_1", "shear_1", "axial_1", "foundation_1",
               "bending_2", "shear_2", "axial_2", "foundation_2")
 
 #: Default number of slices of a helical face width. From the convergence study in
-#: ``tests/test_stiffness_mesh.py::test_slice_convergence`` (Table-1 mesh I): the mean
-#: TVMS changes by < 0.05 % and the pointwise maximum by < 0.5 % from 20 to 40 slices.
+#: ``tests/test_stiffness_mesh.py::test_slice_convergence`` (Table-1 mesh I, largest
+#: pointwise change relative to the mean): 10->20 slices 0.084 %, 20->40 0.021 %,
+#: 40->80 0.005 % (second order in 1/N).
 DEFAULT_SLICES = 40
 
 

@@ -1,0 +1,134 @@
+"""Planar layout of a gear chain: centres, lines of action and the mesh phases.
+
+Conventions
+-----------
+* Gear 0 (input) turns counter-clockwise (sense s_0 = +1) and sits at the origin; gear
+  j turns with the sense s_j = (-1)^j (external gears). Its rotation coordinate is
+  positive in its own sense of rotation.
+* The centre line of mesh i points from gear i to gear i+1 at the global angle phi_i;
+  phi_0 = 0. At an idler j the *idler angle* gamma_j is the angle, measured at the idler
+  in its sense of rotation, from the centre line towards the driving gear j-1 to the
+  centre line towards the driven gear j+1 (180 deg: the three centres on a line). Hence
+  ``phi_j = phi_{j-1} + pi + s_j gamma_j``.
+* With e = (cos phi_i, sin phi_i) and e_perp = (-sin phi_i, cos phi_i), the unit vector
+  of the transverse line of action of mesh i, pointing in the direction of the force on
+  the driven gear (and from the driver's base tangent point T1 to the driven gear's T2),
+  is ``n_i = s_i cos(alpha_wt) e_perp + sin(alpha_wt) e`` (alpha_wt: working transverse
+  pressure angle). T1 lies on the driver's base circle at the own-sense angle
+  ``s_i phi_i - alpha_wt``, T2 on the driven base circle at ``s_{i+1} (phi_i + pi) + alpha_wt``.
+
+Mesh phase
+----------
+The stiffness tables count mesh cycles c from the instant at which tooth 0 of the driver
+enters contact (roll length l = l_A from T1, at the face z = 0); tooth t of the driver
+is then at ``l = l_A + (c - t) p_bt``. On the idler j the loaded flank in mesh j-1 is the
+rear flank (base point behind the tooth centre line by the base half-thickness angle
+psi_b) and in mesh j the front flank (ahead by psi_b). Writing the angular position of
+the centre line of one physical idler tooth from both meshes and equating gives the
+offset between the cycle coordinates of mesh j and mesh j-1:
+
+    Delta_j = z_j / (2 pi) (2 psi_b + alpha_wt,j-1 + alpha_wt,j - gamma_j)
+              - (L_{j-1} - l_A,j-1) / p_bt - l_A,j / p_bt            [mesh cycles]
+
+i.e. ``z_j gamma_j / (2 pi)`` (the number of base pitches between the two centre lines,
+whose fractional part is the classical idler mesh phase) plus the contact-position
+offsets of the two meshes (pressure angles, the roll lengths to the start of contact of
+each mesh, and the tooth thickness between the two flanks). ``c_j = c_{j-1} + Delta_j``;
+only ``Delta_j mod 1`` matters for healthy gears, ``Delta_j mod z_j`` for a cracked idler
+(which revolution the cracked tooth enters the second mesh).
+
+References
+----------
+.. [Kahraman1994] A. Kahraman, Dynamic analysis of a multi-mesh helical gear train,
+   J. Mech. Des. 116 (1994) 706-712 (idler train, mesh phasing by the layout).
+.. [Parker2004] R. G. Parker, J. Lin, Mesh phasing relationships in planetary and
+   epicyclic gears, J. Mech. Des. 126 (2004) 365-370 (phase = fractional part of
+   z times the angle between meshes over 2 pi).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from gearsim.errors import InputError
+from gearsim.system import GearTrain
+
+__all__ = ["Layout", "layout"]
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Planar layout of a chain.
+
+    Attributes
+    ----------
+    centres : (n_gears, 2) gear centres [m]
+    senses : (n_gears,) sense of rotation s_j (+1 counter-clockwise)
+    line_angle : (n_meshes,) global angle phi_i of centre line i [rad]
+    normal : (n_meshes, 2) unit vector n_i of the transverse line of action
+    phase : (n_meshes,) cycle offset of each mesh against mesh 0 [mesh cycles]
+    """
+
+    centres: np.ndarray
+    senses: np.ndarray
+    line_angle: np.ndarray
+    normal: np.ndarray
+    phase: np.ndarray
+
+
+def layout(train: GearTrain, idler_angles: tuple[float, ...]) -> Layout:
+    """Centres, line-of-action vectors and mesh phases of ``train``.
+
+    Parameters
+    ----------
+    train
+        The gear chain.
+    idler_angles
+        gamma_j for each idler j = 1 .. n-2 [rad] (see the module docstring).
+
+    Returns
+    -------
+    Layout
+
+    Raises
+    ------
+    InputError
+        If two gears that are not in mesh would overlap (tip circles intersect).
+    """
+    gears, pairs = train.gears, train.pairs
+    ng = len(gears)
+    senses = np.array([(-1.0) ** j for j in range(ng)])
+    phi = np.zeros(ng - 1)
+    centres = np.zeros((ng, 2))
+    normal = np.zeros((ng - 1, 2))
+    phase = np.zeros(ng - 1)
+    for i, pair in enumerate(pairs):
+        if i > 0:
+            phi[i] = phi[i - 1] + math.pi + senses[i] * idler_angles[i - 1]
+        e = np.array([math.cos(phi[i]), math.sin(phi[i])])
+        ep = np.array([-e[1], e[0]])
+        aw = pair.working_pressure_angle
+        normal[i] = senses[i] * math.cos(aw) * ep + math.sin(aw) * e
+        centres[i + 1] = centres[i] + pair.centre_distance * e
+        if i > 0:
+            prev = pairs[i - 1]
+            idler = gears[i]
+            pb = pair.base_pitch
+            gamma = idler_angles[i - 1]
+            delta = idler.teeth / (2 * math.pi) * (
+                2 * idler.base_half_thickness_angle + prev.working_pressure_angle + aw - gamma)
+            delta -= (prev.line_length - prev.start_of_contact) / prev.base_pitch
+            delta -= pair.start_of_contact / pb
+            phase[i] = phase[i - 1] + delta
+    for a in range(ng):
+        for b in range(a + 2, ng):
+            d = float(np.hypot(*(centres[b] - centres[a])))
+            lim = gears[a].tip_radius + gears[b].tip_radius
+            if d <= lim:
+                raise InputError("dynamics.idler_angle", [math.degrees(g) for g in idler_angles],
+                                 f"puts {gears[a].name} and {gears[b].name} {d:.6g} m apart, "
+                                 f"closer than their tip radii sum {lim:.6g} m")
+    return Layout(centres=centres, senses=senses, line_angle=phi, normal=normal, phase=phase)

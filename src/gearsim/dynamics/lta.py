@@ -1,0 +1,205 @@
+"""Lateral-torsional-axial (LTA) model of a chain of helical gears.
+
+Coordinates of gear j (4 per gear): x_j, y_j (transverse translation of the centre,
+global axes of the layout), z_j (axial), theta_j (rotation, positive in the gear's own
+sense of rotation, measured from the nominal rigid rotation Omega_j t) [m, rad].
+
+Mesh i (gear i drives gear i+1) acts along the transverse line of action n_i (see
+:mod:`gearsim.dynamics.layout`). Its deflection in transverse-equivalent units is
+
+    delta_i = V_i . q = n_i.(u_i - u_{i+1}) + tan(beta_b) (z_i - z_{i+1})
+              + r_b,i theta_i - r_b,i+1 theta_{i+1}                          [m]
+
+(``u = (x, y)``): the normal deflection along the normal line of action divided by
+cos(beta_b). The transverse force is f_i = k_i(t) g(delta_i - e_i) + c_m (delta_i' -
+e_i') with the tabulated *transverse* stiffness k_i (normal-plane stiffness k_i /
+cos^2 beta_b gives the same force, ``F_n = F_t / cos beta_b``), and the mesh acts on
+the coordinates with -V_i f_i: the driven gear receives f_i n_i in the plane, the axial
+thrust f_i tan(beta_b) and the torque f_i r_b,i+1; the driver the opposite force and
+the resisting torque -f_i r_b,i. The sign of the axial coordinate is a convention (the
+same for every mesh of a chain of external gears because hands and senses of rotation
+alternate together); bearings are symmetric, so it does not change any result.
+
+External loads: the input torque T_1 on gear 0 and the load torque T_1 r_b,N / r_b,1
+on the last gear (constant). Bearings: stiffness and viscous damping on x, y (radial)
+and z (axial) of every gear; no torsional support.
+
+Rigid-body rotation: every V_i is orthogonal to the rigid rotation of the chain
+(theta_j = c / r_b,j) and the external torques balance, so that mode is neither forced
+nor damped. We keep the absolute coordinates and start at the static equilibrium of the
+mean system with zero rigid-body velocity, so the mode stays at rest (round-off drift
+~1e-12 rad over a second); no torsional spring to ground is added, which would carry
+part of the load and bias the mean mesh force. The modal analysis reports the zero
+frequency and skips it.
+
+Masses: m_j = ``Gear.mass``, J_j = ``Gear.polar_inertia`` (disc between bore and pitch
+radius). Mesh damping: c_m = 2 zeta_m sqrt(k_mean m_eq), m_eq = 1 / (r_b,i^2 / J_i +
+r_b,i+1^2 / J_i+1) (Kahraman & Singh 1990, torsional equivalent mass).
+
+References
+----------
+.. [Kahraman1994] A. Kahraman, Dynamic analysis of a multi-mesh helical gear train,
+   J. Mech. Des. 116 (1994) 706-712.
+.. [KahramanSingh1990] A. Kahraman, R. Singh, Non-linear dynamics of a spur gear pair,
+   J. Sound Vib. 142 (1990) 49-75 (backlash function, equivalent mass, damping ratio).
+.. [Velex1996] P. Velex, M. Maatar, A mathematical model for analyzing the influence of
+   shape deviations and mounting errors on gear dynamic behaviour, J. Sound Vib. 191
+   (1996) 629-660 (projection vector of a helical mesh).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from gearsim.dynamics.layout import layout
+from gearsim.dynamics.model import DynamicModel, static_equilibrium
+from gearsim.dynamics.settings import DynamicsSettings
+from gearsim.dynamics.tables import MeshTable, mesh_tables
+from gearsim.system import GearTrain
+
+__all__ = ["agma_backlash", "build_lta", "ste_harmonics"]
+
+AXES = ("x", "y", "z")
+
+
+def agma_backlash(train: GearTrain, mesh: int) -> float:
+    """Default clearance 2b of a mesh along the transverse line of action [m].
+
+    AGMA 2002-B88 minimum normal backlash, j_bn = (2/3)(0.06 + 0.0005 a + 0.03 m_n) mm
+    (a, m_n in mm), divided by cos(beta_b) to express it along the transverse line of
+    action.
+    """
+    pair = train.pairs[mesh]
+    a_mm = pair.centre_distance * 1e3
+    mn_mm = pair.driver.normal_module * 1e3
+    jbn = (2.0 / 3.0) * (0.06 + 0.0005 * a_mm + 0.03 * mn_mm) * 1e-3
+    return jbn / math.cos(pair.driver.base_helix_angle)
+
+
+def backlash_values(train: GearTrain, settings: DynamicsSettings) -> np.ndarray:
+    """Clearance 2b of every mesh [m]; ``inf`` when the mesh is linear."""
+    nm = len(train.pairs)
+    if not settings.nonlinear:
+        return np.full(nm, np.inf)
+    if settings.backlash is None:
+        return np.array([agma_backlash(train, i) for i in range(nm)])
+    return np.array(settings.per_item("backlash", nm, "mesh"), dtype=float)
+
+
+def ste_harmonics(train: GearTrain, settings: DynamicsSettings, phase: np.ndarray,
+                  normal_angle: np.ndarray, senses: np.ndarray, signs: np.ndarray):
+    """Constant part and harmonics of the static transmission error of every mesh.
+
+    e_i(t) = crowning_i / 3 + assembly_i + A_pm,i cos(2 pi (f_m t + phase_i))
+             + sum over the two gears j of mesh i of eps_j sin(w_j t + p_ij)
+
+    * profile modification (tip relief): first mesh harmonic of the unloaded STE,
+      amplitude A_pm (Oezgueven & Houser 1988 represent the STE by its mesh harmonics);
+    * crowning: mean gap of a parabolic lead crown of height C_beta over the face
+      width, C_beta / 3 (its load-dependent effect on the stiffness is not modelled);
+    * runout: the eccentricity eps_j of gear j, turning with the gear (global angle
+      s_j Omega_j t + psi_j), projected on the line of action: a centre offset d changes
+      the deflection by sign_ij n_i.d, i.e. e = -sign_ij eps_j cos(s_j Omega_j t + psi_j
+      - angle(n_i)), where sign_ij is V_i's sign for gear j (+1 driver, -1 driven);
+    * assembly error: a constant per mesh.
+
+    Returns e0 (n_mesh,), amplitude, angular frequency and phase arrays (n_mesh, 3) [m,
+    rad/s, rad].
+    """
+    ng, nm = len(train.gears), len(train.pairs)
+    pm = settings.per_item("profile_modification", nm, "mesh")
+    crown = settings.per_item("crowning", nm, "mesh")
+    asm = settings.per_item("assembly_error", nm, "mesh")
+    ro = settings.per_item("runout", ng, "gear")
+    rph = settings.per_item("runout_phase", ng, "gear")
+    fm = train.mesh_frequency
+    e0 = np.array([crown[i] / 3.0 + asm[i] for i in range(nm)])
+    amp = np.zeros((nm, 3))
+    om = np.zeros((nm, 3))
+    ph = np.zeros((nm, 3))
+    for i in range(nm):
+        amp[i, 0] = pm[i]
+        om[i, 0] = 2 * math.pi * fm
+        ph[i, 0] = 2 * math.pi * phase[i] + 0.5 * math.pi
+        for col, j in ((1, i), (2, i + 1)):
+            sgn = signs[i, col - 1]
+            amp[i, col] = ro[j]
+            om[i, col] = senses[j] * train.speed(j)
+            # -sgn cos(x) = sin(x - sgn pi/2)
+            ph[i, col] = rph[j] - normal_angle[i] - sgn * 0.5 * math.pi
+    return e0, amp, om, ph
+
+
+def build_lta(train: GearTrain, settings: DynamicsSettings | None = None, *,
+              tables: tuple[MeshTable, ...] | None = None) -> DynamicModel:
+    """Assemble the LTA equations of motion of ``train``.
+
+    Parameters
+    ----------
+    train
+        Gear chain with operating point and cracks.
+    settings
+        Dynamics options (bearings, damping, backlash, layout, STE).
+    tables
+        Precomputed stiffness tables (default: :func:`mesh_tables`).
+
+    Returns
+    -------
+    DynamicModel
+        Coordinates ``(x, y, z, theta)`` per gear [m, rad]; forces [N], torques [N m].
+    """
+    settings = settings or DynamicsSettings()
+    tables = tables or mesh_tables(train)
+    gears, pairs = train.gears, train.pairs
+    ng, nm = len(gears), len(pairs)
+    n = 4 * ng
+    lay = layout(train, settings.per_item("idler_angle", ng - 2, "idler") if ng > 2 else ())
+    mass = np.zeros(n)
+    kb = np.zeros(n)
+    cb = np.zeros(n)
+    kr = settings.bearing_stiffness
+    ka = settings.bearing_axial_stiffness or kr
+    labels = []
+    for j, g in enumerate(gears):
+        mass[4 * j:4 * j + 3] = g.mass
+        mass[4 * j + 3] = g.polar_inertia
+        kb[4 * j:4 * j + 3] = (kr, kr, ka)
+        for a, k in enumerate((kr, kr, ka)):
+            cb[4 * j + a] = (settings.bearing_damping if settings.bearing_damping is not None
+                             else 2 * settings.bearing_damping_ratio * math.sqrt(k * g.mass))
+        labels += [f"{g.name}.x", f"{g.name}.y", f"{g.name}.z", f"{g.name}.theta"]
+    V = np.zeros((nm, n))
+    for i, pair in enumerate(pairs):
+        nx, ny = lay.normal[i]
+        tb = math.tan(pair.driver.base_helix_angle)
+        a, b = 4 * i, 4 * (i + 1)
+        V[i, a:a + 4] = (nx, ny, tb, pair.driver.base_radius)
+        V[i, b:b + 4] = (-nx, -ny, -tb, -pair.driven.base_radius)
+    fext = np.zeros(n)
+    t_in = train.operating.torque
+    fext[3] = t_in
+    fext[4 * (ng - 1) + 3] = -t_in * gears[-1].base_radius / gears[0].base_radius
+    kmean = np.array([t.mean for t in tables])
+    meq = np.array([1.0 / (p.driver.base_radius ** 2 / p.driver.polar_inertia
+                           + p.driven.base_radius ** 2 / p.driven.polar_inertia) for p in pairs])
+    cm = 2 * settings.mesh_damping_ratio * np.sqrt(kmean * meq)
+    signs = np.tile([1.0, -1.0], (nm, 1))
+    e0, amp, om, ph = ste_harmonics(train, settings, lay.phase,
+                                    np.arctan2(lay.normal[:, 1], lay.normal[:, 0]),
+                                    lay.senses, signs)
+    q_static = static_equilibrium(mass, kb, V, kmean, fext, e0)
+    bearing_dofs = np.array([[4 * j, 4 * j + 1, 4 * j + 2] for j in range(ng)], dtype=np.int64)
+    return DynamicModel(
+        kind="lta", gear_names=tuple(g.name for g in gears), dof_labels=tuple(labels),
+        mass=mass, kb=kb, cb=cb, fext=fext, V=V, kappa=np.ones(nm), kscale=np.ones(nm),
+        cm=cm, clearance=backlash_values(train, settings), tables=tables,
+        phase=lay.phase.copy(), mesh_frequency=train.mesh_frequency, e0=e0, h_amp=amp,
+        h_omega=om, h_phase=ph, to_transverse=np.ones(nm), dte_offset=np.zeros(nm),
+        static_force=np.array([train.static_mesh_force(i) for i in range(nm)]),
+        bearing_dofs=bearing_dofs, axes=AXES, q_static=q_static,
+        info={"equivalent_mass": meq, "mesh_damping_ratio": settings.mesh_damping_ratio,
+              "centres": lay.centres, "line_of_action": lay.normal,
+              "rotation_sense": lay.senses},
+    )

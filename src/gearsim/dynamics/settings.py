@@ -1,0 +1,220 @@
+"""Options of the train-dynamics simulation (the ``[dynamics]`` config section).
+
+Every default that the seed paper does not give is listed with its source in
+``docs/defaults.md`` (section "Dynamics"). Values are SI: metres, seconds, hertz,
+newtons per metre, radians.
+
+Example section::
+
+    [dynamics]
+    model = "lta"                 # or "seed"
+    step = "5 us"                 # largest integration step (the run uses a divisor)
+    duration = "1 s"              # recorded window, after the transient
+    fs = "50 kHz"                 # output sampling rate
+    bearing_stiffness = "1e9 N/m"
+    mesh_damping_ratio = 0.07
+    idler_angle = "180 deg"       # angle between the centre lines at each idler
+    profile_modification = "2 um" # amplitude of the mesh-harmonic STE, per mesh or one value
+    runout = ["5 um", "0 um", "0 um"]   # per gear
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+from typing import Any
+
+from gearsim.errors import InputError, require
+from gearsim.units import to_si
+
+__all__ = ["DEFAULT_STEP", "DynamicsSettings", "parse_dynamics"]
+
+#: Default largest integration step [s]. From the step-halving study in
+#: ``tests/dynamics/test_dyn_convergence.py`` on the Table-1 train (LTA model, working-flank
+#: crack): halving 5 us changes the RMS of the mesh-force fluctuation by well under 0.5 %
+#: (numbers in docs/dynamics.md).
+DEFAULT_STEP = 5e-6
+
+MODELS = ("lta", "seed")
+
+
+def _as_tuple(value: float | tuple | list | None) -> tuple[float, ...] | None:
+    if value is None:
+        return None
+    if isinstance(value, (list, tuple)):
+        return tuple(float(v) for v in value)
+    return (float(value),)
+
+
+@dataclass(frozen=True)
+class DynamicsSettings:
+    """Options of :func:`gearsim.dynamics.simulate`.
+
+    Parameters
+    ----------
+    model
+        ``"lta"`` (lateral-torsional-axial, 4 DOF per gear) or ``"seed"`` (the seed's
+        3-DOF translational model, eqs. 1-2, with the static load added).
+    step
+        Largest integration step [s]. The step used is the largest ``dt <= step`` with
+        an integer number of steps per internal sample (``1 / (oversample fs)``).
+    duration
+        Length of the recorded window [s], after the transient.
+    transient
+        Simulated time dropped before recording [s]; ``None``: 12 time constants of
+        the slowest-decaying mode of the mean linear system (at least one mesh period).
+    fs
+        Output sampling rate [Hz].
+    oversample
+        Internal recording rate / ``fs`` (integer >= 1). The internal samples are
+        low-pass filtered (FIR) before decimation to ``fs`` (anti-aliasing); 1 gives
+        instantaneous samples without filtering.
+    bearing_stiffness, bearing_axial_stiffness
+        Radial (x, y) and axial (z) stiffness of each gear's bearing support [N/m];
+        axial ``None``: equal to the radial one.
+    bearing_damping
+        Bearing damping [N s/m]; ``None``: ``2 zeta_b sqrt(k_b m)`` per gear.
+    bearing_damping_ratio
+        zeta_b used when ``bearing_damping`` is ``None`` [-].
+    mesh_damping_ratio
+        zeta_m, ``c_m = 2 zeta_m sqrt(k_mean m_eq)`` [-].
+    backlash
+        Clearance 2b along the transverse line of action [m], one value or one per mesh;
+        ``None``: the AGMA 2002 minimum normal backlash of each mesh converted to the
+        transverse line of action. Set ``nonlinear = false`` for a linear mesh.
+    nonlinear
+        Backlash non-linearity (tooth separation, back-side contact) on or off. The
+        seed model is always linear (as printed).
+    idler_angle
+        Angle between the centre lines at each idler [rad], measured at the idler in its
+        sense of rotation from the line to the driving gear to the line to the driven
+        gear; one value or one per idler. 180 deg: centres on a straight line.
+    profile_modification
+        Amplitude of the mesh-frequency harmonic of the static transmission error
+        caused by profile modification (tip relief) [m], one value or one per mesh.
+    crowning
+        Lead crowning height C_beta [m] (adds C_beta / 3 to the mean STE), one or per mesh.
+    runout
+        Eccentricity (runout) of each gear [m], one value or one per gear.
+    runout_phase
+        Angle of each gear's eccentricity at t = 0 [rad], one value or one per gear.
+    assembly_error
+        Constant STE of each mesh [m], one value or one per mesh.
+    """
+
+    model: str = "lta"
+    step: float = DEFAULT_STEP
+    duration: float = 1.0
+    transient: float | None = None
+    fs: float = 50_000.0
+    oversample: int = 4
+    bearing_stiffness: float = 1.0e9
+    bearing_axial_stiffness: float | None = None
+    bearing_damping: float | None = None
+    bearing_damping_ratio: float = 0.05
+    mesh_damping_ratio: float = 0.07
+    backlash: tuple[float, ...] | None = None
+    nonlinear: bool = True
+    idler_angle: tuple[float, ...] = (math.pi,)
+    profile_modification: tuple[float, ...] = (0.0,)
+    crowning: tuple[float, ...] = (0.0,)
+    runout: tuple[float, ...] = (0.0,)
+    runout_phase: tuple[float, ...] = (0.0,)
+    assembly_error: tuple[float, ...] = (0.0,)
+
+    def __post_init__(self) -> None:
+        for name in ("backlash", "idler_angle", "profile_modification", "crowning",
+                     "runout", "runout_phase", "assembly_error"):
+            object.__setattr__(self, name, _as_tuple(getattr(self, name)))
+        p = "dynamics"
+        require(self.model in MODELS, f"{p}.model", self.model, 'must be "lta" or "seed"')
+        require(self.step > 0, f"{p}.step", self.step, "must be > 0 s")
+        require(self.duration > 0, f"{p}.duration", self.duration, "must be > 0 s")
+        require(self.transient is None or self.transient >= 0, f"{p}.transient",
+                self.transient, "must be >= 0 s")
+        require(self.fs > 0, f"{p}.fs", self.fs, "must be > 0 Hz")
+        require(isinstance(self.oversample, int) and 1 <= self.oversample <= 64,
+                f"{p}.oversample", self.oversample, "must be an integer in [1, 64]")
+        require(self.bearing_stiffness > 0, f"{p}.bearing_stiffness", self.bearing_stiffness,
+                "must be > 0 N/m")
+        require(self.bearing_axial_stiffness is None or self.bearing_axial_stiffness > 0,
+                f"{p}.bearing_axial_stiffness", self.bearing_axial_stiffness, "must be > 0 N/m")
+        require(self.bearing_damping is None or self.bearing_damping >= 0,
+                f"{p}.bearing_damping", self.bearing_damping, "must be >= 0 N*s/m")
+        require(0 <= self.bearing_damping_ratio < 1, f"{p}.bearing_damping_ratio",
+                self.bearing_damping_ratio, "must be in [0, 1)")
+        require(0 <= self.mesh_damping_ratio < 1, f"{p}.mesh_damping_ratio",
+                self.mesh_damping_ratio, "must be in [0, 1)")
+        if self.backlash is not None:
+            require(all(b >= 0 for b in self.backlash), f"{p}.backlash", self.backlash,
+                    "must be >= 0 m")
+        require(all(0 < a < 2 * math.pi for a in self.idler_angle), f"{p}.idler_angle",
+                self.idler_angle, "must be in (0, 360) deg")
+        for name in ("profile_modification", "crowning", "runout"):
+            require(all(v >= 0 for v in getattr(self, name)), f"{p}.{name}",
+                    getattr(self, name), "must be >= 0 m")
+
+    def per_item(self, name: str, count: int, what: str) -> tuple[float, ...]:
+        """The option ``name`` as one value per item (mesh, gear or idler)."""
+        vals = getattr(self, name)
+        if len(vals) == 1:
+            return vals * count
+        if len(vals) != count:
+            raise InputError(f"dynamics.{name}", list(vals),
+                             f"give one value or {count} (one per {what})")
+        return vals
+
+    @property
+    def output_interval(self) -> float:
+        """1 / fs [s]."""
+        return 1.0 / self.fs
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain dict of the options (SI numbers), for the results file."""
+        out: dict[str, Any] = {}
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if v is None:
+                continue
+            out[f.name] = list(v) if isinstance(v, tuple) else v
+        return out
+
+
+KEYS = {
+    "model": "str", "step": "time", "duration": "time", "transient": "time",
+    "fs": "frequency", "oversample": "int", "bearing_stiffness": "stiffness",
+    "bearing_axial_stiffness": "stiffness", "bearing_damping": "damping",
+    "bearing_damping_ratio": "dimensionless", "mesh_damping_ratio": "dimensionless",
+    "backlash": "length", "nonlinear": "bool", "idler_angle": "angle",
+    "profile_modification": "length", "crowning": "length", "runout": "length",
+    "runout_phase": "angle", "assembly_error": "length",
+}
+LIST_KEYS = ("backlash", "idler_angle", "profile_modification", "crowning", "runout",
+             "runout_phase", "assembly_error")
+
+
+def parse_dynamics(table: dict, section: str) -> DynamicsSettings:
+    """Parse the ``[dynamics]`` table (values with units) into :class:`DynamicsSettings`."""
+    from gearsim.io.config import convert
+
+    if not isinstance(table, dict):
+        raise InputError(section, table, "must be a table")
+    scalars = {k: v for k, v in table.items() if not (k in LIST_KEYS and isinstance(v, list))}
+    kw: dict[str, Any] = convert(scalars, KEYS, section)
+    for key in LIST_KEYS:
+        value = table.get(key)
+        if isinstance(value, list):
+            if not value:
+                raise InputError(f"{section}.{key}", value, "must not be empty")
+            kw[key] = tuple(to_si(v, KEYS[key], f"{section}.{key}[{i}]")
+                            for i, v in enumerate(value))
+    return DynamicsSettings(**kw)
+
+
+def _register() -> None:
+    from gearsim.io.config import EXTRA_SECTIONS
+
+    EXTRA_SECTIONS["dynamics"] = parse_dynamics
+
+
+_register()

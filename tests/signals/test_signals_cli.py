@@ -1,0 +1,144 @@
+"""``gearsim analyze`` and ``gearsim compare``: output, and exit 2 with one line on bad input."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import xarray as xr
+from scipy.io import savemat, wavfile
+
+from gearsim import cli
+from gearsim.signals.synthetic import ImpactSpec, gear_signal
+
+FS = 20_000.0
+RPM = 1900.0
+F_R = RPM / 60.0
+
+
+def _write_nc(path, *, duration=2.0, bad_index=None, fs=FS, impacts=True):
+    x = gear_signal(fs=fs, duration=duration, shaft_frequency=F_R, teeth=39,
+                    mesh_amplitudes={1: 1.0, 2: 0.5}, sidebands={(1, -1): 0.05, (1, 1): 0.05},
+                    impacts=ImpactSpec(4.0, 3e-4, 4000.0, 0.01) if impacts else None,
+                    noise=0.01, seed=2)
+    if bad_index is not None:
+        x[bad_index] = np.inf
+    t = np.arange(x.size) / fs
+    tacho = (np.mod(t * F_R, 1.0) < 0.2).astype(float)
+    xr.Dataset({"mesh_force_1": ("time", x, {"units": "N"}), "tacho": ("time", tacho)},
+               coords={"time": t}, attrs={"fs": fs}).to_netcdf(path, engine="h5netcdf")
+    return path
+
+
+def _run(monkeypatch, capsys, *args):
+    monkeypatch.setattr(sys, "argv", ["gearsim", *map(str, args)])
+    code = 0
+    try:
+        cli.main()
+    except SystemExit as exc:
+        code = exc.code
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_analyze_json_and_plots(tmp_path, monkeypatch, capsys):
+    p = _write_nc(tmp_path / "sim.nc")
+    code, out, err = _run(monkeypatch, capsys, "analyze", p, "--channel", "mesh_force_1",
+                          "--shaft-rpm", RPM, "--teeth", 39, "--teeth", 59, "--max-order", 2,
+                          "--plot", tmp_path / "figs", "--json", "--baseline", p)
+    assert code == 0, err
+    d = json.loads(out)
+    assert abs(d["impacts"]["period_ratio_to_T1"] - 1.0) < 0.01
+    assert d["source"]["units"] == "N"
+    assert d["ratios_to_baseline"]["rms"] == pytest.approx(1.0)
+    assert len(list((tmp_path / "figs").glob("*.png"))) == 5
+
+
+def test_analyze_text_with_tacho(tmp_path, monkeypatch, capsys):
+    p = _write_nc(tmp_path / "sim.nc")
+    code, out, err = _run(monkeypatch, capsys, "analyze", p, "--channel", "mesh_force_1",
+                          "--tacho", "tacho", "--teeth", 39, "--max-order", 2)
+    assert code == 0, err
+    assert "TSA" in out and "impacts:" in out
+
+
+def test_compare_json(tmp_path, monkeypatch, capsys):
+    p = _write_nc(tmp_path / "sim.nc", impacts=False)
+    q = tmp_path / "meas.wav"
+    x = gear_signal(fs=FS, duration=2.0, shaft_frequency=F_R, teeth=39,
+                    mesh_amplitudes={1: 0.5, 2: 0.25}, sidebands={(1, -1): 0.03, (1, 1): 0.03},
+                    noise=0.001, seed=3)
+    wavfile.write(q, int(FS), x.astype(np.float32))
+    code, out, err = _run(monkeypatch, capsys, "compare", p, q, "--channel-sim", "mesh_force_1",
+                          "--shaft-rpm", RPM, "--teeth", 39, "--sidebands", 1, "--json",
+                          "--plot", tmp_path / "cmp.png")
+    assert code == 0, err
+    d = json.loads(out)
+    row = d["orders"][0]
+    # simulated relative level 0.05, measured 0.06: error 16.7 %
+    assert row["mean_error_percent"] == pytest.approx(100 * (0.05 - 0.06) / -0.06, abs=1.0)
+    assert (tmp_path / "cmp.png").stat().st_size > 10_000
+
+
+def _assert_one_line_exit_2(code, err, pattern):
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith("gearsim: error: ")
+    assert pattern in lines[0], lines[0]
+    assert "Traceback" not in err
+
+
+def test_cli_nonfinite_sample(tmp_path, monkeypatch, capsys):
+    p = _write_nc(tmp_path / "bad.nc", bad_index=321)
+    code, _, err = _run(monkeypatch, capsys, "analyze", p, "--channel", "mesh_force_1",
+                        "--shaft-rpm", RPM, "--teeth", 39)
+    _assert_one_line_exit_2(code, err, "mesh_force_1[321] = inf: must be finite")
+
+
+def test_cli_nyquist(tmp_path, monkeypatch, capsys):
+    p = _write_nc(tmp_path / "slow.nc", fs=8000.0)
+    code, _, err = _run(monkeypatch, capsys, "analyze", p, "--channel", "mesh_force_1",
+                        "--shaft-rpm", RPM, "--teeth", 39, "--max-order", 4)
+    _assert_one_line_exit_2(code, err, "fs = 8000 Hz: must exceed")
+
+
+def test_cli_record_too_short(tmp_path, monkeypatch, capsys):
+    p = _write_nc(tmp_path / "short.nc", duration=0.1)
+    code, _, err = _run(monkeypatch, capsys, "analyze", p, "--channel", "mesh_force_1",
+                        "--shaft-rpm", RPM, "--teeth", 39, "--teeth", 125, "--max-order", 1)
+    _assert_one_line_exit_2(code, err, "record duration = 0.1 s: must be >=")
+
+
+def test_cli_missing_channel(tmp_path, monkeypatch, capsys):
+    p = _write_nc(tmp_path / "sim.nc")
+    code, _, err = _run(monkeypatch, capsys, "analyze", p, "--channel", "acc",
+                        "--shaft-rpm", RPM, "--teeth", 39)
+    _assert_one_line_exit_2(code, err, "channel = acc: not in sim.nc")
+
+
+def test_cli_truncated_file(tmp_path, monkeypatch, capsys):
+    p = tmp_path / "rec.mat"
+    savemat(p, {"acc": np.ones(20000), "fs": FS})
+    p.write_bytes(p.read_bytes()[:5000])
+    code, _, err = _run(monkeypatch, capsys, "analyze", p, "--shaft-rpm", RPM, "--teeth", 39)
+    _assert_one_line_exit_2(code, err, "cannot be read as MAT")
+
+
+def test_cli_speed_options(tmp_path, monkeypatch, capsys):
+    p = _write_nc(tmp_path / "sim.nc")
+    code, _, err = _run(monkeypatch, capsys, "analyze", p, "--channel", "mesh_force_1",
+                        "--teeth", 39)
+    _assert_one_line_exit_2(code, err, "give exactly one")
+
+
+def test_entry_point_subprocess(tmp_path):
+    """The installed script path: exit status 2, one line, no traceback."""
+    p = tmp_path / "rec.wav"
+    wavfile.write(p, 8000, np.zeros(80, dtype=np.int16))
+    r = subprocess.run([sys.executable, "-m", "gearsim.cli", "analyze", str(p),
+                        "--shaft-rpm", "1900", "--teeth", "39"],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2, r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1 and "Traceback" not in r.stderr

@@ -4,7 +4,7 @@ Time grid and anti-aliasing
 ---------------------------
 The output samples are at ``t_k = T_tr + k / fs`` (T_tr: the transient, dropped). The
 kernel records instantaneous samples at the internal rate ``r fs`` (``r`` =
-``oversample``, default 4) and the integration step is an integer divisor of the
+``oversample``, default 2) and the integration step is an integer divisor of the
 internal sample interval, ``dt = 1 / (r fs m)`` with the smallest integer m that makes
 ``dt <= step``. The internal samples of the mesh forces and of the state are low-pass
 filtered with a linear-phase FIR filter (Kaiser window, beta 8, 24 r + 1 taps, cut-off
@@ -36,7 +36,7 @@ from gearsim.dynamics.tables import MeshTable, mesh_tables
 from gearsim.errors import InputError, SimulationError
 from gearsim.system import GearTrain
 
-__all__ = ["Raw", "build_model", "integration_step", "reference_rhs", "run_kernel",
+__all__ = ["Raw", "build_model", "integration_step", "reference_mesh_forces", "reference_rhs", "run_kernel",
            "settings_of", "simulate", "summary"]
 
 #: |q| limit [m or rad] beyond which a run counts as diverged.
@@ -227,7 +227,10 @@ def simulate(train: GearTrain, settings: DynamicsSettings | None = None, *,
 
         h = _fir(r, fs)
         x = np.concatenate([raw.q, raw.v, raw.f], axis=1)
-        y = upfirdn(h, x, up=1, down=r, axis=0)[half // r: half // r + n_out]
+        # full-convolution index j = kk r holds the output centred on j - half; the first
+        # output sample is centred on internal index half, i.e. kk = 2 half / r
+        k0 = 2 * half // r
+        y = upfirdn(h, x, up=1, down=r, axis=0)[k0:k0 + n_out]
         n = model.n_dof
         q, v, f = y[:, :n], y[:, n:2 * n], y[:, 2 * n:]
     else:
@@ -315,32 +318,35 @@ def summary(ds) -> dict:
             "cracks": ds.attrs["cracks"], "meshes": meshes}
 
 
+def reference_mesh_forces(model: DynamicModel, t: float, q: np.ndarray,
+                          v: np.ndarray) -> np.ndarray:
+    """Mesh forces f_i [N] of the equations in plain numpy (see :func:`reference_rhs`)."""
+    arg = model.h_omega * t + model.h_phase
+    e = model.e0 + np.sum(model.h_amp * np.sin(arg), axis=1)
+    ed = np.sum(model.h_amp * model.h_omega * np.cos(arg), axis=1)
+    k = np.array([model.kscale[i] * float(tab(model.mesh_frequency * t + model.phase[i]))
+                  for i, tab in enumerate(model.tables)])
+    x = model.V @ q - e
+    xd = model.V @ v - ed
+    b2 = model.clearance
+    contact = (x > 0) | (x <= -b2)
+    g = np.where(x > 0, x, np.where(x <= -b2, x + b2, 0.0))
+    return model.kappa * (k * g + np.where(contact, model.cm * xd, 0.0))
+
+
 def reference_rhs(model: DynamicModel):
     """The same equations as the kernel in plain numpy, ``fun(t, y)`` for solve_ivp.
 
     ``y = [q, q']``. Independent of the numba code (vectorised numpy, the table's own
-    interpolation and :meth:`DynamicModel.ste`), for cross-checks and benchmarks.
+    interpolation :meth:`MeshTable.__call__`), for cross-checks and benchmarks.
     """
     n = model.n_dof
-    V = model.V
     minv = 1.0 / model.mass
-    w = model.h_omega
-    fm = model.mesh_frequency
 
     def fun(t: float, y: np.ndarray) -> np.ndarray:
         q, v = y[:n], y[n:]
-        arg = w * t + model.h_phase
-        e = model.e0 + np.sum(model.h_amp * np.sin(arg), axis=1)
-        ed = np.sum(model.h_amp * w * np.cos(arg), axis=1)
-        k = np.array([model.kscale[i] * tab(fm * t + model.phase[i])
-                      for i, tab in enumerate(model.tables)])
-        x = V @ q - e
-        xd = V @ v - ed
-        b2 = model.clearance
-        g = np.where(x > 0, x, np.where(x <= -b2, x + b2, 0.0))
-        contact = (x > 0) | (x <= -b2)
-        f = model.kappa * (k * g + np.where(contact, model.cm * xd, 0.0))
-        a = minv * (model.fext - model.kb * q - model.cb * v - V.T @ f)
+        f = reference_mesh_forces(model, t, q, v)
+        a = minv * (model.fext - model.kb * q - model.cb * v - model.V.T @ f)
         return np.concatenate([v, a])
 
     return fun

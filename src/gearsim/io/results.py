@@ -11,6 +11,7 @@ reads back, stored in the file's ``config`` attribute.
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 from typing import Any
 
@@ -24,6 +25,9 @@ def write_results(ds, path: str | Path) -> Path:
     """Write ``ds`` to ``path`` (NetCDF-4, h5netcdf engine) atomically."""
     def write(tmp: Path) -> None:
         ds.to_netcdf(tmp, engine="h5netcdf")
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the usual permissions
 
     return atomic_write(path, write)
 

@@ -138,6 +138,25 @@ def test_netcdf_simulator_output(tmp_path, data):
     assert_allclose(read_signal(q).fs, FS, rtol=1e-9)
 
 
+def test_netcdf_simulator_layout(tmp_path, data):
+    """Layout of gearsim.dynamics output: time offset by the transient, 3-D variables."""
+    a, b = data
+    t = 0.25 + np.arange(a.size) / FS
+    acc = np.stack([np.column_stack([a, b]), np.column_stack([b, a])], axis=1)
+    ds = xr.Dataset(
+        {"mesh_force_1": ("time", a, {"units": "N"}),
+         "acceleration": (("time", "gear", "axis"), acc, {"units": "m/s^2"})},
+        coords={"time": ("time", t, {"units": "s"}), "gear": ["G1", "G2"], "axis": ["x", "y"]},
+        attrs={"fs": FS, "mesh_frequency": 1235.0})
+    p = tmp_path / "dyn.nc"
+    ds.to_netcdf(p, engine="h5netcdf")
+    s = read_signal(p, channel="acceleration[gear=G2,axis=x]")
+    assert_allclose(s.data, b, rtol=RTOL_DATA)
+    assert s.units == "m/s^2"
+    assert_allclose(s.fs, FS, rtol=1e-9)
+    assert "acceleration[gear=G1,axis=y]" in s.channels
+
+
 def test_missing_channel(tmp_path, data):
     a, b = data
     p = tmp_path / "rec.mat"

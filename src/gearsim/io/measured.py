@@ -17,8 +17,10 @@ tdms       .tdms           ``"group/channel"`` or ``"channel"`` if unique; fs fr
                            ``wf_increment`` property
 uff        .uff, .unv      type-58 data sets by ``id1`` (or index ``"0", "1", ...``);
                            fs from ``abscissa_inc``
-netcdf     .nc, .h5, .nc4  data variables along ``time``; fs from attribute ``fs`` or
-                           the ``time`` coordinate (s), e.g. gearsim simulator output
+netcdf     .nc, .h5, .nc4  data variables along ``time`` (``"name"``; with more
+                           dimensions ``"name[gear=G1,axis=x]"``); fs from attribute
+                           ``fs`` or the ``time`` coordinate (s), e.g. gearsim
+                           simulator output
 =========  ==============  ==========================================================
 
 A sampling rate given by the user is used when the file holds none; when both exist they
@@ -29,6 +31,7 @@ truncated data, missing channel, non-uniform time axis, non-finite samples) rais
 
 from __future__ import annotations
 
+import itertools
 import logging
 import math
 import re
@@ -382,11 +385,25 @@ def _read_netcdf(path: Path) -> _Raw:
     channels: dict[str, np.ndarray] = {}
     units: dict[str, str] = {}
     for name, var in ds.data_vars.items():
-        if var.dims != ("time",) or not np.issubdtype(var.dtype, np.number):
+        if "time" not in var.dims or not np.issubdtype(var.dtype, np.number):
             continue
-        channels[str(name)] = var.values.astype(np.float64)
-        if "units" in var.attrs:
-            units[str(name)] = str(var.attrs["units"])
+        var = var.transpose("time", ...)
+        others = [d for d in var.dims if d != "time"]
+        if not others:
+            keys = {str(name): var.values}
+        else:
+            # e.g. acceleration(time, gear, axis) -> "acceleration[gear=G1,axis=x]"
+            labels = [[str(v) for v in (ds[d].values if d in ds.coords else range(ds.sizes[d]))]
+                      for d in others]
+            flat = var.values.reshape(var.shape[0], -1)
+            keys = {}
+            for j, combo in enumerate(itertools.product(*labels)):
+                sel = ",".join(f"{d}={v}" for d, v in zip(others, combo, strict=True))
+                keys[f"{name}[{sel}]"] = flat[:, j]
+        for key, values in keys.items():
+            channels[key] = np.asarray(values, dtype=np.float64)
+            if "units" in var.attrs:
+                units[key] = str(var.attrs["units"])
     return _Raw(channels=channels, fs=fs, units=units)
 
 

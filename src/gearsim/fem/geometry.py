@@ -1,0 +1,647 @@
+"""Gear-sector geometry for the finite-element check: outline, crack line, gmsh mesh.
+
+The sector holds ``n_teeth`` (odd) teeth of the gear with the loaded tooth in the
+middle, the rim down to the bore and two radial side edges through the middle of the
+tooth spaces. Coordinates are those of :class:`gearsim.geometry.profile.ToothProfile`
+for the middle tooth: origin at the gear centre, ``+y`` along its centre line, and the
+``+x`` flank is the *loaded* flank. Neighbouring teeth are copies rotated by multiples
+of ``2 pi / z``.
+
+Each flank is two or three interpolating splines through the outline of
+``ToothProfile.outline`` (root fillet, involute; the fillet is split at the crack start
+when the crack is on that flank); tips, tooth spaces and the bore are circular arcs.
+gmsh meshes the region with linear triangles, sized by a distance field from the middle
+tooth; a crack is a straight segment embedded in the mesh, and the triangles on its two
+sides are then separated by duplicating the nodes of the segment except its tip
+(:func:`split_along_crack`). The solver uses quadratic (P2) displacement fields on that
+straight-sided triangulation.
+
+References
+----------
+.. [Geuzaine2009] C. Geuzaine, J.-F. Remacle, Gmsh: a 3-D finite element mesh generator
+   with built-in pre- and post-processing facilities, Int. J. Numer. Meth. Eng. 79 (2009)
+   1309-1331.
+.. [Sainsot2004] P. Sainsot, P. Velex, O. Duverger, Contribution of gear body to tooth
+   deflections - a new bidimensional analytical formula, J. Mech. Des. 126 (2004)
+   748-752 (gear-body model: tooth with its neighbours on a rim, fixed at the bore).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from gearsim.errors import InputError
+from gearsim.geometry.gear import Gear
+from gearsim.geometry.profile import ToothProfile
+
+__all__ = [
+    "CrackLine",
+    "SectorMesh",
+    "SectorOptions",
+    "crack_line",
+    "element_size",
+    "mesh_sector",
+    "sector_outline_check",
+    "split_along_crack",
+]
+
+#: Spline control points per fillet and per involute of each flank.
+N_FILLET = 24
+N_INVOLUTE = 32
+
+
+@dataclass(frozen=True)
+class SectorOptions:
+    """Meshing options of the gear sector.
+
+    Parameters
+    ----------
+    level
+        Refinement level N >= 0: element size on the middle tooth
+        ``h = m_n / (4 * 2**N)`` (halved per level).
+    n_teeth
+        Teeth in the model: ``None`` (default) = the whole gear, all z teeth and the
+        full rim (no sector sides, the body model the Sainsot foundation term stands
+        for); or an odd number >= 3 for a sector with radial side edges.
+    sides
+        Condition on the two radial edges of a sector: ``"fixed"`` (default) or
+        ``"free"``. The bore is always fixed.
+    growth
+        Slope of the element size away from the middle tooth [-] (size grows by
+        ``growth`` times the distance).
+    tip_refinement
+        Element size at a crack tip relative to ``h`` [-].
+    """
+
+    level: int = 2
+    n_teeth: int | None = None
+    sides: str = "fixed"
+    growth: float = 0.3
+    tip_refinement: float = 0.25
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.level, int) and 0 <= self.level <= 6):
+            raise InputError("fem.level", self.level, "must be an integer in [0, 6]")
+        if self.n_teeth is not None and not (isinstance(self.n_teeth, int)
+                                             and self.n_teeth >= 3 and self.n_teeth % 2 == 1):
+            raise InputError("fem.n_teeth", self.n_teeth,
+                             "must be an odd integer >= 3 or None (whole gear)")
+        if self.sides not in ("fixed", "free"):
+            raise InputError("fem.sides", self.sides, 'must be "fixed" or "free"')
+        if not 0.05 <= self.growth <= 1.0:
+            raise InputError("fem.growth", self.growth, "must be in [0.05, 1]")
+        if not 0.05 <= self.tip_refinement <= 1.0:
+            raise InputError("fem.tip_refinement", self.tip_refinement, "must be in [0.05, 1]")
+
+    def teeth_in(self, z: int) -> int:
+        """Teeth of the model for a gear of z teeth (z for the whole gear)."""
+        return z if self.n_teeth is None or self.n_teeth >= z else self.n_teeth
+
+
+def element_size(gear: Gear, level: int) -> float:
+    """Element size on the middle tooth at refinement ``level``, m_n / (4 2^N) [m]."""
+    return gear.normal_module / (4.0 * 2.0**level)
+
+
+@dataclass(frozen=True)
+class CrackLine:
+    """A straight crack in the sector frame [m].
+
+    ``start`` lies on the outline (root fillet of the middle tooth), ``tip`` inside.
+    """
+
+    start: tuple[float, float]
+    tip: tuple[float, float]
+
+    @property
+    def depth(self) -> float:
+        return math.dist(self.start, self.tip)
+
+    @property
+    def normal(self) -> np.ndarray:
+        """Unit normal of the crack line, (t_y, -t_x) rotated from start -> tip."""
+        t = (np.asarray(self.tip) - np.asarray(self.start)) / self.depth
+        return np.array([-t[1], t[0]])
+
+
+def crack_line(profile: ToothProfile, crack, depth: float, side: int) -> CrackLine:
+    """Crack segment in the sector frame for a crack of ``depth`` on flank ``side``.
+
+    Parameters
+    ----------
+    profile
+        Outline of the cracked gear.
+    crack
+        :class:`gearsim.stiffness.crack.Crack` (start point, angle).
+    depth
+        Crack depth [m] (> 0).
+    side
+        +1: crack on the loaded (+x) flank; -1: on the unloaded flank, i.e. the crack of
+        :func:`~gearsim.stiffness.crack.crack_geometry` mirrored to ``-x``.
+    """
+    from gearsim.stiffness.crack import crack_geometry
+
+    if side not in (1, -1):
+        raise InputError("side", side, "must be +1 (loaded flank) or -1 (unloaded flank)")
+    geo = crack_geometry(profile, crack, depth)  # refuses a crack past the centre line
+    s = float(side)
+    return CrackLine(start=(s * geo.start[0], geo.start[1]), tip=(s * geo.tip[0], geo.tip[1]))
+
+
+@dataclass
+class SectorMesh:
+    """Linear triangulation of the sector, after splitting along the crack.
+
+    Attributes
+    ----------
+    p : node coordinates, shape (2, n) [m]
+    t : triangles, shape (3, m)
+    bore, sides : node indices on the bore arc and on the two radial edges
+    flank : node indices on the involute of the loaded (+x) flank of the middle tooth
+    crack_pairs : shape (2, k): (node on the - side, duplicate on the + side) of the
+        crack faces (the tip is not duplicated and not listed)
+    crack_edges : shape (2, e): crack segments as pairs of - side nodes
+    crack : the crack segment or ``None``
+    h : element size on the middle tooth [m]
+    """
+
+    p: np.ndarray
+    t: np.ndarray
+    bore: np.ndarray
+    sides: np.ndarray
+    flank: np.ndarray
+    crack_pairs: np.ndarray
+    crack_edges: np.ndarray
+    crack_dup: dict[int, int] = field(default_factory=dict)
+    crack: CrackLine | None = None
+    h: float = 0.0
+    level: int = 0
+
+
+# --------------------------------------------------------------------------- helpers
+def _rot(pts: np.ndarray, ang: float) -> np.ndarray:
+    c, s = math.cos(ang), math.sin(ang)
+    return np.column_stack([c * pts[:, 0] - s * pts[:, 1], s * pts[:, 0] + c * pts[:, 1]])
+
+
+def _segments_cross(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> bool:
+    """True if the open segments ab and cd intersect (proper crossing)."""
+    def orient(p, q, r):
+        return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
+
+    o1, o2 = orient(a, b, c), orient(a, b, d)
+    o3, o4 = orient(c, d, a), orient(c, d, b)
+    return o1 * o2 < 0 and o3 * o4 < 0
+
+
+def _polyline_self_intersects(poly: np.ndarray) -> bool:
+    """Brute-force check that a closed polygon does not cross itself (n <= a few 1000)."""
+    n = poly.shape[0]
+    a = poly
+    b = np.roll(poly, -1, axis=0)
+    # vectorised test of each segment against all later non-adjacent ones
+    for i in range(n):
+        j = np.arange(i + 2, n)
+        if i == 0:
+            j = j[j != n - 1]
+        if j.size == 0:
+            continue
+        c, d = a[j], b[j]
+        o1 = (b[i, 0] - a[i, 0]) * (c[:, 1] - a[i, 1]) - (b[i, 1] - a[i, 1]) * (c[:, 0] - a[i, 0])
+        o2 = (b[i, 0] - a[i, 0]) * (d[:, 1] - a[i, 1]) - (b[i, 1] - a[i, 1]) * (d[:, 0] - a[i, 0])
+        o3 = (d[:, 0] - c[:, 0]) * (a[i, 1] - c[:, 1]) - (d[:, 1] - c[:, 1]) * (a[i, 0] - c[:, 0])
+        o4 = (d[:, 0] - c[:, 0]) * (b[i, 1] - c[:, 1]) - (d[:, 1] - c[:, 1]) * (b[i, 0] - c[:, 0])
+        if np.any((o1 * o2 < 0) & (o3 * o4 < 0)):
+            return True
+    return False
+
+
+def sector_outline_check(half: np.ndarray, teeth: int, n_teeth: int, bore: float,
+                         *, name: str = "gear") -> np.ndarray:
+    """Check that the sector outline built from ``half`` is a simple polygon.
+
+    Parameters
+    ----------
+    half
+        Half outline (+x flank) from the root circle to the tip, shape (n, 2) [m].
+    teeth
+        Tooth count z.
+    n_teeth
+        Teeth in the sector.
+    bore
+        Bore radius [m].
+
+    Returns
+    -------
+    ndarray
+        The outer outline polygon of the sector (teeth and tooth spaces), (m, 2) [m].
+
+    Raises
+    ------
+    InputError
+        If neighbouring teeth overlap, the bore reaches the root circle, or the outline
+        crosses itself (gmsh cannot mesh such a region).
+    """
+    half = np.asarray(half, dtype=float)
+    if half.ndim != 2 or half.shape[1] != 2 or half.shape[0] < 3 or not np.all(np.isfinite(half)):
+        raise InputError(f"{name}.outline", f"shape {half.shape}",
+                         "must be a finite (n >= 3, 2) array of outline points")
+    pitch = 2.0 * math.pi / teeth
+    r_root = float(np.hypot(*half[0]))
+    theta_root = math.atan2(half[0, 0], half[0, 1])
+    gap = pitch - 2.0 * theta_root
+    if gap <= 1e-9:
+        raise InputError(f"{name}.teeth", teeth,
+                         f"neighbouring teeth overlap at the root circle (tooth spans "
+                         f"{math.degrees(2 * theta_root):.4g} deg of a {math.degrees(pitch):.4g}"
+                         " deg pitch): gmsh cannot mesh this sector")
+    if not bore < r_root:
+        raise InputError(f"{name}.bore_radius", bore,
+                         f"must be below the root radius {r_root:.6g} m for a meshable rim")
+    tooth = np.vstack([half, (half[::-1] * [-1.0, 1.0])[1:]])
+    m = n_teeth // 2
+    ks = range(m, -m - 1, -1) if n_teeth < teeth else range(teeth // 2, teeth // 2 - teeth, -1)
+    outer = np.vstack([_rot(tooth, -k * pitch) for k in ks])
+    closed = outer if n_teeth >= teeth else np.vstack([outer, [[0.0, 0.0]]])
+    if _polyline_self_intersects(closed):
+        raise InputError(f"{name}.outline", "self-intersecting",
+                         "the tooth outline crosses itself or its neighbour: gmsh cannot "
+                         "mesh this sector (check the rack data and profile shift)")
+    return outer
+
+
+def _check_crack(outer: np.ndarray, cl: CrackLine, half: np.ndarray) -> None:
+    """Refuse a crack that leaves the tooth, cuts it off or ends on the boundary."""
+    s = np.asarray(cl.start)
+    tp = np.asarray(cl.tip)
+    # the tip must be strictly inside the tooth material: not beyond the centre line
+    if cl.start[0] * cl.tip[0] <= 0.0:
+        raise InputError("crack.depth", f"{cl.depth * 1e3:.6g} mm",
+                         "the crack crosses the tooth centre line and would cut the tooth "
+                         "off; reduce the depth or the angle")
+    a = outer
+    b = np.roll(outer, -1, axis=0)
+    near = np.hypot(*(0.5 * (a + b) - s).T) > 1e-9
+    for i in np.nonzero(near)[0]:
+        # ignore the outline segments that touch the start point
+        if min(math.dist(a[i], s), math.dist(b[i], s)) < 1e-12:
+            continue
+        if _segments_cross(s, tp, a[i], b[i]):
+            raise InputError("crack.depth", f"{cl.depth * 1e3:.6g} mm",
+                             "the crack runs out of the tooth through the outline and would "
+                             "cut the tooth off; reduce the depth or change the angle")
+    # distance of the tip to the outline: a tip on the boundary would also cut the tooth
+    d = _dist_points_segments(tp[None, :], a, b)
+    if d < 1e-6 * np.hypot(*half[-1]):
+        raise InputError("crack.depth", f"{cl.depth * 1e3:.6g} mm",
+                         "the crack tip reaches the tooth outline (tooth cut off)")
+
+
+def _dist_points_segments(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+    ab = b - a
+    ll = np.einsum("ij,ij->i", ab, ab)
+    out = np.inf
+    for p in pts:
+        t = np.clip(np.einsum("ij,ij->i", p - a, ab) / np.where(ll > 0, ll, 1.0), 0.0, 1.0)
+        q = a + t[:, None] * ab
+        out = min(out, float(np.min(np.hypot(*(q - p).T))))
+    return out
+
+
+@contextlib.contextmanager
+def _gmsh_session() -> Iterator[object]:
+    """Initialise gmsh quietly for one model and always finalise it."""
+    import gmsh
+
+    own = not gmsh.isInitialized()
+    if own:
+        gmsh.initialize(readConfigFiles=False)
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.option.setNumber("General.Verbosity", 0)
+    gmsh.model.add("gearsim-fem")
+    try:
+        yield gmsh
+    finally:
+        gmsh.model.remove()
+        if own:
+            gmsh.finalize()
+
+
+def _flank_pieces(half: np.ndarray, n_fillet: int, split: tuple[float, float] | None
+                  ) -> list[np.ndarray]:
+    """Fillet (optionally split at a point) and involute pieces of the +x flank."""
+    fil = half[:n_fillet]
+    inv = half[n_fillet - 1:]
+    if split is None:
+        return [fil, inv]
+    sp = np.asarray(split)
+    # insert the split point by height (the fillet rises monotonically root -> form)
+    tol = 1e-3 * float(np.max(np.hypot(*np.diff(fil, axis=0).T)))
+    k = int(np.searchsorted(fil[:, 1], sp[1]))
+    lo = fil[:k]
+    hi = fil[k:]
+    lo = lo[np.hypot(*(lo - sp).T) > tol]
+    hi = hi[np.hypot(*(hi - sp).T) > tol]
+    if lo.shape[0] < 1 or hi.shape[0] < 1:
+        raise InputError("crack.start_radius", float(np.hypot(*sp)),
+                         "the crack must start inside the root fillet, not at its ends")
+    return [np.vstack([lo, sp]), np.vstack([sp, hi]), inv]
+
+
+def mesh_sector(gear: Gear, *, crack: CrackLine | None = None,
+                options: SectorOptions | None = None) -> SectorMesh:
+    """Mesh the gear sector with gmsh (linear triangles) and split it along the crack.
+
+    Parameters
+    ----------
+    gear
+        The gear; its bore radius is :attr:`Gear.bore_radius_value`, as in the
+        potential-energy foundation term.
+    crack
+        Crack segment in the sector frame (start on the fillet of the middle tooth,
+        on ``+x`` for the loaded flank or ``-x`` for the unloaded one), or ``None``.
+    options
+        :class:`SectorOptions`.
+
+    Returns
+    -------
+    SectorMesh
+
+    Raises
+    ------
+    InputError
+        Unmeshable geometry, a crack that cuts the tooth off, or elements too coarse for
+        the crack (size > depth / 2).
+    """
+    opt = options or SectorOptions()
+    prof = ToothProfile(gear)
+    z = gear.teeth
+    half = prof.outline(N_FILLET, N_INVOLUTE)
+    bore = gear.bore_radius_value
+    outer = sector_outline_check(half, z, opt.teeth_in(z), bore, name=gear.name)
+    h = element_size(gear, opt.level)
+    if crack is not None:
+        _check_crack(outer, crack, half)
+        if h > 0.5 * crack.depth:
+            need = math.ceil(math.log2(gear.normal_module / (2.0 * crack.depth)))
+            raise InputError("fem.level", opt.level,
+                             f"mesh too coarse for the crack: element size {h * 1e3:.4g} mm > "
+                             f"crack depth / 2 = {0.5e3 * crack.depth:.4g} mm; use level >= "
+                             f"{max(need, opt.level + 1)}")
+    try:
+        return _mesh(gear, half, outer, crack, opt, h)
+    except InputError:
+        raise
+    except Exception as exc:  # gmsh raises plain Exception with its log message
+        raise InputError(f"{gear.name}.geometry", "sector",
+                         f"gmsh could not mesh the gear sector: {exc}") from None
+
+
+def _mesh(gear: Gear, half: np.ndarray, outer: np.ndarray, crack: CrackLine | None,
+          opt: SectorOptions, h: float) -> SectorMesh:
+    z = gear.teeth
+    pitch = 2.0 * math.pi / z
+    n_sector = opt.teeth_in(z)
+    m = n_sector // 2
+    bore = gear.bore_radius_value
+    r_root = float(np.hypot(*half[0]))
+    mod = gear.normal_module
+    # the whole size field scales with h, so that levels are uniform refinements
+    h_max = min(16.0 * h, 0.5 * (r_root - bore))
+    with _gmsh_session() as gmsh:
+        geo = gmsh.model.geo
+        centre = geo.addPoint(0.0, 0.0, 0.0)
+
+        def pt(xy) -> int:
+            return geo.addPoint(float(xy[0]), float(xy[1]), 0.0)
+
+        curves: list[int] = []
+        middle: list[int] = []
+        flank_curve = -1
+        side_curves: list[int] = []
+        full = n_sector == z
+        if full:  # all teeth, no sector sides; the loop closes on the first tooth
+            ks = range(z // 2, z // 2 - z, -1)
+            prev = -1
+        else:
+            ks = range(m, -m - 1, -1)
+            half_side = 0.5 * n_sector * pitch
+            # right side: bore -> root circle at polar angle pi/2 - half_side
+            ang_r = 0.5 * math.pi - half_side
+            ang_l = 0.5 * math.pi + half_side
+            b_r = pt((bore * math.cos(ang_r), bore * math.sin(ang_r)))
+            q_r = pt((r_root * math.cos(ang_r), r_root * math.sin(ang_r)))
+            b_l = pt((bore * math.cos(ang_l), bore * math.sin(ang_l)))
+            q_l = pt((r_root * math.cos(ang_l), r_root * math.sin(ang_l)))
+            side_curves.append(geo.addLine(b_r, q_r))
+            curves.append(side_curves[0])
+            prev = q_r
+        first_root = -1
+        for k in ks:
+            rot = -k * pitch
+            split_p = split_m = None
+            if k == 0 and crack is not None:
+                if crack.start[0] > 0:
+                    split_p = crack.start
+                else:
+                    split_m = (-crack.start[0], crack.start[1])
+            right = [_rot(piece, rot) for piece in _flank_pieces(half, N_FILLET, split_p)]
+            left_raw = _flank_pieces(half, N_FILLET, split_m)
+            left = [_rot(piece[::-1] * [-1.0, 1.0], rot) for piece in left_raw[::-1]]
+            # root arc from the previous point to this tooth's +x root point
+            start = pt(right[0][0])
+            if prev >= 0:
+                curves.append(geo.addCircleArc(prev, centre, start))
+            else:
+                first_root = start
+            first = start
+            tooth_curves = []
+            for j, piece in enumerate(right):
+                end = pt(piece[-1])
+                inner = [pt(xy) for xy in piece[1:-1]]
+                c = geo.addSpline([first, *inner, end])
+                tooth_curves.append(c)
+                if k == 0 and j == len(right) - 1:
+                    flank_curve = c
+                first = end
+            tip_l = pt(left[0][0])
+            tooth_curves.append(geo.addCircleArc(first, centre, tip_l))
+            first = tip_l
+            for piece in left:
+                end = pt(piece[-1])
+                inner = [pt(xy) for xy in piece[1:-1]]
+                tooth_curves.append(geo.addSpline([first, *inner, end]))
+                first = end
+            curves.extend(tooth_curves)
+            if k == 0:
+                middle = list(tooth_curves)
+            prev = first
+        if full:
+            curves.append(geo.addCircleArc(prev, centre, first_root))
+            bpts = [pt((bore * math.cos(a), bore * math.sin(a)))
+                    for a in (0.5 * math.pi, math.pi, 1.5 * math.pi, 0.0)]
+            bore_curves = [geo.addCircleArc(bpts[i], centre, bpts[(i + 1) % 4])
+                           for i in range(4)]
+            holes = [geo.addCurveLoop(bore_curves)]
+        else:
+            curves.append(geo.addCircleArc(prev, centre, q_l))
+            side_curves.append(geo.addLine(q_l, b_l))
+            curves.append(side_curves[1])
+            # bore from left to right through +y: split at the top to keep arcs < pi
+            b_top = pt((0.0, bore))
+            bore_curves = [geo.addCircleArc(b_l, centre, b_top),
+                           geo.addCircleArc(b_top, centre, b_r)]
+            curves += bore_curves
+            holes = []
+        loop = geo.addCurveLoop(curves)
+        surf = geo.addPlaneSurface([loop, *holes])
+        crack_curve = -1
+        tip_pt = -1
+        if crack is not None:
+            # the start point is already a vertex of the outline; find it
+            tip_pt = pt(crack.tip)
+        geo.synchronize()
+        if crack is not None:
+            start_tag = _find_point(gmsh, crack.start)
+            crack_curve = geo.addLine(start_tag, tip_pt)
+            geo.synchronize()
+            gmsh.model.mesh.embed(1, [crack_curve], 2, surf)
+        # size field: distance from the middle tooth (and the crack)
+        fld = gmsh.model.mesh.field
+        dist = fld.add("Distance")
+        fld.setNumbers(dist, "CurvesList", middle + ([crack_curve] if crack is not None else []))
+        fld.setNumber(dist, "Sampling", 200)
+        thr = fld.add("Threshold")
+        fld.setNumber(thr, "InField", dist)
+        fld.setNumber(thr, "SizeMin", h)
+        fld.setNumber(thr, "SizeMax", h_max)
+        fld.setNumber(thr, "DistMin", 0.5 * mod)
+        fld.setNumber(thr, "DistMax", 0.5 * mod + (h_max - h) / opt.growth)
+        fields = [thr]
+        if crack is not None:
+            dtip = fld.add("Distance")
+            fld.setNumbers(dtip, "PointsList", [tip_pt])
+            ttip = fld.add("Threshold")
+            fld.setNumber(ttip, "InField", dtip)
+            fld.setNumber(ttip, "SizeMin", opt.tip_refinement * h)
+            fld.setNumber(ttip, "SizeMax", h_max)
+            fld.setNumber(ttip, "DistMin", 0.5 * h)
+            fld.setNumber(ttip, "DistMax", 0.5 * h + (h_max - opt.tip_refinement * h) / 0.3)
+            fields.append(ttip)
+        mn = fld.add("Min")
+        fld.setNumbers(mn, "FieldsList", fields)
+        fld.setAsBackgroundMesh(mn)
+        gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+        gmsh.option.setNumber("Mesh.Algorithm", 6)
+        gmsh.model.mesh.generate(2)
+        tags, coords, _ = gmsh.model.mesh.getNodes()
+        xy = coords.reshape(-1, 3)[:, :2]
+        index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
+        index[tags.astype(np.int64)] = np.arange(tags.size)
+        etypes, _, enodes = gmsh.model.mesh.getElements(2, surf)
+        tri = None
+        for et, en in zip(etypes, enodes, strict=True):
+            if et == 2:
+                tri = index[en.astype(np.int64)].reshape(-1, 3)
+        if tri is None or tri.shape[0] == 0:
+            raise InputError(f"{gear.name}.geometry", "sector", "gmsh produced no triangles")
+
+        def nodes_on(dim: int, tags_: list[int]) -> np.ndarray:
+            out = [index[gmsh.model.mesh.getNodes(dim, tg, includeBoundary=True)[0]
+                         .astype(np.int64)] for tg in tags_]
+            return np.unique(np.concatenate(out)) if out else np.zeros(0, dtype=np.int64)
+
+        bore_nodes = nodes_on(1, bore_curves)
+        side_nodes = nodes_on(1, side_curves)
+        flank_nodes = nodes_on(1, [flank_curve])
+        crack_edges = np.zeros((0, 2), dtype=np.int64)
+        if crack is not None:
+            et, _, en = gmsh.model.mesh.getElements(1, crack_curve)
+            crack_edges = index[np.concatenate(en).astype(np.int64)].reshape(-1, 2)
+    # drop nodes not used by triangles (e.g. the arc centre), renumber
+    used = np.unique(tri)
+    renum = np.full(xy.shape[0], -1, dtype=np.int64)
+    renum[used] = np.arange(used.size)
+    p = xy[used].T.copy()
+    t = renum[tri].T.copy()
+
+    def keep(a: np.ndarray) -> np.ndarray:
+        r = renum[a]
+        return r[r >= 0]
+
+    out = SectorMesh(p=p, t=t, bore=keep(bore_nodes), sides=keep(side_nodes),
+                     flank=keep(flank_nodes), crack_pairs=np.zeros((2, 0), dtype=np.int64),
+                     crack_edges=np.zeros((2, 0), dtype=np.int64), crack=crack, h=h,
+                     level=opt.level)
+    if crack is not None:
+        edges = renum[crack_edges].T
+        p2, t2, pairs, dup = split_along_crack(p, t, edges, crack)
+        out.p, out.t, out.crack_pairs, out.crack_edges, out.crack_dup = p2, t2, pairs, edges, dup
+    return out
+
+
+def _find_point(gmsh, xy: tuple[float, float]) -> int:
+    """Tag of the geometry point at ``xy``."""
+    best, tag = math.inf, -1
+    for _, tg in gmsh.model.getEntities(0):
+        x, y, _ = gmsh.model.getValue(0, tg, [])
+        d = math.hypot(x - xy[0], y - xy[1])
+        if d < best:
+            best, tag = d, tg
+    if best > 1e-9:
+        raise InputError("crack.start_radius", math.hypot(*xy),
+                         "the crack start is not a point of the meshed outline")
+    return tag
+
+
+def split_along_crack(p: np.ndarray, t: np.ndarray, edges: np.ndarray, crack: CrackLine
+                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[int, int]]:
+    """Duplicate the nodes of an embedded crack so that its faces separate.
+
+    Every node of the crack segment except its tip gets a copy; triangles with their
+    centroid on the ``+normal`` side of the crack line (normal of :class:`CrackLine`)
+    that use such a node are renumbered to the copy.
+
+    Parameters
+    ----------
+    p
+        Nodes, shape (2, n) [m].
+    t
+        Triangles, shape (3, m).
+    edges
+        Mesh edges on the crack, shape (2, e).
+    crack
+        The crack segment.
+
+    Returns
+    -------
+    p, t, pairs, dup
+        New nodes and triangles, the node pairs (minus side, plus side) of the crack
+        faces, shape (2, k), and the map original -> copy.
+    """
+    nodes = np.unique(edges)
+    tip = np.asarray(crack.tip)
+    d_tip = np.hypot(*(p[:, nodes].T - tip).T)
+    tip_node = int(nodes[np.argmin(d_tip)])
+    if d_tip.min() > 1e-9 * max(1.0, np.abs(tip).max()):
+        raise InputError("crack.tip", crack.tip, "is not a node of the mesh")
+    dupl = nodes[nodes != tip_node]
+    n0 = p.shape[1]
+    dup = {int(a): n0 + i for i, a in enumerate(dupl)}
+    p2 = np.hstack([p, p[:, dupl]])
+    cent = p[:, t].mean(axis=1)  # (2, m)
+    s = (cent - np.asarray(crack.start)[:, None]).T @ crack.normal
+    t2 = t.copy()
+    plus = s > 0.0
+    mask = np.isin(t, dupl) & plus[None, :]
+    rows, cols = np.nonzero(mask)
+    t2[rows, cols] = [dup[int(a)] for a in t[rows, cols]]
+    pairs = np.array([dupl, [dup[int(a)] for a in dupl]], dtype=np.int64).reshape(2, -1)
+    return p2, t2, pairs, dup

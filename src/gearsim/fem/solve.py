@@ -1,0 +1,258 @@
+"""Plane linear elasticity with scikit-fem, and frictionless crack-face contact.
+
+Weak form (per unit thickness, displacement u, test field v):
+
+    int_Omega sigma(u) : eps(v) dA = int_Gamma_N t . v ds,
+    sigma = lambda tr(eps) I + 2 mu eps,  eps = (grad u + grad u^T) / 2,
+
+with mu = E / (2 (1 + nu)) and lambda = E nu / ((1 + nu)(1 - 2 nu)) for plane strain or
+the plane-stress value lambda* = 2 lambda mu / (lambda + 2 mu) = E nu / (1 - nu^2)
+(e.g. Zienkiewicz & Taylor, The Finite Element Method, vol. 1, 6th ed., ch. 6).
+Quadratic Lagrange triangles (P2) by default.
+
+Crack-face contact (frictionless, small displacements): for every pair of coincident
+nodes (i on the - face, j on the + face, crack normal n pointing from - to +) the gap
+is g = (u_j - u_i) . n; non-penetration g >= 0 is enforced by a penalty spring of
+stiffness k_p acting on g only (no tangential coupling) on the active pairs, with a
+primal active-set loop: a pair becomes active when g < 0 and inactive when its spring
+would pull (g > 0). The spring of a node is ``PENALTY * E * w / h`` with w the node's
+share of the face length (Simpson weights for P2) and h the element size: the
+interpenetration left is about 1/PENALTY of the local element strain.
+
+References
+----------
+.. [Gustafsson2020] T. Gustafsson, G. D. McBain, scikit-fem: A Python package for finite
+   element assembly, J. Open Source Softw. 5 (2020) 2369.
+.. [Wriggers2006] P. Wriggers, Computational Contact Mechanics, 2nd ed., Springer 2006,
+   ch. 6 (penalty method) and 7.2 (active-set strategy).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.linalg import splu
+
+from gearsim.errors import InputError, SimulationError
+
+__all__ = ["PENALTY", "ElasticModel", "lame", "plane_lame"]
+
+#: Penalty factor of the crack-face springs (see module docstring).
+PENALTY = 1e4
+MAX_ACTIVE_SET_ITERATIONS = 60
+
+
+def lame(youngs_modulus: float, poisson_ratio: float) -> tuple[float, float]:
+    """Lame constants (lambda, mu) of the 3D material [Pa]."""
+    e, nu = youngs_modulus, poisson_ratio
+    return e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), e / (2.0 * (1.0 + nu))
+
+
+def plane_lame(youngs_modulus: float, poisson_ratio: float, plane: str) -> tuple[float, float]:
+    """(lambda, mu) of the 2D constitutive law for ``plane`` = "stress" or "strain" [Pa].
+
+    Plane stress: lambda* = E nu / (1 - nu^2); plane strain: the 3D lambda.
+    """
+    if plane not in ("stress", "strain"):
+        raise InputError("stiffness.plane", plane, 'must be "stress" or "strain"')
+    lam, mu = lame(youngs_modulus, poisson_ratio)
+    if plane == "stress":
+        lam = 2.0 * lam * mu / (lam + 2.0 * mu)
+    return lam, mu
+
+
+@dataclass
+class ElasticModel:
+    """Assembled 2D elasticity problem on a triangle mesh (unit thickness).
+
+    Parameters
+    ----------
+    p, t
+        Nodes (2, n) [m] and triangles (3, m).
+    youngs_modulus, poisson_ratio
+        Material [Pa], [-].
+    plane
+        ``"stress"`` or ``"strain"``.
+    order
+        Polynomial order of the displacement, 1 or 2.
+    """
+
+    p: np.ndarray
+    t: np.ndarray
+    youngs_modulus: float
+    poisson_ratio: float
+    plane: str = "stress"
+    order: int = 2
+    _facet_index: dict = field(default_factory=dict, repr=False)
+
+    def __post_init__(self) -> None:
+        from skfem import Basis, ElementTriP1, ElementTriP2, ElementVector, MeshTri
+        from skfem.models.elasticity import linear_elasticity
+
+        if self.order not in (1, 2):
+            raise InputError("fem.order", self.order, "must be 1 or 2")
+        self.mesh = MeshTri(np.ascontiguousarray(self.p, dtype=float),
+                            np.ascontiguousarray(self.t, dtype=np.int64))
+        self.element = ElementVector(ElementTriP2() if self.order == 2 else ElementTriP1())
+        self.basis = Basis(self.mesh, self.element, intorder=2 * self.order)
+        lam, mu = plane_lame(self.youngs_modulus, self.poisson_ratio, self.plane)
+        self.K = linear_elasticity(lam, mu).assemble(self.basis).tocsr()
+        f = self.mesh.facets
+        self._facet_index = {(int(a), int(b)): i for i, (a, b) in
+                             enumerate(zip(np.minimum(f[0], f[1]), np.maximum(f[0], f[1]),
+                                           strict=True))}
+
+    @property
+    def ndofs(self) -> int:
+        return int(self.basis.N)
+
+    # ----------------------------------------------------------------- dof lookups
+    def facets_on_nodes(self, nodes: np.ndarray) -> np.ndarray:
+        """Boundary facets whose two vertices are both in ``nodes``."""
+        bf = self.mesh.boundary_facets()
+        inside = np.isin(self.mesh.facets[:, bf], nodes).all(axis=0)
+        return bf[inside]
+
+    def facet(self, a: int, b: int) -> int:
+        """Index of the facet (edge) between nodes ``a`` and ``b``."""
+        return self._facet_index[(min(a, b), max(a, b))]
+
+    def dofs_on_facets(self, facets: np.ndarray) -> np.ndarray:
+        """All displacement dofs (both components, vertices and edges) of ``facets``."""
+        return self.basis.get_dofs(facets=facets).flatten()
+
+    def node_dofs(self, node: int) -> np.ndarray:
+        """(x, y) dofs of a mesh vertex."""
+        return self.basis.nodal_dofs[:, node]
+
+    def edge_dofs(self, facet: int) -> np.ndarray:
+        """(x, y) dofs of the midpoint of a P2 edge."""
+        return self.basis.facet_dofs[:, facet]
+
+    # ----------------------------------------------------------------- loads
+    def traction_load(self, facets: np.ndarray, traction, *, intorder: int | None = None
+                      ) -> np.ndarray:
+        """Load vector of a traction on boundary ``facets``.
+
+        Parameters
+        ----------
+        facets
+            Facet indices.
+        traction
+            Constant vector (2,) [Pa x m / m = N/m per unit thickness] or a callable
+            ``traction(x, y) -> (tx, ty)`` on quadrature points.
+        intorder
+            Order of the facet quadrature (default 2 order + 2).
+        """
+        from skfem import FacetBasis, LinearForm
+
+        fb = FacetBasis(self.mesh, self.element, facets=np.asarray(facets),
+                        intorder=intorder or 2 * self.order + 2)
+
+        @LinearForm
+        def form(v, w):
+            if callable(traction):
+                tx, ty = traction(w.x[0], w.x[1])
+            else:
+                tx, ty = traction
+            return tx * v[0] + ty * v[1]
+
+        return form.assemble(fb)
+
+    def probe(self, points: np.ndarray) -> sp.csr_matrix:
+        """Matrix P with ``(P @ u)`` = [u_x at points, u_y at points]."""
+        return self.basis.probes(np.asarray(points, dtype=float).reshape(2, -1)).tocsr()
+
+    # ----------------------------------------------------------------- solving
+    def solve(self, loads: np.ndarray, fixed: np.ndarray, *, values: np.ndarray | None = None,
+              extra: sp.spmatrix | None = None) -> np.ndarray:
+        """Solve K u = f for one or several load vectors with Dirichlet dofs ``fixed``.
+
+        Parameters
+        ----------
+        loads
+            Load vectors, shape (ndofs,) or (ndofs, k) [N].
+        fixed
+            Dirichlet dofs.
+        values
+            Prescribed values of all dofs (only ``fixed`` entries used) [m]; default 0.
+        extra
+            Additional stiffness (e.g. contact springs) added to K.
+
+        Returns
+        -------
+        ndarray
+            Displacements, same shape as ``loads`` [m].
+        """
+        f = np.asarray(loads, dtype=float)
+        one = f.ndim == 1
+        f2 = f[:, None] if one else f
+        n = self.ndofs
+        fixed = np.unique(np.asarray(fixed, dtype=np.int64))
+        if fixed.size == 0:
+            raise InputError("boundary conditions", "none",
+                             "at least the bore (or clamped end) must be fixed")
+        free = np.setdiff1d(np.arange(n), fixed)
+        a = self.K if extra is None else (self.K + extra).tocsr()
+        x = np.zeros((n, f2.shape[1]))
+        if values is not None:
+            x[fixed] = np.asarray(values, dtype=float).reshape(n, -1)[fixed]
+        rhs = f2[free] - a[free][:, fixed] @ x[fixed]
+        aff = a[free][:, free].tocsc()
+        try:
+            lu = splu(aff)
+        except RuntimeError as exc:  # singular: a part of the model is not held
+            raise SimulationError(f"the stiffness matrix is singular ({exc}): some part of "
+                                  "the model is not held by the boundary conditions") from None
+        x[free] = lu.solve(np.ascontiguousarray(rhs))
+        return x[:, 0] if one else x
+
+    def contact_solve(self, load: np.ndarray, fixed: np.ndarray, pairs: np.ndarray,
+                      normal: np.ndarray, weights: np.ndarray, *, h: float,
+                      active: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, int]:
+        """Solve with frictionless unilateral contact between node pairs.
+
+        Parameters
+        ----------
+        load
+            Load vector (ndofs,) [N].
+        fixed
+            Dirichlet dofs (zero).
+        pairs
+            Dof pairs, shape (k, 2, 2): [pair, (minus, plus), (x, y)].
+        normal
+            Unit crack normal, from the - face to the + face.
+        weights
+            Length share of each pair [m].
+        h
+            Element size at the crack [m].
+        active
+            Initial active set (bool, k); default all active (closed crack).
+
+        Returns
+        -------
+        u, active, iterations
+        """
+        k = pairs.shape[0]
+        act = np.ones(k, dtype=bool) if active is None else np.asarray(active, bool).copy()
+        kp = PENALTY * self.youngs_modulus * np.asarray(weights) / h
+        n = self.ndofs
+        # constraint rows: g = B u, B[i, plus] = n, B[i, minus] = -n
+        rows = np.repeat(np.arange(k), 4)
+        cols = np.column_stack([pairs[:, 1, 0], pairs[:, 1, 1], pairs[:, 0, 0],
+                                pairs[:, 0, 1]]).ravel()
+        vals = np.tile([normal[0], normal[1], -normal[0], -normal[1]], k)
+        b = sp.csr_matrix((vals, (rows, cols)), shape=(k, n))
+        for it in range(1, MAX_ACTIVE_SET_ITERATIONS + 1):
+            extra = b.T @ sp.diags(kp * act) @ b
+            u = self.solve(load, fixed, extra=extra)
+            g = b @ u
+            tol = 1e-9 * max(np.max(np.abs(u)), 1e-300)
+            new = np.where(act, g <= tol, g < -tol)
+            if np.array_equal(new, act):
+                return u, act, it
+            act = new
+        raise SimulationError(f"crack-face contact did not settle in "
+                              f"{MAX_ACTIVE_SET_ITERATIONS} active-set iterations")

@@ -1,0 +1,179 @@
+"""FE tooth compliance as the stiffness table of a simulation (``stiffness.source = "fe"``).
+
+:func:`fe_compliance` is the hook called by :func:`gearsim.stiffness.mesh.mesh_stiffness`.
+It runs the finite-element model (:mod:`gearsim.fem.tooth`) at ``NODES`` contact
+positions equally spaced in roll length over the whole involute (form circle to tip),
+interpolates them with a cubic spline in roll length to the requested radii, and caches
+the nodes on disk so that each geometry and crack is computed once.
+
+Cache: ``$GEARSIM_CACHE/fe/`` or ``~/.cache/gearsim/fe/``; one ``.npz`` file per key,
+the SHA-256 of the gear geometry and material, crack (angle, start radius), local
+depth, side, closure, plane, mesh options and :data:`CACHE_VERSION`; written to a
+temporary file and renamed (atomic), so an interrupted run never leaves a half file.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from gearsim.errors import InputError
+from gearsim.fem.geometry import SectorOptions, element_size
+from gearsim.fem.tooth import fe_tooth_compliance
+from gearsim.geometry.gear import Gear
+from gearsim.geometry.profile import ToothProfile
+
+__all__ = ["CACHE_VERSION", "DEFAULT_LEVEL", "NODES", "cache_dir", "fe_compliance",
+           "fe_nodes"]
+
+#: Contact positions computed by FE per curve (interpolated in between).
+NODES = 13
+#: Mesh level of the tables (element size m_n / 16 on the loaded tooth); raised
+#: automatically until the element size is <= crack depth / 2.
+DEFAULT_LEVEL = 2
+#: Bump when the FE model changes so that old cache files are not reused.
+CACHE_VERSION = 1
+
+
+def cache_dir() -> Path:
+    """Folder of the FE compliance cache (``$GEARSIM_CACHE/fe`` or ~/.cache/gearsim/fe)."""
+    base = os.environ.get("GEARSIM_CACHE")
+    root = Path(base) if base else Path.home() / ".cache" / "gearsim"
+    return root / "fe"
+
+
+def _level_for(gear: Gear, depth: float, level: int) -> int:
+    while depth > 0 and element_size(gear, level) > 0.5 * depth and level < 6:
+        level += 1
+    return level
+
+
+def _key(gear: Gear, crack, depth: float, side: int, closure: str, plane: str,
+         opt: SectorOptions) -> str:
+    g = gear
+    doc = {
+        "v": CACHE_VERSION, "nodes": NODES,
+        "gear": [g.teeth, g.normal_module, g.normal_pressure_angle, abs(g.helix_angle),
+                 g.addendum_coefficient, g.dedendum_coefficient, g.fillet_radius_coefficient,
+                 g.profile_shift, g.bore_radius_value, g.material.youngs_modulus,
+                 g.material.poisson_ratio],
+        "crack": None if crack is None or depth <= 0 or side == 0 else
+        [crack.angle, crack.start_radius, depth, side],
+        "closure": closure, "plane": plane,
+        "mesh": [opt.level, opt.n_teeth, opt.sides, opt.growth, opt.tip_refinement],
+    }
+    text = json.dumps(doc, sort_keys=True, default=repr)
+    return hashlib.sha256(text.encode()).hexdigest()[:32]
+
+
+def fe_nodes(gear: Gear) -> np.ndarray:
+    """Contact radii of the FE table: NODES points equally spaced in roll length [m]."""
+    prof = ToothProfile(gear)
+    rb = gear.base_radius
+    r_lo = max(prof.form_radius, rb)
+    l0 = math.sqrt(max(r_lo**2 - rb**2, 0.0))
+    l1 = math.sqrt(gear.tip_radius**2 - rb**2)
+    # stay a hair inside the involute so that rounding never leaves it
+    lengths = np.linspace(l0 + 1e-9 * (l1 - l0), l1 - 1e-9 * (l1 - l0), NODES)
+    return np.hypot(rb, lengths)
+
+
+def _write_npz(path: Path, **arrays) -> None:
+    try:
+        from gearsim.io.atomic import atomic_write
+    except ImportError:  # pragma: no cover - older tree without the helper
+        atomic_write = None
+
+    def write(tmp: Path) -> None:
+        with open(tmp, "wb") as fh:
+            np.savez(fh, **arrays)
+
+    if atomic_write is not None:
+        atomic_write(path, write)
+        return
+    path.parent.mkdir(parents=True, exist_ok=True)  # pragma: no cover
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")  # pragma: no cover
+    write(tmp)  # pragma: no cover
+    os.replace(tmp, path)  # pragma: no cover
+
+
+def fe_compliance(gear: Gear, radii, *, crack=None, depth: float = 0.0, side: int = 0,
+                  settings=None, options: SectorOptions | None = None,
+                  use_cache: bool = True) -> np.ndarray:
+    """FE tooth compliance per unit face width at contact radii, shape (n, 4) [m/N].
+
+    Same convention as ``ToothModel.compliance(radii, ..., width=1.0)``: the whole FE
+    tooth compliance (bending, shear, axial and foundation together; Hertz excluded) is
+    in column 0, the other three columns are zero.
+
+    Parameters
+    ----------
+    gear
+        The gear.
+    radii
+        Contact radii on the involute [m].
+    crack
+        :class:`gearsim.stiffness.crack.Crack` or ``None``.
+    depth
+        Local crack depth of this face slice [m] (0: healthy).
+    side
+        +1 the cracked flank is loaded in this mesh, -1 it is not, 0 healthy.
+    settings
+        :class:`gearsim.stiffness.mesh.StiffnessSettings` (``closure``, ``plane``);
+        ``None`` = defaults.
+    options
+        FE mesh options; default level :data:`DEFAULT_LEVEL`, whole gear.
+    use_cache
+        Read and write the disk cache.
+
+    Returns
+    -------
+    ndarray, shape (n, 4)
+        Compliance [m/N] for a face width of 1 m.
+    """
+    closure = getattr(settings, "closure", "contact")
+    plane = getattr(settings, "plane", "stress")
+    if side not in (-1, 0, 1):
+        raise InputError("side", side, "must be -1, 0 or +1")
+    r = np.atleast_1d(np.asarray(radii, dtype=float))
+    cracked = crack is not None and depth > 0.0 and side != 0
+    if not cracked:
+        crack, depth, side = None, 0.0, 0
+    base = options or SectorOptions(level=DEFAULT_LEVEL)
+    lvl = _level_for(gear, depth, base.level)
+    opt = SectorOptions(level=lvl, n_teeth=base.n_teeth, sides=base.sides,
+                        growth=base.growth, tip_refinement=base.tip_refinement)
+    nodes = fe_nodes(gear)
+    lo, hi = nodes[0], nodes[-1]
+    tol = 1e-6 * hi
+    if np.any(r < lo - tol) or np.any(r > hi + tol) or not np.all(np.isfinite(r)):
+        bad = r[(r < lo - tol) | (r > hi + tol) | ~np.isfinite(r)][0]
+        raise InputError("radii", float(bad), f"FE table of {gear.name} covers the involute "
+                         f"[{lo:.6g}, {hi:.6g}] m only")
+    key = _key(gear, crack, depth, side, closure, plane, opt)
+    path = cache_dir() / f"{key}.npz"
+    values = None
+    if use_cache and path.exists():
+        try:
+            with np.load(path) as data:
+                if np.allclose(data["radii"], nodes, rtol=1e-12, atol=0.0):
+                    values = np.array(data["compliance"])
+        except (OSError, ValueError, KeyError):
+            values = None  # unreadable cache file: recompute and overwrite
+    if values is None:
+        res = fe_tooth_compliance(gear, nodes, crack=crack, depth=depth if cracked else None,
+                                  side=side, closure=closure, plane=plane, options=opt)
+        values = res.compliance
+        if use_cache:
+            _write_npz(path, radii=nodes, compliance=values, level=np.array(opt.level))
+    rb = gear.base_radius
+    spline = CubicSpline(np.sqrt(nodes**2 - rb**2), values)
+    out = np.zeros((r.size, 4))
+    out[:, 0] = spline(np.sqrt(np.maximum(np.clip(r, lo, hi) ** 2 - rb**2, 0.0)))
+    return out

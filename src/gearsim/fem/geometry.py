@@ -284,10 +284,14 @@ def _check_crack(outer: np.ndarray, cl: CrackLine, half: np.ndarray) -> None:
         raise InputError("crack.depth", f"{cl.depth * 1e3:.6g} mm",
                          "the crack crosses the tooth centre line and would cut the tooth "
                          "off; reduce the depth or the angle")
+    if not _inside(outer, tp):
+        ang = math.degrees(math.atan2(abs(s[0] - tp[0]), s[1] - tp[1]))
+        raise InputError("crack.angle", f"{ang:.4g} deg",
+                         "the crack tip lies outside the tooth material; the crack must run "
+                         "into the tooth from the fillet")
     a = outer
     b = np.roll(outer, -1, axis=0)
-    near = np.hypot(*(0.5 * (a + b) - s).T) > 1e-9
-    for i in np.nonzero(near)[0]:
+    for i in range(a.shape[0]):
         # ignore the outline segments that touch the start point
         if min(math.dist(a[i], s), math.dist(b[i], s)) < 1e-12:
             continue
@@ -300,6 +304,17 @@ def _check_crack(outer: np.ndarray, cl: CrackLine, half: np.ndarray) -> None:
     if d < 1e-6 * np.hypot(*half[-1]):
         raise InputError("crack.depth", f"{cl.depth * 1e3:.6g} mm",
                          "the crack tip reaches the tooth outline (tooth cut off)")
+
+
+def _inside(poly: np.ndarray, pt: np.ndarray) -> bool:
+    """Point in the region below the outer outline ``poly`` (ray casting, even-odd)."""
+    closed = np.vstack([poly, [[0.0, 0.0]]])
+    x, y = closed[:, 0], closed[:, 1]
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    cond = (y > pt[1]) != (yn > pt[1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xc = x + (pt[1] - y) * (xn - x) / (yn - y)
+    return bool(np.count_nonzero(cond & (pt[0] < xc)) % 2 == 1)
 
 
 def _dist_points_segments(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:

@@ -1,6 +1,6 @@
 """Tier 1-2: FE tooth compliance, mesh convergence, and FE versus potential energy.
 
-Numbers measured at mesh level 1 (CI) and level 2 (docs/fem.md), 7 contact positions
+Numbers measured at mesh level 2 (docs/fem.md; CI runs level 1, within 2 %), 7 positions
 over the path of contact of each gear's first mesh, difference 100 (k_PE - k_FE)/k_FE of
 the max / min / mean tooth stiffness (Hertz excluded):
 

@@ -14,7 +14,7 @@ from numba import njit
 __all__ = ["integrate_rk4", "mesh_forces", "rhs"]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _table_k(tab, off, length, npc, period, c):
     """Linear periodic interpolation of table ``tab[off:off+length]`` at cycle ``c``."""
     cm = c - period * math.floor(c / period)
@@ -29,7 +29,7 @@ def _table_k(tab, off, length, npc, period, c):
     return tab[off + i] * (1.0 - w) + tab[off + j] * w
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def mesh_forces(t, q, v, V, kappa, kscale, cm, clear, tab, tab_off, tab_len, tab_npc,
                 tab_period, fm, phase, e0, h_amp, h_om, h_ph, f_out, d_out):
     """Mesh forces f_i [N] (into ``f_out``) and deflections V_i.q [m] (into ``d_out``)."""
@@ -55,16 +55,18 @@ def mesh_forces(t, q, v, V, kappa, kscale, cm, clear, tab, tab_off, tab_len, tab
         x = d - e
         xd = dd - ed
         b2 = clear[i]
-        if x > 0.0:
+        if b2 == np.inf:  # linear mesh
             f = k * x + cm[i] * xd
-        elif x <= -b2:
-            f = k * (x + b2) + cm[i] * xd
-        else:
+        elif x > 0.0:  # working flanks in contact: contact force cannot pull
+            f = max(k * x + cm[i] * xd, 0.0)
+        elif x <= -b2:  # back flanks in contact: it cannot push
+            f = min(k * (x + b2) + cm[i] * xd, 0.0)
+        else:  # teeth separated
             f = 0.0
         f_out[i] = kappa[i] * f
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def rhs(t, q, v, minv, kb, cb, fext, V, kappa, kscale, cm, clear, tab, tab_off, tab_len,
         tab_npc, tab_period, fm, phase, e0, h_amp, h_om, h_ph, a_out, f_out, d_out):
     """Accelerations M^-1 (F_ext - K_b q - C_b q' - sum V_i f_i) into ``a_out``."""

@@ -16,7 +16,12 @@ transmission error, and the backlash function (clearance 2b_i)
     g(d) = d + 2b   for d <= -2b       (back-side contact)
 
 h_i = 1 while the teeth are in contact on either side, 0 while separated (Kahraman &
-Singh 1990, clearance function with the origin moved to the working-flank contact).
+Singh 1990, clearance function with the origin moved to the working-flank contact). The
+contact force of a flank pair cannot change sign: on the working side f_i is clipped at
+0 from below, on the back side at 0 from above (the viscous term would otherwise pull
+the separating flanks together, an artefact of Kelvin-Voigt contact damping). A linear
+mesh (seed model, ``nonlinear = false``) has ``clearance = inf`` and f_i =
+kappa_i (s_i k_i (V_i.q - e_i) + c_mi (V_i.q' - e_i')) for all deflections.
 """
 
 from __future__ import annotations
@@ -46,7 +51,7 @@ class DynamicModel:
     kappa : (n_mesh,) force projection factor (seed: cos(alpha_n) cos(beta); LTA: 1)
     kscale : (n_mesh,) factor on the tabulated transverse stiffness (seed: 1/cos^2 beta_b)
     cm : (n_mesh,) mesh damping [N s/m]
-    clearance : (n_mesh,) backlash 2b [m]; ``inf`` for a linear mesh
+    clearance : (n_mesh,) backlash 2b [m]; ``inf``: linear mesh (no separation)
     tables : stiffness tables
     phase : (n_mesh,) mesh-cycle offsets [cycles]
     mesh_frequency : f_m [Hz]

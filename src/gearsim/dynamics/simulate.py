@@ -329,9 +329,11 @@ def reference_mesh_forces(model: DynamicModel, t: float, q: np.ndarray,
     x = model.V @ q - e
     xd = model.V @ v - ed
     b2 = model.clearance
-    contact = (x > 0) | (x <= -b2)
-    g = np.where(x > 0, x, np.where(x <= -b2, x + b2, 0.0))
-    return model.kappa * (k * g + np.where(contact, model.cm * xd, 0.0))
+    linear = k * x + model.cm * xd
+    work = np.maximum(linear, 0.0)
+    back = np.minimum(k * (x + b2) + model.cm * xd, 0.0)
+    f = np.where(x > 0, work, np.where(x <= -b2, back, 0.0))
+    return model.kappa * np.where(np.isinf(b2), linear, f)
 
 
 def reference_rhs(model: DynamicModel):

@@ -282,8 +282,9 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
         with np.errstate(divide="ignore", invalid="ignore"):
             inv_w = np.where(width > 0, 1.0 / width, 0.0)
         parts = [np.full(shape, ch)] + [c1[..., q] for q in range(4)] + [c2[..., q] for q in range(4)]
-        for q, part in enumerate(parts):
-            comp[sl, q] = 1.0 / np.sum(share2 * part * inv_w, axis=(1, 2))
+        with np.errstate(divide="ignore"):  # a zero component (FE source) -> inf stiffness
+            for q, part in enumerate(parts):
+                comp[sl, q] = 1.0 / np.sum(share2 * part * inv_w, axis=(1, 2))
     cycles = np.arange(n_pos) / npc
     return MeshStiffness(
         name=pair.name,

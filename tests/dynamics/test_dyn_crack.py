@@ -47,3 +47,27 @@ def test_impacts_and_sidebands(model):
                 assert sb > 1e3 * spec["healthy"][b]
                 # between the sidebands (half-order of f_r1) there is nothing
                 assert spec["cracked"][b + revs // 2] < 1e-2 * sb
+
+
+def test_cracked_idler_shows_in_both_meshes():
+    """An idler crack appears once per idler revolution (59 mesh cycles) in both meshes;
+    with cracks on input and idler, mesh I's table spans lcm(39, 59) cycles."""
+    from gearsim.dynamics.tables import mesh_tables
+    from gearsim.stiffness.crack import Crack
+
+    tr = load("idler-table1")
+    idler = tr.gears[1]
+    tr_i = tr.with_cracks((Crack(gear=idler.name, tooth=3, depth=2e-3),))
+    tabs = mesh_tables(tr_i)
+    assert [t.period for t in tabs] == [idler.teeth, idler.teeth]
+    both = mesh_tables(tr.with_cracks((*tr.cracks, *tr_i.cracks)))
+    assert both[0].period == tr.gears[0].teeth * idler.teeth
+    fm = tr.mesh_frequency
+    revs = 3  # >= one output revolution
+    s = DynamicsSettings(duration=revs * idler.teeth / fm, fs=40 * fm)
+    ds = simulate(tr_i, s, tables=tabs)
+    for i in (1, 2):
+        cyc = ds[f"mesh_force_{i}"].values.reshape(revs * idler.teeth, 40)
+        r = np.sqrt(((cyc - cyc.mean(axis=0)) ** 2).mean(axis=1))
+        top = np.sort(np.argsort(r)[-revs:])
+        np.testing.assert_array_equal(np.diff(top), idler.teeth, err_msg=f"mesh {i}")

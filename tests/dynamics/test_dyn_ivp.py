@@ -2,9 +2,9 @@
 integrated by scipy's adaptive RK45 at rtol 1e-8, on a short window.
 
 Tolerance 1e-4 relative, measured two ways: max |F_kernel - F_ivp| / max |F| at the
-default step 10 us (measured ~7e-6), and the stricter max |F_kernel - F_ivp| / (peak to
-peak of F) at half the default step (measured ~4e-5; 1.5e-4 at 10 us, where the kinks of
-the linearly interpolated stiffness table limit RK4's accuracy).
+default step 10 us (measured <= 1.4e-5), and the stricter max |F_kernel - F_ivp| / (peak
+to peak of F) at half the default step (measured <= 4.6e-5; 1.5e-4 at 10 us for LTA mesh
+I, where the kinks of the linearly interpolated stiffness table limit RK4's accuracy).
 """
 
 from __future__ import annotations

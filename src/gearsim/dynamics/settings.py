@@ -8,7 +8,7 @@ Example section::
 
     [dynamics]
     model = "lta"                 # or "seed"
-    step = "5 us"                 # largest integration step (the run uses a divisor)
+    step = "10 us"                # largest integration step (the run uses a divisor)
     duration = "1 s"              # recorded window, after the transient
     fs = "50 kHz"                 # output sampling rate
     bearing_stiffness = "1e9 N/m"

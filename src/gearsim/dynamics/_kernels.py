@@ -14,7 +14,7 @@ from numba import njit
 __all__ = ["integrate_rk4", "mesh_forces", "rhs"]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _table_k(tab, off, length, npc, period, c):
     """Linear periodic interpolation of table ``tab[off:off+length]`` at cycle ``c``."""
     cm = c - period * math.floor(c / period)
@@ -29,7 +29,7 @@ def _table_k(tab, off, length, npc, period, c):
     return tab[off + i] * (1.0 - w) + tab[off + j] * w
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def mesh_forces(t, q, v, V, kappa, kscale, cm, clear, tab, tab_off, tab_len, tab_npc,
                 tab_period, fm, phase, e0, h_amp, h_om, h_ph, f_out, d_out):
     """Mesh forces f_i [N] (into ``f_out``) and deflections V_i.q [m] (into ``d_out``)."""
@@ -66,7 +66,7 @@ def mesh_forces(t, q, v, V, kappa, kscale, cm, clear, tab, tab_off, tab_len, tab
         f_out[i] = kappa[i] * f
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def rhs(t, q, v, minv, kb, cb, fext, V, kappa, kscale, cm, clear, tab, tab_off, tab_len,
         tab_npc, tab_period, fm, phase, e0, h_amp, h_om, h_ph, a_out, f_out, d_out):
     """Accelerations M^-1 (F_ext - K_b q - C_b q' - sum V_i f_i) into ``a_out``."""
@@ -81,7 +81,7 @@ def rhs(t, q, v, minv, kb, cb, fext, V, kappa, kscale, cm, clear, tab, tab_off, 
         a_out[j] = s * minv[j]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def integrate_rk4(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, minv, kb, cb,
                   fext, V, kappa, kscale, cm, clear, tab, tab_off, tab_len, tab_npc,
                   tab_period, fm, phase, e0, h_amp, h_om, h_ph):
@@ -120,17 +120,19 @@ def integrate_rk4(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, mi
     h2 = 0.5 * dt
     h6 = dt / 6.0
     r = 0
+    next_rec = rec_start
     for s in range(n_steps + 1):
         t = t0 + s * dt
         rhs(t, q, v, minv, kb, cb, fext, V, kappa, kscale, cm, clear, tab, tab_off, tab_len,
             tab_npc, tab_period, fm, phase, e0, h_amp, h_om, h_ph, k1v, f, d)
-        if s >= rec_start and r < n_rec and (s - rec_start) % rec_every == 0:
+        if s == next_rec and r < n_rec:
             for j in range(n):
                 rec_q[r, j] = q[j]
                 rec_v[r, j] = v[j]
             for i in range(nm):
                 rec_f[r, i] = f[i]
             r += 1
+            next_rec += rec_every
         if s == n_steps:
             break
         for j in range(n):

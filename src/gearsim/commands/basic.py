@@ -15,21 +15,14 @@ __all__ = ["register"]
 
 
 def _with_crack_choice(train, crack: str | None, closure: str | None):
-    from gearsim.stiffness.crack import Crack
-
     if closure is not None:
         if closure not in ("open", "contact"):
             raise InputError("--closure", closure, 'must be "open" or "contact"')
         train = dataclasses.replace(train, stiffness=dataclasses.replace(train.stiffness,
                                                                          closure=closure))
-    if crack is None:
-        return train
-    if crack == "none":
-        return train.with_cracks(())
-    if crack not in ("working", "non-working"):
-        raise InputError("--crack", crack, 'must be "none", "working" or "non-working"')
-    cracks = train.cracks or (Crack(gear=train.gears[0].name, depth=2e-3),)
-    return train.with_cracks(tuple(dataclasses.replace(c, flank=crack) for c in cracks))
+    from gearsim.commands.dynamics import with_crack_choice
+
+    return with_crack_choice(train, crack)
 
 
 def example(name: Annotated[str, typer.Argument(help="idler-table1 or spur-19-48")]) -> None:

@@ -87,20 +87,21 @@ def profile_dy(seg, p, prof):
 
 
 @njit(cache=True)
-def param_at_height(seg, y, pa, pb, prof):
-    """Parameter in [pa, pb] of segment ``seg`` where the outline height equals ``y``.
+def param_at_coordinate(seg, coord, value, pa, pb, prof):
+    """Parameter in [pa, pb] of segment ``seg`` where outline coordinate ``coord``
+    (0: half width x, 1: height y) equals ``value``; bisection to 1e-15 relative.
 
-    The height is monotone in the parameter on each segment; bisection to 1e-14.
+    The coordinate must change sign once against ``value`` on [pa, pb].
     """
-    xa, ya = profile_point(seg, pa, prof)
+    fa = profile_point(seg, pa, prof)[coord] - value
     lo = pa
     hi = pb
     for _ in range(200):
         mid = 0.5 * (lo + hi)
-        xm, ym = profile_point(seg, mid, prof)
-        if (ym - y) * (ya - y) > 0.0:
+        fm = profile_point(seg, mid, prof)[coord] - value
+        if fm * fa > 0.0:
             lo = mid
-            ya = ym
+            fa = fm
         else:
             hi = mid
         if abs(hi - lo) < 1e-15 * (1.0 + abs(hi)):
@@ -109,22 +110,15 @@ def param_at_height(seg, y, pa, pb, prof):
 
 
 @njit(cache=True)
+def param_at_height(seg, y, pa, pb, prof):
+    """Parameter where the outline height equals ``y`` (monotone on each segment)."""
+    return param_at_coordinate(seg, 1, y, pa, pb, prof)
+
+
+@njit(cache=True)
 def param_at_halfwidth(seg, xw, pa, pb, prof):
-    """Parameter in [pa, pb] of segment ``seg`` where the outline half width equals ``xw``."""
-    xa, ya = profile_point(seg, pa, prof)
-    lo = pa
-    hi = pb
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        xm, ym = profile_point(seg, mid, prof)
-        if (xm - xw) * (xa - xw) > 0.0:
-            lo = mid
-            xa = xm
-        else:
-            hi = mid
-        if abs(hi - lo) < 1e-15 * (1.0 + abs(hi)):
-            break
-    return 0.5 * (lo + hi)
+    """Parameter where the outline half width equals ``xw``."""
+    return param_at_coordinate(seg, 0, xw, pa, pb, prof)
 
 
 @njit(cache=True)

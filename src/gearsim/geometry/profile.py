@@ -128,16 +128,8 @@ class ToothProfile:
                              f"must be within [root {rr:.6g}, tip {self.gear.tip_radius:.6g}] m")
         if radius >= self.form_radius:
             x, y = K.involute_point(radius, p)
-        else:  # the fillet radius grows monotonically from root to form circle
-            lo, hi = p[K.P_AN], 0.5 * math.pi
-            for _ in range(200):
-                mid = 0.5 * (lo + hi)
-                x, y = K.fillet_point(mid, p)
-                if math.hypot(x, y) > radius:
-                    lo = mid
-                else:
-                    hi = mid
-            x, y = K.fillet_point(0.5 * (lo + hi), p)
+        else:
+            x, y = K.fillet_point(self._fillet_param(radius), p)
         return 2.0 * x * radius / math.hypot(x, y)
 
     def tangent_point(self, angle_to_centre_line: float = math.radians(30.0)) -> tuple[float, float]:
@@ -165,17 +157,20 @@ class ToothProfile:
 
     def fillet_param_at_radius(self, radius: float) -> float:
         """Rack-round angle ``g`` of the fillet point at ``radius`` (root <= r <= form)."""
-        p = self.packed
         if not (self.gear.root_radius * (1 - 1e-12) <= radius <= self.form_radius * (1 + 1e-12)):
             raise InputError("crack.start_radius", radius,
                              f"must lie on the root fillet, between the root radius "
                              f"{self.gear.root_radius:.6g} m and the form radius "
                              f"{self.form_radius:.6g} m")
+        return self._fillet_param(radius)
+
+    def _fillet_param(self, radius: float) -> float:
+        """Bisection on the fillet, whose radius grows monotonically from root to form."""
+        p = self.packed
         lo, hi = p[K.P_AN], 0.5 * math.pi
         for _ in range(200):
             mid = 0.5 * (lo + hi)
-            x, y = K.fillet_point(mid, p)
-            if math.hypot(x, y) > radius:
+            if math.hypot(*K.fillet_point(mid, p)) > radius:
                 lo = mid
             else:
                 hi = mid

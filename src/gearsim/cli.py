@@ -29,6 +29,7 @@ COMMAND_MODULES = (
     "gearsim.commands.dynamics",
     "gearsim.commands.fem",
     "gearsim.commands.studies",
+    "gearsim.commands.sweep",
 )
 
 for _name in COMMAND_MODULES:

@@ -1,0 +1,385 @@
+"""Parameter-study definitions: the study TOML file, parsed and expanded into cases.
+
+A study varies the crack (depth, flank), the closure model of the crack faces, the
+operating point (speed, torque), the bearing stiffness and the measurement noise of one
+base gear train, on a full grid or by seeded random sampling. Layout::
+
+    [study]
+    name = "my study"
+    config = "idler-table1"     # base train: built-in example name or TOML path
+    sampling = "grid"           # or "random" (then give samples = N)
+    seed = 1                    # random sampling and measurement noise
+    replicates = 2              # noise realisations per case
+    signal = "acceleration[input,y]"   # analysed record: variable[gear,axis] or e.g. mesh_force_1
+    shafts = "all"              # sidebands of every shaft, or "reference" (input shaft only)
+    store_signals = false       # also keep the noisy analysed records in the store
+
+    [study.dynamics]            # overrides of the base train's [dynamics] section
+    duration = "0.5 s"
+    fs = "20 kHz"
+
+    [parameters]                # each: a list of values, or a range table
+    crack_depth = ["0.5 mm", "1 mm", "2 mm"]
+    flank = ["none", "working", "non-working"]
+    closure = ["contact"]
+    speed = { min = "1200 rpm", max = "1900 rpm", num = 3 }   # grid: linspace
+    torque = ["2000 N*m", "4876 N*m"]
+    bearing_stiffness = ["1e9 N/m"]
+    noise = [0.0, 0.5, 1.0]     # noise RMS / RMS of the noise-free dynamic record
+
+Parameters not given take the base train's value (noise: 0). Plain numbers are SI. With
+``sampling = "random"`` a list is sampled uniformly and a range ``{min, max}`` uniformly
+in value (``log = true``: in logarithm). Unknown keys, empty lists and empty ranges are
+refused with :class:`gearsim.errors.InputError`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import itertools
+import json
+import math
+import tomllib
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from gearsim.errors import InputError, require
+from gearsim.units import to_si
+
+__all__ = ["BUILTIN_STUDIES", "PARAMETERS", "Case", "Study", "builtin_study_text", "expand",
+           "load_study", "loads_study"]
+
+#: Built-in studies in ``gearsim/data/studies``.
+BUILTIN_STUDIES = ("diagnostic",)
+
+#: Study parameter -> quantity kind (see :data:`gearsim.units.DIMENSIONS`) or choices.
+PARAMETERS: dict[str, str | tuple[str, ...]] = {
+    "crack_depth": "length",
+    "flank": ("none", "working", "non-working"),
+    "closure": ("open", "contact"),
+    "speed": "speed",
+    "torque": "torque",
+    "bearing_stiffness": "stiffness",
+    "noise": "dimensionless",
+}
+STUDY_KEYS = ("name", "config", "sampling", "samples", "seed", "replicates", "signal",
+              "shafts", "store_signals", "dynamics")
+DYNAMICS_OVERRIDES = {"duration": "time", "fs": "frequency", "transient": "time",
+                      "step": "time", "model": "str"}
+
+
+@dataclass(frozen=True)
+class Case:
+    """One analysed record of a study (SI units).
+
+    Attributes
+    ----------
+    index : int
+        Position in the study's case list.
+    crack_depth : float
+        Crack depth [m]; for ``flank == "none"`` the nominal depth of the grid cell (no
+        crack is modelled).
+    flank : str
+        ``"none"``, ``"working"`` or ``"non-working"``.
+    closure : str
+        ``"open"`` or ``"contact"``.
+    speed, torque, bearing_stiffness : float
+        Input speed [rad/s], input torque [N m], radial bearing stiffness [N/m].
+    noise : float
+        RMS of the added Gaussian noise / RMS of the noise-free dynamic record [-].
+    replicate : int
+        Noise realisation number.
+    """
+
+    index: int
+    crack_depth: float
+    flank: str
+    closure: str
+    speed: float
+    torque: float
+    bearing_stiffness: float
+    noise: float
+    replicate: int
+
+    def params(self) -> dict[str, Any]:
+        """Parameters without the index (the case's identity)."""
+        d = dataclasses.asdict(self)
+        d.pop("index")
+        return d
+
+    def simulation_params(self) -> dict[str, Any]:
+        """Parameters that change the simulation (not noise or replicate)."""
+        d = self.params()
+        d.pop("noise")
+        d.pop("replicate")
+        if self.flank == "none":
+            d["crack_depth"] = 0.0
+        return d
+
+
+@dataclass(frozen=True)
+class Study:
+    """A parsed study file.
+
+    Attributes
+    ----------
+    name : str
+        Study name.
+    text : str
+        The TOML text as given (stored with the results).
+    config : str
+        Base train: built-in example name or path of a TOML file.
+    config_text : str
+        TOML text of the base train (hashed, so a changed config invalidates old parts).
+    sampling : str
+        ``"grid"`` or ``"random"``.
+    samples : int
+        Number of random samples (random sampling only).
+    seed : int
+        Seed of random sampling and of the measurement noise.
+    replicates : int
+        Noise realisations per parameter combination.
+    signal : str
+        Analysed record, ``variable`` or ``variable[gear,axis]`` of the simulated dataset.
+    shafts : str
+        ``"all"``: sidebands of every shaft; ``"reference"``: the input shaft only.
+    store_signals : bool
+        Keep the analysed (noisy) records in the store.
+    dynamics : dict
+        Overrides of the dynamics settings (SI).
+    parameters : dict
+        Parameter name -> tuple of values, or a dict ``{min, max, num, log}`` (SI).
+    """
+
+    name: str
+    text: str
+    config: str
+    config_text: str
+    sampling: str
+    samples: int
+    seed: int
+    replicates: int
+    signal: str
+    shafts: str
+    store_signals: bool
+    dynamics: dict[str, Any]
+    parameters: dict[str, Any]
+
+    def fingerprint(self) -> str:
+        """Hash of everything but the parameter lists that changes a case's result."""
+        doc = {"config": self.config_text, "dynamics": self.dynamics, "signal": self.signal,
+               "shafts": self.shafts, "seed": self.seed, "store_signals": self.store_signals}
+        return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
+
+    def case_key(self, case: Case) -> str:
+        """Hash of a case's parameters and the study fingerprint (hex, 16 characters)."""
+        doc = json.dumps({"study": self.fingerprint(), **case.params()}, sort_keys=True)
+        return hashlib.sha256(doc.encode()).hexdigest()[:16]
+
+    def simulation_key(self, case: Case) -> str:
+        """Hash of the simulation parameters: cases with equal keys share one simulation."""
+        doc = json.dumps({"study": self.fingerprint(), **case.simulation_params()},
+                         sort_keys=True)
+        return hashlib.sha256(doc.encode()).hexdigest()[:16]
+
+
+def builtin_study_text(name: str) -> str:
+    """TOML text of a built-in study (see :data:`BUILTIN_STUDIES`)."""
+    if name not in BUILTIN_STUDIES:
+        raise InputError("study", name, "unknown; built-in studies: " + ", ".join(BUILTIN_STUDIES))
+    return (resources.files("gearsim.data").joinpath("studies", f"{name}.toml")
+            .read_text(encoding="utf-8"))
+
+
+def load_study(path: str | Path) -> Study:
+    """Read a study file, or a built-in study by name (:data:`BUILTIN_STUDIES`)."""
+    p = Path(path)
+    if not p.exists():
+        if str(path) in BUILTIN_STUDIES:
+            return loads_study(builtin_study_text(str(path)))
+        raise InputError("study", str(path), "file not found (or give a built-in study: "
+                         + ", ".join(BUILTIN_STUDIES) + ")")
+    try:
+        text = p.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError("study", str(path), f"cannot be read: {exc}") from None
+    return loads_study(text, base_dir=p.parent)
+
+
+def _values(name: str, raw: Any) -> tuple | dict:
+    kind = PARAMETERS[name]
+    where = f"parameters.{name}"
+    if isinstance(raw, dict):
+        if isinstance(kind, tuple):
+            raise InputError(where, raw, "give a list of choices: " + ", ".join(kind))
+        for key in raw:
+            if key not in ("min", "max", "num", "log"):
+                raise InputError(f"{where}.{key}", raw[key], "unknown key; allowed: min, max, "
+                                 "num, log")
+        if "min" not in raw or "max" not in raw:
+            raise InputError(where, raw, "a range needs min and max")
+        lo = to_si(raw["min"], kind, f"{where}.min")
+        hi = to_si(raw["max"], kind, f"{where}.max")
+        require(lo <= hi, where, f"min {raw['min']} > max {raw['max']}",
+                "empty range: need min <= max")
+        num = raw.get("num")
+        if num is not None:
+            require(isinstance(num, int) and not isinstance(num, bool) and num >= 1,
+                    f"{where}.num", num, "empty range: must be an integer >= 1")
+        log = raw.get("log", False)
+        require(isinstance(log, bool), f"{where}.log", log, "must be true or false")
+        if log:
+            require(lo > 0, f"{where}.min", raw["min"], "must be > 0 with log = true")
+        return {"min": lo, "max": hi, "num": num, "log": log}
+    if not isinstance(raw, list):
+        raw = [raw]
+    require(len(raw) > 0, where, raw, "empty list: give at least one value")
+    out = []
+    for i, v in enumerate(raw):
+        if isinstance(kind, tuple):
+            require(v in kind, f"{where}[{i}]", v, "must be one of " + ", ".join(kind))
+            out.append(v)
+        else:
+            out.append(to_si(v, kind, f"{where}[{i}]"))
+    return tuple(out)
+
+
+def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
+    """Parse study TOML text into a :class:`Study` (``base_dir``: for a relative config)."""
+    from gearsim.io.config import EXAMPLES, example_text
+
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError("study", "TOML", f"is not valid TOML: {exc}") from None
+    for key in doc:
+        if key not in ("study", "parameters"):
+            raise InputError(key, "...", "unknown section; allowed: study, parameters")
+    st = doc.get("study", {})
+    require(isinstance(st, dict), "study", st, "must be a table")
+    for key in st:
+        if key not in STUDY_KEYS:
+            raise InputError(f"study.{key}", st[key], "unknown key; allowed: "
+                             + ", ".join(STUDY_KEYS))
+    config = st.get("config", "idler-table1")
+    require(isinstance(config, str), "study.config", config, "must be a string")
+    if config in EXAMPLES and not Path(config).exists():
+        config_text = example_text(config)
+    else:
+        p = Path(config)
+        if not p.is_absolute() and base_dir is not None:
+            p = Path(base_dir) / p
+        if not p.exists():
+            raise InputError("study.config", config, "file not found (or give a built-in "
+                             "example: " + ", ".join(EXAMPLES) + ")")
+        config, config_text = str(p), p.read_text(encoding="utf-8")
+    sampling = st.get("sampling", "grid")
+    require(sampling in ("grid", "random"), "study.sampling", sampling,
+            'must be "grid" or "random"')
+    samples = st.get("samples", 0 if sampling == "grid" else None)
+    if sampling == "random":
+        require(isinstance(samples, int) and not isinstance(samples, bool) and samples >= 1,
+                "study.samples", samples if samples is not None else "missing",
+                "random sampling needs an integer >= 1")
+    seed = st.get("seed", 0)
+    require(isinstance(seed, int) and not isinstance(seed, bool) and seed >= 0, "study.seed",
+            seed, "must be an integer >= 0")
+    replicates = st.get("replicates", 1)
+    require(isinstance(replicates, int) and not isinstance(replicates, bool)
+            and replicates >= 1, "study.replicates", replicates, "must be an integer >= 1")
+    signal = st.get("signal", "acceleration[input,y]")
+    require(isinstance(signal, str) and len(signal) > 0, "study.signal", signal,
+            "must be a variable name, optionally with [gear,axis]")
+    shafts = st.get("shafts", "all")
+    require(shafts in ("all", "reference"), "study.shafts", shafts,
+            'must be "all" or "reference"')
+    store_signals = st.get("store_signals", False)
+    require(isinstance(store_signals, bool), "study.store_signals", store_signals,
+            "must be true or false")
+    dyn_raw = st.get("dynamics", {})
+    require(isinstance(dyn_raw, dict), "study.dynamics", dyn_raw, "must be a table")
+    dynamics: dict[str, Any] = {}
+    for key, value in dyn_raw.items():
+        if key not in DYNAMICS_OVERRIDES:
+            raise InputError(f"study.dynamics.{key}", value, "unknown key; allowed: "
+                             + ", ".join(DYNAMICS_OVERRIDES))
+        kind = DYNAMICS_OVERRIDES[key]
+        if kind == "str":
+            require(isinstance(value, str), f"study.dynamics.{key}", value, "must be a string")
+            dynamics[key] = value
+        else:
+            dynamics[key] = to_si(value, kind, f"study.dynamics.{key}")
+    params_raw = doc.get("parameters", {})
+    require(isinstance(params_raw, dict), "parameters", params_raw, "must be a table")
+    parameters: dict[str, Any] = {}
+    for key, value in params_raw.items():
+        if key not in PARAMETERS:
+            raise InputError(f"parameters.{key}", value, "unknown parameter; allowed: "
+                             + ", ".join(PARAMETERS))
+        parameters[key] = _values(key, value)
+    if sampling == "grid":
+        for key, value in parameters.items():
+            if isinstance(value, dict):
+                require(value["num"] is not None, f"parameters.{key}.num", "missing",
+                        "a grid range needs num (number of points)")
+    name = st.get("name", "parameter study")
+    require(isinstance(name, str), "study.name", name, "must be a string")
+    return Study(name=name, text=text, config=config, config_text=config_text,
+                 sampling=sampling, samples=int(samples or 0), seed=seed,
+                 replicates=replicates, signal=signal, shafts=shafts,
+                 store_signals=store_signals, dynamics=dynamics, parameters=parameters)
+
+
+def _base_values(study: Study) -> dict[str, tuple]:
+    from gearsim.dynamics import DynamicsSettings
+    from gearsim.io.config import loads
+
+    train = loads(study.config_text)
+    settings = train.extra.get("dynamics") or DynamicsSettings()
+    depth = train.cracks[0].depth if train.cracks else 0.0
+    flank = train.cracks[0].flank if train.cracks else "none"
+    return {"crack_depth": (depth,), "flank": (flank,), "closure": (train.stiffness.closure,),
+            "speed": (train.operating.speed,), "torque": (train.operating.torque,),
+            "bearing_stiffness": (settings.bearing_stiffness,), "noise": (0.0,)}
+
+
+def _grid(spec: tuple | dict) -> tuple:
+    if isinstance(spec, tuple):
+        return spec
+    f = np.geomspace if spec["log"] else np.linspace
+    return tuple(float(v) for v in f(spec["min"], spec["max"], spec["num"]))
+
+
+def _draw(spec: tuple | dict, rng: np.random.Generator) -> Any:
+    if isinstance(spec, tuple):
+        return spec[int(rng.integers(len(spec)))]
+    if spec["log"]:
+        return float(math.exp(rng.uniform(math.log(spec["min"]), math.log(spec["max"]))))
+    return float(rng.uniform(spec["min"], spec["max"]))
+
+
+def expand(study: Study) -> list[Case]:
+    """All cases of a study, in a fixed order (grid: last parameter varies fastest).
+
+    Random sampling draws each parameter independently with
+    ``numpy.random.default_rng(study.seed)``. Each parameter combination is repeated
+    ``study.replicates`` times (replicate number 0, 1, ...).
+    """
+    specs = {**_base_values(study), **study.parameters}
+    names = list(PARAMETERS)
+    if study.sampling == "grid":
+        combos = list(itertools.product(*(_grid(specs[n]) for n in names)))
+    else:
+        rng = np.random.default_rng(study.seed)
+        combos = [tuple(_draw(specs[n], rng) for n in names) for _ in range(study.samples)]
+    cases = []
+    for combo in combos:
+        kw = dict(zip(names, combo, strict=True))
+        for r in range(study.replicates):
+            cases.append(Case(index=len(cases), replicate=r, **kw))
+    return cases

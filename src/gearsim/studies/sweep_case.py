@@ -1,0 +1,217 @@
+"""One simulation of a parameter study and its analysed records, as a labelled table.
+
+A *simulation group* is the set of cases that differ only in measurement noise and
+replicate: the train is simulated once and each case adds its own seeded noise to the
+analysed record before :func:`gearsim.signals.analyze`. :func:`run_group` returns an
+``xarray.Dataset`` with dimension ``case`` (one row per case): the parameters as
+coordinates, ``status`` (``"ok"``, ``"failed"`` for refused input or a failed
+simulation, ``"error"`` for any other exception) and ``error`` (message) and one
+variable per feature. It runs unchanged in a Dask worker or in a plain loop.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+
+from gearsim.errors import InputError, SimulationError
+from gearsim.studies.sweep import PARAMETERS, Case, Study
+
+__all__ = ["FEATURE_GROUPS", "add_noise", "build_case", "features", "run_group"]
+
+#: Feature-name prefix -> feature group (used by the diagnostic analysis).
+FEATURE_GROUPS = {"td_": "time-domain", "sb_": "sideband", "tsa_": "TSA", "band_": "band energy"}
+
+PARAM_UNITS = {"crack_depth": "m", "speed": "rad/s", "torque": "N*m",
+               "bearing_stiffness": "N/m", "noise": "1", "flank": "", "closure": "",
+               "replicate": ""}
+
+
+def build_case(study: Study, case: Case):
+    """Gear train and dynamics settings of a case.
+
+    Returns
+    -------
+    train : gearsim.system.GearTrain
+        Base train with the case's operating point, closure model and crack (on the
+        config's crack, or the default crack of ``gearsim simulate --crack``).
+    settings : gearsim.dynamics.DynamicsSettings
+        Base settings with the study's overrides and the case's bearing stiffness.
+
+    Raises
+    ------
+    InputError
+        If the crack does not fit its tooth or a setting is out of range.
+    """
+    from gearsim.commands.dynamics import DEFAULT_CRACK
+    from gearsim.dynamics import DynamicsSettings
+    from gearsim.geometry.profile import ToothProfile
+    from gearsim.io.config import loads
+    from gearsim.stiffness.crack import Crack, crack_geometry
+    from gearsim.system import Operating
+
+    train = loads(study.config_text)
+    train = dataclasses.replace(
+        train, operating=Operating(speed=case.speed, torque=case.torque),
+        stiffness=dataclasses.replace(train.stiffness, closure=case.closure))
+    if case.flank == "none":
+        train = train.with_cracks(())
+    else:
+        base = train.cracks or (Crack(gear=train.gears[0].name, **DEFAULT_CRACK),)
+        cracks = tuple(dataclasses.replace(c, flank=case.flank, depth=case.crack_depth)
+                       for c in base)
+        for c in cracks:  # refuse a crack that does not fit before any computation
+            crack_geometry(ToothProfile(train.gear(c.gear)), c)
+        train = train.with_cracks(cracks)
+    settings = train.extra.get("dynamics") or DynamicsSettings()
+    settings = dataclasses.replace(settings, bearing_stiffness=case.bearing_stiffness,
+                                   **study.dynamics)
+    return train, settings
+
+
+def _select_signal(ds, spec: str) -> np.ndarray:
+    m = re.fullmatch(r"\s*(\w+)\s*(?:\[\s*([\w-]+)\s*,\s*(\w+)\s*\])?\s*", spec)
+    if m is None or m.group(1) not in ds:
+        raise InputError("study.signal", spec, "must name a simulated variable ("
+                         + ", ".join(ds.data_vars) + "), with [gear,axis] where needed")
+    da = ds[m.group(1)]
+    sel = {}
+    if m.group(2):
+        sel = {"gear": m.group(2), "axis": m.group(3)}
+    try:
+        da = da.sel(sel) if sel else da
+    except (KeyError, ValueError):
+        raise InputError("study.signal", spec, "gear or axis not in the simulation") from None
+    if da.ndim != 1:
+        raise InputError("study.signal", spec, "select one gear and axis: variable[gear,axis]")
+    return np.asarray(da.values, dtype=float)
+
+
+def add_noise(x: np.ndarray, level: float, seed: int) -> np.ndarray:
+    """Add white Gaussian measurement noise of RMS ``level * std(x)``.
+
+    The level is the noise-to-signal RMS ratio of the dynamic part of the record, i.e.
+    SNR = -20 log10(level) dB (Randall, *Vibration-based Condition Monitoring*, 2nd ed.,
+    Wiley 2021, sec. 3.1, for the definition of SNR). ``numpy.random.default_rng(seed)``.
+    """
+    if level == 0.0:
+        return x.copy()
+    rng = np.random.default_rng(seed)
+    return x + rng.normal(0.0, level * float(np.std(x)), size=x.shape)
+
+
+def _num(v: Any) -> float:
+    return float(v) if v is not None and math.isfinite(float(v)) else math.nan
+
+
+def features(summary: dict) -> dict[str, float]:
+    """Flat feature dict from :meth:`gearsim.signals.analyze.Analysis.to_dict`.
+
+    Names: ``td_*`` time-domain statistics (RMS, peak, crest factor, kurtosis) and impact
+    count; ``sb_{ser,cv,flatness}_o{n}_{shaft}`` sideband energy ratio and uniformity of
+    each sideband family; ``band_{energy,cv,modulation}_o{n}`` STFT band energy around
+    each mesh harmonic; ``tsa_{fm0,fm4,na4,m6a,m8a}`` condition indicators of the
+    time-synchronous average; ``mesh_amplitude_o{n}``.
+    """
+    td = summary["time_domain"]
+    out = {f"td_{k}": _num(td[k]) for k in ("rms", "peak", "crest_factor", "kurtosis")}
+    out["td_impacts"] = float(summary["impacts"]["count"])
+    for h in summary["mesh_harmonics"]:
+        out[f"mesh_amplitude_o{h['order']}"] = _num(h["amplitude"])
+    for f in summary["sidebands"]:
+        for k in ("ser", "cv", "flatness"):
+            out[f"sb_{k}_o{f['order']}_{f['shaft']}"] = _num(f[k])
+    for b in summary["time_frequency"]["bands"]:
+        out[f"band_energy_o{b['order']}"] = _num(b["energy_mean"])
+        out[f"band_cv_o{b['order']}"] = _num(b["energy_cv"])
+        out[f"band_modulation_o{b['order']}"] = _num(b["modulation_at_fr1"])
+    for k in ("fm0", "fm4", "na4", "m6a", "m8a"):
+        out[f"tsa_{k}"] = _num(summary["tsa"][k])
+    return out
+
+
+def _table(study: Study, cases: Sequence[Case], rows: list[dict], status: list[str],
+           errors: list[str], signals: list[np.ndarray | None], fs: float | None):
+    import xarray as xr
+
+    coords: dict[str, Any] = {"case": ("case", [c.index for c in cases])}
+    coords["case_key"] = ("case", [study.case_key(c) for c in cases])
+    for name in (*PARAMETERS, "replicate"):
+        coords[name] = ("case", [getattr(c, name) for c in cases],
+                        {"units": PARAM_UNITS[name]} if PARAM_UNITS[name] else {})
+    names = sorted({k for r in rows for k in r})
+    data: dict[str, Any] = {
+        "status": ("case", status), "error": ("case", errors),
+    }
+    for k in names:
+        data[k] = ("case", np.array([r.get(k, math.nan) for r in rows], dtype=float))
+    if study.store_signals and any(s is not None for s in signals):
+        n = max(s.size for s in signals if s is not None)
+        arr = np.full((len(cases), n), np.nan)
+        for i, s in enumerate(signals):
+            if s is not None:
+                arr[i, :s.size] = s
+        data["signal"] = (("case", "sample"), arr, {"long_name": f"analysed record "
+                                                    f"{study.signal} with noise"})
+        coords["sample_time"] = ("sample", np.arange(n) / fs, {"units": "s"})
+    return xr.Dataset(data, coords=coords)
+
+
+def run_group(study: Study, cases: Sequence[Case],
+              hook: Callable[[Sequence[Case]], None] | None = None):
+    """Simulate once and analyse every case of a simulation group.
+
+    Parameters
+    ----------
+    study : Study
+        The study.
+    cases : sequence of Case
+        Cases with equal :meth:`Study.simulation_key` (they differ in noise/replicate).
+    hook : callable, optional
+        Called with ``cases`` before the work (tests use it to inject faults).
+
+    Returns
+    -------
+    xarray.Dataset
+        One row per case along dimension ``case`` (see module docstring). Refused input
+        and failed simulations are recorded (status, message), not raised.
+    """
+    from gearsim.dynamics import simulate
+    from gearsim.signals import analyze
+
+    if hook is not None:
+        hook(cases)
+    n = len(cases)
+    rows: list[dict] = [{} for _ in range(n)]
+    status, errors = ["ok"] * n, [""] * n
+    signals: list[np.ndarray | None] = [None] * n
+    fs = None
+    try:
+        train, settings = build_case(study, cases[0])
+        ds = simulate(train, settings)
+        fs = float(settings.fs)
+        x = _select_signal(ds, study.signal)
+        teeth = [g.teeth for g in train.gears]
+        if study.shafts == "reference":
+            teeth = teeth[:1]
+    except (InputError, SimulationError) as exc:
+        return _table(study, cases, rows, ["failed"] * n, [str(exc)] * n, signals, fs)
+    except Exception as exc:  # keep the study going; the message says what it was
+        return _table(study, cases, rows, ["error"] * n,
+                      [f"{type(exc).__name__}: {exc}"] * n, signals, fs)
+    for i, case in enumerate(cases):
+        try:
+            xn = add_noise(x, case.noise, int(study.case_key(case), 16))
+            a = analyze(xn, fs, teeth=teeth, shaft_frequency=train.shaft_frequency(0))
+            rows[i] = features(a.to_dict())
+            signals[i] = xn
+        except (InputError, SimulationError) as exc:
+            status[i], errors[i] = "failed", str(exc)
+        except Exception as exc:
+            status[i], errors[i] = "error", f"{type(exc).__name__}: {exc}"
+    return _table(study, cases, rows, status, errors, signals, fs)

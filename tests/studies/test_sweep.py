@@ -1,0 +1,180 @@
+"""Parameter sweeps on Dask: equal to the serial loop, resumable, robust to a lost worker,
+failing cases recorded, bad study files refused."""
+
+from __future__ import annotations
+
+import functools
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import cloudpickle
+import numpy as np
+import pytest
+import xarray as xr
+
+from gearsim.errors import InputError
+from gearsim.studies.sweep import expand, loads_study
+from gearsim.studies.sweep_case import build_case
+from gearsim.studies.sweep_run import groups, parts_dir, run_serial, run_study
+
+# The fault-injection hook below runs in Dask worker processes, which cannot import this
+# test module: pickle its functions by value.
+cloudpickle.register_pickle_by_value(sys.modules[__name__])
+
+GEARSIM = [sys.executable, "-m", "gearsim.cli"]
+
+#: 0.15 s at 20 kHz is the shortest record that resolves the input-shaft sidebands
+#: (31.7 Hz spacing, 4 Hann bins) of the Table-1 train; shafts = "reference".
+TINY = """
+[study]
+name = "tiny"
+config = "idler-table1"
+replicates = 2
+seed = 3
+signal = "acceleration[input,y]"
+shafts = "reference"
+[study.dynamics]
+duration = "0.15 s"
+fs = "20 kHz"
+transient = "0.02 s"
+[parameters]
+crack_depth = ["1 mm", "30 mm"]     # 30 mm does not fit the tooth: those cases fail
+flank = ["none", "working", "non-working"]
+torque = ["2000 N*m", "4876 N*m"]
+noise = [0.0, 0.5]
+"""
+
+
+@pytest.fixture(scope="module")
+def study():
+    return loads_study(TINY)
+
+
+@pytest.fixture(scope="module")
+def serial(study):
+    """The study run case by case in a plain loop (no Dask)."""
+    return run_serial(study)
+
+
+def test_expansion_and_serial_numbers(study, serial):
+    cases = expand(study)
+    assert len(cases) == 2 * 3 * 2 * 2 * 2 == serial.sizes["case"]
+    # healthy cases share one simulation per torque whatever the nominal depth
+    assert len(groups(study)) == 2 + 2 * 2 * 2
+    ok = serial["status"].values == "ok"
+    deep = serial["crack_depth"].values > 0.01
+    cracked = serial["flank"].values != "none"
+    np.testing.assert_array_equal(ok, ~(deep & cracked))
+    assert all("crack.depth = 30 mm" in e for e in serial["error"].values[~ok])
+    assert np.isnan(serial["td_rms"].values[~ok]).all()
+    # td_rms of a noise-free case is the RMS of the simulated record minus its mean
+    case = cases[0]
+    assert case.noise == 0.0 and case.flank == "none"
+    from gearsim.dynamics import simulate
+
+    train, settings = build_case(study, case)
+    x = simulate(train, settings)["acceleration"].sel(gear="input", axis="y").values
+    np.testing.assert_allclose(serial["td_rms"].values[0], np.std(x), rtol=1e-12)
+    # noise of RMS 0.5 std(x): RMS grows by sqrt(1 + 0.5^2) (sampling error ~ 1/sqrt(3000))
+    sel = ok & (serial["noise"].values == 0.5)
+    base = ok & (serial["noise"].values == 0.0)
+    ratio = serial["td_rms"].values[sel] / serial["td_rms"].values[base]
+    np.testing.assert_allclose(ratio, np.sqrt(1.25), rtol=0.05)
+    # noise-free replicates are equal, noisy ones are not (seeded per case)
+    r0 = serial.where(serial.replicate == 0, drop=True)
+    r1 = serial.where(serial.replicate == 1, drop=True)
+    z = (r0.noise.values == 0) & (r0.status.values == "ok")
+    np.testing.assert_array_equal(r0.tsa_fm4.values[z], r1.tsa_fm4.values[z])
+    assert np.all(r0.tsa_fm4.values[~z & (r0.status.values == "ok")]
+                  != r1.tsa_fm4.values[~z & (r0.status.values == "ok")])
+    # a crack adds once-per-revolution sidebands: SER of mesh order 1 of the noise-free
+    # record grows from healthy to non-working to working flank (the working flank sees
+    # the larger stiffness loss), at each torque
+    for torque in (2000.0, 4876.0):
+        ser = {f: serial.sb_ser_o1_shaft1.values[ok & (serial.flank.values == f)
+                                                 & (serial.noise.values == 0)
+                                                 & (serial.torque.values == torque)].mean()
+               for f in ("none", "working", "non-working")}
+        assert ser["working"] > 1.05 * ser["non-working"] > 1.05 * 1.01 * ser["none"], ser
+
+
+def test_two_worker_cluster_equals_serial(study, serial, tmp_path):
+    res = run_study(study, tmp_path / "s.nc", workers=2, progress=False)
+    assert (res.n_cases, res.computed, res.skipped, res.failed) == (48, 48, 0, 16)
+    ds = xr.load_dataset(tmp_path / "s.nc", engine="h5netcdf")
+    xr.testing.assert_identical(ds, serial)
+    assert ds.attrs["study"] == TINY and ds.attrs["gearsim_version"]
+    # a second run finds every case finished
+    again = run_study(study, tmp_path / "s.nc", workers=1, progress=False)
+    assert (again.computed, again.skipped) == (0, 48)
+
+
+def test_killed_study_resumes_without_recomputing(study, serial, tmp_path):
+    path = tmp_path / "study.toml"
+    path.write_text(TINY)
+    store = tmp_path / "k.nc"
+    parts = parts_dir(store)
+    proc = subprocess.Popen([*GEARSIM, "sweep", str(path), "--out", str(store), "--workers",
+                             "1", "--no-progress"], start_new_session=True,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 120
+        while len(list(parts.glob("*.nc"))) < 2 and time.monotonic() < deadline:
+            assert proc.poll() is None, "the study finished or failed before the kill"
+            time.sleep(0.02)
+    finally:
+        os.killpg(proc.pid, signal.SIGKILL)  # the client and its cluster, like a power cut
+        proc.wait()
+    finished = {p: p.stat().st_mtime_ns for p in parts.glob("*.nc")}
+    assert 2 <= len(finished) < len(groups(study))
+    assert not store.exists()
+    n_done = sum(xr.open_dataset(p, engine="h5netcdf").sizes["case"] for p in finished)
+    res = run_study(study, store, workers=2, progress=False)
+    assert res.skipped == n_done and res.computed == 48 - n_done > 0
+    assert {p: p.stat().st_mtime_ns for p in finished} == finished  # not rewritten
+    xr.testing.assert_identical(xr.load_dataset(store, engine="h5netcdf"), serial)
+
+
+def _die_once(marker: str, cases) -> None:
+    """Kill the worker process the first time any case group starts."""
+    if not os.path.exists(marker):
+        Path(marker).write_text(str(os.getpid()))
+        os._exit(1)
+
+
+def test_lost_worker_task_is_retried(study, serial, tmp_path):
+    marker = tmp_path / "died"
+    res = run_study(study, tmp_path / "w.nc", workers=2, progress=False,
+                    hook=functools.partial(_die_once, str(marker)))
+    assert marker.exists()  # a worker did die
+    assert res.computed == 48
+    xr.testing.assert_identical(xr.load_dataset(tmp_path / "w.nc", engine="h5netcdf"), serial)
+
+
+@pytest.mark.parametrize("edit,parameter", [
+    (("torque = [", "gear_ratio = [2, 3]\ntorque = ["), "parameters.gear_ratio"),
+    (('torque = ["2000 N*m", "4876 N*m"]', "torque = []"), "parameters.torque"),
+    (('torque = ["2000 N*m", "4876 N*m"]', 'torque = {min = "3 kN*m", max = "2 kN*m", num = 3}'),
+     "parameters.torque"),
+    (('torque = ["2000 N*m", "4876 N*m"]', 'torque = {min = "1 kN*m", max = "2 kN*m", num = 0}'),
+     "parameters.torque.num"),
+    (('flank = ["none"', 'flank = ["both"'), "parameters.flank[0]"),
+    (('duration = "0.15 s"', 'duration = "0.15 kg"'), "study.dynamics.duration"),
+])
+def test_bad_study_refused(edit, parameter, tmp_path):
+    text = TINY.replace(*edit)
+    assert text != TINY
+    with pytest.raises(InputError) as err:
+        loads_study(text)
+    assert err.value.parameter == parameter
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    res = subprocess.run([*GEARSIM, "sweep", str(path), "--out", str(tmp_path / "b.nc")],
+                         capture_output=True, text=True, timeout=120)
+    assert res.returncode == 2
+    assert res.stderr.strip().splitlines() == [f"gearsim: error: {err.value}"]
+    assert not (tmp_path / "b.nc").exists()

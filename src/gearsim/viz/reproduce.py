@@ -1,0 +1,358 @@
+"""Figures of ``gearsim reproduce``: equivalents of the seed's Figures 3 and 5-8.
+
+All figures use matplotlib's object-oriented API with the Agg canvas (no GUI), SI units
+on the axes (forces in kN, stiffness in GN/m), a legend on every panel with more than
+one curve, and fonts of at least 9 pt at the saved size.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
+
+    from gearsim.studies.reproduce import Reproduction
+
+__all__ = ["plot_all"]
+
+_RC = {
+    "font.size": 11,
+    "axes.titlesize": 11.5,
+    "axes.labelsize": 11,
+    "legend.fontsize": 9,
+    "xtick.labelsize": 10,
+    "ytick.labelsize": 10,
+    "axes.grid": True,
+    "grid.alpha": 0.3,
+}
+#: Colours of the cases, the same in every figure.
+COLORS = {"healthy": "black", "working": "tab:red", "non-working": "tab:blue",
+          "working-open": "tab:orange", "non-working-open": "tab:cyan", "open": "tab:orange"}
+NAMES = {"healthy": "healthy", "working": "working-flank crack",
+         "non-working": "non-working-flank crack", "working-open": "working, open closure",
+         "non-working-open": "non-working, open closure", "open": "open closure (either flank)"}
+
+
+def _figure(width: float, height: float) -> Figure:
+    import matplotlib
+    from matplotlib.figure import Figure
+
+    matplotlib.rcParams.update(_RC)
+    return Figure(figsize=(width, height), layout="constrained")
+
+
+def _save(fig: Figure, path: Path) -> Path:
+    from gearsim.io.atomic import atomic_write
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write(path, lambda p: fig.savefig(p, dpi=110, format="png"))
+    return path
+
+
+def plot_stiffness(rep: Reproduction) -> Figure:
+    """Seed Figure 3: mesh stiffness healthy and cracked, PE and FE; FE vs PE tooth check."""
+    has_fe = bool(rep.fe_checks)
+    fig = _figure(12, 8.5 if has_fe else 4.5)
+    if has_fe:
+        gs = fig.add_gridspec(2, 2)
+        ax0 = fig.add_subplot(gs[0, :])
+        ax1 = fig.add_subplot(gs[1, 0])
+        ax2 = fig.add_subplot(gs[1, 1])
+    else:
+        ax0 = fig.add_subplot(1, 1, 1)
+    z = rep.train.gears[0].teeth
+    span = 360.0 / z * 5  # five base pitches either side of the cracked tooth
+    pe = rep.stiffness["PE"]
+    drop = pe["healthy"]["k"] - pe["working"]["k"]
+    centre = float(pe["working"]["theta_deg"][int(np.argmax(drop))])
+    for route, curves in rep.stiffness.items():
+        ls = "-" if route == "PE" else "--"
+        for label in ("healthy", "working", "non-working", "working-open"):
+            c = curves[label]
+            th = (c["theta_deg"] - centre + 180.0) % 360.0 - 180.0
+            o = np.argsort(th)
+            th, k = th[o], c["k"][o]
+            sel = np.abs(th) <= span
+            ax0.plot(th[sel], k[sel] / 1e9, ls, color=COLORS[label], lw=1.3,
+                     label=f"{route}: {NAMES[label]}")
+    ax0.set_xlabel("rotation of the input gear from the largest stiffness loss [deg]")
+    ax0.set_ylabel("mesh stiffness, mesh I [GN/m]")
+    ax0.set_title(f"(a) Time-varying mesh stiffness around the cracked tooth, crack "
+                  f"{rep.options.depth * 1e3:.3g} mm at 45 deg")
+    ax0.legend(ncols=2, loc="lower left")
+    if has_fe:
+        b = rep.train.gears[0].face_width
+        for crack, chk in rep.fe_checks.items():
+            label = {"none": "healthy"}.get(crack, crack)
+            roll = np.degrees(chk.roll_angle)
+            ax1.plot(roll, chk.k_pe * b / 1e9, "-", color=COLORS[label], label=f"PE, {label}")
+            ax1.plot(roll, chk.k_fe * b / 1e9, "o", color=COLORS[label], ms=5,
+                     label=f"FE, {label}")
+        ax1.set_xlabel("roll angle of the contact point on the input tooth [deg]")
+        ax1.set_ylabel(f"tooth stiffness, b = {b * 1e3:.4g} mm [GN/m]")
+        ax1.set_title("(b) Single input tooth: potential energy (lines) vs FE (points)")
+        ax1.legend(ncols=2, fontsize=8)
+        names = ["max", "min", "mean"]
+        seed = [6.7, 5.6, 6.3]
+        width = 0.2
+        xs = np.arange(3)
+        ax2.bar(xs - 1.5 * width, seed, width, color="grey", label="seed |error|")
+        for i, (crack, chk) in enumerate(rep.fe_checks.items()):
+            d = chk.differences()
+            label = {"none": "healthy"}.get(crack, crack)
+            ax2.bar(xs + (i - 0.5) * width, [abs(d[n]) for n in names], width,
+                    color=COLORS[label], label=f"ours, {label}")
+        ax2.axhline(10.0, color="k", ls=":", lw=1, label="10 % (seed's bound)")
+        ax2.set_xticks(xs, [f"{n} stiffness" for n in names])
+        ax2.set_ylabel("|k_PE - k_FE| / k_FE [%]")
+        ax2.set_title("(c) PE vs FE differences (seed Figure 3b)")
+        ax2.legend(fontsize=8)
+    return fig
+
+
+def _impacts(rep: Reproduction, key: str) -> np.ndarray:
+    m = rep.metrics.get(key)
+    return np.asarray(m.impact_times) if m is not None else np.empty(0)
+
+
+def plot_time(rep: Reproduction, route: str = "PE") -> Figure:
+    """Seed Figure 5: dynamic load of mesh I over three revolutions, a zoom at an impact,
+    and the fault signal (cracked minus healthy load) of both flanks."""
+    fig = _figure(12, 11.5)
+    axes = fig.subplots(4, 2, width_ratios=(2.2, 1))
+    h = rep.runs[f"{route}/healthy"]
+    t = np.arange(h.force.size) / h.fs
+    span = 3 * rep.t1
+    first = _impacts(rep, f"{route}/working")
+    later = first[first > 0.5 * rep.t1]
+    t_imp = later[0] if later.size else 1.5 * rep.t1
+    start = max(0.0, t_imp - 0.5 * rep.t1)
+    sel = (t >= start) & (t <= start + span)
+    zoom = np.abs(t - t_imp) <= 4 / rep.f_m
+    for row, label in enumerate(("healthy", "working", "non-working")):
+        run = rep.runs[f"{route}/{label}"]
+        ax, az = axes[row]
+        for a_, s in ((ax, sel), (az, zoom)):
+            if label != "healthy":
+                a_.plot(t[s] * 1e3, h.force[s] / 1e3, color="grey", lw=0.8, alpha=0.8,
+                        label="healthy")
+            a_.plot(t[s] * 1e3, run.force[s] / 1e3, color=COLORS[label], lw=0.9,
+                    label=NAMES[label])
+        imp = _impacts(rep, f"{route}/{label}")
+        shown = imp[(imp >= start) & (imp <= start + span)]
+        if shown.size:
+            m = rep.metrics[f"{route}/{label}"]
+            w = max(1, int(2 * run.fs / rep.f_m))
+            top = [run.force[max(0, int(ti * run.fs) - w): int(ti * run.fs) + w + 1].max()
+                   for ti in shown]
+            ax.plot(shown * 1e3, np.array(top) / 1e3 + 0.05 * np.ptp(run.force[sel]) / 1e3,
+                    "v", color="k", ms=8,
+                    label=f"impact (period {m.impact_period * 1e3:.4g} ms)")
+        ax.set_title(f"{NAMES[label]}: {route} route")
+        ax.set_ylabel("mesh I load [kN]")
+        az.set_title("zoom: +- 4 mesh periods at an impact")
+        ax.legend(loc="upper right", ncols=3, fontsize=8)
+        lo, hi = ax.get_ylim()
+        ax.set_ylim(lo, hi + 0.35 * (hi - lo))
+        if label != "healthy":
+            az.legend(loc="upper right", fontsize=8)
+            lo, hi = az.get_ylim()
+            az.set_ylim(lo, hi + 0.3 * (hi - lo))
+    from gearsim.studies.claims import mesh_residual
+
+    ax, az = axes[3]
+    for label in ("healthy", "working", "non-working"):
+        run = rep.runs[f"{route}/{label}"]
+        e = mesh_residual(run.force - run.force.mean(), run.fs, rep.f_m)
+        for a_, s in ((ax, sel), (az, zoom)):
+            a_.plot(t[s] * 1e3, e[s], color=COLORS[label], lw=0.9, label=NAMES[label])
+    ax.set_title("mesh residual: load with the mesh harmonics n f_m removed (impact detector)")
+    ax.set_ylabel("residual load [N]")
+    az.set_title("mesh residual, zoom")
+    ax.legend(loc="upper right", fontsize=8)
+    for a_ in axes[-1]:
+        a_.set_xlabel("time [ms]")
+    return fig
+
+
+def plot_spectrum(rep: Reproduction, route: str = "PE") -> Figure:
+    """Seed Figure 6: amplitude spectra of the dynamic load up to 4.5 f_m."""
+    fig = _figure(12, 5)
+    ax = fig.add_subplot(1, 1, 1)
+    top = 4.5 * rep.f_m
+    for label, lw in (("healthy", 1.6), ("working", 0.9), ("non-working", 0.9)):
+        s = rep.runs[f"{route}/{label}"].analysis.spectrum
+        sel = (s.frequency >= 0.5 / rep.t1) & (s.frequency <= top)  # no mean (0 Hz)
+        ax.semilogy(s.frequency[sel], s.amplitude[sel], color=COLORS[label], lw=lw,
+                    label=NAMES[label], alpha=0.85)
+    for n in range(1, 5):
+        ax.axvline(n * rep.f_m, color="k", ls=":", lw=0.8)
+        ax.text(n * rep.f_m, 1.0, f" {n} f_m", transform=ax.get_xaxis_transform(),
+                va="top", fontsize=10)
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel("amplitude of mesh I load [N]")
+    ax.set_title(f"Spectrum of the dynamic load ({route} route, Hann window, "
+                 f"{rep.options.revolutions} input revolutions)")
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(max(lo, hi * 1e-9), hi * 5)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    return fig
+
+
+def plot_zooms(rep: Reproduction, route: str = "PE") -> Figure:
+    """Seed Figure 7: spectra around n f_m (n = 1..4) with the sidebands n f_m +- k f_r1."""
+    fig = _figure(12, 8)
+    axes = fig.subplots(2, 2).ravel()
+    f_r1 = 1.0 / rep.t1
+    k_max = 6
+    half = (k_max + 1.5) * f_r1
+    for ax, n in zip(axes, range(1, 5), strict=True):
+        ymin = np.inf
+        for label in ("working", "non-working", "healthy"):
+            s = rep.runs[f"{route}/{label}"].analysis.spectrum
+            sel = np.abs(s.frequency - n * rep.f_m) <= half
+            amp = np.maximum(s.amplitude[sel], 1e-6)
+            ax.semilogy(s.frequency[sel], amp, color=COLORS[label],
+                        lw=1.6 if label == "healthy" else 1.0,
+                        label=NAMES[label], drawstyle="steps-mid")
+            ymin = min(ymin, float(np.min(amp)))
+        for k in range(-k_max, k_max + 1):
+            if k:
+                ax.axvline(n * rep.f_m + k * f_r1, color="grey", ls=":", lw=0.7)
+        ax.set_xlim(n * rep.f_m - half, n * rep.f_m + half)
+        lo, hi = ax.get_ylim()
+        ax.set_ylim(max(lo, 1e-3), hi * 50)
+        ax.set_xlabel("frequency [Hz]")
+        ax.set_ylabel("amplitude [N]")
+        ax.set_title(f"around {n} f_m = {n * rep.f_m:.5g} Hz (dotted: {n} f_m +- k f_r1)")
+        ax.legend(loc="upper left", fontsize=8)
+    return fig
+
+
+def plot_stft(rep: Reproduction, route: str = "PE") -> Figure:
+    """Seed Figure 8: STFT spectrograms with the n f_m bands, and band energy over time."""
+    fig = _figure(12, 11)
+    axes = fig.subplots(4, 1, sharex=True, height_ratios=(2, 2, 2, 1.6))
+    top = 4.5 * rep.f_m
+    labels = ("healthy", "working", "non-working")
+    sgs = {lab: rep.runs[f"{route}/{lab}"].analysis.stft for lab in labels}
+    t_end = sgs["healthy"].time[0] + 8 * rep.t1
+    vmax = max(float(np.max(sg.psd)) for sg in sgs.values())
+    vmax_db = 10 * np.log10(vmax)
+    mesh = None
+    for ax, lab in zip(axes[:3], labels, strict=True):
+        sg = sgs[lab]
+        fs_ = sg.frequency <= top
+        ts_ = sg.time <= t_end
+        db = 10 * np.log10(np.maximum(sg.psd[fs_][:, ts_], vmax * 1e-12))
+        mesh = ax.pcolormesh(sg.time[ts_] * 1e3, sg.frequency[fs_], db, shading="nearest",
+                             cmap="viridis", vmin=vmax_db - 70, vmax=vmax_db, rasterized=True)
+        for n in range(1, 5):
+            ax.axhline(n * rep.f_m, color="white", ls="--", lw=0.8)
+            ax.text(sg.time[0] * 1e3, n * rep.f_m, f" {n} f_m", color="white", va="bottom",
+                    fontsize=9)
+        ax.set_ylabel("frequency [Hz]")
+        ax.set_title(f"{NAMES[lab]} (STFT frame {sg.nperseg / sg.fs * 1e3:.3g} ms, "
+                     f"resolution {sg.df:.3g} Hz)")
+        ax.grid(False)
+    cb = fig.colorbar(mesh, ax=list(axes[:3]), shrink=0.9)
+    cb.set_label("PSD [dB re 1 N^2/Hz]")
+    ax = axes[3]
+    for lab in labels:
+        a = rep.runs[f"{route}/{lab}"].analysis
+        sg = a.stft
+        ts_ = sg.time <= t_end
+        for n, ls in ((1, "-"), (2, "--")):
+            e = a.band_energy[n][ts_]
+            ax.plot(sg.time[ts_] * 1e3, 100 * (e / np.mean(a.band_energy[n]) - 1), ls,
+                    color=COLORS[lab], lw=1.0, label=f"{n} f_m, {lab}")
+    ax.set_xlabel("time [ms]")
+    ax.set_ylabel("band power - mean [%]")
+    ax.set_title("power in n f_m +- f_m/2 over time (periodic with T1 when cracked)")
+    ax.legend(ncols=3, fontsize=8, loc="upper right")
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(lo, hi + 0.6 * (hi - lo))
+    return fig
+
+
+def plot_sensitivity(rep: Reproduction) -> Figure:
+    """Crack-depth sensitivity: stiffness drop, impact amplitude, RMS, SER at 1 and 2 f_m."""
+    from gearsim.studies.claims import SEED
+
+    fig = _figure(12, 8)
+    axes = fig.subplots(2, 2).ravel()
+    rows = rep.sensitivity
+    cases = sorted({r["case"] for r in rows}, key=["working", "non-working", "open"].index)
+
+    def series(case: str, key: str):
+        rr = [r for r in rows if r["case"] == case]
+        d = np.array([r["depth_m"] * 1e3 for r in rr])
+        v = np.array([np.nan if r[key] is None else r[key] for r in rr], dtype=float)
+        return d, v
+
+    panels = (
+        ("tvms_max_local_drop_percent", "largest local drop of mesh-I stiffness [%]",
+         "(a) stiffness loss", None),
+        ("impact_percent", "impact amplitude [% of healthy]", "(b) impact amplitude",
+         (100 * SEED["impact_working"], 100 * SEED["impact_non_working"])),
+        ("rms_percent", "RMS of the dynamic load [% of healthy]", "(c) RMS",
+         (100 * SEED["rms_working"], 100 * SEED["rms_non_working"])),
+        ("ser_1fm", "sideband energy ratio at 1 f_m [-]", "(d) SER at 1 f_m (solid), "
+         "2 f_m (dashed)", None),
+    )
+    for ax, (key, ylabel, title, seed) in zip(axes, panels, strict=True):
+        for case in cases:
+            d, v = series(case, key)
+            ax.plot(d, v, "o-", color=COLORS[case], label=NAMES[case])
+            if key == "ser_1fm":
+                d2, v2 = series(case, "ser_2fm")
+                ax.plot(d2, v2, "s--", color=COLORS[case], alpha=0.7)
+        if seed is not None:
+            ax.axhline(seed[0], color=COLORS["working"], ls=":", lw=1.2,
+                       label=f"seed, working: {seed[0]:.4g} %")
+            ax.axhline(seed[1], color=COLORS["non-working"], ls=":", lw=1.2,
+                       label=f"seed, non-working: {seed[1]:.4g} %")
+        ax.axvline(rep.options.depth * 1e3, color="grey", lw=0.8, ls="-.",
+                   label="reference depth")
+        ax.set_xlabel("crack depth [mm] (45 deg, from the 30 deg tangent point)")
+        ax.set_ylabel(ylabel)
+        ax.set_title(title)
+        ax.legend(fontsize=8)
+    return fig
+
+
+def plot_all(rep: Reproduction, folder: str | Path) -> list[dict[str, Any]]:
+    """Write every figure of the report to ``folder``; return ``[{name, path, caption}]``."""
+    folder = Path(folder)
+    items = [
+        ("fig3_stiffness", plot_stiffness(rep),
+         "Equivalent of seed Figure 3: (a) mesh-I stiffness around the cracked input "
+         "tooth, potential energy (solid) and FE tooth compliance (dashed); (b) tooth "
+         "stiffness along the path of contact, PE lines and FE points; (c) PE-FE "
+         "differences of the max, min and mean tooth stiffness beside the seed's."),
+        ("fig5_time", plot_time(rep),
+         "Equivalent of seed Figure 5: dynamic load of mesh I over three input "
+         "revolutions (left; triangles: impacts found in the mesh residual, bottom row) and a "
+         "zoom at an impact (right); the healthy load is drawn in grey behind the cracked "
+         "ones."),
+        ("fig6_spectrum", plot_spectrum(rep),
+         "Equivalent of seed Figure 6: amplitude spectra of the dynamic load."),
+        ("fig7_zooms", plot_zooms(rep),
+         "Equivalent of seed Figure 7: spectra around n f_m, n = 1..4; dotted lines at the "
+         "sideband positions n f_m +- k f_r1. The healthy spectrum has no sidebands "
+         "(its lines fall to the numerical floor, clipped at 1 mN)."),
+        ("fig8_stft", plot_stft(rep),
+         "Equivalent of seed Figure 8: STFT of the dynamic load (same colour scale for "
+         "the three cases) and the power near 1 f_m and 2 f_m over time."),
+        ("fig_sensitivity", plot_sensitivity(rep),
+         "Crack-depth sensitivity (PE route): the seed does not state its crack size."),
+    ]
+    out = []
+    for name, fig, caption in items:
+        path = _save(fig, folder / f"{name}.png")
+        out.append({"name": name, "path": path, "caption": caption})
+    return out

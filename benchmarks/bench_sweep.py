@@ -1,0 +1,89 @@
+"""Benchmark: parameter-study throughput on Dask, 1 and 2 local workers vs a serial loop.
+
+Table-1 train (``idler-table1``), working-flank crack of ``--cases`` different depths
+(each case a different mesh-stiffness table and simulation), 1 s simulated at 50 kHz,
+analysed with every shaft's sidebands. Each worker configuration is a ``LocalCluster``
+(processes, 1 thread each) that is warmed up first (imports, numba cache load) and then
+driven through ``run_study(..., scheduler=address)``, i.e. including the part files and
+the final store. The serial reference runs the same cases in a plain loop in this
+process (warmed up the same way, no Dask, no files). Prints cases per minute and the
+scaling ratio (2-worker / 1-worker throughput).
+
+Run: ``.venv/bin/python benchmarks/bench_sweep.py [--cases 4]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import tempfile
+import time
+from pathlib import Path
+
+from gearsim.studies.sweep import loads_study
+from gearsim.studies.sweep_case import run_group
+from gearsim.studies.sweep_run import groups, run_study
+
+STUDY = """
+[study]
+name = "bench"
+config = "idler-table1"
+signal = "acceleration[input,y]"
+[study.dynamics]
+duration = "1 s"
+fs = "50 kHz"
+[parameters]
+flank = ["working"]
+crack_depth = {{ min = "1 mm", max = "2.5 mm", num = {n} }}
+"""
+
+WARM = """
+[study]
+[study.dynamics]
+duration = "0.12 s"
+fs = "20 kHz"
+[parameters]
+flank = ["working"]
+"""
+
+
+def warm_up() -> None:
+    """Imports and numba kernels (cache load) of one short case."""
+    st = loads_study(WARM.replace("[study]\n", "[study]\nshafts = \"reference\"\n", 1))
+    for cases in groups(st).values():
+        run_group(st, cases)
+
+
+def main() -> None:
+    from distributed import Client, LocalCluster
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--cases", type=int, default=4, help="cases per configuration")
+    args = ap.parse_args()
+    study = loads_study(STUDY.format(n=args.cases))
+    rate = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for n in (1, 2):
+            with LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                              dashboard_address=None) as cluster, Client(cluster) as client:
+                client.run(warm_up)
+                t0 = time.perf_counter()
+                res = run_study(study, Path(tmp) / f"w{n}.nc", scheduler=cluster.scheduler_address,
+                                progress=False)
+                dt = time.perf_counter() - t0
+            assert res.computed == args.cases and res.failed == 0, res
+            rate[n] = 60 * args.cases / dt
+            print(f"Dask, {n} worker(s): {args.cases} cases in {dt:7.2f} s = {rate[n]:6.1f} "
+                  "cases/min", flush=True)
+        warm_up()
+        t0 = time.perf_counter()
+        for cases in groups(study).values():
+            run_group(study, cases)
+        dt = time.perf_counter() - t0
+        serial = 60 * args.cases / dt
+        print(f"serial loop, no Dask: {args.cases} cases in {dt:7.2f} s = {serial:6.1f} cases/min")
+    print(f"scaling 2 / 1 workers:          {rate[2] / rate[1]:6.2f} (ideal 2)")
+    print(f"1 worker / serial loop:         {rate[1] / serial:6.2f} (Dask overhead)")
+
+
+if __name__ == "__main__":
+    main()

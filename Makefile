@@ -24,7 +24,7 @@ $(STAMP): pyproject.toml constraints.txt
 	touch $(STAMP)
 
 run: sysdeps
-	$(BIN)/gearsim run-default --out $(OUT)
+	$(BIN)/gearsim reproduce --out $(OUT)
 
 test: sysdeps
 	$(BIN)/python -m pytest -q tests

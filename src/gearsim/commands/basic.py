@@ -1,4 +1,4 @@
-"""CLI verbs: ``example``, ``stiffness`` and ``run-default``."""
+"""CLI verbs: ``example`` and ``stiffness``."""
 
 from __future__ import annotations
 
@@ -64,19 +64,8 @@ def stiffness(
                        f"{m['ratio_to_iso6336']:.3f}")
 
 
-def run_default(
-    out: Annotated[Path, typer.Option(help="output folder")] = Path("out"),
-) -> None:
-    """The main job on the built-in Table-1 idler train (``make run``)."""
-    from gearsim.studies.default import run_default_job
-
-    report = run_default_job(out)
-    typer.echo(f"gearsim: results written to {report}")
-
-
 def register(app: typer.Typer) -> None:
     """Add the verbs of this module to ``app``."""
     app.command("example")(example)
     app.command("stiffness")(stiffness)
-    app.command("run-default")(run_default)
 

@@ -266,31 +266,36 @@ def off_tone_fraction(a: Analysis, order: int) -> float:
 
 
 def sideband_spacing(a: Analysis, order: int, k_max: int = 6) -> float:
-    """Median spacing [Hz] of the strongest spectral lines within ``n f_m +- (k_max + 0.5) f_r1``.
+    """Most common spacing [Hz] of the strongest spectral lines within ``n f_m +- (k_max + 0.5) f_r1``.
 
     The ``2 k_max`` largest local maxima of the amplitude spectrum in the band, other
-    than the mesh tone itself, are sorted by frequency and the median difference of
-    neighbours is returned; for a family of sidebands at ``n f_m +- k f_r1`` it equals
-    ``f_r1`` to within the frequency resolution. NaN if fewer than two lines exist.
+    than the mesh tone itself, are sorted by frequency; the differences of neighbours on
+    the same side of the tone are rounded to the frequency resolution and the most common
+    one (the smallest on a tie) is returned. For a family of sidebands at
+    ``n f_m +- k f_r`` it equals ``f_r`` to within the resolution, and a few stray lines
+    (e.g. from another shaft) do not move it. NaN if no two lines lie on one side.
     """
     from scipy.signal import find_peaks
 
     spec = a.spectrum
     f_m = a.train.mesh_frequency
     f_r1 = a.train.reference_frequency
-    df = spec.frequency[1] - spec.frequency[0]
+    df = float(spec.frequency[1] - spec.frequency[0])
     sel = np.flatnonzero(np.abs(spec.frequency - order * f_m) <= (k_max + 0.5) * f_r1)
     amp = spec.amplitude[sel]
+    freq = spec.frequency[sel]
     idx, _ = find_peaks(amp)
-    idx = idx[np.abs(spec.frequency[sel][idx] - order * f_m) > 0.5 * f_r1]
+    idx = idx[np.abs(freq[idx] - order * f_m) > 2.5 * df]  # not the mesh line (Hann: +-2 bins)
     if idx.size < 2:
         return float("nan")
     top = idx[np.argsort(amp[idx])[::-1][: 2 * k_max]]
-    f = np.sort(spec.frequency[sel][top])
-    steps = np.diff(f)
-    # Lines on both sides of the mesh tone skip it: count that gap as two steps.
-    steps = np.where(steps > 1.5 * f_r1, steps / np.maximum(1, np.round(steps / f_r1)), steps)
-    return float(np.median(steps)) if steps.size and df > 0 else float("nan")
+    f = np.sort(freq[top])
+    same_side = np.sign(f[1:] - order * f_m) == np.sign(f[:-1] - order * f_m)
+    steps = np.round(np.diff(f)[same_side] / df).astype(int)
+    if steps.size == 0:
+        return float("nan")
+    values, counts = np.unique(steps, return_counts=True)
+    return float(values[np.argmax(counts)] * df)  # argmax takes the smallest on a tie
 
 
 def _fmt(v: float | None, scale: float = 1.0, digits: int = 4) -> str:

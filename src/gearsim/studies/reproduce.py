@@ -207,7 +207,6 @@ def run_reproduction(out: str | Path, options: ReproduceOptions | None = None, *
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise InputError("--out", str(out), "must be a folder (a file of that name exists)")
-    out.mkdir(parents=True, exist_ok=True)
     say = progress or (lambda _m: None)
     timings: dict[str, float] = {}
     t_all = time.perf_counter()
@@ -225,6 +224,7 @@ def run_reproduction(out: str | Path, options: ReproduceOptions | None = None, *
     for d in sorted(set(opt.depths) | {opt.depth}):
         _variant(base, depth=d, flank="working", closure="contact",
                  source="pe").mesh_stiffness(0, revolution_of=1)
+    out.mkdir(parents=True, exist_ok=True)
 
     routes = ["PE"] + (["FE"] if opt.fe else [])
     t0 = time.perf_counter()

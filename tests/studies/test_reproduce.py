@@ -1,0 +1,207 @@
+"""``gearsim reproduce``: the seed's study at reduced duration, and its measures.
+
+The measures of :mod:`gearsim.studies.claims` are checked on synthetic signals with
+closed-form answers; the study itself runs once (16 input revolutions, two crack depths,
+PE and FE routes) and its claims table, findings, figures and report are checked.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from gearsim.errors import InputError
+from gearsim.signals import analyze
+from gearsim.studies.claims import SEED, case_metrics, mesh_residual, off_tone_fraction
+from gearsim.studies.reproduce import ReproduceOptions, run_reproduction
+
+F_R1 = 31.25  # Hz: synthetic shaft
+Z = 40        # teeth: f_m = 1250 Hz
+FS = 20_000.0
+REVS = 20
+
+
+def _synthetic(pulse: float, *, far: float = 0.0):
+    """Healthy mesh tone (1000 N at f_m, 200 N at 2 f_m) and the same with a pulse of
+    ``pulse`` N once per revolution (a 3-mesh-period Hann burst at f_m, in phase)."""
+    n = int(REVS * FS / F_R1)
+    t = np.arange(n) / FS
+    f_m = Z * F_R1
+    h = 1000 * np.cos(2 * np.pi * f_m * t) + 200 * np.cos(4 * np.pi * f_m * t)
+    x = h.copy()
+    w = int(3 * FS / f_m)
+    burst = np.hanning(w) * np.cos(2 * np.pi * f_m * np.arange(w) / FS)
+    starts = (np.arange(REVS) * FS / F_R1 + 0.3 * FS / F_R1).astype(int)
+    for s in starts:
+        x[s:s + w] += pulse * burst
+    if far:
+        x += far * np.cos(2 * np.pi * f_m * t)
+    return t, h + 43e3, x + 43e3, (starts + w // 2) / FS
+
+
+def test_mesh_residual_removes_harmonics_and_keeps_the_burst():
+    """Closed form: the residual of the healthy tone is zero (to rounding); the residual
+    of a tone plus bursts is the bursts minus their own mesh-harmonic content."""
+    _, h, x, centres = _synthetic(300.0)
+    f_m = Z * F_R1
+    rh = mesh_residual(h - h.mean(), FS, f_m)
+    assert np.max(np.abs(rh)) < 1e-9 * 1000
+    rx = mesh_residual(x - x.mean(), FS, f_m)
+    peaks = [np.max(np.abs(rx[int(c * FS) - 40:int(c * FS) + 40])) for c in centres]
+    # A burst of 3 mesh periods spreads over ~+-f_m/3: most of it survives the removal
+    # of the +-2 bins (+-3.1 Hz) around each harmonic; what is removed is its mean over
+    # the record, pulse * (mean of the burst's envelope) * w / N per sample.
+    assert np.min(peaks) > 0.9 * 300.0 * 0.5  # cos * hann peak of the burst ~ 0.5-1
+    assert np.max(np.abs(rx)) <= 300.0
+
+
+def test_case_metrics_recover_a_known_impact():
+    """A burst of 500 N on a 1000 N + 200 N mesh vibration: the impact ratio is
+    max|d| near the burst / max|d_h| there, computed here directly from the signals."""
+    t, h, x, centres = _synthetic(500.0)
+    teeth = [Z, 2 * Z]
+    a = analyze(x, FS, teeth=teeth, shaft_frequency=F_R1)
+    ah = analyze(h, FS, teeth=teeth, shaft_frequency=F_R1)
+    m = case_metrics("working", x, a, h, ah, contact_ratio=3.0)
+    assert m.impact_count == REVS
+    assert m.impact_period == pytest.approx(1 / F_R1, rel=1e-4)
+    half = 1.5 / (Z * F_R1)
+    d, dh = x - x.mean(), h - h.mean()
+    ratios = [np.max(np.abs(d[np.abs(t - c) <= half])) / np.max(np.abs(dh[np.abs(t - c) <= half]))
+              for c in m.impact_times]
+    assert m.impact_ratio == pytest.approx(np.mean(ratios), rel=1e-12)
+    assert 1.3 < m.impact_ratio < 1.6  # 1200 N healthy peak plus up to 500 N in phase
+    assert m.far_field_ratio == pytest.approx(1.0, abs=1e-3)  # no change away from bursts
+    assert m.rms_ratio > 1.0
+    # sidebands at n f_m +- k f_r1: the spacing is f_r1 exactly (whole revolutions)
+    assert m.sideband_spacing[1] == pytest.approx(F_R1, rel=1e-9)
+    assert off_tone_fraction(ah, 1) < 1e-9 < off_tone_fraction(a, 1)
+
+
+def test_case_metrics_without_a_crack_have_no_impact():
+    _, h, _, _ = _synthetic(0.0)
+    ah = analyze(h, FS, teeth=[Z, 2 * Z], shaft_frequency=F_R1)
+    m = case_metrics("working", h, ah, h, ah, contact_ratio=3.0)
+    assert m.impact_count == 0
+    assert math.isnan(m.impact_ratio) and math.isnan(m.impact_period)
+    assert m.rms_ratio == 1.0
+
+
+def test_options_refuse_bad_input():
+    with pytest.raises(InputError, match="depth"):
+        ReproduceOptions(depth=-1e-3)
+    with pytest.raises(InputError, match="revolutions"):
+        ReproduceOptions(revolutions=2)
+    with pytest.raises(InputError, match="model"):
+        ReproduceOptions(model="ansys")
+
+
+def test_cli_refuses_a_crack_past_the_centre_line(tmp_path):
+    out = tmp_path / "rep"
+    r = subprocess.run([sys.executable, "-m", "gearsim.cli", "reproduce", "--out", str(out),
+                        "--depth", "12 mm", "--no-fe", "--quiet"],
+                       capture_output=True, text=True)
+    assert r.returncode == 2
+    assert "depth" in r.stderr and "Traceback" not in r.stderr
+    assert not out.exists()  # nothing written before the inputs are checked
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    """The study at reduced duration: 16 revolutions, depths 2 and 6 mm, PE and FE."""
+    out = tmp_path_factory.mktemp("reproduce")
+    mp = pytest.MonkeyPatch()
+    mp.setenv("GEARSIM_CACHE", str(out / "cache"))
+    try:
+        rep = run_reproduction(out, ReproduceOptions(revolutions=16, depths=(2e-3, 6e-3),
+                                                     fe_points=5))
+    finally:
+        mp.undo()
+    return out, rep
+
+
+def test_claims_table_is_complete_and_finite(study):
+    out, rep = study
+    doc = json.loads((out / "claims.json").read_text())
+    claims = doc["claims"]
+    names = [c["claim"] for c in claims]
+    for needle in ("T1, impact period (working", "T1, impact period (non-working",
+                   "Impact amplitude, working", "Impact amplitude, non-working",
+                   "Far-field fluctuation", "RMS of the dynamic load, working",
+                   "RMS of the dynamic load, non-working", "Off-tone power near 1 f_m",
+                   "Off-tone power near 2 f_m"):
+        assert any(n.startswith(needle) for n in names), needle
+    for n in (1, 2, 3, 4):
+        assert any(f"SER at {n} f_m" in c for c in names)
+        assert any(f"CV at {n} f_m" in c for c in names)
+    for c in claims:
+        for route in ("PE", "FE"):
+            assert c[route] is not None and math.isfinite(c[route]), (c["claim"], route)
+    seeds = {c["claim"]: c["seed"] for c in claims}
+    assert seeds["Impact amplitude, working flank, % of healthy"] == pytest.approx(209.8)
+    assert seeds["RMS of the dynamic load, non-working flank, % of healthy"] == \
+        pytest.approx(100 * SEED["rms_non_working"])
+
+
+def test_periods_and_spacing_match_the_input_shaft(study):
+    """Independent number: T1 = 1 / f_r1 = 60 / 1900 s; sideband spacing f_r1."""
+    _, rep = study
+    t1 = 60.0 / 1900.0
+    for route in ("PE", "FE"):
+        for case in ("working", "non-working"):
+            m = rep.metrics[f"{route}/{case}"]
+            assert m.impact_period == pytest.approx(t1, rel=0.02)
+            for n in (1, 2, 3, 4):
+                # lines sit on bins of fs / N with N = round(16 T1 fs): relative error
+                # <= 0.5 / N ~ 1e-5, so 1e-4 checks "exactly f_r1" up to the rounding
+                assert m.sideband_spacing[n] == pytest.approx(1 / t1, rel=1e-4)
+
+
+def test_findings_and_physics_trends(study):
+    """Trends that the model must show whatever the seed says: the working-flank crack
+    (faces open) costs more stiffness and load change than the non-working one (faces
+    closed); open closure is flank-blind; everything grows with depth."""
+    _, rep = study
+    def finding(start: str) -> dict:
+        (f,) = [f for f in rep.findings["PE"] if f["finding"].startswith(start)]
+        return f
+
+    assert finding("Periodic impacts with period T1")["holds"] is True
+    assert finding("The working-flank crack raises the RMS")["holds"] is True
+    assert finding("Sidebands spaced f_r1")["holds"] is True
+    w, nw = rep.metrics["PE/working"], rep.metrics["PE/non-working"]
+    assert w.rms_ratio > nw.rms_ratio > 1.0
+    assert w.impact_ratio > nw.impact_ratio > 1.0
+    wo, nwo = rep.metrics["PE/working-open"], rep.metrics["PE/non-working-open"]
+    assert wo.rms_ratio == pytest.approx(nwo.rms_ratio, rel=1e-9)
+    s = {(r["case"], round(r["depth_m"] * 1e3)): r for r in rep.sensitivity}
+    for case in ("working", "non-working", "open"):
+        assert s[(case, 6)]["tvms_max_local_drop_percent"] > s[(case, 2)][
+            "tvms_max_local_drop_percent"] > 0
+        assert s[(case, 6)]["rms_percent"] > s[(case, 2)]["rms_percent"] > 100
+        assert s[(case, 6)]["ser_1fm"] > s[(case, 2)]["ser_1fm"]
+
+
+def test_report_and_figures_are_written(study):
+    out, rep = study
+    html = (out / "report.html").read_text()
+    assert html.count("data:image/png;base64,") == 6
+    for name in ("fig3_stiffness", "fig5_time", "fig6_spectrum", "fig7_zooms", "fig8_stft",
+                 "fig_sensitivity"):
+        png = out / "figures" / f"{name}.png"
+        assert png.stat().st_size > 20_000
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    import re
+
+    text = re.sub(r"data:image/png;base64,[A-Za-z0-9+/=]+", "", html)
+    assert "209.8" in text and not re.search(r"\bnan\b", text, re.IGNORECASE)
+    import xarray as xr
+
+    with xr.open_dataset(out / "dynamic_load.nc", engine="h5netcdf") as ds:
+        assert ds.sizes["case"] == 10
+        assert np.isfinite(ds["mesh_force_1"].values).all()

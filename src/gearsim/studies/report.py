@@ -61,7 +61,7 @@ def _holds_cell(h: bool | None) -> str:
 
 
 def _claims_html(rep: Reproduction) -> str:
-    routes = sorted({k.split("/")[0] for k in rep.metrics})
+    routes = [r for r in ("PE", "FE") if any(k.startswith(r + "/") for k in rep.metrics)]
     head = "".join(f"<th>ours, {r}</th>" for r in routes)
     rows = []
     for c in rep.claims:

@@ -165,14 +165,16 @@ def plot_time(rep: Reproduction, route: str = "PE") -> Figure:
     from gearsim.studies.claims import mesh_residual
 
     ax, az = axes[3]
-    for label in ("healthy", "working", "non-working"):
+    dh = h.force - h.force.mean()
+    for label in ("working", "non-working"):
         run = rep.runs[f"{route}/{label}"]
-        e = mesh_residual(run.force - run.force.mean(), run.fs, rep.f_m)
+        e = mesh_residual(run.force - run.force.mean() - dh, run.fs, rep.f_m, 1 / rep.t1)
         for a_, s in ((ax, sel), (az, zoom)):
             a_.plot(t[s] * 1e3, e[s], color=COLORS[label], lw=0.9, label=NAMES[label])
-    ax.set_title("mesh residual: load with the mesh harmonics n f_m removed (impact detector)")
-    ax.set_ylabel("residual load [N]")
-    az.set_title("mesh residual, zoom")
+    ax.set_title("fault residual: cracked minus healthy load, mesh harmonics removed "
+                 "(impact detector)")
+    ax.set_ylabel("fault residual [N]")
+    az.set_title("fault residual, zoom")
     ax.legend(loc="upper right", fontsize=8)
     for a_ in axes[-1]:
         a_.set_xlabel("time [ms]")
@@ -301,7 +303,7 @@ def plot_sensitivity(rep: Reproduction) -> Figure:
          (100 * SEED["impact_working"], 100 * SEED["impact_non_working"])),
         ("rms_percent", "RMS of the dynamic load [% of healthy]", "(c) RMS",
          (100 * SEED["rms_working"], 100 * SEED["rms_non_working"])),
-        ("ser_1fm", "sideband energy ratio at 1 f_m [-]", "(d) SER at 1 f_m (solid), "
+        ("ser_1fm", "sideband energy ratio SER [-]", "(d) SER at 1 f_m (solid), "
          "2 f_m (dashed)", None),
     )
     for ax, (key, ylabel, title, seed) in zip(axes, panels, strict=True):
@@ -331,12 +333,13 @@ def plot_all(rep: Reproduction, folder: str | Path) -> list[dict[str, Any]]:
     items = [
         ("fig3_stiffness", plot_stiffness(rep),
          "Equivalent of seed Figure 3: (a) mesh-I stiffness around the cracked input "
-         "tooth, potential energy (solid) and FE tooth compliance (dashed); (b) tooth "
+         "tooth, potential energy (solid) and FE tooth compliance (dashed; the FE working-flank "
+         "crack opens, so its contact and open curves coincide); (b) tooth "
          "stiffness along the path of contact, PE lines and FE points; (c) PE-FE "
          "differences of the max, min and mean tooth stiffness beside the seed's."),
         ("fig5_time", plot_time(rep),
          "Equivalent of seed Figure 5: dynamic load of mesh I over three input "
-         "revolutions (left; triangles: impacts found in the mesh residual, bottom row) and a "
+         "revolutions (left; triangles: impacts found in the fault residual, bottom row) and a "
          "zoom at an impact (right); the healthy load is drawn in grey behind the cracked "
          "ones."),
         ("fig6_spectrum", plot_spectrum(rep),

@@ -6,8 +6,10 @@ analysed with every shaft's sidebands. Each worker configuration is the default 
 ``gearsim sweep``: ``run_study(..., workers=N)`` starts a ``LocalCluster`` (processes, 1
 thread each), whose fresh workers import gearsim and load the numba cache, and writes the
 part files and the final store; all of that is timed. The serial reference runs the same
-cases in a plain loop in this process (warmed up first, no Dask, no files). Prints cases per minute and the
-scaling ratio (2-worker / 1-worker throughput).
+cases in a plain loop in this process (warmed up first, no Dask, no files), once with
+numba's default thread count and once with one thread (a Dask worker has one thread, so
+that is the per-core reference). Prints cases per minute and the scaling ratio
+(2-worker / 1-worker throughput).
 
 Run: ``.venv/bin/python benchmarks/bench_sweep.py [--cases 8]``
 """
@@ -69,14 +71,23 @@ def main() -> None:
             print(f"Dask, {n} worker(s): {args.cases} cases in {dt:7.2f} s = {rate[n]:6.1f} "
                   "cases/min (incl. cluster start and worker warm-up)", flush=True)
         warm_up()
-        t0 = time.perf_counter()
-        for cases in groups(study).values():
-            run_group(study, cases)
-        dt = time.perf_counter() - t0
-        serial = 60 * args.cases / dt
-        print(f"serial loop, no Dask: {args.cases} cases in {dt:7.2f} s = {serial:6.1f} cases/min")
+        import numba
+
+        serial = {}
+        for threads in (numba.config.NUMBA_NUM_THREADS, 1):
+            numba.set_num_threads(threads)
+            t0 = time.perf_counter()
+            for cases in groups(study).values():
+                run_group(study, cases)
+            dt = time.perf_counter() - t0
+            serial[threads] = 60 * args.cases / dt
+            print(f"serial loop, no Dask, {threads} numba thread(s): {args.cases} cases in "
+                  f"{dt:7.2f} s = {serial[threads]:6.1f} cases/min", flush=True)
+        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
     print(f"scaling 2 / 1 workers:          {rate[2] / rate[1]:6.2f} (ideal 2)")
-    print(f"1 worker / serial loop:         {rate[1] / serial:6.2f} (Dask overhead)")
+    print(f"1 worker / serial loop, 1 thread: {rate[1] / serial[1]:6.2f} (Dask overhead; a "
+          "Dask worker runs numba on 1 thread)")
+    print(f"2 workers / serial loop, all threads: {rate[2] / max(serial.values()):6.2f}")
 
 
 if __name__ == "__main__":

@@ -346,8 +346,9 @@ def plot_all(rep: Reproduction, folder: str | Path) -> list[dict[str, Any]]:
          "Equivalent of seed Figure 6: amplitude spectra of the dynamic load."),
         ("fig7_zooms", plot_zooms(rep),
          "Equivalent of seed Figure 7: spectra around n f_m, n = 1..4; dotted lines at the "
-         "sideband positions n f_m +- k f_r1. The healthy spectrum has no sidebands "
-         "(its lines fall to the numerical floor, clipped at 1 mN)."),
+         "sideband positions n f_m +- k f_r1. The healthy load has only low lines off the "
+         "f_r1 grid, three to four orders below the mesh tone (as the seed describes its "
+         "Figure 7a); the cracked loads add the f_r1 families. Clipped at 1 mN."),
         ("fig8_stft", plot_stft(rep),
          "Equivalent of seed Figure 8: STFT of the dynamic load (same colour scale for "
          "the three cases) and the power near 1 f_m and 2 f_m over time."),

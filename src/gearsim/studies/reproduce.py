@@ -220,6 +220,13 @@ def run_reproduction(out: str | Path, options: ReproduceOptions | None = None, *
     eps = pair.transverse_contact_ratio + pair.overlap_ratio
     settings = dataclasses.replace(base.extra.get("dynamics") or DynamicsSettings(),
                                    duration=opt.revolutions * t1, model=opt.model)
+    # The sideband analysis of every shaft needs 4 Hann bins per spacing of the slowest
+    # shaft (gearsim.signals.analyze): refuse too short a record before any work.
+    f_slow = min(base.shaft_frequency(i) for i in range(len(base.gears)))
+    need = math.ceil(4.0 / f_slow * f_r1)
+    require(opt.revolutions >= need, "revolutions", opt.revolutions,
+            f"must be >= {need} input revolutions (4 spectral bins per {f_slow:.4g} Hz "
+            "sideband spacing of the slowest shaft)")
     # Validate every crack depth before the long part (the tooth model names the limit).
     for d in sorted(set(opt.depths) | {opt.depth}):
         _variant(base, depth=d, flank="working", closure="contact",

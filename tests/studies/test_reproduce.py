@@ -107,6 +107,13 @@ def test_options_refuse_bad_input():
         ReproduceOptions(model="ansys")
 
 
+def test_too_short_record_is_refused_before_any_work(tmp_path):
+    """Output shaft 592.8 rpm -> 9.88 Hz; 4 bins per spacing -> 0.405 s = 12.8 revolutions."""
+    with pytest.raises(InputError, match="must be >= 13"):
+        run_reproduction(tmp_path / "rep", ReproduceOptions(revolutions=8, fe=False))
+    assert not (tmp_path / "rep").exists()
+
+
 def test_cli_refuses_a_crack_past_the_centre_line(tmp_path):
     out = tmp_path / "rep"
     r = subprocess.run([sys.executable, "-m", "gearsim.cli", "reproduce", "--out", str(out),

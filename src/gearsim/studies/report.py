@@ -34,6 +34,8 @@ figcaption{font-size:0.92em;color:#444}code{background:#f4f4f4;padding:0 3px}
 """
 
 
+_MODELS = {"lta": "lateral-torsional-axial model (4 DOF per gear)",
+           "seed": "the seed's 3-DOF translational model (its eqs. 1-2, static load added)"}
 _FE_ROUTE = ("and FE (finite-element tooth compliance in the same dynamic model: the seed's "
              "rigid-flexible route)")
 
@@ -170,7 +172,7 @@ closure model (the crack faces close under compression, so a crack on the compre
 non-working side costs less stiffness); both again with the <code>open</code> model as printed
 in the seed (flank-blind). Routes: PE (potential-energy tooth)
 {_FE_ROUTE if o.fe else "only"}.</li>
-<li>Dynamics: {_e(o.model.upper())} model (lateral-torsional-axial, docs/dynamics.md), RK4
+<li>Dynamics: {_MODELS.get(o.model, _e(o.model))} (docs/dynamics.md), RK4
 fixed step, {o.revolutions} input revolutions recorded after the transient, sampled at
 {settings:.5g} Hz. Signal: the mesh-I dynamic load along the transverse line of action.</li>
 <li>Measures (how "impact amplitude", "far field", "RMS", sideband level and band width

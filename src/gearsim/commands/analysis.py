@@ -6,7 +6,6 @@ API (:mod:`gearsim.signals`), which works in SI throughout.
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 from typing import Annotated, Any
@@ -14,29 +13,9 @@ from typing import Annotated, Any
 import typer
 
 from gearsim.errors import InputError
+from gearsim.io.jsonout import strict_json
 
 __all__ = ["register"]
-
-
-def _json_default(o: Any) -> Any:
-    import numpy as np
-
-    if isinstance(o, np.generic):
-        return o.item()
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    raise TypeError(f"not JSON-serialisable: {type(o).__name__}")
-
-
-def _clean(o: Any) -> Any:
-    """Replace NaN/inf by None so the output is strict JSON."""
-    if isinstance(o, float):
-        return o if math.isfinite(o) else None
-    if isinstance(o, dict):
-        return {k: _clean(v) for k, v in o.items()}
-    if isinstance(o, list | tuple):
-        return [_clean(v) for v in o]
-    return o
 
 
 def _speed(shaft_rpm: float | None, tacho: str | None) -> None:
@@ -177,7 +156,7 @@ def analyze(
     if plot is not None:
         d["figures"] = result.plot(str(plot), units=sig.units)
     if json_:
-        typer.echo(json.dumps(_clean(d), indent=1, default=_json_default))
+        typer.echo(strict_json(d, indent=1))
     else:
         typer.echo(_summary_text(d, sig.units))
         if plot is not None:
@@ -232,7 +211,7 @@ def compare(
         plot_comparison(c).savefig(plot, dpi=150)
         d["figure"] = str(plot)
     if json_:
-        typer.echo(json.dumps(_clean(d), indent=1, default=_json_default))
+        typer.echo(strict_json(d, indent=1))
         return
     typer.echo(f"sidebands n f_m +- k f_r, f_m = {f_r * teeth:.6g} Hz, f_r = {f_r:.5g} Hz, "
                f"normalize = {normalize}; error = |sim - meas| / meas")

@@ -26,7 +26,6 @@ of the tooth centre line (9.28 mm); the sensitivity covers 1 to 9 mm.
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
 import time
 from collections.abc import Callable
@@ -393,27 +392,7 @@ def claims_document(rep: Reproduction) -> dict[str, Any]:
 
 
 def _write_claims(rep: Reproduction, path: Path) -> None:
-    doc = _sanitize(claims_document(rep))
-    text = json.dumps(doc, indent=2, allow_nan=False, default=_json_default)
+    from gearsim.io.jsonout import strict_json
+
+    text = strict_json(claims_document(rep))
     atomic_write(path, lambda p: p.write_text(text))
-
-
-def _sanitize(v: Any) -> Any:
-    """Non-finite floats -> None, recursively (JSON has no NaN)."""
-    if isinstance(v, dict):
-        return {str(k): _sanitize(x) for k, x in v.items()}
-    if isinstance(v, (list, tuple)):
-        return [_sanitize(x) for x in v]
-    if isinstance(v, (float, np.floating)):
-        return float(v) if math.isfinite(v) else None
-    if isinstance(v, np.integer):
-        return int(v)
-    return v
-
-
-def _json_default(v: Any) -> Any:
-    if isinstance(v, np.generic):
-        return v.item()
-    if isinstance(v, np.ndarray):
-        return v.tolist()
-    raise TypeError(f"not JSON serialisable: {type(v)}")

@@ -168,18 +168,30 @@ def loads(text: str) -> GearTrain:
     return parse(doc)
 
 
-def load(path: str | Path) -> GearTrain:
-    """Read a TOML configuration file, or a built-in example by name."""
+def read_file_or_builtin(path: str | Path, builtins, builtin_text, *, parameter: str,
+                         what: str) -> tuple[str, Path | None]:
+    """Text of a file, or of a built-in document when ``path`` is one of ``builtins``.
+
+    Returns the text and the folder of the file (``None`` for a built-in), for relative
+    paths inside it. A missing or unreadable file is an :class:`InputError` naming
+    ``parameter`` and listing the built-in ``what`` names.
+    """
     p = Path(path)
     if not p.exists():
-        if str(path) in EXAMPLES:
-            return loads(example_text(str(path)))
-        raise InputError("config", str(path), "file not found (or give a built-in example: "
-                         + ", ".join(EXAMPLES) + ")")
+        if str(path) in builtins:
+            return builtin_text(str(path)), None
+        raise InputError(parameter, str(path), f"file not found (or give a built-in {what}: "
+                         + ", ".join(builtins) + ")")
     try:
-        text = p.read_text(encoding="utf-8")
+        return p.read_text(encoding="utf-8"), p.parent
     except (OSError, UnicodeDecodeError) as exc:
-        raise InputError("config", str(path), f"cannot be read: {exc}") from None
+        raise InputError(parameter, str(path), f"cannot be read: {exc}") from None
+
+
+def load(path: str | Path) -> GearTrain:
+    """Read a TOML configuration file, or a built-in example by name."""
+    text, _ = read_file_or_builtin(path, EXAMPLES, example_text, parameter="config",
+                                   what="example")
     return loads(text)
 
 

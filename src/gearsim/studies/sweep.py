@@ -198,17 +198,11 @@ def builtin_study_text(name: str) -> str:
 
 def load_study(path: str | Path) -> Study:
     """Read a study file, or a built-in study by name (:data:`BUILTIN_STUDIES`)."""
-    p = Path(path)
-    if not p.exists():
-        if str(path) in BUILTIN_STUDIES:
-            return loads_study(builtin_study_text(str(path)))
-        raise InputError("study", str(path), "file not found (or give a built-in study: "
-                         + ", ".join(BUILTIN_STUDIES) + ")")
-    try:
-        text = p.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError("study", str(path), f"cannot be read: {exc}") from None
-    return loads_study(text, base_dir=p.parent)
+    from gearsim.io.config import read_file_or_builtin
+
+    text, folder = read_file_or_builtin(path, BUILTIN_STUDIES, builtin_study_text,
+                                        parameter="study", what="study")
+    return loads_study(text, base_dir=folder)
 
 
 def _values(name: str, raw: Any) -> tuple | dict:

@@ -12,6 +12,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from gearsim.viz import figure
+
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
@@ -19,30 +21,12 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = ["plot_all"]
 
-_RC = {
-    "font.size": 11,
-    "axes.titlesize": 11.5,
-    "axes.labelsize": 11,
-    "legend.fontsize": 9,
-    "xtick.labelsize": 10,
-    "ytick.labelsize": 10,
-    "axes.grid": True,
-    "grid.alpha": 0.3,
-}
 #: Colours of the cases, the same in every figure.
 COLORS = {"healthy": "black", "working": "tab:red", "non-working": "tab:blue",
           "working-open": "tab:orange", "non-working-open": "tab:cyan", "open": "tab:orange"}
 NAMES = {"healthy": "healthy", "working": "working-flank crack",
          "non-working": "non-working-flank crack", "working-open": "working, open closure",
          "non-working-open": "non-working, open closure", "open": "open closure (either flank)"}
-
-
-def _figure(width: float, height: float) -> Figure:
-    import matplotlib
-    from matplotlib.figure import Figure
-
-    matplotlib.rcParams.update(_RC)
-    return Figure(figsize=(width, height), layout="constrained")
 
 
 def _save(fig: Figure, path: Path) -> Path:
@@ -56,7 +40,7 @@ def _save(fig: Figure, path: Path) -> Path:
 def plot_stiffness(rep: Reproduction) -> Figure:
     """Seed Figure 3: mesh stiffness healthy and cracked, PE and FE; FE vs PE tooth check."""
     has_fe = bool(rep.fe_checks)
-    fig = _figure(12, 8.5 if has_fe else 4.5)
+    fig = figure(12, 8.5 if has_fe else 4.5)
     if has_fe:
         gs = fig.add_gridspec(2, 2)
         ax0 = fig.add_subplot(gs[0, :])
@@ -122,7 +106,7 @@ def _impacts(rep: Reproduction, key: str) -> np.ndarray:
 def plot_time(rep: Reproduction, route: str = "PE") -> Figure:
     """Seed Figure 5: dynamic load of mesh I over three revolutions, a zoom at an impact,
     and the fault signal (cracked minus healthy load) of both flanks."""
-    fig = _figure(12, 11.5)
+    fig = figure(12, 11.5)
     axes = fig.subplots(4, 2, width_ratios=(2.2, 1))
     h = rep.runs[f"{route}/healthy"]
     t = np.arange(h.force.size) / h.fs
@@ -183,7 +167,7 @@ def plot_time(rep: Reproduction, route: str = "PE") -> Figure:
 
 def plot_spectrum(rep: Reproduction, route: str = "PE") -> Figure:
     """Seed Figure 6: amplitude spectra of the dynamic load up to 4.5 f_m."""
-    fig = _figure(12, 5)
+    fig = figure(12, 5)
     ax = fig.add_subplot(1, 1, 1)
     top = 4.5 * rep.f_m
     for label, lw in (("healthy", 1.6), ("working", 0.9), ("non-working", 0.9)):
@@ -207,7 +191,7 @@ def plot_spectrum(rep: Reproduction, route: str = "PE") -> Figure:
 
 def plot_zooms(rep: Reproduction, route: str = "PE") -> Figure:
     """Seed Figure 7: spectra around n f_m (n = 1..4) with the sidebands n f_m +- k f_r1."""
-    fig = _figure(12, 8)
+    fig = figure(12, 8)
     axes = fig.subplots(2, 2).ravel()
     f_r1 = 1.0 / rep.t1
     k_max = 6
@@ -237,7 +221,7 @@ def plot_zooms(rep: Reproduction, route: str = "PE") -> Figure:
 
 def plot_stft(rep: Reproduction, route: str = "PE") -> Figure:
     """Seed Figure 8: STFT spectrograms with the n f_m bands, and band energy over time."""
-    fig = _figure(12, 11)
+    fig = figure(12, 11)
     axes = fig.subplots(4, 1, sharex=True, height_ratios=(2, 2, 2, 1.6))
     top = 4.5 * rep.f_m
     labels = ("healthy", "working", "non-working")
@@ -285,7 +269,7 @@ def plot_sensitivity(rep: Reproduction) -> Figure:
     """Crack-depth sensitivity: stiffness drop, impact amplitude, RMS, SER at 1 and 2 f_m."""
     from gearsim.studies.claims import SEED
 
-    fig = _figure(12, 8)
+    fig = figure(12, 8)
     axes = fig.subplots(2, 2).ravel()
     rows = rep.sensitivity
     cases = sorted({r["case"] for r in rows}, key=["working", "non-working", "open"].index)

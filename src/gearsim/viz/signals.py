@@ -12,6 +12,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from gearsim.viz import figure
+
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
@@ -28,25 +30,7 @@ __all__ = [
     "plot_analysis",
 ]
 
-_RC = {
-    "font.size": 11,
-    "axes.titlesize": 12,
-    "axes.labelsize": 11,
-    "legend.fontsize": 9,
-    "xtick.labelsize": 10,
-    "ytick.labelsize": 10,
-    "axes.grid": True,
-    "grid.alpha": 0.3,
-}
 _SHAFT_COLORS = ("tab:red", "tab:green", "tab:purple", "tab:brown", "tab:pink")
-
-
-def _figure(width: float, height: float) -> Figure:
-    import matplotlib
-    from matplotlib.figure import Figure
-
-    matplotlib.rcParams.update(_RC)
-    return Figure(figsize=(width, height), layout="constrained")
 
 
 def _ylabel(units: str | None) -> str:
@@ -67,7 +51,7 @@ def _envelope(t: np.ndarray, x: np.ndarray, n_bins: int) -> tuple[np.ndarray, np
 
 def plot_time(a: Analysis, *, units: str | None = None, revolutions: float = 4.0) -> Figure:
     """Time trace: whole record (min/max envelope) and a close view with impacts marked."""
-    fig = _figure(10, 6)
+    fig = figure(10, 6)
     ax1, ax2 = fig.subplots(2, 1)
     x = a.signal - (a.stats.mean if a.stats.mean_removed else 0.0)
     t = np.arange(x.size) / a.fs
@@ -106,7 +90,7 @@ def plot_time(a: Analysis, *, units: str | None = None, revolutions: float = 4.0
 
 def plot_spectrum(a: Analysis, *, units: str | None = None) -> Figure:
     """Amplitude spectrum up to just above the highest mesh harmonic, with n f_m and sidebands."""
-    fig = _figure(10, 4.5)
+    fig = figure(10, 4.5)
     ax = fig.subplots()
     spec = a.spectrum
     f_m = a.train.mesh_frequency
@@ -143,7 +127,7 @@ def plot_zooms(a: Analysis, *, units: str | None = None) -> Figure:
     orders = a.orders
     ncol = 2 if len(orders) > 1 else 1
     nrow = int(np.ceil(len(orders) / ncol))
-    fig = _figure(10, 3.2 * nrow)
+    fig = figure(10, 3.2 * nrow)
     axes = np.atleast_1d(fig.subplots(nrow, ncol)).ravel()
     spec = a.spectrum
     f_m = a.train.mesh_frequency
@@ -186,7 +170,7 @@ def plot_spectrogram(
     ``revolutions`` limits the time axis to that many revolutions of shaft 1 so the
     once-per-revolution pulsation (seed Figure 8) stays visible; ``None`` shows the record.
     """
-    fig = _figure(10, 7)
+    fig = figure(10, 7)
     ax1, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=(3, 1.3))
     sg = a.stft
     f_m = a.train.mesh_frequency
@@ -222,7 +206,7 @@ def plot_spectrogram(
 
 def plot_tsa(a: Analysis, *, units: str | None = None) -> Figure:
     """Time-synchronous average and its difference signal over one revolution."""
-    fig = _figure(10, 5.5)
+    fig = figure(10, 5.5)
     ax1, ax2 = fig.subplots(2, 1, sharex=True)
     m = a.tsa.samples_per_rev
     ang = np.arange(m) * 360.0 / m
@@ -243,7 +227,7 @@ def plot_tsa(a: Analysis, *, units: str | None = None) -> Figure:
 
 def plot_comparison(c: SidebandComparison) -> Figure:
     """Simulated versus measured sideband amplitudes near each mesh harmonic (seed Table 2)."""
-    fig = _figure(10, 3.5 * len(c.orders))
+    fig = figure(10, 3.5 * len(c.orders))
     axes = np.atleast_1d(fig.subplots(len(c.orders), 1))
     w = 0.38
     for i, (ax, n) in enumerate(zip(axes, c.orders, strict=True)):

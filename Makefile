@@ -6,6 +6,7 @@ STAMP := $(VENV)/.installed
 OUT ?= out
 
 .PHONY: run test lint bench sysdeps clean
+.PHONY: browser
 
 # System libraries that the gmsh wheel links (libGLU, libX11, libXcursor, libXft,
 # libXinerama, fontconfig). Installed with apt only when the import of gmsh fails.
@@ -17,6 +18,18 @@ sysdeps: $(STAMP)
 	    libxcursor1 libxft2 libxinerama1 fontconfig libxrender1 libxext6 libgl1 >/dev/null; \
 	fi
 
+# Headless Chromium and its driver for tests/studies/test_report_browser.py (only tests
+# need a browser: `run` does not depend on this). Debian's packages, installed with apt
+# only when /usr/bin/chromium or /usr/bin/chromedriver is missing; selenium is pointed at
+# them, so nothing is downloaded at test time.
+browser:
+	@if [ ! -x /usr/bin/chromium ] || [ ! -x /usr/bin/chromedriver ]; then \
+	  echo "chromium or chromedriver missing: installing them with apt-get"; \
+	  SUDO=""; [ "$$(id -u)" = "0" ] || SUDO="sudo"; \
+	  $$SUDO apt-get update -qq && \
+	  $$SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium chromium-driver >/dev/null; \
+	fi
+
 $(STAMP): pyproject.toml constraints.txt
 	$(PY) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --upgrade pip
@@ -26,7 +39,7 @@ $(STAMP): pyproject.toml constraints.txt
 run: sysdeps
 	$(BIN)/gearsim reproduce --out $(OUT)
 
-test: sysdeps
+test: sysdeps browser
 	$(BIN)/python -m pytest -q tests
 
 lint: $(STAMP)

@@ -21,14 +21,14 @@ from scipy.integrate import solve_ivp
 from gearsim.dynamics import DynamicsSettings, build_model, reference_rhs, simulate
 from gearsim.dynamics.simulate import integration_step, run_kernel
 from gearsim.dynamics.tables import mesh_tables
-from gearsim.io.config import load
+from gearsim.model import load
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--ivp-window", type=float, default=0.02, help="solve_ivp window [s]")
     args = ap.parse_args()
-    train = load("idler-table1")  # working-flank crack on the input gear
+    train = load("idler-table1").train  # working-flank crack on the input gear
     settings = DynamicsSettings(model="lta", duration=1.0, fs=50_000.0, transient=0.0)
     tables = mesh_tables(train)
     model = build_model(train, settings, tables=tables)

@@ -15,7 +15,7 @@ from gearsim.fem.cantilever import convergence_rate, solve_cantilever
 from gearsim.fem.check import compare_gear, contact_radii
 from gearsim.fem.geometry import SectorOptions
 from gearsim.fem.tooth import fe_tooth_compliance
-from gearsim.io.config import load
+from gearsim.model import load
 
 
 def cantilever() -> None:
@@ -34,7 +34,7 @@ def cantilever() -> None:
 def convergence(levels) -> None:
     print("== mesh convergence, healthy tooth, whole gear ==")
     for name in ("idler-table1", "spur-19-48"):
-        train = load(name)
+        train = load(name).train
         gear = train.gears[0]
         r = contact_radii(train, gear.name, 3)
         rows = []
@@ -53,7 +53,7 @@ def convergence(levels) -> None:
 def comparison(level: int, points: int) -> None:
     print(f"== FE vs PE, level {level}, {points} points: (k_PE - k_FE)/k_FE max/min/mean % ==")
     for name in ("idler-table1", "spur-19-48"):
-        train = load(name)
+        train = load(name).train
         gear = train.gears[0]
         radii = contact_radii(train, gear.name, points)
         for label, crack, side, closure in (("healthy", None, 0, "open"),
@@ -74,7 +74,7 @@ def comparison(level: int, points: int) -> None:
 def sectors(level: int) -> None:
     print("== body model: whole gear vs sectors with fixed / free sides (compliance e-11) ==")
     for name in ("idler-table1", "spur-19-48"):
-        train = load(name)
+        train = load(name).train
         gear = train.gears[0]
         r = contact_radii(train, gear.name, 3)
         for opt in (SectorOptions(level=level), SectorOptions(level=level, n_teeth=5),

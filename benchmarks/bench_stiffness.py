@@ -16,7 +16,7 @@ import time
 
 import numpy as np
 
-from gearsim.io.config import load
+from gearsim.model import load
 from gearsim.stiffness.crack import crack_record
 from gearsim.stiffness.mesh import _slice_grid
 from gearsim.stiffness.reference import reference_compliance
@@ -30,7 +30,7 @@ def main() -> None:
     warnings.simplefilter("ignore")
 
     os.environ.setdefault("NUMBA_NUM_THREADS", "1")
-    train = load("idler-table1")  # working-flank crack, 2 mm, default settings
+    train = load("idler-table1").train  # working-flank crack, 2 mm, default settings
     s = train.stiffness
     train.mesh_stiffness(0)  # compile / load cache
     reps = 5

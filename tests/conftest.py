@@ -4,16 +4,16 @@ from __future__ import annotations
 
 import pytest
 
-from gearsim.io.config import load
+from gearsim.model import load
 
 
 @pytest.fixture(scope="session")
 def table1():
     """The built-in Table-1 idler train (with its example crack)."""
-    return load("idler-table1")
+    return load("idler-table1").train
 
 
 @pytest.fixture(scope="session")
 def spur():
     """The built-in 19/48 spur pair."""
-    return load("spur-19-48")
+    return load("spur-19-48").train

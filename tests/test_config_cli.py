@@ -10,7 +10,7 @@ import sys
 import pytest
 
 from gearsim.errors import InputError
-from gearsim.io.config import example_text, loads
+from gearsim.model import example_text, loads
 
 GEARSIM = [sys.executable, "-m", "gearsim.cli"]
 
@@ -34,11 +34,11 @@ def run(*args, cwd=None):
 
 def test_units_are_converted_to_si():
     t = loads(MINIMAL.format(module="0.25 in") + '[operating]\nspeed = "1900 rpm"\n'
-              'torque = "4876 N*m"\n')
+              'torque = "4876 N*m"\n').train
     assert abs(t.gears[0].normal_module - 6.35e-3) < 1e-15
     assert abs(t.operating.speed - 1900 * 2 * math.pi / 60) < 1e-12
     assert t.operating.torque == 4876.0
-    plain = loads(MINIMAL.format(module="6 mm").replace('"6 mm"', "0.006"))
+    plain = loads(MINIMAL.format(module="6 mm").replace('"6 mm"', "0.006")).train
     assert plain.gears[0].normal_module == 0.006
 
 
@@ -64,7 +64,7 @@ def test_bad_config_is_refused_with_one_line(text, match):
 
 def test_examples_load():
     for name in ("idler-table1", "spur-19-48"):
-        t = loads(example_text(name))
+        t = loads(example_text(name)).train
         assert len(t.gears) >= 2
 
 

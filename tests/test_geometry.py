@@ -13,8 +13,8 @@ from gearsim.geometry.gear import Gear, inv, inv_inverse
 from gearsim.geometry.pair import GearPair
 from gearsim.geometry.profile import ToothProfile
 
-# DESIGN.md section 1 gives the Table-1 check values to 3 decimals: compare to half a unit
-# of the last printed digit.
+# docs/references.md ("Table-1 check values") gives the Table-1 check values to 3
+# decimals: compare to half a unit of the last printed digit.
 PRINTED_3DP_DEG = 0.0005
 PRINTED_3DP_MM = 0.0005e-3
 # Contact ratios are printed to 3 decimals.

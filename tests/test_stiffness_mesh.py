@@ -15,7 +15,7 @@ from gearsim.stiffness.crack import Crack
 from gearsim.stiffness.iso6336 import mean_mesh_stiffness
 from gearsim.stiffness.mesh import DEFAULT_SLICES, StiffnessSettings, ToothCrack, mesh_stiffness
 
-# DESIGN section 2: a potential-energy mean stiffness within about 25 % of ISO 6336-1.
+# docs/references.md "ISO 6336-1 mesh stiffness": PE mean stiffness within about 25 % of ISO 6336-1.
 ISO_BAND = 0.25
 # Slice-count convergence criterion of the issue: < 0.5 % between the last refinements.
 SLICE_CONVERGENCE = 0.005

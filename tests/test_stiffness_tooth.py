@@ -1,4 +1,8 @@
-"""Tier 1 checks of the potential-energy tooth compliance: closed forms and an oracle."""
+"""Tier 1 checks of the potential-energy tooth compliance: closed forms and convergence.
+
+The comparison with the independent adaptive-quadrature oracle is in
+tests/test_reference_independent.py, the Sainsot table in tests/test_sainsot.py.
+"""
 
 from __future__ import annotations
 
@@ -11,7 +15,6 @@ from numpy.testing import assert_allclose
 from gearsim.geometry.gear import Material
 from gearsim.stiffness import _kernels as K
 from gearsim.stiffness.crack import Crack, crack_record
-from gearsim.stiffness.reference import reference_compliance
 from gearsim.stiffness.tooth import ToothModel, gauss_rule, hertz_stiffness, sainsot_coefficients
 
 # Hertz is a closed form evaluated twice: agreement to rounding.
@@ -19,15 +22,10 @@ HERTZ_RTOL = 1e-12
 # A Gauss-Legendre rule with n >= 2 integrates the cubic bending integrand of a constant
 # section exactly; 1e-6 is the issue's bound, far above rounding.
 TIMOSHENKO_RTOL = 1e-6
-# Kernel (fixed 16-point rules, closed-form closure) against adaptive quad at rtol 1e-10
-# (bisection closure): the only differences are quadrature error and the finite-difference
-# Jacobian (step 1e-7, error ~1e-9 relative).
-ORACLE_RTOL = 1e-6
-# The axial term under the contact closure has a square-root-like variation where the
-# crack faces start to separate; the 16-point rule resolves it to ~1e-5 (64 points: 4e-7,
-# the quad oracle itself reports round-off near 1e-7). The axial term is 1-2 % of the
-# tooth compliance, so this is ~2e-7 of the total.
-ORACLE_AXIAL_RTOL = 3e-5
+# 16 against 64 Gauss points: the integrands are smooth on every piece (the kernel splits
+# at the crack range and at every change of the closure state), so the 16-point rule is
+# converged far below the 1e-6 the rest of the model needs (observed: 1.6e-8).
+CONVERGED_RTOL = 1e-6
 
 
 def test_hertz_closed_form():
@@ -69,26 +67,8 @@ def _radii(tm, n=5):
     return np.linspace(tm.profile.form_radius * 1.002, g.tip_radius * 0.999, n)
 
 
-@pytest.mark.parametrize("closure,side,depth", [
-    ("open", 1, 0.0), ("open", 1, 1.0e-3), ("contact", 1, 1.0e-3), ("contact", -1, 1.0e-3),
-    ("contact", -1, 2.5e-3)])
-def test_kernel_matches_quad_reference(spur, closure, side, depth):
-    """The compiled kernel equals an independent adaptive-quadrature implementation."""
-    gear = spur.gears[0]
-    tm = ToothModel(gear, closure=closure)
-    rec = crack_record(tm.profile, Crack(gear=gear.name, depth=depth), depth, side) if depth \
-        else None
-    radii = _radii(tm)
-    got = tm.compliance(radii, rec)
-    for r, row in zip(radii, got, strict=True):
-        ref = reference_compliance(tm, float(r), rec)
-        assert_allclose(row[[0, 1, 3]], ref[[0, 1, 3]], rtol=ORACLE_RTOL, err_msg=f"r = {r}")
-        assert_allclose(row[2], ref[2], rtol=ORACLE_AXIAL_RTOL, err_msg=f"r = {r}")
-        assert_allclose(row.sum(), ref.sum(), rtol=ORACLE_RTOL, err_msg=f"r = {r}")
-
-
 def test_gauss_rule_converged(table1):
-    """16-point rules are converged: 64 points change the tooth compliance < 1e-6."""
+    """16-point rules are converged: 64 points change every component < 1e-6."""
     gear = table1.gears[0]
     for closure in ("open", "contact"):
         t16 = ToothModel(gear, gauss_points=16, closure=closure)
@@ -96,10 +76,8 @@ def test_gauss_rule_converged(table1):
         rec = crack_record(t16.profile, Crack(gear=gear.name, depth=2e-3), 2e-3, 1)
         r = _radii(t16, 7)
         c16, c64 = t16.compliance(r, rec), t64.compliance(r, rec)
-        assert_allclose(c16.sum(1), c64.sum(1), rtol=ORACLE_RTOL)
-        # per component: the axial term of the contact closure converges slowest (see
-        # ORACLE_AXIAL_RTOL); on the 39-tooth gear it is 0.2 % of the total.
-        assert_allclose(c16, c64, rtol=1e-4)
+        assert_allclose(c16.sum(1), c64.sum(1), rtol=CONVERGED_RTOL)
+        assert_allclose(c16, c64, rtol=CONVERGED_RTOL)
 
 
 def test_sainsot_coefficients_reference_point():

@@ -7,11 +7,11 @@ as one line on standard error with exit status 2.
 
 from __future__ import annotations
 
-import importlib
 import sys
 
 import typer
 
+from gearsim.commands import analysis, basic, dynamics, fem, studies, sweep
 from gearsim.errors import InputError, SimulationError
 
 app = typer.Typer(
@@ -23,21 +23,8 @@ app = typer.Typer(
 )
 
 # One module per verb group; each defines register(app).
-COMMAND_MODULES = (
-    "gearsim.commands.basic",
-    "gearsim.commands.analysis",
-    "gearsim.commands.dynamics",
-    "gearsim.commands.fem",
-    "gearsim.commands.studies",
-    "gearsim.commands.sweep",
-)
-
-for _name in COMMAND_MODULES:
-    try:
-        importlib.import_module(_name).register(app)
-    except ModuleNotFoundError as exc:  # a verb group not yet present in this tree
-        if exc.name != _name:
-            raise
+for _verbs in (basic, analysis, dynamics, fem, studies, sweep):
+    _verbs.register(app)
 
 
 def main() -> None:

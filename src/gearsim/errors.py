@@ -38,6 +38,31 @@ class SimulationError(RuntimeError):
 
 
 def require(ok: bool, parameter: str, value: Any, limit: str) -> None:
-    """Raise :class:`InputError` unless ``ok``."""
+    """Raise :class:`InputError` unless ``ok``.
+
+    Parameters
+    ----------
+    ok
+        The condition that must hold.
+    parameter
+        Dotted name of the parameter.
+    value
+        The value given.
+    limit
+        What the value must satisfy.
+
+    Raises
+    ------
+    InputError
+        If ``ok`` is false.
+
+    Examples
+    --------
+    >>> require(True, "gear.teeth", 39, "must be >= 7")
+    >>> require(False, "gear.teeth", 5, "must be >= 7")
+    Traceback (most recent call last):
+    ...
+    gearsim.errors.InputError: gear.teeth = 5: must be >= 7
+    """
     if not ok:
         raise InputError(parameter, value, limit)

@@ -55,10 +55,24 @@ def to_si(value: Any, kind: str, parameter: str) -> float:
     parameter
         Name used in the error message.
 
+    Returns
+    -------
+    float
+        The value in SI units (angles in rad, speeds in rad/s).
+
     Raises
     ------
     InputError
         If the string cannot be parsed or its unit is of the wrong dimension.
+
+    Examples
+    --------
+    >>> to_si("6 mm", "length", "normal_module")
+    0.006
+    >>> round(to_si("1900 rpm", "speed", "speed"), 4)  # 1900 x 2 pi / 60
+    198.9675
+    >>> round(to_si("13 deg", "angle", "helix_angle"), 6)
+    0.226893
     """
     if isinstance(value, bool):
         raise InputError(parameter, value, f"must be a number or a quantity in {DIMENSIONS[kind]}")

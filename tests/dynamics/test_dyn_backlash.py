@@ -11,12 +11,12 @@ from gearsim.dynamics import DynamicsSettings, build_model, simulate
 from gearsim.dynamics import _kernels as K
 from gearsim.dynamics.lta import agma_backlash
 from gearsim.dynamics.simulate import _kernel_args
-from gearsim.io.config import load
+from gearsim.model import load
 from gearsim.system import Operating
 
 
 def test_piecewise_mesh_force():
-    tr = load("idler-table1").with_cracks(())
+    tr = load("idler-table1").train.with_cracks(())
     m = build_model(tr, DynamicsSettings(backlash=(2e-4,), mesh_damping_ratio=0.0))
     args = _kernel_args(m)[4:]
     k = m.tables[0].k[0]
@@ -32,7 +32,7 @@ def test_piecewise_mesh_force():
 
 
 def test_agma_default_backlash():
-    tr = load("idler-table1")
+    tr = load("idler-table1").train
     # (2/3)(0.06 + 0.0005 a + 0.03 m_n) mm with a = 301.73 mm, m_n = 6 mm -> 0.2606 mm normal
     assert agma_backlash(tr, 0) * np.cos(tr.gears[0].base_helix_angle) == pytest.approx(
         2.606e-4, rel=2e-3)
@@ -43,7 +43,7 @@ def test_light_load_separates_and_hits_back_side():
     STE (force amplitude k e >> static force), the teeth lose contact; with a small
     clearance they strike the back flanks (negative force); the linear mesh does not
     stay at zero force. No NaN, mean force still equals the static force."""
-    tr = load("idler-table1").with_cracks(())
+    tr = load("idler-table1").train.with_cracks(())
     fm_target = 1732.0  # mesh-II resonance (test_dyn_modal)
     op = Operating(speed=tr.operating.speed * fm_target / tr.mesh_frequency, torque=150.0)
     tr = dataclasses.replace(tr, operating=op)

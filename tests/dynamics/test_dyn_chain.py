@@ -11,7 +11,7 @@ import pytest
 
 from gearsim.dynamics import DynamicsSettings, build_model, simulate
 from gearsim.dynamics.modal import modes
-from gearsim.io.config import example_text, load, loads
+from gearsim.model import example_text, load, loads
 
 FOUR = """
 name = "four-gear chain"
@@ -45,8 +45,9 @@ fs = "40 kHz"
 
 @pytest.mark.parametrize("model", ["lta", "seed"])
 def test_four_gear_chain(model):
-    tr = loads(FOUR)
-    s = dataclasses.replace(tr.extra["dynamics"], model=model)
+    gb = loads(FOUR)
+    tr = gb.train
+    s = dataclasses.replace(gb.dynamics, model=model)
     m = build_model(tr, s)
     assert m.n_mesh == 3
     assert modes(m).rigid == (1 if model == "lta" else 0)
@@ -60,7 +61,7 @@ def test_four_gear_chain(model):
 
 
 def test_spur_pair():
-    tr = load("spur-19-48")
+    tr = load("spur-19-48").train
     ds = simulate(tr, DynamicsSettings(duration=0.09, fs=20_000.0))
     assert "mesh_force_2" not in ds
     assert float(ds["mesh_force_1"].mean()) == pytest.approx(tr.static_mesh_force(0), rel=5e-3)
@@ -69,6 +70,6 @@ def test_spur_pair():
 
 def test_example_text_unchanged_by_dynamics():
     """The built-in example parses with and without a [dynamics] section."""
-    tr = loads(example_text("idler-table1") + "\n[dynamics]\nmodel = \"seed\"\n")
-    assert tr.extra["dynamics"].model == "seed"
-    assert "dynamics" not in load("idler-table1").extra
+    gb = loads(example_text("idler-table1") + "\n[dynamics]\nmodel = \"seed\"\n")
+    assert gb.dynamics.model == "seed"
+    assert load("idler-table1").dynamics == DynamicsSettings()

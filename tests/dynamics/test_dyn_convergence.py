@@ -1,5 +1,5 @@
 """Tier 1 (convergence): halving the default step changes the RMS of the mesh force
-fluctuation by < 0.5 % (DESIGN section 3); RK4 shows its fourth order.
+fluctuation by < 0.5 % (docs/references.md, "Dynamics self-checks"); RK4 shows its fourth order.
 
 The measured study (docs/dynamics.md): RMS change 7e-4 from 20 to 10 us, 5e-5 from 10
 to 5 us (LTA, working-flank crack).
@@ -13,14 +13,14 @@ import pytest
 from gearsim.dynamics import DynamicsSettings, simulate
 from gearsim.dynamics.settings import DEFAULT_STEP
 from gearsim.dynamics.tables import mesh_tables
-from gearsim.io.config import load
+from gearsim.model import load
 
-HALVING_RTOL = 5e-3  # DESIGN section 3
+HALVING_RTOL = 5e-3  # docs/references.md, "Dynamics self-checks"
 
 
 @pytest.mark.parametrize("model", ["lta", "seed"])
 def test_step_halving(model):
-    tr = load("idler-table1")
+    tr = load("idler-table1").train
     tabs = mesh_tables(tr)
     rms = {}
     peak = {}

@@ -13,12 +13,12 @@ import numpy as np
 import pytest
 
 from gearsim.dynamics import DynamicsSettings, simulate
-from gearsim.io.config import load
+from gearsim.model import load
 
 
 @pytest.mark.parametrize("model", ["lta", "seed"])
 def test_impacts_and_sidebands(model):
-    tr = load("idler-table1")  # 2 mm working-flank crack, input gear, tooth 0
+    tr = load("idler-table1").train  # 2 mm working-flank crack, input gear, tooth 0
     z1 = tr.gears[0].teeth
     fr1, fm = tr.shaft_frequency(0), tr.mesh_frequency
     revs = 4
@@ -55,7 +55,7 @@ def test_cracked_idler_shows_in_both_meshes():
     from gearsim.dynamics.tables import mesh_tables
     from gearsim.stiffness.crack import Crack
 
-    tr = load("idler-table1")
+    tr = load("idler-table1").train
     idler = tr.gears[1]
     tr_i = tr.with_cracks((Crack(gear=idler.name, tooth=3, depth=2e-3),))
     tabs = mesh_tables(tr_i)

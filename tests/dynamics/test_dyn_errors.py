@@ -12,11 +12,11 @@ from gearsim.cli import app
 from gearsim.dynamics import DynamicsSettings, build_model, simulate
 from gearsim.dynamics.modal import RK4_LIMIT, modes, stable_step
 from gearsim.errors import InputError, SimulationError
-from gearsim.io.config import load
+from gearsim.model import load
 
 
 def test_unstable_step_refused_with_largest_safe_step():
-    tr = load("idler-table1")
+    tr = load("idler-table1").train
     s = DynamicsSettings(step=2e-4, fs=1000.0, oversample=1, duration=0.11)
     m = build_model(tr, s)
     limit = stable_step(m)
@@ -32,14 +32,14 @@ def test_unstable_step_refused_with_largest_safe_step():
 
 
 def test_divergence_raises_simulation_error_not_nan():
-    tr = load("idler-table1")
+    tr = load("idler-table1").train
     s = DynamicsSettings(step=5e-4, fs=2000.0, oversample=1, duration=0.11, transient=0.0)
     with pytest.raises(SimulationError, match="diverged"):
         simulate(tr, s, check_step=False)
 
 
 def test_short_duration_refused():
-    tr = load("idler-table1")
+    tr = load("idler-table1").train
     with pytest.raises(InputError) as exc:
         simulate(tr, DynamicsSettings(duration=0.05))
     assert exc.value.parameter == "dynamics.duration"
@@ -101,6 +101,6 @@ def test_bad_settings_refused():
         DynamicsSettings(model="fe")
     with pytest.raises(InputError, match="dynamics.mesh_damping_ratio"):
         DynamicsSettings(mesh_damping_ratio=-0.1)
-    tr = load("idler-table1")
+    tr = load("idler-table1").train
     with pytest.raises(InputError, match="one per gear"):
         simulate(tr, DynamicsSettings(runout=(1e-6, 2e-6), duration=0.11))

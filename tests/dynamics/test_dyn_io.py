@@ -13,8 +13,8 @@ import gearsim
 from gearsim.cli import app
 from gearsim.dynamics import DynamicsSettings
 from gearsim.errors import InputError
-from gearsim.io.config import example_text, load, loads
 from gearsim.io.results import read_results
+from gearsim.model import example_text, load, loads
 
 
 def test_dynamics_section_with_units_and_lists():
@@ -30,8 +30,7 @@ idler_angle = "150 deg"
 runout = ["5 um", "0 um", "2 um"]
 backlash = "0.3 mm"
 """
-    tr = loads(text)
-    d = tr.extra["dynamics"]
+    d = loads(text).dynamics
     assert isinstance(d, DynamicsSettings)
     assert d.model == "seed"
     assert d.step == pytest.approx(8e-6)
@@ -69,31 +68,30 @@ def test_cli_writes_netcdf_with_provenance(tmp_path):
     np.testing.assert_allclose(np.diff(ds["time"].values), 1 / 20000, rtol=1e-9)
     assert "non-working" in ds.attrs["cracks"]
     # the stored config reproduces the run's input
-    tr = loads(ds.attrs["config"])
+    gb = loads(ds.attrs["config"])
+    tr = gb.train
     assert tr.cracks[0].flank == "non-working"
-    assert tr.extra["dynamics"].duration == pytest.approx(0.11)
+    assert gb.dynamics.duration == pytest.approx(0.11)
     assert tr.pairs[0].centre_distance == pytest.approx(
-        load("idler-table1").pairs[0].centre_distance, rel=1e-12)
+        load("idler-table1").train.pairs[0].centre_distance, rel=1e-12)
     assert np.all(np.isfinite(ds["acceleration"].values))
 
 
 def test_default_crack_when_config_has_none(tmp_path):
-    from gearsim.commands.dynamics import with_crack_choice
-
-    tr = load("spur-19-48").with_cracks(())
-    cracked = with_crack_choice(tr, "working")
+    tr = load("spur-19-48").train.with_cracks(())
+    cracked = tr.with_crack("working")
     (c,) = cracked.cracks
     assert (c.gear, c.tooth, c.flank) == (tr.gears[0].name, 0, "working")
     assert c.depth == pytest.approx(2e-3)
     assert c.angle == pytest.approx(math.radians(45))
-    assert with_crack_choice(load("idler-table1"), "none").cracks == ()
+    assert load("idler-table1").train.with_crack("none").cracks == ()
 
 
 def test_bearing_forces_balance_mesh_forces_on_average():
     """Mean bearing force of each gear = vector sum of its mean mesh forces (LTA)."""
     from gearsim.dynamics import build_model, simulate
 
-    tr = load("idler-table1").with_cracks(())
+    tr = load("idler-table1").train.with_cracks(())
     s = DynamicsSettings(duration=0.11, fs=20000.0)
     ds = simulate(tr, s)
     m = build_model(tr, s)

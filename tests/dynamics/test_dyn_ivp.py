@@ -16,7 +16,7 @@ from scipy.integrate import solve_ivp
 from gearsim.dynamics import DynamicsSettings, build_model, reference_rhs
 from gearsim.dynamics.settings import DEFAULT_STEP
 from gearsim.dynamics.simulate import reference_mesh_forces, run_kernel
-from gearsim.io.config import load
+from gearsim.model import load
 
 REL_TOL = 1e-4
 
@@ -25,7 +25,7 @@ REL_TOL = 1e-4
     ("lta", DEFAULT_STEP, "force"), ("seed", DEFAULT_STEP, "force"),
     ("lta", DEFAULT_STEP / 2, "ptp"), ("seed", DEFAULT_STEP / 2, "ptp")])
 def test_kernel_matches_solve_ivp(model, dt, measure):
-    tr = load("idler-table1")
+    tr = load("idler-table1").train
     s = DynamicsSettings(model=model, profile_modification=(1e-6,), runout=(4e-6, 2e-6, 3e-6),
                          crowning=(3e-6,), assembly_error=(1e-6, -2e-6))
     m = build_model(tr, s)

@@ -16,7 +16,7 @@ import pytest
 
 from gearsim.dynamics.layout import layout
 from gearsim.errors import InputError
-from gearsim.io.config import load
+from gearsim.model import load
 
 
 def _angle(v):
@@ -25,7 +25,7 @@ def _angle(v):
 
 @pytest.mark.parametrize("gamma_deg", [180.0, 150.0, 215.0, 123.4])
 def test_idler_phase_against_geometry(gamma_deg):
-    tr = load("idler-table1")
+    tr = load("idler-table1").train
     lay = layout(tr, (math.radians(gamma_deg),))
     p0, p1 = tr.pairs
     c0, c1, c2 = lay.centres
@@ -65,7 +65,7 @@ def test_idler_phase_against_geometry(gamma_deg):
 
 
 def test_phase_moves_one_cycle_per_angular_pitch():
-    tr = load("idler-table1")
+    tr = load("idler-table1").train
     z = tr.gears[1].teeth
     g = math.radians(170.0)
     a = layout(tr, (g,)).phase[1]
@@ -74,6 +74,6 @@ def test_phase_moves_one_cycle_per_angular_pitch():
 
 
 def test_overlapping_layout_refused():
-    tr = load("idler-table1")
+    tr = load("idler-table1").train
     with pytest.raises(InputError, match="idler_angle"):
         layout(tr, (math.radians(40.0),))

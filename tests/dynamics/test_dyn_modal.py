@@ -17,7 +17,7 @@ import pytest
 from gearsim.dynamics import DynamicsSettings, build_model, simulate
 from gearsim.dynamics.modal import modes
 from gearsim.dynamics.tables import mesh_tables
-from gearsim.io.config import load
+from gearsim.model import load
 from gearsim.system import Operating
 
 PEAK_RTOL = 0.03
@@ -25,7 +25,7 @@ PEAK_RTOL = 0.03
 
 @pytest.mark.parametrize("model", ["lta", "seed"])
 def test_resonances_at_natural_frequencies(model):
-    tr = load("idler-table1").with_cracks(())
+    tr = load("idler-table1").train.with_cracks(())
     tabs = mesh_tables(tr)
     s = DynamicsSettings(model=model, duration=0.1, fs=20_000.0, oversample=1, transient=0.08)
     m = build_model(tr, s, tables=tabs)

@@ -1,6 +1,6 @@
 """Tier 1 (analytic): the mean dynamic mesh force equals the static force T_i / r_bi.
 
-Tolerance 0.5 % (DESIGN section 3). For the LTA model the torque balance makes the
+Tolerance 0.5 % (docs/references.md, "Dynamics self-checks"). For the LTA model the torque balance makes the
 time average exact up to the change of angular momentum over the window (~1e-5); for
 the seed model it holds up to the correlation of k(t) with the vibration.
 """
@@ -16,14 +16,14 @@ from numpy.testing import assert_allclose
 
 from gearsim.dynamics import DynamicsSettings, build_model, simulate
 from gearsim.dynamics.simulate import run_kernel
-from gearsim.io.config import load
+from gearsim.model import load
 
-MEAN_RTOL = 5e-3  # DESIGN section 3
+MEAN_RTOL = 5e-3  # docs/references.md, "Dynamics self-checks"
 
 
 @lru_cache(maxsize=1)
 def train():
-    return load("idler-table1")  # working-flank crack on the input gear
+    return load("idler-table1").train  # working-flank crack on the input gear
 
 
 @pytest.mark.parametrize("model", ["lta", "seed"])

@@ -32,8 +32,8 @@ def _signal(impact=4.0, seed=0, duration=2.0):
 def test_analyze_recovers_known_content_and_is_json():
     x = _signal()
     a = analyze(x, FS, teeth=TEETH, shaft_frequency=F_R, orders=(1, 2), n_sidebands=3)
-    assert_allclose(a.train.mesh_frequency, 39 * F_R, rtol=1e-12)
-    assert_allclose(a.train.shafts["shaft2"], 39 * F_R / 59, rtol=1e-12)
+    assert_allclose(a.kinematics.mesh_frequency, 39 * F_R, rtol=1e-12)
+    assert_allclose(a.kinematics.shafts["shaft2"], 39 * F_R / 59, rtol=1e-12)
     assert_allclose(a.impacts.period, 1.0 / F_R, rtol=RTOL_PERIOD)
     fam = next(f for f in a.families if f.order == 1 and f.shaft == "shaft1")
     # Impacts add a broadband comb at multiples of f_r: compare without them.
@@ -66,7 +66,7 @@ def test_analyze_baseline_ratios_and_tacho():
     a = analyze(x, FS, teeth=TEETH, tacho=tacho, baseline=base, baseline_tacho=tacho,
                 orders=(1, 2), n_sidebands=3)
     assert a.ratios["rms"] > 1.0 and a.ratios["peak"] > 1.5
-    assert_allclose(a.train.reference_frequency, F_R, rtol=1e-3)
+    assert_allclose(a.kinematics.reference_frequency, F_R, rtol=1e-3)
     assert a.options["speed_source"] == "tacho"
     assert np.isfinite(a.indicators.na4)
 

@@ -6,7 +6,6 @@ API (:mod:`gearsim.signals`), which works in SI throughout.
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -19,20 +18,18 @@ __all__ = ["register"]
 
 
 def _speed(shaft_rpm: float | None, tacho: str | None) -> None:
-    if (shaft_rpm is None) == (tacho is None):
-        raise InputError(
-            "--shaft-rpm/--tacho", "both" if tacho is not None else "neither",
-            "give exactly one: the shaft speed in rpm or the tacho channel",
-        )
-    if shaft_rpm is not None and not (math.isfinite(shaft_rpm) and shaft_rpm > 0):
-        raise InputError("--shaft-rpm", shaft_rpm, "must be a finite speed > 0 rpm")
+    from gearsim.signals._checks import check_speed_source
+
+    check_speed_source(shaft_rpm, tacho, names=("--shaft-rpm", "--tacho"), unit="rpm")
 
 
 def _teeth(teeth: list[int] | None) -> list[int]:
+    from gearsim.signals._checks import check_teeth
+
     if not teeth:
         raise InputError("--teeth", None, "must be given (teeth of the gear on the measured "
                                           "shaft first, then the other gears)")
-    return teeth
+    return list(check_teeth(teeth, name="--teeth"))
 
 
 def _emd_threshold(method: str | None, threshold: str | None) -> float | str:
@@ -154,7 +151,9 @@ def analyze(
                    "baseline": str(baseline) if baseline is not None else None,
                    "shaft_rpm": shaft_rpm}
     if plot is not None:
-        d["figures"] = result.plot(str(plot), units=sig.units)
+        from gearsim.viz import save_all
+
+        d["figures"] = [str(p) for p in save_all(result.figures(units=sig.units), plot)]
     if json_:
         typer.echo(strict_json(d, indent=1))
     else:
@@ -205,11 +204,10 @@ def compare(
         "measured": {"file": m.path, "channel": m.channel, "fs_hz": m.fs},
     }
     if plot is not None:
+        from gearsim.viz import save
         from gearsim.viz.signals import plot_comparison
 
-        plot.parent.mkdir(parents=True, exist_ok=True)
-        plot_comparison(c).savefig(plot, dpi=150)
-        d["figure"] = str(plot)
+        d["figure"] = str(save(plot_comparison(c), plot, parameter="--plot"))
     if json_:
         typer.echo(strict_json(d, indent=1))
         return

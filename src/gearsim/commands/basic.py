@@ -2,33 +2,21 @@
 
 from __future__ import annotations
 
-import dataclasses
 import json
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from gearsim.errors import InputError
+from gearsim.commands._options import as_options
+from gearsim.model import example_text, load
+from gearsim.system import train_stiffness
 
 __all__ = ["register"]
 
 
-def _with_crack_choice(train, crack: str | None, closure: str | None):
-    if closure is not None:
-        if closure not in ("open", "contact"):
-            raise InputError("--closure", closure, 'must be "open" or "contact"')
-        train = dataclasses.replace(train, stiffness=dataclasses.replace(train.stiffness,
-                                                                         closure=closure))
-    from gearsim.commands.dynamics import with_crack_choice
-
-    return with_crack_choice(train, crack)
-
-
 def example(name: Annotated[str, typer.Argument(help="idler-table1 or spur-19-48")]) -> None:
     """Print a built-in example configuration (TOML)."""
-    from gearsim.io.config import example_text
-
     typer.echo(example_text(name), nl=False)
 
 
@@ -41,17 +29,16 @@ def stiffness(
     closure: Annotated[str | None, typer.Option(help="open or contact")] = None,
 ) -> None:
     """Time-varying mesh stiffness of every mesh over one revolution of each gear."""
-    from gearsim.io.config import load
-    from gearsim.stiffness.report import train_stiffness
-
-    train = _with_crack_choice(load(config), crack, closure)
+    gb = load(config)
+    with as_options({"crack": "--crack", "stiffness.closure": "--closure"}):
+        train = gb.train.with_crack(crack, closure=closure)
     ts = train_stiffness(train)
     if out is not None:
         ts.write(out)
     if plot is not None:
-        from gearsim.viz.stiffness import plot_train_stiffness
+        from gearsim.viz import save
 
-        plot_train_stiffness(ts, plot)
+        save(ts.plot(), plot, parameter="--plot")
     summary = ts.summary()
     if json_:
         typer.echo(json.dumps(summary, indent=2))

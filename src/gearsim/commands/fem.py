@@ -8,6 +8,9 @@ from typing import Annotated
 
 import typer
 
+from gearsim.fem.check import fe_check
+from gearsim.model import load
+
 __all__ = ["fe_check_command", "register"]
 
 
@@ -26,14 +29,13 @@ def fe_check_command(
 ) -> None:
     """FE and potential-energy tooth compliance along the path of contact, with the
     max / min / mean differences (the seed's Figure 3) and the mesh level used."""
-    from gearsim.fem.check import fe_check
-    from gearsim.io.config import load
-
-    result = fe_check(load(config), gear, crack=crack, closure=closure, level=level,
+    result = fe_check(load(config).train, gear, crack=crack, closure=closure, level=level,
                       points=points)
     if plot is not None:
         name = f"fe_check_{result.gear.name}_{result.crack}_{result.closure}.png"
-        result.plot(Path(plot) / name)
+        from gearsim.viz import save
+
+        save(result.plot(), Path(plot) / name)
     if json_:
         typer.echo(json.dumps(result.to_dict(), indent=2))
         return

@@ -10,13 +10,13 @@ from typing import Annotated
 import typer
 
 from gearsim.errors import InputError
+from gearsim.studies.reproduce import ReproduceOptions, run_reproduction
+from gearsim.units import to_si
 
 __all__ = ["register"]
 
 
 def _depths(text: str) -> tuple[float, ...]:
-    from gearsim.units import to_si
-
     parts = [p.strip() for p in text.split(",") if p.strip()]
     if not parts:
         raise InputError("--depths", text, "must list at least one depth, e.g. '2 mm, 6 mm'")
@@ -42,9 +42,6 @@ def reproduce(
 ) -> None:
     """Reproduce the seed's study (Shi, Li & Zhou 2025): healthy, working- and
     non-working-flank crack; figures like its Figs. 3, 5-8; claims table; report.html."""
-    from gearsim.studies.reproduce import ReproduceOptions, run_reproduction
-    from gearsim.units import to_si
-
     d = to_si(depth if any(c.isalpha() for c in depth) else f"{depth} mm", "length", "--depth")
     opt = ReproduceOptions(config=config, depth=d, depths=_depths(depths),
                            revolutions=revolutions, fe=fe, model=model)

@@ -8,6 +8,10 @@ from typing import Annotated
 
 import typer
 
+from gearsim.studies.diagnostic import diagnostic_report
+from gearsim.studies.sweep import load_study
+from gearsim.studies.sweep_run import run_study
+
 __all__ = ["register"]
 
 
@@ -27,8 +31,6 @@ def sweep(
 ) -> None:
     """Run a parameter study (crack depth, flank, closure, speed, torque, bearing stiffness,
     noise) on Dask; resumes from OUT.parts/ after an interruption."""
-    from gearsim.studies.sweep import load_study
-    from gearsim.studies.sweep_run import run_study
 
     st = load_study(study)
     if show:
@@ -42,7 +44,6 @@ def sweep(
 
 
 def _report(store: Path, out: Path) -> None:
-    from gearsim.studies.diagnostic import diagnostic_report
 
     paths = diagnostic_report(store, out)
     for p in paths:
@@ -56,7 +57,6 @@ def sweep_report(
 ) -> None:
     """Separability of healthy / working-flank / non-working-flank cracks per feature group
     (cross-validated logistic regression): table (CSV, JSON) and figure (PNG)."""
-    from gearsim.studies.diagnostic import diagnostic_report
 
     paths = diagnostic_report(store, out)
     if json_:

@@ -55,6 +55,8 @@ import math
 
 import numpy as np
 
+from gearsim.dynamics.layout import layout
+from gearsim.dynamics.lta import ste_harmonics
 from gearsim.dynamics.model import DynamicModel, static_equilibrium
 from gearsim.dynamics.settings import DynamicsSettings
 from gearsim.dynamics.tables import MeshTable, mesh_tables
@@ -81,7 +83,6 @@ def build_seed(train: GearTrain, settings: DynamicsSettings | None = None, *,
     DynamicModel
         Coordinates y_j [m]; mesh force f_i = F_y,i [N].
     """
-    from gearsim.dynamics.lta import ste_harmonics
 
     settings = settings or DynamicsSettings()
     tables = tables or mesh_tables(train)
@@ -110,7 +111,6 @@ def build_seed(train: GearTrain, settings: DynamicsSettings | None = None, *,
     e_const, amp, om, ph = ste_harmonics(train, settings, np.zeros(nm), np.zeros(nm),
                                          np.ones(ng), signs)
     # mesh phase of a straight chain in the seed model: the LTA layout phases
-    from gearsim.dynamics.layout import layout
 
     lay = layout(train, settings.per_item("idler_angle", ng - 2, "idler") if ng > 2 else ())
     amp_pm_phase = 2 * math.pi * lay.phase + 0.5 * math.pi

@@ -25,9 +25,9 @@ from dataclasses import dataclass, fields
 from typing import Any
 
 from gearsim.errors import InputError, require
-from gearsim.units import to_si
+from gearsim.sections import convert
 
-__all__ = ["DEFAULT_STEP", "DynamicsSettings", "parse_dynamics"]
+__all__ = ["DEFAULT_STEP", "KEYS", "LIST_KEYS", "MODELS", "DynamicsSettings", "parse_dynamics"]
 
 #: Default largest integration step [s]. From the step-halving study on the Table-1 train
 #: (working-flank crack; ``tests/dynamics/test_dyn_convergence.py``, table in
@@ -194,28 +194,23 @@ LIST_KEYS = ("backlash", "idler_angle", "profile_modification", "crowning", "run
              "runout_phase", "assembly_error")
 
 
-def parse_dynamics(table: dict, section: str) -> DynamicsSettings:
-    """Parse the ``[dynamics]`` table (values with units) into :class:`DynamicsSettings`."""
-    from gearsim.io.config import convert
+def parse_dynamics(table: Any, section: str = "dynamics") -> DynamicsSettings:
+    """Parse the ``[dynamics]`` table (values with units) into :class:`DynamicsSettings`.
 
-    if not isinstance(table, dict):
-        raise InputError(section, table, "must be a table")
-    scalars = {k: v for k, v in table.items() if not (k in LIST_KEYS and isinstance(v, list))}
-    kw: dict[str, Any] = convert(scalars, KEYS, section)
-    for key in LIST_KEYS:
-        value = table.get(key)
-        if isinstance(value, list):
-            if not value:
-                raise InputError(f"{section}.{key}", value, "must not be empty")
-            kw[key] = tuple(to_si(v, KEYS[key], f"{section}.{key}[{i}]")
-                            for i, v in enumerate(value))
-    return DynamicsSettings(**kw)
+    Parameters
+    ----------
+    table : dict
+        The TOML table.
+    section : str, optional
+        Its name, for messages.
 
+    Returns
+    -------
+    DynamicsSettings
 
-def _register() -> None:
-    from gearsim.io.config import EXTRA_SECTIONS
-
-    EXTRA_SECTIONS["dynamics"] = parse_dynamics
-
-
-_register()
+    Raises
+    ------
+    InputError
+        Unknown key, bad value or a value out of range.
+    """
+    return DynamicsSettings(**convert(table, KEYS, section, list_keys=LIST_KEYS))

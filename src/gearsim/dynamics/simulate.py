@@ -28,13 +28,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gearsim._version import __version__
 from gearsim.dynamics import _kernels
+from gearsim.dynamics.lta import build_lta
 from gearsim.dynamics.modal import decay_time, modes, stable_step
 from gearsim.dynamics.model import DynamicModel
+from gearsim.dynamics.seed3dof import build_seed
 from gearsim.dynamics.settings import DynamicsSettings
 from gearsim.dynamics.tables import MeshTable, mesh_tables
 from gearsim.errors import InputError, SimulationError
-from gearsim.system import GearTrain
+from gearsim.system.toml import train_to_toml
+from gearsim.system.train import GearTrain
 
 __all__ = ["Raw", "build_model", "integration_step", "reference_mesh_forces", "reference_rhs", "run_kernel",
            "settings_of", "simulate", "summary"]
@@ -48,18 +52,26 @@ FIR_CUTOFF = 0.45  # of fs
 
 
 def settings_of(train: GearTrain, settings: DynamicsSettings | None = None) -> DynamicsSettings:
-    """The explicit settings, else the config's ``[dynamics]`` section, else the defaults."""
-    if settings is not None:
-        return settings
-    return train.extra.get("dynamics") or DynamicsSettings()
+    """The explicit settings, else the defaults.
+
+    Parameters
+    ----------
+    train : GearTrain
+        The train (kept for the call signature of the model builders).
+    settings : DynamicsSettings, optional
+        Settings given by the caller (a :class:`gearsim.model.Gearbox` carries the
+        config's ``[dynamics]`` section).
+
+    Returns
+    -------
+    DynamicsSettings
+    """
+    return settings if settings is not None else DynamicsSettings()
 
 
 def build_model(train: GearTrain, settings: DynamicsSettings | None = None, *,
                 tables: tuple[MeshTable, ...] | None = None) -> DynamicModel:
     """Equations of motion of ``train`` for ``settings.model`` ("lta" or "seed")."""
-    from gearsim.dynamics.lta import build_lta
-    from gearsim.dynamics.seed3dof import build_seed
-
     settings = settings_of(train, settings)
     tables = tables or mesh_tables(train)
     if settings.model == "seed":
@@ -242,8 +254,6 @@ def simulate(train: GearTrain, settings: DynamicsSettings | None = None, *,
 def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient):
     import xarray as xr
 
-    import gearsim
-    from gearsim.io.results import train_to_toml
 
     acc = (model.fext[None, :] - model.kb * q - model.cb * v - f @ model.V) / model.mass
     dte = q @ model.V.T + model.dte_offset
@@ -286,8 +296,8 @@ def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient)
         "natural_frequencies": [float(x) for x in md.frequencies],
         "cracks": "; ".join(f"{c.gear} tooth {c.tooth} {c.flank} depth {c.depth:g} m angle "
                             f"{math.degrees(c.angle):g} deg" for c in train.cracks) or "none",
-        "config": train_to_toml(train, settings),
-        "gearsim_version": gearsim.__version__,
+        "config": train_to_toml(train, settings.to_dict()),
+        "gearsim_version": __version__,
         "anti_aliasing": (f"FIR Kaiser({FIR_BETA}) {2 * FIR_HALF_PER_R * settings.oversample + 1}"
                           f" taps, cut-off {FIR_CUTOFF} fs, from {settings.oversample} fs"
                           if settings.oversample > 1 else "none (instantaneous samples)"),

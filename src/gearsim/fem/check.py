@@ -35,12 +35,32 @@ CRACK_CHOICES = ("none", "working", "non-working")
 class FECheck:
     """FE and PE tooth compliance of one gear along its path of contact.
 
-    Attributes
+    Parameters
     ----------
-    radii : contact radii [m]
-    roll_angle : involute roll angle tan(alpha_r) [rad]
-    fe, pe : compliance for a face width of 1 m [m/N]
-    fe_result : the FE run (mesh size, dofs, contact state)
+    gear
+        The gear.
+    radii
+        Contact radii [m].
+    roll_angle
+        Involute roll angle tan(alpha_r) at each radius [rad].
+    fe, pe
+        FE and PE compliance (Hertz excluded) for a face width of 1 m [m/N].
+    crack
+        Crack case label (``"none"``, ``"working"``, ``"non-working"``).
+    closure
+        Crack-face model, ``"open"`` or ``"contact"``.
+    plane
+        ``"stress"`` or ``"strain"``.
+    fe_result
+        The FE run (mesh size, dofs, contact state).
+    depth
+        Crack depth [m]; 0 for a healthy tooth.
+    pe_components
+        PE columns (bending, shear, axial, foundation), shape (n, 4) [m/N].
+
+    References
+    ----------
+    Seed (Shi, Li & Zhou 2025), Figure 3b (comparison of max, min and mean).
     """
 
     gear: Gear
@@ -96,17 +116,47 @@ class FECheck:
                                      "stiffness (Hertz excluded)",
         }
 
-    def plot(self, path):
-        """Figure of the two curves (see :func:`gearsim.viz.fem.plot_fe_check`)."""
+    def plot(self, *, fig=None):
+        """Figure of the two curves and their differences (see :func:`gearsim.viz.fem.plot_fe_check`).
+
+        Parameters
+        ----------
+        fig : matplotlib.figure.Figure, optional
+            Figure to draw into (two panels); default a new one.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure; write it with :func:`gearsim.viz.save`.
+        """
         from gearsim.viz.fem import plot_fe_check
 
-        return plot_fe_check(self, path)
+        return plot_fe_check(self, fig=fig)
 
 
 def contact_radii(train, gear_name: str, n: int) -> np.ndarray:
-    """``n`` contact radii of ``gear_name`` over its path of contact in its first mesh.
+    """Contact radii of a gear over its path of contact in its first mesh.
 
-    Equally spaced in roll length from the start of active profile to the tip [m].
+    Equally spaced in roll length from the start of active profile to the tip.
+
+    Parameters
+    ----------
+    train
+        The gear train.
+    gear_name
+        Name of the gear.
+    n
+        Number of radii (>= 3).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Radii [m].
+
+    Raises
+    ------
+    InputError
+        If ``n`` is not an integer >= 3.
     """
     if not (isinstance(n, int) and n >= 3):
         raise InputError("--points", n, "must be an integer >= 3")
@@ -137,7 +187,10 @@ def compare_gear(gear: Gear, radii, *, crack: Crack | None = None, side: int = 0
     radii
         Contact radii [m].
     crack
-        The crack or ``None``; ``side`` +1 puts it on the loaded flank, -1 on the other.
+        The crack or ``None``.
+    side
+        +1 puts the crack on the loaded flank, -1 on the other, 0 leaves the tooth
+        healthy.
     closure, plane
         As :class:`gearsim.stiffness.mesh.StiffnessSettings`.
     options

@@ -38,6 +38,7 @@ import numpy as np
 from gearsim.errors import InputError
 from gearsim.geometry.gear import Gear
 from gearsim.geometry.profile import ToothProfile
+from gearsim.stiffness.crack import crack_geometry
 
 __all__ = [
     "CrackLine",
@@ -99,20 +100,55 @@ class SectorOptions:
             raise InputError("fem.tip_refinement", self.tip_refinement, "must be in [0.05, 1]")
 
     def teeth_in(self, z: int) -> int:
-        """Teeth of the model for a gear of z teeth (z for the whole gear)."""
+        """Teeth of the model for a gear of z teeth.
+
+        Parameters
+        ----------
+        z
+            Tooth count of the gear.
+
+        Returns
+        -------
+        int
+            ``n_teeth``, or z for the whole gear (or a sector as large as the gear).
+        """
         return z if self.n_teeth is None or self.n_teeth >= z else self.n_teeth
 
 
 def element_size(gear: Gear, level: int) -> float:
-    """Element size on the middle tooth at refinement ``level``, m_n / (4 2^N) [m]."""
+    """Element size on the middle tooth at a refinement level.
+
+    Parameters
+    ----------
+    gear
+        The gear.
+    level
+        Refinement level N >= 0.
+
+    Returns
+    -------
+    float
+        h = m_n / (4 2^N) [m].
+
+    Examples
+    --------
+    >>> from gearsim.geometry.gear import Gear
+    >>> element_size(Gear(teeth=39, normal_module=6e-3), 2) * 1e3
+    0.375
+    """
     return gear.normal_module / (4.0 * 2.0**level)
 
 
 @dataclass(frozen=True)
 class CrackLine:
-    """A straight crack in the sector frame [m].
+    """A straight crack in the sector frame.
 
-    ``start`` lies on the outline (root fillet of the middle tooth), ``tip`` inside.
+    Parameters
+    ----------
+    start
+        Start point on the outline (root fillet of the middle tooth) [m].
+    tip
+        Tip, inside the tooth [m].
     """
 
     start: tuple[float, float]
@@ -120,6 +156,7 @@ class CrackLine:
 
     @property
     def depth(self) -> float:
+        """Crack length |tip - start| [m]."""
         return math.dist(self.start, self.tip)
 
     @property
@@ -144,7 +181,6 @@ def crack_line(profile: ToothProfile, crack, depth: float, side: int) -> CrackLi
         +1: crack on the loaded (+x) flank; -1: on the unloaded flank, i.e. the crack of
         :func:`~gearsim.stiffness.crack.crack_geometry` mirrored to ``-x``.
     """
-    from gearsim.stiffness.crack import crack_geometry
 
     if side not in (1, -1):
         raise InputError("side", side, "must be +1 (loaded flank) or -1 (unloaded flank)")
@@ -157,17 +193,29 @@ def crack_line(profile: ToothProfile, crack, depth: float, side: int) -> CrackLi
 class SectorMesh:
     """Linear triangulation of the sector, after splitting along the crack.
 
-    Attributes
+    Parameters
     ----------
-    p : node coordinates, shape (2, n) [m]
-    t : triangles, shape (3, m)
-    bore, sides : node indices on the bore arc and on the two radial edges
-    flank : node indices on the involute of the loaded (+x) flank of the middle tooth
-    crack_pairs : shape (2, k): (node on the - side, duplicate on the + side) of the
-        crack faces (the tip is not duplicated and not listed)
-    crack_edges : shape (2, e): crack segments as pairs of - side nodes
-    crack : the crack segment or ``None``
-    h : element size on the middle tooth [m]
+    p
+        Node coordinates, shape (2, n) [m].
+    t
+        Triangles, shape (3, m).
+    bore, sides
+        Node indices on the bore arc and on the two radial edges.
+    flank
+        Node indices on the involute of the loaded (+x) flank of the middle tooth.
+    crack_pairs
+        Shape (2, k): (node on the - side, duplicate on the + side) of the crack faces
+        (the tip is not duplicated and not listed).
+    crack_edges
+        Shape (2, e): crack segments as pairs of - side nodes.
+    crack_dup
+        Map from a - side crack node to its + side duplicate.
+    crack
+        The crack segment or ``None``.
+    h
+        Element size on the middle tooth [m].
+    level
+        Refinement level of the mesh.
     """
 
     p: np.ndarray
@@ -235,6 +283,8 @@ def sector_outline_check(half: np.ndarray, teeth: int, n_teeth: int, bore: float
         Teeth in the sector.
     bore
         Bore radius [m].
+    name
+        Gear name for error messages.
 
     Returns
     -------

@@ -45,15 +45,62 @@ MAX_ACTIVE_SET_ITERATIONS = 60
 
 
 def lame(youngs_modulus: float, poisson_ratio: float) -> tuple[float, float]:
-    """Lame constants (lambda, mu) of the 3D material [Pa]."""
+    """Lame constants of the 3D material.
+
+    Parameters
+    ----------
+    youngs_modulus
+        E [Pa].
+    poisson_ratio
+        nu [-].
+
+    Returns
+    -------
+    tuple of float
+        (lambda, mu) = (E nu / ((1 + nu)(1 - 2 nu)), E / (2 (1 + nu))) [Pa].
+
+    Examples
+    --------
+    Steel, E 206 GPa, nu 0.3: lambda = 118.85 GPa, mu = 79.23 GPa.
+
+    >>> [round(v / 1e9, 2) for v in lame(206e9, 0.3)]
+    [118.85, 79.23]
+    """
     e, nu = youngs_modulus, poisson_ratio
     return e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), e / (2.0 * (1.0 + nu))
 
 
 def plane_lame(youngs_modulus: float, poisson_ratio: float, plane: str) -> tuple[float, float]:
-    """(lambda, mu) of the 2D constitutive law for ``plane`` = "stress" or "strain" [Pa].
+    """Lame constants of the 2D constitutive law.
 
-    Plane stress: lambda* = E nu / (1 - nu^2); plane strain: the 3D lambda.
+    Plane stress: lambda* = 2 lambda mu / (lambda + 2 mu) = E nu / (1 - nu^2);
+    plane strain: the 3D lambda.
+
+    Parameters
+    ----------
+    youngs_modulus
+        E [Pa].
+    poisson_ratio
+        nu [-].
+    plane
+        ``"stress"`` or ``"strain"``.
+
+    Returns
+    -------
+    tuple of float
+        (lambda, mu) [Pa].
+
+    Raises
+    ------
+    InputError
+        If ``plane`` is neither.
+
+    Examples
+    --------
+    Plane stress, steel: E nu / (1 - nu^2) = 206 x 0.3 / 0.91 = 67.91 GPa.
+
+    >>> round(plane_lame(206e9, 0.3, "stress")[0] / 1e9, 2)
+    67.91
     """
     if plane not in ("stress", "strain"):
         raise InputError("stiffness.plane", plane, 'must be "stress" or "strain"')
@@ -77,6 +124,15 @@ class ElasticModel:
         ``"stress"`` or ``"strain"``.
     order
         Polynomial order of the displacement, 1 or 2.
+
+    Raises
+    ------
+    InputError
+        If ``order`` or ``plane`` is invalid.
+
+    References
+    ----------
+    Gustafsson & McBain (2020) (scikit-fem); Zienkiewicz & Taylor, vol. 1, ch. 6.
     """
 
     p: np.ndarray
@@ -85,7 +141,7 @@ class ElasticModel:
     poisson_ratio: float
     plane: str = "stress"
     order: int = 2
-    _facet_index: dict = field(default_factory=dict, repr=False)
+    _facet_index: dict = field(default_factory=dict, repr=False, init=False)
 
     def __post_init__(self) -> None:
         from skfem import Basis, ElementTriP1, ElementTriP2, ElementVector, MeshTri
@@ -106,29 +162,85 @@ class ElasticModel:
 
     @property
     def ndofs(self) -> int:
+        """Number of displacement degrees of freedom."""
         return int(self.basis.N)
 
     # ----------------------------------------------------------------- dof lookups
     def facets_on_nodes(self, nodes: np.ndarray) -> np.ndarray:
-        """Boundary facets whose two vertices are both in ``nodes``."""
+        """Boundary facets whose two vertices are both in ``nodes``.
+
+        Parameters
+        ----------
+        nodes
+            Mesh vertex indices.
+
+        Returns
+        -------
+        ndarray
+            Facet indices.
+        """
         bf = self.mesh.boundary_facets()
         inside = np.isin(self.mesh.facets[:, bf], nodes).all(axis=0)
         return bf[inside]
 
     def facet(self, a: int, b: int) -> int:
-        """Index of the facet (edge) between nodes ``a`` and ``b``."""
+        """Index of the facet (edge) between two nodes.
+
+        Parameters
+        ----------
+        a, b
+            Vertex indices (either order).
+
+        Returns
+        -------
+        int
+            Facet index.
+        """
         return self._facet_index[(min(a, b), max(a, b))]
 
     def dofs_on_facets(self, facets: np.ndarray) -> np.ndarray:
-        """All displacement dofs (both components, vertices and edges) of ``facets``."""
+        """All displacement dofs (both components, vertices and edges) of facets.
+
+        Parameters
+        ----------
+        facets
+            Facet indices.
+
+        Returns
+        -------
+        ndarray
+            Dof indices.
+        """
         return self.basis.get_dofs(facets=facets).flatten()
 
     def node_dofs(self, node: int) -> np.ndarray:
-        """(x, y) dofs of a mesh vertex."""
+        """(x, y) dofs of a mesh vertex.
+
+        Parameters
+        ----------
+        node
+            Vertex index.
+
+        Returns
+        -------
+        ndarray, shape (2,)
+            Dof indices.
+        """
         return self.basis.nodal_dofs[:, node]
 
     def edge_dofs(self, facet: int) -> np.ndarray:
-        """(x, y) dofs of the midpoint of a P2 edge."""
+        """(x, y) dofs of the midpoint of a P2 edge.
+
+        Parameters
+        ----------
+        facet
+            Facet index.
+
+        Returns
+        -------
+        ndarray, shape (2,)
+            Dof indices.
+        """
         return self.basis.facet_dofs[:, facet]
 
     # ----------------------------------------------------------------- loads
@@ -162,7 +274,18 @@ class ElasticModel:
         return form.assemble(fb)
 
     def probe(self, points: np.ndarray) -> sp.csr_matrix:
-        """Matrix P with ``(P @ u)`` = [u_x at points, u_y at points]."""
+        """Interpolation matrix at points.
+
+        Parameters
+        ----------
+        points
+            Coordinates, shape (2, k) [m].
+
+        Returns
+        -------
+        scipy.sparse.csr_matrix
+            P with ``P @ u`` = [u_x at the points, u_y at the points].
+        """
         return self.basis.probes(np.asarray(points, dtype=float).reshape(2, -1)).tocsr()
 
     # ----------------------------------------------------------------- solving
@@ -233,7 +356,17 @@ class ElasticModel:
 
         Returns
         -------
-        u, active, iterations
+        u : ndarray
+            Displacements [m].
+        active : ndarray of bool
+            Final active set (closed pairs).
+        iterations : int
+            Active-set iterations used.
+
+        Raises
+        ------
+        SimulationError
+            If the active set does not settle.
         """
         k = pairs.shape[0]
         act = np.ones(k, dtype=bool) if active is None else np.asarray(active, bool).copy()

@@ -1,6 +1,8 @@
 """FE tooth compliance as the stiffness table of a simulation (``stiffness.source = "fe"``).
 
-:func:`fe_compliance` is the hook called by :func:`gearsim.stiffness.mesh.mesh_stiffness`.
+:func:`FiniteElementCompliance` implements the tooth-compliance protocol of
+:mod:`gearsim.stiffness.source` for :func:`gearsim.stiffness.mesh.mesh_stiffness`; each
+slice's curve comes from :func:`fe_compliance`.
 It runs the finite-element model (:mod:`gearsim.fem.tooth`) at ``NODES`` contact
 positions equally spaced in roll length over the whole involute (form circle to tip),
 interpolates them with a cubic spline in roll length to the requested radii, and caches
@@ -28,9 +30,12 @@ from gearsim.fem.geometry import SectorOptions, element_size
 from gearsim.fem.tooth import fe_tooth_compliance
 from gearsim.geometry.gear import Gear
 from gearsim.geometry.profile import ToothProfile
+from gearsim.io.atomic import atomic_write
+from gearsim.stiffness.settings import StiffnessSettings
+from gearsim.stiffness.source import ToothCrack
 
-__all__ = ["CACHE_VERSION", "DEFAULT_LEVEL", "NODES", "cache_dir", "fe_compliance",
-           "fe_nodes"]
+__all__ = ["CACHE_VERSION", "DEFAULT_LEVEL", "NODES", "FiniteElementCompliance", "cache_dir",
+           "fe_compliance", "fe_nodes"]
 
 #: Contact positions computed by FE per curve (interpolated in between).
 NODES = 13
@@ -85,22 +90,11 @@ def fe_nodes(gear: Gear) -> np.ndarray:
 
 
 def _write_npz(path: Path, **arrays) -> None:
-    try:
-        from gearsim.io.atomic import atomic_write
-    except ImportError:  # pragma: no cover - older tree without the helper
-        atomic_write = None
-
     def write(tmp: Path) -> None:
         with open(tmp, "wb") as fh:
             np.savez(fh, **arrays)
 
-    if atomic_write is not None:
-        atomic_write(path, write)
-        return
-    path.parent.mkdir(parents=True, exist_ok=True)  # pragma: no cover
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")  # pragma: no cover
-    write(tmp)  # pragma: no cover
-    os.replace(tmp, path)  # pragma: no cover
+    atomic_write(path, write)
 
 
 def fe_compliance(gear: Gear, radii, *, crack=None, depth: float = 0.0, side: int = 0,
@@ -177,3 +171,56 @@ def fe_compliance(gear: Gear, radii, *, crack=None, depth: float = 0.0, side: in
     out = np.zeros((r.size, 4))
     out[:, 0] = spline(np.sqrt(np.maximum(np.clip(r, lo, hi) ** 2 - rb**2, 0.0)))
     return out
+
+
+class FiniteElementCompliance:
+    """The finite-element tooth as a stiffness source (``stiffness.source = "fe"``).
+
+    Implements :class:`gearsim.stiffness.source.ToothCompliance`: per face-width slice
+    (local crack depth of a crack profile), the FE compliance curve of
+    :func:`fe_compliance` at the contact radii. The whole FE compliance is returned in
+    the bending column; shear, axial and foundation are zero (the FE tooth does not
+    split them).
+    """
+
+    name = "fe"
+
+    def compliance(self, gear: Gear, radii: np.ndarray, crack: ToothCrack | None,
+                   zfrac: np.ndarray, settings: StiffnessSettings) -> np.ndarray:
+        """Compliances of the FE tooth of ``gear`` loaded at ``radii``.
+
+        Parameters
+        ----------
+        gear : Gear
+            The gear whose tooth is loaded.
+        radii : ndarray, shape (..., ns)
+            Contact radius [m] per grid point and slice; 0 where not in contact.
+        crack : ToothCrack or None
+            The crack of this tooth as seen by the mesh, or None.
+        zfrac : ndarray, shape (ns,)
+            Axial position of each slice centre / face width [-].
+        settings : StiffnessSettings
+            Closure and plane of the FE model.
+
+        Returns
+        -------
+        ndarray, shape (..., ns, 4)
+            Compliance times unit face width [m/N * m] in column 0, zeros elsewhere.
+        """
+        out = np.zeros(radii.shape + (4,))
+        ns = radii.shape[-1]
+        for k in range(ns):
+            rk = radii[..., k].ravel()
+            depth = 0.0
+            if crack is not None:
+                depth = (float(crack.crack.depth_at(zfrac[k:k + 1])[0]) if ns > 1
+                         else crack.crack.depth)
+            sel = rk > 0
+            vals = np.zeros((rk.size, 4))
+            if np.any(sel):
+                vals[sel] = fe_compliance(gear, rk[sel], crack=None if crack is None
+                                          else crack.crack, depth=depth,
+                                          side=0 if crack is None else crack.side,
+                                          settings=settings)
+            out[..., k, :] = vals.reshape(radii.shape[:-1] + (4,))
+        return out

@@ -52,7 +52,33 @@ PATCH_HALF_LENGTH = 0.05
 
 @dataclass
 class FEToothResult:
-    """FE tooth compliance at contact radii and how it was obtained."""
+    """FE tooth compliance at contact radii and how it was obtained.
+
+    Parameters
+    ----------
+    radii
+        Contact radii [m].
+    compliance
+        Compliance at each radius for a face width of 1 m [m/N] (Hertz excluded).
+    level
+        Mesh refinement level.
+    h
+        Element size on the loaded tooth [m].
+    nodes, elements, dofs
+        Mesh and problem size.
+    closure
+        ``"open"`` or ``"contact"``.
+    plane
+        ``"stress"`` or ``"strain"``.
+    crack
+        The crack segment or ``None``.
+    contact_iterations
+        Active-set iterations per radius (contact closure).
+    closed_fraction
+        Share of the crack face length in contact per radius [-].
+    seconds
+        Wall time [s].
+    """
 
     radii: np.ndarray
     compliance: np.ndarray  # [m/N] for a face width of 1 m

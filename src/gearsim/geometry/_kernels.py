@@ -37,7 +37,25 @@ P_SIZE = 13
 
 @njit(cache=True)
 def fillet_point(g, prof):
-    """Point (x, y) of the generated fillet for the rack round angle ``g`` [m]."""
+    """Point (x, y) of the generated fillet for the rack round angle ``g``.
+
+    Parameters
+    ----------
+    g
+        Angle of the rack tip round's normal, alpha_n <= g <= pi/2 [rad].
+    prof
+        Packed profile array (``P_*`` layout).
+
+    Returns
+    -------
+    tuple of float
+        (x, y) in the tooth frame [m].
+
+    References
+    ----------
+    Litvin & Fuentes (2004), ch. 10: the generating point's normal passes through the
+    pitch point.
+    """
     r = prof[P_R]
     cb = prof[P_CB]
     rho = prof[P_RHO]
@@ -56,7 +74,20 @@ def fillet_point(g, prof):
 
 @njit(cache=True)
 def involute_point(rad, prof):
-    """Point (x, y) of the involute flank at radius ``rad`` [m]."""
+    """Point (x, y) of the involute flank at radius ``rad``.
+
+    Parameters
+    ----------
+    rad
+        Radius, >= r_b (clipped to the base circle below it) [m].
+    prof
+        Packed profile array (``P_*`` layout).
+
+    Returns
+    -------
+    tuple of float
+        (x, y) = r (sin psi, cos psi), psi = psi_b - inv(alpha_r) [m].
+    """
     rb = prof[P_RB]
     ca = rb / rad
     if ca > 1.0:
@@ -68,7 +99,22 @@ def involute_point(rad, prof):
 
 @njit(cache=True)
 def profile_point(seg, p, prof):
-    """Outline point for segment ``seg`` (0 fillet, 1 involute) and parameter ``p``."""
+    """Outline point of one segment.
+
+    Parameters
+    ----------
+    seg
+        0 fillet (``p`` the rack-round angle [rad]), 1 involute (``p`` the radius [m]).
+    p
+        Segment parameter.
+    prof
+        Packed profile array (``P_*`` layout).
+
+    Returns
+    -------
+    tuple of float
+        (x, y) [m].
+    """
     if seg == 0:
         return fillet_point(p, prof)
     return involute_point(p, prof)
@@ -76,7 +122,22 @@ def profile_point(seg, p, prof):
 
 @njit(cache=True)
 def profile_dy(seg, p, prof):
-    """Derivatives (dx/dp, dy/dp) of the outline by central differences."""
+    """Derivatives (dx/dp, dy/dp) of the outline by central differences.
+
+    Parameters
+    ----------
+    seg
+        0 fillet, 1 involute.
+    p
+        Segment parameter (step 1e-7 rad on the fillet, 1e-7 r on the involute).
+    prof
+        Packed profile array (``P_*`` layout).
+
+    Returns
+    -------
+    tuple of float
+        (dx/dp, dy/dp) [m/rad on the fillet, - on the involute].
+    """
     if seg == 0:
         h = 1e-7
     else:
@@ -88,10 +149,27 @@ def profile_dy(seg, p, prof):
 
 @njit(cache=True)
 def param_at_coordinate(seg, coord, value, pa, pb, prof):
-    """Parameter in [pa, pb] of segment ``seg`` where outline coordinate ``coord``
-    (0: half width x, 1: height y) equals ``value``; bisection to 1e-15 relative.
+    """Parameter of a segment where an outline coordinate equals ``value``.
 
-    The coordinate must change sign once against ``value`` on [pa, pb].
+    Bisection to 1e-15 relative; the coordinate must cross ``value`` once on [pa, pb].
+
+    Parameters
+    ----------
+    seg
+        0 fillet, 1 involute.
+    coord
+        0: half width x, 1: height y.
+    value
+        Target coordinate [m].
+    pa, pb
+        Bracket of the segment parameter.
+    prof
+        Packed profile array (``P_*`` layout).
+
+    Returns
+    -------
+    float
+        The parameter.
     """
     fa = profile_point(seg, pa, prof)[coord] - value
     lo = pa
@@ -111,19 +189,68 @@ def param_at_coordinate(seg, coord, value, pa, pb, prof):
 
 @njit(cache=True)
 def param_at_height(seg, y, pa, pb, prof):
-    """Parameter where the outline height equals ``y`` (monotone on each segment)."""
+    """Parameter where the outline height equals ``y`` (monotone on each segment).
+
+    Parameters
+    ----------
+    seg
+        0 fillet, 1 involute.
+    y
+        Height [m].
+    pa, pb
+        Bracket of the segment parameter.
+    prof
+        Packed profile array (``P_*`` layout).
+
+    Returns
+    -------
+    float
+        The parameter.
+    """
     return param_at_coordinate(seg, 1, y, pa, pb, prof)
 
 
 @njit(cache=True)
 def param_at_halfwidth(seg, xw, pa, pb, prof):
-    """Parameter where the outline half width equals ``xw``."""
+    """Parameter where the outline half width equals ``xw``.
+
+    Parameters
+    ----------
+    seg
+        0 fillet, 1 involute.
+    xw
+        Half width [m].
+    pa, pb
+        Bracket of the segment parameter.
+    prof
+        Packed profile array (``P_*`` layout).
+
+    Returns
+    -------
+    float
+        The parameter.
+    """
     return param_at_coordinate(seg, 0, xw, pa, pb, prof)
 
 
 @njit(cache=True)
 def sample_outline(prof, n_fillet, n_inv, out):
-    """Fill ``out`` (n_fillet + n_inv, 2) with outline points from root to tip."""
+    """Fill ``out`` with outline points from root to tip.
+
+    Parameters
+    ----------
+prof
+        Packed profile array (``P_*`` layout).
+    n_fillet, n_inv
+        Points on the fillet (uniform in g) and on the involute (uniform in r), >= 2.
+    out
+        Array of shape (n_fillet + n_inv, 2), filled in place with (x, y) [m].
+
+    Returns
+    -------
+    ndarray
+        ``out``.
+    """
     an = prof[P_AN]
     for i in range(n_fillet):
         g = 0.5 * math.pi - (0.5 * math.pi - an) * i / (n_fillet - 1)
@@ -141,5 +268,11 @@ def sample_outline(prof, n_fillet, n_inv, out):
 
 
 def empty_profile() -> np.ndarray:
-    """A zeroed profile array of the right size."""
+    """A zeroed profile array of size ``P_SIZE``.
+
+    Returns
+    -------
+    ndarray
+        Zeros, shape (P_SIZE,).
+    """
     return np.zeros(P_SIZE)

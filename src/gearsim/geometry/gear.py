@@ -24,12 +24,57 @@ __all__ = ["Material", "Gear", "inv", "inv_inverse"]
 
 
 def inv(alpha: float) -> float:
-    """Involute function ``inv(a) = tan(a) - a`` [rad]."""
+    """Involute function ``inv(a) = tan(a) - a``.
+
+    Parameters
+    ----------
+    alpha
+        Pressure angle a [rad].
+
+    Returns
+    -------
+    float
+        inv(a) [rad].
+
+    References
+    ----------
+    ISO 21771:2007 (involute function); Litvin & Fuentes (2004), ch. 10.
+
+    Examples
+    --------
+    The tabulated value inv(20 deg) = 0.014904:
+
+    >>> import math
+    >>> round(inv(math.radians(20.0)), 6)
+    0.014904
+    """
     return math.tan(alpha) - alpha
 
 
 def inv_inverse(value: float) -> float:
-    """Inverse of the involute function by Newton iteration (``value`` >= 0) [rad]."""
+    """Inverse of the involute function by Newton iteration.
+
+    Parameters
+    ----------
+    value
+        inv(a) >= 0 [rad].
+
+    Returns
+    -------
+    float
+        The angle a with tan(a) - a = ``value`` [rad], to about 1e-15.
+
+    Raises
+    ------
+    ValueError
+        If ``value`` < 0 (an internal error, not a user input).
+
+    Examples
+    --------
+    >>> import math
+    >>> round(math.degrees(inv_inverse(0.014904383867336446)), 9)
+    20.0
+    """
     if value < 0.0:
         raise ValueError(f"inv_inverse needs value >= 0, got {value}")
     a = (3.0 * value) ** (1.0 / 3.0) if value > 0 else 0.0  # inv(a) ~ a^3/3
@@ -58,6 +103,20 @@ class Material:
         Poisson's ratio nu [-]; default 0.3.
     density
         Mass density [kg/m^3]; default 7850.
+
+    Raises
+    ------
+    InputError
+        If E <= 0, nu outside [0, 0.5) or the density <= 0.
+
+    References
+    ----------
+    ISO 6336-1:2019, reference steel E = 206 000 N/mm^2, nu = 0.3.
+
+    Examples
+    --------
+    >>> Material().shear_modulus / 1e9  # doctest: +ELLIPSIS
+    79.23...
     """
 
     youngs_modulus: float = 206e9
@@ -107,6 +166,31 @@ class Gear:
         :class:`Material`.
     name
         Label.
+
+    Raises
+    ------
+    InputError
+        If a value is out of range, or the tooth would be undercut (profile shift
+        below :attr:`min_profile_shift`), pointed (tip thickness <= 0), or the rack
+        tip round does not fit the rack tooth.
+
+    References
+    ----------
+    ISO 21771:2007 (derived quantities); ISO 53:1998 (basic rack);
+    Litvin & Fuentes (2004), ch. 10 (undercut).
+
+    Examples
+    --------
+    Input gear of the Table-1 idler train of Shi, Li & Zhou (2025), m_n 6 mm,
+    beta 13 deg, z 39 (check values in docs/references.md, "Table-1 check values"):
+
+    >>> import math
+    >>> g = Gear(teeth=39, normal_module=6e-3, helix_angle=math.radians(13.0),
+    ...          face_width=0.15)
+    >>> round(math.degrees(g.transverse_pressure_angle), 3)
+    20.483
+    >>> round(g.base_radius * 1e3, 3)
+    112.486
     """
 
     teeth: int
@@ -163,17 +247,41 @@ class Gear:
     # ---------------------------------------------------------------- basic derived data
     @property
     def transverse_module(self) -> float:
-        """m_t = m_n / cos(beta) [m]."""
+        """Transverse module m_t = m_n / cos(beta) [m] (ISO 21771)."""
         return self.normal_module / math.cos(self.helix_angle)
 
     @property
     def transverse_pressure_angle(self) -> float:
-        """alpha_t = atan(tan(alpha_n) / cos(beta)) [rad]."""
+        """Transverse pressure angle alpha_t = atan(tan(alpha_n) / cos(beta)) [rad].
+
+        References
+        ----------
+        ISO 21771:2007.
+
+        Examples
+        --------
+        >>> import math
+        >>> g = Gear(teeth=39, normal_module=6e-3, helix_angle=math.radians(13.0))
+        >>> round(math.degrees(g.transverse_pressure_angle), 3)
+        20.483
+        """
         return math.atan(math.tan(self.normal_pressure_angle) / math.cos(self.helix_angle))
 
     @property
     def base_helix_angle(self) -> float:
-        """beta_b = asin(sin(beta) cos(alpha_n)) [rad]."""
+        """Base helix angle beta_b = asin(sin(beta) cos(alpha_n)) [rad].
+
+        References
+        ----------
+        ISO 21771:2007.
+
+        Examples
+        --------
+        >>> import math
+        >>> g = Gear(teeth=39, normal_module=6e-3, helix_angle=math.radians(13.0))
+        >>> round(math.degrees(g.base_helix_angle), 3)
+        12.204
+        """
         return math.asin(math.sin(abs(self.helix_angle)) * math.cos(self.normal_pressure_angle))
 
     @property
@@ -183,17 +291,45 @@ class Gear:
 
     @property
     def base_radius(self) -> float:
-        """Base radius r_b = r cos(alpha_t) [m]."""
+        """Base radius r_b = r cos(alpha_t) [m].
+
+        References
+        ----------
+        ISO 21771:2007.
+
+        Examples
+        --------
+        The three gears of the Table-1 train (112.486, 170.171, 360.532 mm):
+
+        >>> import math
+        >>> [round(Gear(teeth=z, normal_module=6e-3, helix_angle=math.radians(13.0)
+        ...             ).base_radius * 1e3, 3) for z in (39, 59, 125)]
+        [112.486, 170.171, 360.532]
+        """
         return self.pitch_radius * math.cos(self.transverse_pressure_angle)
 
     @property
     def tip_radius(self) -> float:
-        """Tip radius r_a = r + (h_a* + x) m_n [m] (no tip shortening)."""
+        """Tip radius r_a = r + (h_a* + x) m_n [m] (no tip shortening).
+
+        Examples
+        --------
+        Spur gear, z 19, m 3.2 mm: r = 30.4 mm, r_a = r + m:
+
+        >>> round(Gear(teeth=19, normal_module=3.2e-3).tip_radius * 1e3, 6)
+        33.6
+        """
         return self.pitch_radius + (self.addendum_coefficient + self.profile_shift) * self.normal_module
 
     @property
     def root_radius(self) -> float:
-        """Root radius r_f = r - (h_f* - x) m_n [m]."""
+        """Root radius r_f = r - (h_f* - x) m_n [m].
+
+        Examples
+        --------
+        >>> round(Gear(teeth=19, normal_module=3.2e-3).root_radius * 1e3, 6)
+        26.4
+        """
         return self.pitch_radius - (self.dedendum_coefficient - self.profile_shift) * self.normal_module
 
     @property
@@ -203,7 +339,15 @@ class Gear:
 
     @property
     def transverse_base_pitch(self) -> float:
-        """p_bt = 2 pi r_b / z [m]."""
+        """Transverse base pitch p_bt = 2 pi r_b / z [m].
+
+        Examples
+        --------
+        >>> import math
+        >>> g = Gear(teeth=39, normal_module=6e-3, helix_angle=math.radians(13.0))
+        >>> round(g.transverse_base_pitch * 1e3, 4)
+        18.1223
+        """
         return 2.0 * math.pi * self.base_radius / self.teeth
 
     @property
@@ -221,7 +365,20 @@ class Gear:
 
     @property
     def min_profile_shift(self) -> float:
-        """Smallest profile shift without undercut [-] (ISO 21771 / Litvin)."""
+        """Smallest profile shift without undercut [-].
+
+        x_min = (h_fP - rho_fP (1 - sin(alpha_n)) - r sin^2(alpha_t)) / m_n: the straight
+        flank of the rack must end above the interference point (ISO 21771; Litvin &
+        Fuentes 2004, ch. 10).
+
+        Examples
+        --------
+        z 20, m 2 mm, standard rack: x_min = 1.25 - 0.38 (1 - sin 20 deg) - 10 sin^2 20 deg
+        = -0.1698 (a 20-tooth gear may take a small negative shift):
+
+        >>> round(Gear(teeth=20, normal_module=2e-3).min_profile_shift, 4)
+        -0.1698
+        """
         m = self.normal_module
         a_n = self.normal_pressure_angle
         rho = self.fillet_radius_coefficient * m
@@ -239,10 +396,25 @@ class Gear:
         return (0.5 * math.pi + 2.0 * self.profile_shift * math.tan(self.normal_pressure_angle)) / self.teeth
 
     def half_thickness_angle(self, radius: float) -> float:
-        """Half the angular transverse tooth thickness on the involute at ``radius`` [rad].
+        """Half the angular transverse tooth thickness on the involute at ``radius``.
 
         psi(r) = psi_p + inv(alpha_t) - inv(alpha_r), cos(alpha_r) = r_b / r
         (ISO 21771). Valid for r_b <= r.
+
+        Parameters
+        ----------
+        radius
+            Radius on the involute, >= r_b [m].
+
+        Returns
+        -------
+        float
+            psi(r) [rad].
+
+        Raises
+        ------
+        InputError
+            If ``radius`` is below the base radius.
         """
         if radius < self.base_radius * (1 - 1e-12):
             raise InputError("radius", radius, f"must be >= base radius {self.base_radius:.6g} m")
@@ -250,7 +422,32 @@ class Gear:
         return self.half_thickness_angle_pitch + inv(self.transverse_pressure_angle) - inv(ar)
 
     def transverse_thickness(self, radius: float) -> float:
-        """Transverse arc tooth thickness on the involute at ``radius``: 2 r psi(r) [m]."""
+        """Transverse arc tooth thickness on the involute at ``radius``: 2 r psi(r) [m].
+
+        Parameters
+        ----------
+        radius
+            Radius on the involute, >= r_b [m].
+
+        Returns
+        -------
+        float
+            Arc thickness [m].
+
+        Raises
+        ------
+        InputError
+            If ``radius`` is below the base radius.
+
+        Examples
+        --------
+        At the reference circle s = m (pi/2 + 2 x tan(alpha_n)) (ISO 21771); x = 0,
+        m 3.2 mm gives 5.0265 mm:
+
+        >>> g = Gear(teeth=19, normal_module=3.2e-3)
+        >>> round(g.transverse_thickness(g.pitch_radius) * 1e3, 4)
+        5.0265
+        """
         return 2.0 * radius * self.half_thickness_angle(radius)
 
     @property
@@ -266,7 +463,18 @@ class Gear:
     # ------------------------------------------------------------------- mass data
     @property
     def mass(self) -> float:
-        """Mass of the gear body approximated as a disc between bore and pitch radius [kg]."""
+        """Mass of the gear body approximated as a disc between bore and pitch radius [kg].
+
+        Examples
+        --------
+        Table-1 input gear (r 120.078 mm, bore r_f/2 = 56.289 mm, b 150 mm, 7850 kg/m^3):
+
+        >>> import math
+        >>> g = Gear(teeth=39, normal_module=6e-3, helix_angle=math.radians(13.0),
+        ...          face_width=0.15)
+        >>> round(g.mass, 2)
+        41.62
+        """
         ro, ri = self.pitch_radius, self.bore_radius_value
         return self.material.density * math.pi * (ro**2 - ri**2) * self.face_width
 

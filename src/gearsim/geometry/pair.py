@@ -26,6 +26,40 @@ class GearPair:
     The pair runs at zero backlash at the centre distance given by the profile shifts
     (ISO 21771 eq. for the working pressure angle). Positions on the transverse line of
     action are measured from the tangent point T1 on the driver's base circle.
+
+    Parameters
+    ----------
+    driver
+        Driving gear (:class:`~gearsim.geometry.gear.Gear`).
+    driven
+        Driven gear; same normal module, pressure angle and helix angle (opposite hand).
+    name
+        Label used in error messages.
+
+    Raises
+    ------
+    InputError
+        If the gears cannot mesh (different module, pressure or helix angle), a tip
+        reaches below the other gear's form circle (interference) or the total
+        contact ratio eps_alpha + eps_beta is below 1.
+
+    References
+    ----------
+    ISO 21771:2007, sections 5 and 6.
+
+    Examples
+    --------
+    Mesh I of the Table-1 idler train (z 39/59, m_n 6 mm, beta 13 deg, b 150 mm);
+    check values eps_alpha 1.681, eps_beta 1.790 (docs/references.md):
+
+    >>> import math
+    >>> from gearsim.geometry.gear import Gear
+    >>> kw = dict(normal_module=6e-3, helix_angle=math.radians(13.0), face_width=0.15)
+    >>> pair = GearPair(Gear(teeth=39, **kw), Gear(teeth=59, **kw))
+    >>> round(pair.transverse_contact_ratio, 3), round(pair.overlap_ratio, 3)
+    (1.681, 1.79)
+    >>> round(pair.centre_distance * 1e3, 3)  # x1 = x2 = 0: r1 + r2
+    301.733
     """
 
     driver: Gear
@@ -64,20 +98,26 @@ class GearPair:
 
     @cached_property
     def profile1(self) -> ToothProfile:
+        """Tooth outline of the driver (:class:`ToothProfile`)."""
         return ToothProfile(self.driver)
 
     @cached_property
     def profile2(self) -> ToothProfile:
+        """Tooth outline of the driven gear (:class:`ToothProfile`)."""
         return ToothProfile(self.driven)
 
     @property
     def gear_ratio(self) -> float:
-        """u = z2 / z1."""
+        """Gear ratio u = z2 / z1 [-]."""
         return self.driven.teeth / self.driver.teeth
 
     @cached_property
     def working_pressure_angle(self) -> float:
-        """alpha_wt from inv(a_wt) = inv(a_t) + 2 tan(a_n) (x1 + x2)/(z1 + z2) [rad]."""
+        """Working transverse pressure angle alpha_wt [rad].
+
+        inv(alpha_wt) = inv(alpha_t) + 2 tan(alpha_n) (x1 + x2) / (z1 + z2) (ISO 21771);
+        equal to alpha_t for x1 + x2 = 0.
+        """
         g1, g2 = self.driver, self.driven
         v = inv(g1.transverse_pressure_angle) + 2.0 * math.tan(g1.normal_pressure_angle) * (
             g1.profile_shift + g2.profile_shift) / (g1.teeth + g2.teeth)
@@ -96,7 +136,20 @@ class GearPair:
 
     @staticmethod
     def roll_length_at(gear: Gear, radius: float) -> float:
-        """Distance from a gear's base tangent point to the point at ``radius`` [m]."""
+        """Distance from a gear's base tangent point to the point at ``radius``.
+
+        Parameters
+        ----------
+        gear
+            The gear.
+        radius
+            Radius of the point on the line of action [m].
+
+        Returns
+        -------
+        float
+            sqrt(r^2 - r_b^2) [m] (0 inside the base circle).
+        """
         return math.sqrt(max(radius**2 - gear.base_radius**2, 0.0))
 
     @property
@@ -116,12 +169,32 @@ class GearPair:
 
     @property
     def transverse_contact_ratio(self) -> float:
-        """eps_alpha = g_alpha / p_bt."""
+        """Transverse contact ratio eps_alpha = g_alpha / p_bt [-].
+
+        g_alpha = sqrt(r_a1^2 - r_b1^2) + sqrt(r_a2^2 - r_b2^2) - a_w sin(alpha_wt)
+        (ISO 21771).
+
+        Examples
+        --------
+        Mesh II of the Table-1 train (z 59/125): 1.756 (docs/references.md).
+
+        >>> import math
+        >>> from gearsim.geometry.gear import Gear
+        >>> kw = dict(normal_module=6e-3, helix_angle=math.radians(13.0), face_width=0.15)
+        >>> round(GearPair(Gear(teeth=59, **kw), Gear(teeth=125, **kw)
+        ...                ).transverse_contact_ratio, 3)
+        1.756
+        """
         return (self.end_of_contact - self.start_of_contact) / self.base_pitch
 
     @property
     def overlap_ratio(self) -> float:
-        """eps_beta = b sin(|beta|) / (pi m_n), with b the common face width."""
+        """Overlap ratio eps_beta = b sin(|beta|) / (pi m_n) [-], b the common face width.
+
+        References
+        ----------
+        ISO 21771:2007.
+        """
         b = self.face_width
         return b * math.sin(abs(self.driver.helix_angle)) / (math.pi * self.driver.normal_module)
 
@@ -131,13 +204,57 @@ class GearPair:
         return min(self.driver.face_width, self.driven.face_width)
 
     def radius_on_driver(self, l: float) -> float:
-        """Radius on the driver of the line-of-action point at ``l`` from T1 [m]."""
+        """Radius on the driver of a point of the line of action.
+
+        Parameters
+        ----------
+        l
+            Position on the transverse line of action, from T1 [m].
+
+        Returns
+        -------
+        float
+            sqrt(r_b1^2 + l^2) [m].
+        """
         return math.hypot(self.driver.base_radius, l)
 
     def radius_on_driven(self, l: float) -> float:
-        """Radius on the driven gear of the line-of-action point at ``l`` from T1 [m]."""
+        """Radius on the driven gear of a point of the line of action.
+
+        Parameters
+        ----------
+        l
+            Position on the transverse line of action, from T1 [m].
+
+        Returns
+        -------
+        float
+            sqrt(r_b2^2 + (T1T2 - l)^2) [m].
+        """
         return math.hypot(self.driven.base_radius, self.line_length - l)
 
     def mesh_frequency(self, driver_speed: float) -> float:
-        """f_m = z1 n1 for a driver speed in rad/s [Hz]."""
+        """Mesh frequency f_m = z1 n1.
+
+        Parameters
+        ----------
+        driver_speed
+            Driver speed [rad/s].
+
+        Returns
+        -------
+        float
+            f_m [Hz].
+
+        Examples
+        --------
+        39 teeth at 1900 rpm: 39 x 1900 / 60 = 1235 Hz.
+
+        >>> import math
+        >>> from gearsim.geometry.gear import Gear
+        >>> kw = dict(normal_module=6e-3, helix_angle=math.radians(13.0), face_width=0.15)
+        >>> pair = GearPair(Gear(teeth=39, **kw), Gear(teeth=59, **kw))
+        >>> round(pair.mesh_frequency(1900 * 2 * math.pi / 60), 9)
+        1235.0
+        """
         return self.driver.teeth * driver_speed / (2.0 * math.pi)

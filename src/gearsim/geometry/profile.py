@@ -33,13 +33,34 @@ __all__ = ["ToothProfile"]
 
 @dataclass(frozen=True)
 class ToothProfile:
-    """Outline of one tooth of ``gear`` (see module docstring for the frame)."""
+    """Outline of one tooth of ``gear`` (see module docstring for the frame).
+
+    Parameters
+    ----------
+    gear
+        The gear (:class:`~gearsim.geometry.gear.Gear`).
+
+    References
+    ----------
+    Litvin & Fuentes (2004), ch. 10 (rack generation); ISO 21771:2007 (involute).
+
+    Examples
+    --------
+    The chordal thickness at the reference circle of a z 19, m 3.2 mm spur gear is
+    2 r sin(s / (2 r)) with s = m pi / 2 = 5.0265 mm, r = 30.4 mm:
+
+    >>> from gearsim.geometry.gear import Gear
+    >>> prof = ToothProfile(Gear(teeth=19, normal_module=3.2e-3))
+    >>> round(prof.thickness_at_radius(0.0304) * 1e3, 6)
+    5.020824
+    """
 
     gear: Gear
 
     @cached_property
     def packed(self) -> np.ndarray:
-        """Profile parameters packed for the compiled kernels (layout ``K.P_*``)."""
+        """Profile parameters packed for the compiled kernels (layout ``P_*`` of
+        :mod:`gearsim.geometry._kernels`) [SI units]."""
         g = self.gear
         m = g.normal_module
         an = g.normal_pressure_angle
@@ -85,20 +106,80 @@ class ToothProfile:
         return float(self.packed[K.P_YROOT])
 
     def fillet_point(self, g: float) -> tuple[float, float]:
-        """Fillet point for the rack-round angle ``g`` in [alpha_n, pi/2] [m]."""
+        """Point of the generated root fillet.
+
+        Parameters
+        ----------
+        g
+            Angle of the rack tip round's normal, in [alpha_n, pi/2] [rad]; pi/2 at the
+            root circle, alpha_n at the form circle.
+
+        Returns
+        -------
+        tuple of float
+            (x, y) in the tooth frame [m].
+        """
         return K.fillet_point(g, self.packed)
 
     def involute_point(self, radius: float) -> tuple[float, float]:
-        """Involute point at ``radius`` in [r_b, r_a] [m]."""
+        """Point of the involute flank.
+
+        Parameters
+        ----------
+        radius
+            Radius in [r_b, r_a] [m].
+
+        Returns
+        -------
+        tuple of float
+            (x, y) = r (sin psi(r), cos psi(r)) in the tooth frame [m].
+
+        Examples
+        --------
+        At the base circle psi_b = pi/(2 z) + inv(alpha_t); z 19, m 3.2 mm:
+        r_b = 28.5667 mm, x = r_b sin(psi_b) = 2.7831 mm:
+
+        >>> from gearsim.geometry.gear import Gear
+        >>> g = Gear(teeth=19, normal_module=3.2e-3)
+        >>> x, y = ToothProfile(g).involute_point(g.base_radius)
+        >>> round(x * 1e3, 4), round(y * 1e3, 4)
+        (2.7831, 28.4308)
+        """
         return K.involute_point(radius, self.packed)
 
     def outline(self, n_fillet: int = 60, n_involute: int = 80) -> np.ndarray:
-        """Half outline from the root circle to the tip, shape (n, 2) as (x, y) [m]."""
+        """Half outline (``+x`` flank) from the root circle to the tip.
+
+        Parameters
+        ----------
+        n_fillet
+            Number of points on the fillet (uniform in the rack-round angle).
+        n_involute
+            Number of points on the involute (uniform in radius).
+
+        Returns
+        -------
+        ndarray, shape (n_fillet + n_involute, 2)
+            (x, y) points [m].
+        """
         out = np.empty((n_fillet + n_involute, 2))
         return K.sample_outline(self.packed, n_fillet, n_involute, out)
 
     def full_outline(self, n_fillet: int = 60, n_involute: int = 80) -> np.ndarray:
-        """Closed outline of one tooth (both flanks), counter-clockwise, shape (n, 2) [m]."""
+        """Outline of one tooth, both flanks: ``+x`` root to tip, then ``-x`` tip to root.
+
+        Parameters
+        ----------
+        n_fillet
+            Points per fillet.
+        n_involute
+            Points per involute.
+
+        Returns
+        -------
+        ndarray, shape (2 (n_fillet + n_involute), 2)
+            (x, y) points [m].
+        """
         half = self.outline(n_fillet, n_involute)
         right = half  # +x flank, root to tip
         left = half[::-1].copy()
@@ -106,7 +187,23 @@ class ToothProfile:
         return np.vstack([right, left])
 
     def half_width_at_height(self, y: float) -> float:
-        """Half width of the tooth section at height ``y`` on the centre line [m]."""
+        """Half width of the tooth section at a height on the centre line.
+
+        Parameters
+        ----------
+        y
+            Height on the tooth centre line (from the gear centre) [m].
+
+        Returns
+        -------
+        float
+            Half width h(y) [m].
+
+        Raises
+        ------
+        InputError
+            If ``y`` is outside the tooth (below the fillet's root end or above the tip).
+        """
         p = self.packed
         xr, yr = K.fillet_point(0.5 * math.pi, p)
         xf, yf = K.fillet_point(p[K.P_AN], p)
@@ -120,7 +217,23 @@ class ToothProfile:
         return K.involute_point(r, p)[0]
 
     def thickness_at_radius(self, radius: float) -> float:
-        """Transverse chordal tooth thickness at ``radius`` (fillet or involute) [m]."""
+        """Transverse chordal tooth thickness at a radius (fillet or involute).
+
+        Parameters
+        ----------
+        radius
+            Radius in [r_f, r_a] [m].
+
+        Returns
+        -------
+        float
+            Chordal thickness [m].
+
+        Raises
+        ------
+        InputError
+            If ``radius`` is outside [root radius, tip radius].
+        """
         p = self.packed
         rr = self.gear.root_radius
         if not (rr <= radius <= self.gear.tip_radius * (1 + 1e-12)):
@@ -133,11 +246,26 @@ class ToothProfile:
         return 2.0 * x * radius / math.hypot(x, y)
 
     def tangent_point(self, angle_to_centre_line: float = math.radians(30.0)) -> tuple[float, float]:
-        """Fillet point whose tangent makes ``angle`` with the tooth centre line.
+        """Fillet point whose tangent makes a given angle with the tooth centre line.
 
         The default 30 degrees gives the critical section of ISO 6336-3 (method B); it is
-        the default start point of a tooth-root crack. Returns the rack-round angle ``g``
-        and the radius of the point.
+        the default start point of a tooth-root crack.
+
+        Parameters
+        ----------
+        angle_to_centre_line
+            Angle between the fillet tangent and the tooth centre line [rad].
+
+        Returns
+        -------
+        g : float
+            Rack-round angle of the point [rad].
+        radius : float
+            Radius of the point [m].
+
+        References
+        ----------
+        ISO 6336-3:2019, method B (30 degree tangent).
         """
         p = self.packed
         target = math.tan(angle_to_centre_line)
@@ -156,7 +284,24 @@ class ToothProfile:
         return g, math.hypot(x, y)
 
     def fillet_param_at_radius(self, radius: float) -> float:
-        """Rack-round angle ``g`` of the fillet point at ``radius`` (root <= r <= form)."""
+        """Rack-round angle of the fillet point at a radius.
+
+        Parameters
+        ----------
+        radius
+            Radius between the root and the form radius [m].
+
+        Returns
+        -------
+        float
+            Rack-round angle g in [alpha_n, pi/2] [rad].
+
+        Raises
+        ------
+        InputError
+            If ``radius`` is not on the fillet (reported as ``crack.start_radius``, the
+            user input it comes from).
+        """
         if not (self.gear.root_radius * (1 - 1e-12) <= radius <= self.form_radius * (1 + 1e-12)):
             raise InputError("crack.start_radius", radius,
                              f"must lie on the root fillet, between the root radius "

@@ -19,6 +19,9 @@ __all__ = [
     "check_fs",
     "check_below_nyquist",
     "check_resolution",
+    "check_int",
+    "check_teeth",
+    "check_speed_source",
 ]
 
 
@@ -91,3 +94,77 @@ def check_resolution(
                 f"must be >= {need:.4g} s to separate sidebands spaced {spacing:.4g} Hz "
                 f"({label}) with a {window} window ({bins_needed:g} bins per spacing)",
             )
+
+
+def check_int(name: str, value: object, *, minimum: int, allow: tuple[int, ...] = ()) -> int:
+    """Return ``value`` as int after checking that it is a whole number >= ``minimum``.
+
+    Values listed in ``allow`` (e.g. ``-1`` for "no limit") are accepted as well. Booleans
+    are refused (``True`` is not a count).
+    """
+    ok = not isinstance(value, bool)
+    try:
+        v = int(value)  # type: ignore[call-overload]
+        ok = ok and v == value
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok or (v < minimum and v not in allow):
+        extra = "".join(f" or {a}" for a in allow)
+        raise InputError(name, value, f"must be an integer >= {minimum}{extra}")
+    return v
+
+
+def check_teeth(teeth: object, *, name: str = "teeth") -> tuple[int, ...]:
+    """Return the tooth counts as a tuple of ints after checking that each is >= 1.
+
+    ``teeth`` is a sequence (reference gear first, see :mod:`gearsim.signals.analyze`);
+    an empty sequence is refused.
+    """
+    try:
+        items = list(teeth)  # type: ignore[call-overload]
+    except TypeError:
+        raise InputError(name, teeth, "must be a list of tooth counts") from None
+    if not items:
+        raise InputError(name, items, "must list at least the reference gear's teeth")
+    return tuple(check_int(f"{name}[{j}]", z, minimum=1) for j, z in enumerate(items))
+
+
+def check_speed_source(
+    speed: float | None,
+    tacho: object | None,
+    *,
+    names: tuple[str, str] = ("shaft_frequency", "tacho"),
+    unit: str = "Hz",
+) -> float | None:
+    """Check the rule "give exactly one of a known shaft speed or a tacho".
+
+    Parameters
+    ----------
+    speed : float or None
+        Known speed of the reference shaft [``unit``].
+    tacho : object or None
+        Tacho channel (signal, pulse times or channel name); only its presence counts.
+    names : tuple of str
+        Names of the two parameters as the caller spells them (e.g. the CLI flags).
+    unit : str
+        Unit of ``speed`` for the message (``"Hz"`` in the API, ``"rpm"`` in the CLI).
+
+    Returns
+    -------
+    float or None
+        ``speed`` as a float (finite, > 0), or None when the tacho is given.
+    """
+    if (speed is None) == (tacho is None):
+        raise InputError(
+            "/".join(names), "both" if tacho is not None else "neither",
+            "give exactly one of a known shaft speed or a tacho",
+        )
+    if speed is None:
+        return None
+    try:
+        v = float(speed)
+    except (TypeError, ValueError):
+        raise InputError(names[0], speed, f"must be a finite speed > 0 {unit}") from None
+    if not (math.isfinite(v) and v > 0.0):
+        raise InputError(names[0], speed, f"must be a finite speed > 0 {unit}")
+    return v

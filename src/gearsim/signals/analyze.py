@@ -5,7 +5,8 @@ the speed (known, or from a tacho channel), and returns an :class:`Analysis`: ti
 statistics and impacts, mesh harmonics and sideband families of every shaft, the STFT with
 band energy and band width around each mesh harmonic, the time-synchronous average with
 FM0/FM4/NA4/M6A/M8A and, optionally, an EMD selection. ``Analysis.to_dict()`` is the
-JSON summary; ``Analysis.plot(directory)`` draws the figures (matplotlib, lazily).
+JSON summary; ``Analysis.plot(kind)`` and ``Analysis.figures()`` draw the figures (matplotlib,
+imported lazily).
 
 Train convention: ``teeth[0]`` is the gear on the reference shaft (the shaft whose speed
 is given or whose tacho is recorded, assumed to carry the gear under watch, as the cracked
@@ -16,17 +17,30 @@ mesh frequency ``f_m = f_r1 Z_1`` shared by all meshes of a simple (idler) train
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 
 from gearsim.errors import InputError
-from gearsim.signals._checks import as_signal, check_fs, check_positive
+from gearsim.signals._checks import (
+    as_signal,
+    check_fs,
+    check_positive,
+    check_speed_source,
+    check_teeth,
+)
 from gearsim.signals.emd import Selection, emd, select_imfs
+from gearsim.signals.settings import (
+    BAND_FRACTION,
+    IMPACT_FACTOR,
+    STFT_FRAMES_PER_REV,
+    AnalysisSettings,
+)
 from gearsim.signals.sidebands import (
     SEARCH_FRACTION,
     SidebandFamily,
@@ -52,26 +66,23 @@ from gearsim.signals.timefreq import (
 )
 from gearsim.signals.tsa import TSA, Indicators, condition_indicators, pulse_times, tsa
 
-__all__ = ["IMPACT_FACTOR", "GearTrain", "Analysis", "analyze", "gear_train"]
-
-#: An impact must exceed the median per-mesh-period peak by this factor. The seed's
-#: cracked-gear impacts reach about 2x the healthy level (209.8 %, 203.1 %) while normal
-#: meshing peaks scatter by a few per cent, so 1.5 sits between the two with margin.
-IMPACT_FACTOR = 1.5
-
-#: Fraction of the power around n f_m that defines the band width (90 %: the main lobe
-#: and the first sidebands of a healthy mesh tone, but not its far leakage).
-BAND_FRACTION = 0.9
-
-#: STFT frames per revolution of the reference shaft: four frames resolve the once-per-
-#: revolution pulsation of the band energy (seed Figure 8) with frequency resolution
-#: 4 f_r, still far finer than the mesh-harmonic spacing f_m = Z f_r for Z >= 12.
-STFT_FRAMES_PER_REV = 4
+__all__ = [
+    "BAND_FRACTION",
+    "IMPACT_FACTOR",
+    "STFT_FRAMES_PER_REV",
+    "Analysis",
+    "Kinematics",
+    "analyze",
+    "kinematics",
+]
 
 
 @dataclass(frozen=True)
-class GearTrain:
-    """Frequencies of a simple train (Hz).
+class Kinematics:
+    """Tooth counts and frequencies of a simple train, as the signal analysis sees it.
+
+    Not the physical train (:class:`gearsim.system.GearTrain`): only what is needed to
+    place the spectral lines.
 
     Attributes
     ----------
@@ -93,19 +104,27 @@ class GearTrain:
         return self.shafts["shaft1"]
 
 
-def gear_train(*, shaft_frequency: float, teeth: Sequence[int]) -> GearTrain:
-    """Build :class:`GearTrain` from the reference shaft frequency (Hz) and tooth counts."""
+def kinematics(*, shaft_frequency: float, teeth: Sequence[int]) -> Kinematics:
+    """Frequencies of a simple train from its reference shaft speed and tooth counts.
+
+    Parameters
+    ----------
+    shaft_frequency : float
+        Frequency of the reference shaft ``f_r1`` [Hz].
+    teeth : sequence of int
+        Tooth counts, reference gear first, then the other gears in mesh order.
+
+    Returns
+    -------
+    Kinematics
+        ``f_m = f_r1 Z_1`` [Hz] and shaft ``j`` at ``f_m / Z_j`` [Hz].
+    """
     f_r = check_positive("shaft_frequency", shaft_frequency)
-    if not teeth:
-        raise InputError("teeth", list(teeth), "must list at least the reference gear's teeth")
-    for j, z in enumerate(teeth):
-        if int(z) != z or z < 1:
-            raise InputError(f"teeth[{j}]", z, "must be an integer >= 1")
-    zs = tuple(int(z) for z in teeth)
+    zs = check_teeth(teeth)
     f_m = f_r * zs[0]
     shafts = {f"shaft{j + 1}": f_m / z for j, z in enumerate(zs)}
     shafts["shaft1"] = f_r
-    return GearTrain(teeth=zs, mesh_frequency=f_m, shafts=shafts)
+    return Kinematics(teeth=zs, mesh_frequency=f_m, shafts=shafts)
 
 
 def _finite(v: float) -> float | None:
@@ -118,7 +137,7 @@ class Analysis:
 
     signal: np.ndarray
     fs: float
-    train: GearTrain
+    kinematics: Kinematics
     stats: TimeStats
     impacts: Impacts
     spectrum: Spectrum
@@ -148,16 +167,16 @@ class Analysis:
         """JSON-serialisable summary (no long arrays except impact times)."""
         import gearsim
 
-        t1 = 1.0 / self.train.reference_frequency
+        t1 = 1.0 / self.kinematics.reference_frequency
         out: dict[str, Any] = {
             "gearsim_version": gearsim.__version__,
             "fs_hz": self.fs,
             "n_samples": int(self.signal.size),
             "duration_s": self.signal.size / self.fs,
             "train": {
-                "teeth": list(self.train.teeth),
-                "mesh_frequency_hz": self.train.mesh_frequency,
-                "shaft_frequencies_hz": dict(self.train.shafts),
+                "teeth": list(self.kinematics.teeth),
+                "mesh_frequency_hz": self.kinematics.mesh_frequency,
+                "shaft_frequencies_hz": dict(self.kinematics.shafts),
             },
             "options": self.options,
             "time_domain": dict(self.stats.__dict__),
@@ -210,11 +229,45 @@ class Analysis:
             }
         return out
 
-    def plot(self, directory: str, *, fmt: str = "png", units: str | None = None) -> list[str]:
-        """Write the standard figures to ``directory`` (see :mod:`gearsim.viz.signals`)."""
-        from gearsim.viz.signals import plot_analysis
+    def plot(self, kind: str = "spectrum", *, ax=None, fig=None, units: str | None = None):
+        """One figure of the analysis (see :func:`gearsim.viz.signals.plot`).
 
-        return plot_analysis(self, directory, fmt=fmt, units=units)
+        Parameters
+        ----------
+        kind : {"time", "spectrum", "zooms", "spectrogram", "tsa"}
+            Which figure.
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw into (single-panel kind ``"spectrum"``).
+        fig : matplotlib.figure.Figure, optional
+            Figure to draw into (multi-panel kinds).
+        units : str, optional
+            Units of the signal, shown on the axes.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure; write it with :func:`gearsim.viz.save`.
+        """
+        from gearsim.viz.signals import plot
+
+        return plot(self, kind, ax=ax, fig=fig, units=units)
+
+    def figures(self, *, units: str | None = None) -> dict:
+        """The standard figures by file stem (see :func:`gearsim.viz.signals.figures`).
+
+        Parameters
+        ----------
+        units : str, optional
+            Units of the signal, shown on the axes.
+
+        Returns
+        -------
+        dict of str to matplotlib.figure.Figure
+            Figures ready for :func:`gearsim.viz.save_all`.
+        """
+        from gearsim.viz.signals import figures
+
+        return figures(self, units=units)
 
 
 def _samples_per_rev(fs: float, f_r: float) -> int:
@@ -229,21 +282,10 @@ def analyze(
     teeth: Sequence[int],
     shaft_frequency: float | None = None,
     tacho: np.ndarray | None = None,
-    pulses_per_rev: int = 1,
     baseline: np.ndarray | None = None,
     baseline_tacho: np.ndarray | None = None,
-    orders: Sequence[int] = (1, 2, 3, 4),
-    n_sidebands: int = 6,
-    window: str = "hann",
-    remove_mean: bool = True,
-    impact_factor: float = IMPACT_FACTOR,
-    band_fraction: float = BAND_FRACTION,
-    stft_frames_per_rev: int = STFT_FRAMES_PER_REV,
-    shaft_harmonics: int = 2,
-    sideband_orders: int = 1,
-    emd_method: Literal["correlation", "kurtosis"] | None = None,
-    emd_threshold: float | str = "ayenu-prah",
-    emd_max_imf: int = -1,
+    settings: AnalysisSettings | None = None,
+    **overrides: Any,
 ) -> Analysis:
     """Run the time, frequency, time-frequency and TSA analyses on one record.
 
@@ -252,147 +294,133 @@ def analyze(
     x : array_like
         Signal (any units, e.g. N for a mesh force or m/s^2 for an acceleration).
     fs : float
-        Sampling rate (Hz).
+        Sampling rate [Hz].
     teeth : sequence of int
         Tooth counts, reference gear first (see module docstring).
     shaft_frequency : float, optional
-        Reference shaft frequency (Hz); give this or ``tacho``.
+        Reference shaft frequency [Hz]; give this or ``tacho``.
     tacho : array_like, optional
         Tacho signal of the reference shaft, same sampling as ``x``.
-    pulses_per_rev : int
-        Tacho pulses per revolution.
     baseline : array_like, optional
         Healthy record (same fs) for ratios and NA4's run-average variance.
     baseline_tacho : array_like, optional
         Tacho of the baseline when ``tacho`` is used (else the known speed is reused).
-    orders : sequence of int
-        Mesh harmonics ``n`` examined (seed: 1..4).
-    n_sidebands : int
-        Sidebands per side ``K`` (Hanna et al. 2011 use 6 for SER).
-    window : {"hann", "flattop", "boxcar"}
-        Window of the amplitude spectrum.
-    remove_mean : bool
-        RMS and peak of the signal minus its mean (the dynamic part) if True.
-    impact_factor : float
-        See :data:`IMPACT_FACTOR`.
-    band_fraction : float
-        See :data:`BAND_FRACTION`.
-    stft_frames_per_rev : int
-        See :data:`STFT_FRAMES_PER_REV`; hop is half a frame.
-    shaft_harmonics, sideband_orders : int
-        Orders removed for the residual/difference signals (Zakrajsek et al. 1993:
-        shaft orders 1..2 in practice, mesh sidebands +-1).
-    emd_method : {"correlation", "kurtosis"} or None
-        If given, decompose by EMD first and analyse the sum of the selected IMFs (seed
-        sec. 4).
-    emd_threshold : float or "ayenu-prah"
-        Selection threshold (see :func:`gearsim.signals.emd.select_imfs`).
-    emd_max_imf : int
-        Maximum number of IMFs (-1: no limit).
+    settings : AnalysisSettings, optional
+        Analysis options (orders, sidebands, window, impact factor, band fraction, STFT
+        frames, TSA orders, EMD, tacho pulses per revolution); default
+        ``AnalysisSettings()``.
+    **overrides
+        Any field of :class:`AnalysisSettings` by keyword (e.g. ``orders=(1, 2)``),
+        replacing the value in ``settings``; validated by :class:`AnalysisSettings`.
 
     Returns
     -------
     Analysis
+
+    References
+    ----------
+    Measures and sources: :mod:`gearsim.signals.timedomain` (Randall 2011),
+    :mod:`gearsim.signals.sidebands` (Hanna et al. 2011), :mod:`gearsim.signals.timefreq`,
+    :mod:`gearsim.signals.tsa` (Stewart 1977; Zakrajsek et al. 1993).
     """
     timings: dict[str, float] = {}
     t_start = time.perf_counter()
+    opt = _settings(settings, overrides)
     a = as_signal(x)
     fs = check_fs(fs)
-    if (shaft_frequency is None) == (tacho is None):
-        raise InputError(
-            "shaft_frequency/tacho", "both" if tacho is not None else "neither",
-            "give exactly one of a known shaft speed or a tacho channel",
-        )
+    shaft_frequency = check_speed_source(shaft_frequency, tacho)
+    ppr = opt.pulses_per_rev
     pulses = None
     if tacho is not None:
         tach = as_signal(tacho, name="tacho")
         if tach.size != a.size:
             raise InputError("tacho.length", tach.size, f"must equal the signal length {a.size}")
         pulses = pulse_times(tach, fs)
-        n_rev = (pulses.size - 1) // int(pulses_per_rev)
+        n_rev = (pulses.size - 1) // ppr
         if n_rev < 1:
             raise InputError("tacho", f"{pulses.size} pulses",
-                             f"must hold at least {pulses_per_rev + 1} pulses (one revolution)")
-        shaft_frequency = n_rev / (pulses[n_rev * pulses_per_rev] - pulses[0])
-    train = gear_train(shaft_frequency=shaft_frequency, teeth=teeth)
-    orders = tuple(int(n) for n in orders)
+                             f"must hold at least {ppr + 1} pulses (one revolution)")
+        shaft_frequency = n_rev / (pulses[n_rev * ppr] - pulses[0])
+    kin = kinematics(shaft_frequency=shaft_frequency, teeth=teeth)
+    orders = opt.orders
+    f_m = kin.mesh_frequency
     check_sideband_request(
-        a.size, fs, mesh_frequency=train.mesh_frequency, shafts=train.shafts, orders=orders,
-        n_sidebands=n_sidebands, window=window,
+        a.size, fs, mesh_frequency=f_m, shafts=kin.shafts, orders=orders,
+        n_sidebands=opt.n_sidebands, window=opt.window,
     )
-    f_r1 = train.reference_frequency
+    f_r1 = kin.reference_frequency
     if a.size / fs < 2.0 / f_r1:
         raise InputError("record duration", f"{a.size / fs:.4g} s",
                          f"must cover >= 2 revolutions of shaft1 ({2.0 / f_r1:.4g} s) for TSA")
     options: dict[str, Any] = {
-        "orders": list(orders), "n_sidebands": int(n_sidebands), "window": window,
-        "remove_mean": bool(remove_mean), "impact_factor": float(impact_factor),
-        "band_fraction": float(band_fraction), "stft_frames_per_rev": int(stft_frames_per_rev),
-        "shaft_harmonics": int(shaft_harmonics), "sideband_orders": int(sideband_orders),
+        "orders": list(orders), "n_sidebands": opt.n_sidebands, "window": opt.window,
+        "remove_mean": opt.remove_mean, "impact_factor": opt.impact_factor,
+        "band_fraction": opt.band_fraction, "stft_frames_per_rev": opt.stft_frames_per_rev,
+        "shaft_harmonics": opt.shaft_harmonics, "sideband_orders": opt.sideband_orders,
         "speed_source": "tacho" if tacho is not None else "known",
-        "pulses_per_rev": int(pulses_per_rev) if tacho is not None else None,
+        "pulses_per_rev": ppr if tacho is not None else None,
         "tacho_threshold": "midpoint of tacho range" if tacho is not None else None,
-        "emd_method": emd_method,
-        "emd_threshold": emd_threshold if emd_method else None,
+        "emd_method": opt.emd_method,
+        "emd_threshold": opt.emd_threshold if opt.emd_method else None,
         "search_fraction": SEARCH_FRACTION,
     }
     timings["checks"] = time.perf_counter() - t_start
 
     selection = None
-    if emd_method is not None:
+    if opt.emd_method is not None:
         t0 = time.perf_counter()
-        dec = emd(a, max_imf=emd_max_imf)
-        selection = select_imfs(a, dec, method=emd_method, threshold=emd_threshold)
+        dec = emd(a, max_imf=opt.emd_max_imf)
+        selection = select_imfs(a, dec, method=opt.emd_method, threshold=opt.emd_threshold)
         if not selection.indices:
-            raise InputError("emd_threshold", emd_threshold,
+            raise InputError("analysis.emd_threshold", opt.emd_threshold,
                              f"selects no IMF (max score {float(selection.scores.max()):.3g})")
         a = selection.signal
         timings["emd"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    stats = time_stats(a, remove_mean=remove_mean)
-    thr = impact_threshold(a, fs, window=1.0 / train.mesh_frequency, factor=impact_factor)
+    stats = time_stats(a, remove_mean=opt.remove_mean)
+    thr = impact_threshold(a, fs, window=1.0 / f_m, factor=opt.impact_factor)
     impacts = detect_impacts(a, fs, min_separation=0.5 / f_r1, threshold=thr)
     timings["time_domain"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    spec = amplitude_spectrum(a, fs, window=window)
-    harmonics = mesh_harmonics(spec, mesh_frequency=train.mesh_frequency, orders=orders,
-                               search=SEARCH_FRACTION * min(train.shafts.values()))
-    fams = sideband_families(spec, mesh_frequency=train.mesh_frequency, shafts=train.shafts,
-                             orders=orders, n_sidebands=n_sidebands)
-    half = 0.5 * train.mesh_frequency
+    spec = amplitude_spectrum(a, fs, window=opt.window)
+    harmonics = mesh_harmonics(spec, mesh_frequency=f_m, orders=orders,
+                               search=SEARCH_FRACTION * min(kin.shafts.values()))
+    fams = sideband_families(spec, mesh_frequency=f_m, shafts=kin.shafts,
+                             orders=orders, n_sidebands=opt.n_sidebands)
+    half = 0.5 * f_m
     bw_spec = {
-        n: band_width(spec.frequency, spec.amplitude**2, center=n * train.mesh_frequency,
-                      half_window=half, fraction=band_fraction)
+        n: band_width(spec.frequency, spec.amplitude**2, center=n * f_m,
+                      half_window=half, fraction=opt.band_fraction)
         for n in orders
     }
     timings["spectrum"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    nperseg = max(8, int(round(fs / (stft_frames_per_rev * f_r1))))
+    nperseg = max(8, int(round(fs / (opt.stft_frames_per_rev * f_r1))))
     if nperseg > a.size:
-        raise InputError("stft_frames_per_rev", stft_frames_per_rev,
+        raise InputError("analysis.stft_frames_per_rev", opt.stft_frames_per_rev,
                          f"gives a frame of {nperseg} samples, longer than the record")
     hop = max(1, nperseg // 2)
     # The static part (e.g. the mean mesh force) would swamp the lowest bins; the STFT
     # analyses the dynamic part when remove_mean is set.
-    sg = spectrogram(a - stats.mean if remove_mean else a, fs, nperseg=nperseg, hop=hop,
+    sg = spectrogram(a - stats.mean if opt.remove_mean else a, fs, nperseg=nperseg, hop=hop,
                      window="hann")
     mean_psd = sg.psd.mean(axis=1)
     energies, bw_stft, mod_peak = {}, {}, {}
     for n in orders:
-        e = band_energy(sg, center=n * train.mesh_frequency, half_width=half)
+        e = band_energy(sg, center=n * f_m, half_width=half)
         energies[n] = e
-        bw_stft[n] = band_width(sg.frequency, mean_psd, center=n * train.mesh_frequency,
-                                half_window=half, fraction=band_fraction)
+        bw_stft[n] = band_width(sg.frequency, mean_psd, center=n * f_m,
+                                half_window=half, fraction=opt.band_fraction)
         mod_peak[n] = modulation_index(e, sg.time, frequency=f_r1)
     timings["time_frequency"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
     m = _samples_per_rev(fs, f_r1)
     if pulses is not None:
-        t_avg = tsa(a, fs, samples_per_rev=m, pulses=pulses, pulses_per_rev=pulses_per_rev)
+        t_avg = tsa(a, fs, samples_per_rev=m, pulses=pulses, pulses_per_rev=ppr)
     else:
         t_avg = tsa(a, fs, samples_per_rev=m, shaft_frequency=f_r1)
 
@@ -401,29 +429,42 @@ def analyze(
     ratios = None
     if baseline is not None:
         b = as_signal(baseline, name="baseline")
-        base_stats = time_stats(b, remove_mean=remove_mean)
+        base_stats = time_stats(b, remove_mean=opt.remove_mean)
         ratios = ratios_to_baseline(stats, base_stats)
         if tacho is not None and baseline_tacho is not None:
             bp = pulse_times(as_signal(baseline_tacho, name="baseline_tacho"), fs)
-            b_avg = tsa(b, fs, samples_per_rev=m, pulses=bp, pulses_per_rev=pulses_per_rev)
+            b_avg = tsa(b, fs, samples_per_rev=m, pulses=bp, pulses_per_rev=ppr)
         else:
             b_avg = tsa(b, fs, samples_per_rev=m, shaft_frequency=f_r1)
-        _, _, b_res = condition_indicators(b_avg, teeth=train.teeth[0],
-                                           shaft_harmonics=shaft_harmonics,
-                                           sideband_orders=sideband_orders)
+        _, _, b_res = condition_indicators(b_avg, teeth=kin.teeth[0],
+                                           shaft_harmonics=opt.shaft_harmonics,
+                                           sideband_orders=opt.sideband_orders)
         history.append(b_res)
     ind, diff, resid = condition_indicators(
-        t_avg, teeth=train.teeth[0], shaft_harmonics=shaft_harmonics,
-        sideband_orders=sideband_orders, history=history,
+        t_avg, teeth=kin.teeth[0], shaft_harmonics=opt.shaft_harmonics,
+        sideband_orders=opt.sideband_orders, history=history,
     )
     timings["tsa"] = time.perf_counter() - t0
     timings["total"] = time.perf_counter() - t_start
 
     return Analysis(
-        signal=a, fs=fs, train=train, stats=stats, impacts=impacts, spectrum=spec,
+        signal=a, fs=fs, kinematics=kin, stats=stats, impacts=impacts, spectrum=spec,
         harmonics=harmonics, families=fams, stft=sg, band_energy=energies,
         band_width_spectrum=bw_spec, band_width_stft=bw_stft,
         band_modulation=mod_peak, tsa=t_avg, indicators=ind, difference=diff,
         residual=resid, options=options, timings=timings, baseline_stats=base_stats,
         ratios=ratios, emd_selection=selection,
     )
+
+
+def _settings(settings: AnalysisSettings | None, overrides: dict[str, Any]) -> AnalysisSettings:
+    """``settings`` (default ``AnalysisSettings()``) with the keyword ``overrides`` applied."""
+    base = AnalysisSettings() if settings is None else settings
+    if not isinstance(base, AnalysisSettings):
+        raise InputError("settings", type(base).__name__, "must be an AnalysisSettings")
+    allowed = [f.name for f in dataclasses.fields(AnalysisSettings)]
+    for key in overrides:
+        if key not in allowed:
+            raise InputError(key, overrides[key],
+                             f"is not an analysis option; allowed: {', '.join(allowed)}")
+    return dataclasses.replace(base, **overrides) if overrides else base

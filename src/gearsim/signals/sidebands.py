@@ -19,6 +19,11 @@ References
    autocorrelation method of linear prediction of speech analysis", *IEEE Trans. ASSP*
    22 (1974) 207-217.
 .. [R11] R. B. Randall, *Vibration-based Condition Monitoring*, Wiley, 2011, sec. 3.6.
+
+Two measures of the band around a mesh harmonic complete these: the off-tone fraction
+(the share of the band power that is not in the mesh line, i.e. how far sidebands widen
+the band) and the sideband spacing (the most common distance between the strongest
+lines, which names the shaft that modulates the mesh).
 """
 
 from __future__ import annotations
@@ -29,7 +34,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from gearsim.errors import InputError
-from gearsim.signals._checks import check_below_nyquist, check_positive, check_resolution
+from gearsim.signals._checks import (
+    check_below_nyquist,
+    check_int,
+    check_positive,
+    check_resolution,
+)
 from gearsim.signals.spectrum import WINDOWS, Spectrum, Tone, tone
 
 __all__ = [
@@ -41,6 +51,8 @@ __all__ = [
     "sideband_energy_ratio",
     "coefficient_of_variation",
     "spectral_flatness",
+    "off_tone_fraction",
+    "sideband_spacing",
 ]
 
 #: A line is looked for within +- SEARCH_FRACTION x (line spacing) of its nominal
@@ -250,3 +262,107 @@ def sideband_families(
                 )
             )
     return out
+
+
+def off_tone_fraction(
+    spec: Spectrum, *, center: float, line_half_width: float, band_half_width: float
+) -> float:
+    r"""Fraction of the band power around a tone that lies outside the tone's line.
+
+    .. math:: \eta = 1 - \frac{\sum_{|f_k - f_c| \le w_l} A_k^2}
+                               {\sum_{|f_k - f_c| \le w_b} A_k^2}
+
+    with ``A_k`` the amplitude spectrum. For a mesh harmonic ``f_c = n f_m`` with
+    ``w_l = f_r / 2`` and ``w_b = f_m / 2`` it is the share of the band power carried by
+    sidebands and noise: 0 for a pure tone whose window main lobe fits in ``+- w_l``
+    (a record of whole revolutions puts the line on a bin; the Hann lobe spans +- 2
+    bins), growing as sidebands widen the band (seed Figure 8).
+
+    Parameters
+    ----------
+    spec : Spectrum
+        Amplitude spectrum (signal units).
+    center : float
+        Frequency of the tone ``f_c`` [Hz].
+    line_half_width : float
+        ``w_l`` [Hz], half width counted as the line.
+    band_half_width : float
+        ``w_b`` [Hz], half width of the band; at least ``line_half_width``.
+
+    Returns
+    -------
+    float
+        ``eta`` in [0, 1] (dimensionless); NaN if the band holds no power.
+
+    References
+    ----------
+    Randall (2011), sec. 3.6 (sidebands around the mesh harmonics).
+    """
+    check_positive("center", center)
+    w_l = check_positive("line_half_width", line_half_width)
+    w_b = check_positive("band_half_width", band_half_width)
+    if w_b < w_l:
+        raise InputError("band_half_width", w_b, f"must be >= line_half_width = {w_l:g} Hz")
+    dist = np.abs(spec.frequency - center)
+    p = spec.amplitude**2
+    total = float(np.sum(p[dist <= w_b]))
+    if total <= 0:
+        return float("nan")
+    return float(1.0 - np.sum(p[dist <= w_l]) / total)
+
+
+def sideband_spacing(
+    spec: Spectrum, *, center: float, shaft_frequency: float, n_sidebands: int = 6
+) -> float:
+    """Most common spacing of the strongest spectral lines around a tone.
+
+    Within ``center +- (K + 0.5) f_r`` the ``2 K`` largest local maxima of the amplitude
+    spectrum other than the tone itself (its main lobe, ``+- (L + 0.5)`` bins with ``L``
+    the window's main-lobe half width) are sorted by frequency; the distances between
+    neighbours on the same side of the tone are rounded to whole bins and the most
+    common one (the smallest on a tie) is returned. For a family ``center +- k f_s``
+    it is ``f_s`` to within one bin, exactly ``f_s`` when the lines fall on bins; a few
+    stray lines (e.g. of another shaft) do not move it. ``f_r`` only sets the search
+    band: the result is measured, not assumed.
+
+    Parameters
+    ----------
+    spec : Spectrum
+        Amplitude spectrum.
+    center : float
+        Frequency of the tone, e.g. ``n f_m`` [Hz].
+    shaft_frequency : float
+        Expected sideband spacing ``f_r`` [Hz] (sets the band searched).
+    n_sidebands : int
+        ``K``, sidebands per side searched.
+
+    Returns
+    -------
+    float
+        Spacing [Hz]; NaN if no two lines lie on one side of the tone.
+
+    References
+    ----------
+    Randall (2011), sec. 3.6: sideband spacing identifies the modulating shaft.
+    """
+    from scipy.signal import find_peaks
+
+    check_positive("center", center)
+    f_r = check_positive("shaft_frequency", shaft_frequency)
+    k_max = check_int("n_sidebands", n_sidebands, minimum=1)
+    df = spec.df
+    sel = np.flatnonzero(np.abs(spec.frequency - center) <= (k_max + 0.5) * f_r)
+    amp = spec.amplitude[sel]
+    freq = spec.frequency[sel]
+    idx, _ = find_peaks(amp)
+    idx = idx[np.abs(freq[idx] - center) > (spec.lobe_bins + 0.5) * df]  # not the tone
+    if idx.size < 2:
+        return float("nan")
+    top = idx[np.argsort(amp[idx])[::-1][: 2 * k_max]]
+    f = np.sort(freq[top])
+    same_side = np.sign(f[1:] - center) == np.sign(f[:-1] - center)
+    steps = np.round(np.diff(f)[same_side] / df).astype(int)
+    if steps.size == 0:
+        return float("nan")
+    values, counts = np.unique(steps, return_counts=True)
+    return float(values[np.argmax(counts)] * df)  # argmax takes the smallest on a tie

@@ -43,17 +43,26 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.fft
-from scipy.ndimage import map_coordinates
+from scipy.interpolate import CubicSpline
 
 from gearsim.errors import InputError
-from gearsim.signals._checks import as_signal, check_fs, check_positive
+from gearsim.signals._checks import (
+    as_signal,
+    check_fs,
+    check_int,
+    check_positive,
+    check_speed_source,
+)
 
 __all__ = [
     "TSA",
     "Indicators",
     "pulse_times",
     "revolution_times_from_speed",
+    "cubic_resample",
     "angular_resample",
+    "order_mask",
+    "remove_orders",
     "tsa",
     "regular_signal",
     "difference_signal",
@@ -132,11 +141,65 @@ def pulse_times(tacho: np.ndarray, fs: float, *, threshold: float | None = None)
 
 
 def revolution_times_from_speed(duration: float, *, shaft_frequency: float) -> np.ndarray:
-    """Start times (s) of whole revolutions at constant speed: ``k / f_r`` within the record."""
+    """Start times of whole revolutions at constant speed.
+
+    Parameters
+    ----------
+    duration : float
+        Time span the revolutions must fit in [s].
+    shaft_frequency : float
+        Constant shaft frequency ``f_r`` [Hz].
+
+    Returns
+    -------
+    ndarray
+        ``k / f_r`` [s] for ``k = 0..R``, ``R = floor(duration f_r)`` whole revolutions
+        (a relative slack of 1e-9 revolutions absorbs rounding of ``duration``).
+    """
     duration = check_positive("duration", duration)
     f_r = check_positive("shaft_frequency", shaft_frequency)
     n = int(np.floor(duration * f_r + 1e-9))
     return np.arange(n + 1) / f_r
+
+
+def cubic_resample(x: np.ndarray, fs: float, times: np.ndarray) -> np.ndarray:
+    """Values of the cubic interpolating spline through the samples at the given times.
+
+    The spline passes through ``x[k]`` at ``t_k = k / fs`` with not-a-knot end
+    conditions (de Boor 1978, ch. IV), so its error is fourth order in ``1 / fs`` up to
+    the ends of the record: ``(5/384) (omega / fs)^4 A`` for a tone of amplitude ``A``
+    and angular frequency ``omega`` (Hall & Meyer 1976). Times up to one sample interval
+    past the last sample are extrapolated with the last cubic piece. This is the one
+    interpolation of the package's resampling (angular resampling and its inverse).
+
+    Parameters
+    ----------
+    x : array_like
+        Samples (any units), at least 4.
+    fs : float
+        Sampling rate of ``x`` [Hz].
+    times : array_like
+        Times [s] at which to evaluate the spline, in ``[0, len(x) / fs]``.
+
+    Returns
+    -------
+    ndarray
+        Interpolated values (units of ``x``), shape of ``times``.
+
+    References
+    ----------
+    C. de Boor, *A Practical Guide to Splines*, Springer, 1978, ch. IV-V.
+    C. A. Hall, W. W. Meyer, "Optimal error bounds for cubic spline interpolation",
+    *J. Approx. Theory* 16 (1976) 105-122.
+    """
+    a = as_signal(x, min_length=4)
+    fs = check_fs(fs)
+    t = np.asarray(times, dtype=np.float64)
+    span = a.size / fs
+    if t.size and (t.min() < -1e-12 * span or t.max() > span * (1 + 1e-12)):
+        raise InputError("times", f"[{t.min():g}, {t.max():g}] s",
+                         f"must lie within the record [0, {span:g}] s")
+    return CubicSpline(np.arange(a.size) / fs, a)(t)
 
 
 def angular_resample(
@@ -151,9 +214,8 @@ def angular_resample(
 
     The shaft angle is known at each pulse (pulse ``i`` at ``i / pulses_per_rev``
     revolutions) and taken as linear in time between pulses (constant speed within a pulse
-    interval). The signal is evaluated at the resulting times by cubic B-spline
-    interpolation (``scipy.ndimage.map_coordinates(order=3)``), which reproduces the
-    samples exactly at integer positions.
+    interval). The signal is evaluated at the resulting times by :func:`cubic_resample`
+    (cubic spline through the samples, not-a-knot ends).
 
     Parameters
     ----------
@@ -163,7 +225,9 @@ def angular_resample(
         Sampling rate (Hz).
     pulses : array_like
         Pulse times (s), increasing; whole revolutions between the first and last pulse are
-        used.
+        used. They must lie within ``[0, len(x) / fs]``: a record of ``n`` samples spans
+        ``n`` sample intervals, so a revolution may end one interval after the last
+        sample (its last angle sample is then extrapolated by less than one interval).
     pulses_per_rev : int
         Pulses per shaft revolution.
     samples_per_rev : int
@@ -173,14 +237,16 @@ def angular_resample(
     -------
     ndarray, shape (N, M)
         One row per revolution.
+
+    References
+    ----------
+    McFadden (1987), sec. 2 (resampling at equal angle increments).
     """
     a = as_signal(x)
     fs = check_fs(fs)
     p = np.asarray(pulses, dtype=np.float64)
-    if int(pulses_per_rev) != pulses_per_rev or pulses_per_rev < 1:
-        raise InputError("pulses_per_rev", pulses_per_rev, "must be an integer >= 1")
-    if int(samples_per_rev) != samples_per_rev or samples_per_rev < 4:
-        raise InputError("samples_per_rev", samples_per_rev, "must be an integer >= 4")
+    pulses_per_rev = check_int("pulses_per_rev", pulses_per_rev, minimum=1)
+    samples_per_rev = check_int("samples_per_rev", samples_per_rev, minimum=4)
     if p.ndim != 1 or np.any(np.diff(p) <= 0):
         raise InputError("pulses", "not increasing", "pulse times must increase strictly")
     n_rev = (p.size - 1) // int(pulses_per_rev)
@@ -189,16 +255,14 @@ def angular_resample(
             "pulses", f"{p.size} pulses",
             f"must span at least one revolution ({pulses_per_rev + 1} pulses)",
         )
-    t_end = (a.size - 1) / fs
-    if p[0] < 0.0 or p[n_rev * pulses_per_rev] > t_end + 1e-12:
+    t_end = a.size / fs
+    if p[0] < 0.0 or p[n_rev * pulses_per_rev] > t_end * (1 + 1e-12):
         raise InputError("pulses", f"[{p[0]:g}, {p[-1]:g}] s", f"must lie within [0, {t_end:g}] s")
-    m = int(samples_per_rev)
+    m = samples_per_rev
     angle_pulses = np.arange(p.size) / pulses_per_rev  # revolutions
     theta = np.arange(n_rev * m) / m
     t = np.interp(theta, angle_pulses, p)
-    pos = np.clip(t * fs, 0.0, a.size - 1.0)
-    y = map_coordinates(a, pos[np.newaxis, :], order=3, mode="nearest", prefilter=True)
-    return y.reshape(n_rev, m)
+    return cubic_resample(a, fs, t).reshape(n_rev, m)
 
 
 def tsa(
@@ -240,13 +304,8 @@ def tsa(
     """
     a = as_signal(x)
     fs = check_fs(fs)
-    if (shaft_frequency is None) == (pulses is None):
-        raise InputError(
-            "shaft_frequency/pulses", "both" if pulses is not None else "neither",
-            "give exactly one of a known shaft frequency or tacho pulse times",
-        )
-    if pulses is None:
-        f_r = check_positive("shaft_frequency", shaft_frequency)
+    f_r = check_speed_source(shaft_frequency, pulses, names=("shaft_frequency", "pulses"))
+    if f_r is not None:
         pulses = revolution_times_from_speed((a.size - 1) / fs, shaft_frequency=f_r)
         pulses_per_rev = 1
     rows = angular_resample(
@@ -258,33 +317,80 @@ def tsa(
     return TSA(average=rows.mean(axis=0), n_averages=n_rev, shaft_frequency=float(f_mean))
 
 
-def _order_mask(m: int, *, teeth: int, shaft_harmonics: int, sideband_orders: int) -> np.ndarray:
-    """Boolean mask over rfft bins 0..M/2 of the orders to remove (DC always removed)."""
-    if int(teeth) != teeth or teeth < 1:
-        raise InputError("teeth", teeth, "must be an integer >= 1")
-    if int(shaft_harmonics) != shaft_harmonics or shaft_harmonics < 0:
-        raise InputError("shaft_harmonics", shaft_harmonics, "must be an integer >= 0")
-    if int(sideband_orders) != sideband_orders or sideband_orders < 0:
-        raise InputError("sideband_orders", sideband_orders, "must be an integer >= 0")
-    n_bins = m // 2 + 1
-    if teeth >= n_bins:
+def order_mask(
+    n: int, *, teeth: int, shaft_harmonics: int, sideband_orders: int, revolutions: int = 1
+) -> np.ndarray:
+    """Mask of the DFT bins of the shaft and mesh orders to remove from an angle record.
+
+    For ``n`` samples over ``R`` whole revolutions (equal angle steps), bin ``b`` of the
+    ``n``-point DFT is shaft order ``b / R``. The mask selects the mean (bin 0), the shaft
+    orders ``1..H``, every mesh order ``q Z`` and its sidebands ``q Z +- s, s = 1..S``
+    below the Nyquist order.
+
+    Parameters
+    ----------
+    n : int
+        Length of the angle record (``R M`` samples).
+    teeth : int
+        Tooth count ``Z`` of the gear on the shaft (the mesh order).
+    shaft_harmonics : int
+        ``H`` (0: none).
+    sideband_orders : int
+        ``S`` (0: the mesh orders only).
+    revolutions : int
+        ``R``; 1 for a time-synchronous average.
+
+    Returns
+    -------
+    ndarray of bool, shape (n // 2 + 1,)
+        True at the bins to remove (for :func:`remove_orders`).
+
+    References
+    ----------
+    Zakrajsek et al. (1993): regular, difference and residual signals.
+    """
+    teeth = check_int("teeth", teeth, minimum=1)
+    shaft_harmonics = check_int("shaft_harmonics", shaft_harmonics, minimum=0)
+    sideband_orders = check_int("sideband_orders", sideband_orders, minimum=0)
+    r = check_int("revolutions", revolutions, minimum=1)
+    n_bins = n // 2 + 1
+    if teeth * r >= n_bins:
         raise InputError(
-            "samples_per_rev", m, f"must exceed 2 x teeth = {2 * teeth} to hold the mesh order"
+            "samples_per_rev", n // r,
+            f"must exceed 2 x teeth = {2 * teeth} to hold the mesh order",
         )
     mask = np.zeros(n_bins, dtype=bool)
     mask[0] = True
-    mask[1 : min(shaft_harmonics, n_bins - 1) + 1] = True
-    for centre in range(teeth, n_bins, teeth):
-        lo = max(0, centre - sideband_orders)
-        hi = min(n_bins - 1, centre + sideband_orders)
-        mask[lo : hi + 1] = True
+    mask[r : min(shaft_harmonics * r, n_bins - 1) + 1 : r] = True
+    for centre in range(teeth * r, n_bins, teeth * r):
+        for s in range(-sideband_orders, sideband_orders + 1):
+            if 0 <= centre + s * r < n_bins:
+                mask[centre + s * r] = True
     return mask
 
 
-def _remove_orders(avg: np.ndarray, mask: np.ndarray) -> np.ndarray:
-    spec = scipy.fft.rfft(avg)
+def remove_orders(x: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """Set the DFT bins selected by ``mask`` to zero and transform back.
+
+    Parameters
+    ----------
+    x : ndarray
+        Angle record (units of the signal), a whole number of revolutions.
+    mask : ndarray of bool
+        From :func:`order_mask`, length ``len(x) // 2 + 1``.
+
+    Returns
+    -------
+    ndarray
+        ``x`` without the selected orders (same units and length).
+
+    References
+    ----------
+    Zakrajsek et al. (1993).
+    """
+    spec = scipy.fft.rfft(x)
     spec[mask] = 0.0
-    return scipy.fft.irfft(spec, n=avg.size)
+    return scipy.fft.irfft(spec, n=x.size)
 
 
 def regular_signal(
@@ -297,26 +403,26 @@ def regular_signal(
     Zakrajsek et al. (1993), sec. "Difference signal"; Decker (2002).
     """
     m = t.samples_per_rev
-    keep = _order_mask(m, teeth=teeth, shaft_harmonics=shaft_harmonics,
+    keep = order_mask(m, teeth=teeth, shaft_harmonics=shaft_harmonics,
                        sideband_orders=sideband_orders)
     keep[0] = False
-    return _remove_orders(t.average, ~keep)
+    return remove_orders(t.average, ~keep)
 
 
 def difference_signal(
     t: TSA, *, teeth: int, shaft_harmonics: int, sideband_orders: int = 1
 ) -> np.ndarray:
     """Difference signal ``d = TSA - regular`` (zero mean; Zakrajsek et al. 1993)."""
-    mask = _order_mask(t.samples_per_rev, teeth=teeth, shaft_harmonics=shaft_harmonics,
+    mask = order_mask(t.samples_per_rev, teeth=teeth, shaft_harmonics=shaft_harmonics,
                        sideband_orders=sideband_orders)
-    return _remove_orders(t.average, mask)
+    return remove_orders(t.average, mask)
 
 
 def residual_signal(t: TSA, *, teeth: int, shaft_harmonics: int) -> np.ndarray:
     """Residual ``r = TSA - (shaft orders 1..H + mesh orders n Z)`` (Zakrajsek et al. 1993)."""
-    mask = _order_mask(t.samples_per_rev, teeth=teeth, shaft_harmonics=shaft_harmonics,
+    mask = order_mask(t.samples_per_rev, teeth=teeth, shaft_harmonics=shaft_harmonics,
                        sideband_orders=0)
-    return _remove_orders(t.average, mask)
+    return remove_orders(t.average, mask)
 
 
 def _moment_ratio(d: np.ndarray, power: int, name: str) -> float:

@@ -151,8 +151,12 @@ def _integrate_contact_piece(seg, pa, pb, cr, prof, fb, fa, xc, yc, e_mod, g_mod
         p = pa + (pb - pa) * i / n_samp
         x1, y1 = profile_point(seg, p, prof)
         st = _closure_state(x1, y1, cr, fb, fa, xc, yc)
-        if st != st_lo:
-            a = pa + (pb - pa) * (i - 1) / n_samp
+        a = pa + (pb - pa) * (i - 1) / n_samp
+        # a sample interval may hold two changes (closed -> partly closed -> open when
+        # the partly closed band is narrow): cut at each one in turn
+        for _ in range(4):
+            if st == st_lo:
+                break
             b = p
             for _ in range(60):
                 m = 0.5 * (a + b)
@@ -165,7 +169,9 @@ def _integrate_contact_piece(seg, pa, pb, cr, prof, fb, fa, xc, yc, e_mod, g_mod
             _integrate_piece(seg, lo, cut, True, cr, MODEL_CONTACT, prof, fb, fa, xc, yc,
                              e_mod, g_mod, nodes, weights, acc)
             lo = cut
-            st_lo = st
+            xb, yb = profile_point(seg, b, prof)
+            st_lo = _closure_state(xb, yb, cr, fb, fa, xc, yc)
+            a = b
     _integrate_piece(seg, lo, pb, True, cr, MODEL_CONTACT, prof, fb, fa, xc, yc, e_mod, g_mod,
                      nodes, weights, acc)
 
@@ -221,15 +227,29 @@ def tooth_compliance(prof, rc, cr, model, e_mod, g_mod, e_found, sainsot, nodes,
 
     Parameters
     ----------
-    prof : packed outline (``gearsim.geometry._kernels``)
-    rc : contact radius on the involute [m]
-    cr : crack record (``C_*`` layout); ``cr[C_ACTIVE] = 0`` for a healthy tooth
-    model : ``MODEL_OPEN`` or ``MODEL_CONTACT``
-    e_mod, g_mod : moduli used in the beam terms (plane stress E or E/(1-nu^2)) [Pa]
-    e_found : Young's modulus of the Sainsot formula [Pa]
-    sainsot : (L*, M*, P*, Q*) for this gear
-    nodes, weights : Gauss-Legendre rule on [-1, 1]
-    out : array of 4, filled with the compliances for L = 1 m
+    prof
+        Packed outline (``gearsim.geometry._kernels``).
+    rc
+        Contact radius on the involute [m].
+    cr
+        Crack record (``C_*`` layout); ``cr[C_ACTIVE] = 0`` for a healthy tooth.
+    model
+        ``MODEL_OPEN`` or ``MODEL_CONTACT``.
+    e_mod, g_mod
+        Moduli of the beam terms (plane stress E or E/(1-nu^2); G) [Pa].
+    e_found
+        Young's modulus of the Sainsot formula [Pa].
+    sainsot
+        (L*, M*, P*, Q*) of this gear [-].
+    nodes, weights
+        Gauss-Legendre rule on [-1, 1].
+    out
+        Array of 4, filled with the compliances for L = 1 m [m/N].
+
+    References
+    ----------
+    Seed eqs. 4-7 and 10-11; Yang & Lin (1987); Tian (2004); Chen & Shao (2011);
+    Sainsot, Velex & Duverger (2004).
     """
     rb = prof[1]
     ca = rb / rc
@@ -266,7 +286,26 @@ def tooth_compliance(prof, rc, cr, model, e_mod, g_mod, e_found, sainsot, nodes,
 @njit(cache=True, parallel=False)
 def tooth_compliance_batch(prof, rcs, crs, model, e_mod, g_mod, e_found, sainsot, nodes,
                            weights, out):
-    """:func:`tooth_compliance` for many contact radii; ``crs`` has one record per radius."""
+    """:func:`tooth_compliance` for many contact radii.
+
+    Parameters
+    ----------
+    prof
+        Packed outline.
+    rcs
+        Contact radii, shape (n,) [m]; entries <= 0 give NaN rows.
+    crs
+        Crack records, shape (n, C_SIZE), one per radius.
+    model, e_mod, g_mod, e_found, sainsot, nodes, weights
+        As :func:`tooth_compliance`.
+    out
+        Array (n, 4), filled with the compliances for L = 1 m [m/N].
+
+    Returns
+    -------
+    ndarray
+        ``out``.
+    """
     buf = np.empty(4)
     for i in range(rcs.shape[0]):
         if rcs[i] <= 0.0:
@@ -284,7 +323,18 @@ def tooth_compliance_batch(prof, rcs, crs, model, e_mod, g_mod, e_found, sainsot
 @njit(cache=True, parallel=True)
 def tooth_compliance_batch_parallel(prof, rcs, crs, model, e_mod, g_mod, e_found, sainsot,
                                     nodes, weights, out):
-    """Threaded variant of :func:`tooth_compliance_batch` (numba prange)."""
+    """Threaded variant of :func:`tooth_compliance_batch` (numba prange).
+
+    Parameters
+    ----------
+    prof, rcs, crs, model, e_mod, g_mod, e_found, sainsot, nodes, weights, out
+        As :func:`tooth_compliance_batch`.
+
+    Returns
+    -------
+    ndarray
+        ``out``.
+    """
     for i in prange(rcs.shape[0]):
         buf = np.empty(4)
         if rcs[i] <= 0.0:
@@ -316,6 +366,26 @@ def rectangular_beam_compliance(half_width, length, a1, xc, e_mod, g_mod, nodes,
     The same section energies and Gauss-Legendre mapping as the tooth kernel, on a
     straight beam 0 <= y <= ``length`` of width 2 ``half_width`` loaded at its free end;
     used to check the kernel against the Timoshenko closed forms.
+
+    Parameters
+    ----------
+    half_width
+        Half width h of the section [m].
+    length
+        Beam length [m].
+    a1
+        Angle of the unit end load to the normal of the beam axis [rad].
+    xc
+        Eccentricity of the load from the beam axis [m].
+    e_mod, g_mod
+        E and G [Pa].
+    nodes, weights
+        Gauss-Legendre rule on [-1, 1].
+
+    Returns
+    -------
+    ndarray, shape (3,)
+        Bending, shear, axial compliance [m/N].
     """
     fb = math.cos(a1)
     fa = math.sin(a1)

@@ -59,6 +59,17 @@ class Crack:
         Depth profile along the face width: uniform, linear or parabolic.
     start_radius
         Radius of the start point on the fillet [m]; ``None`` = the 30 deg tangent point.
+
+    Raises
+    ------
+    InputError
+        If the flank or profile name is unknown, the depth < 0, the angle outside
+        (0, 90] deg, the extent outside (0, 1] or the tooth index not an integer >= 0.
+
+    References
+    ----------
+    Chen & Shao (2011) (crack angle, depth profile along the face); Tian (2004) and
+    seed eqs. 10-11 (limiting line).
     """
 
     gear: str
@@ -83,7 +94,28 @@ class Crack:
                 "must be an integer >= 0")
 
     def depth_at(self, z_fraction: np.ndarray) -> np.ndarray:
-        """Crack depth at axial positions given as fractions of the face width [m]."""
+        """Crack depth at axial positions along the face width.
+
+        Parameters
+        ----------
+        z_fraction
+            Axial positions as fractions of the face width, 0 at the cracked face.
+
+        Returns
+        -------
+        ndarray
+            Depth [m]: q0, q0 (1 - z/w) or q0 sqrt(1 - z/w) inside the extent w, 0
+            outside.
+
+        Examples
+        --------
+        Parabolic front (Chen & Shao 2011) over the whole face, q0 = 2 mm: at z/w = 0.75
+        the depth is q0 sqrt(0.25) = 1 mm.
+
+        >>> c = Crack(gear="input", depth=2e-3, profile="parabolic")
+        >>> [round(float(q) * 1e3, 12) for q in c.depth_at([0.0, 0.75, 1.0])]
+        [2.0, 1.0, 0.0]
+        """
         z = np.asarray(z_fraction, dtype=float)
         xi = np.clip(1.0 - z / self.extent, 0.0, 1.0)
         inside = z <= self.extent
@@ -98,7 +130,17 @@ class Crack:
 
 @dataclass(frozen=True)
 class CrackGeometry:
-    """Crack in the tooth frame of the cracked flank (x towards that flank) [m]."""
+    """Crack in the tooth frame of the cracked flank (x towards that flank).
+
+    Parameters
+    ----------
+    start
+        Start point (x_s, y_s) on the fillet [m].
+    tip
+        Tip (x_t, y_t) [m]; x_t is h_c of the limiting line.
+    max_depth
+        Depth at which the tip would reach the centre line, x_s / sin(nu) [m].
+    """
 
     start: tuple[float, float]
     tip: tuple[float, float]
@@ -107,7 +149,45 @@ class CrackGeometry:
 
 def crack_geometry(profile: ToothProfile, crack: Crack, depth: float | None = None
                    ) -> CrackGeometry:
-    """Start and tip of the crack, after checking it lies on the fillet and in the tooth."""
+    """Start and tip of the crack, after checking it lies on the fillet and in the tooth.
+
+    Tip ``x_t = x_s - q sin(nu)``, ``y_t = y_s - q cos(nu)`` (seed eqs. 10-11).
+
+    Parameters
+    ----------
+    profile
+        Outline of the cracked gear.
+    crack
+        The crack (start radius or default 30 deg tangent point, angle nu).
+    depth
+        Depth q of this section [m]; default ``crack.depth``.
+
+    Returns
+    -------
+    CrackGeometry
+        Start, tip and the largest admissible depth [m].
+
+    Raises
+    ------
+    InputError
+        If the start radius is not on the fillet or the tip would cross the tooth
+        centre line (q >= x_s / sin(nu)).
+
+    Examples
+    --------
+    The tip lies at distance q from the start, at 45 deg: equal drops in x and y.
+
+    >>> import math
+    >>> from gearsim.geometry.gear import Gear
+    >>> from gearsim.geometry.profile import ToothProfile
+    >>> prof = ToothProfile(Gear(teeth=19, normal_module=3.2e-3, name="pinion"))
+    >>> geo = crack_geometry(prof, Crack(gear="pinion", depth=1e-3))
+    >>> round(math.dist(geo.start, geo.tip) * 1e3, 12)
+    1.0
+    >>> dx, dy = (a - b for a, b in zip(geo.start, geo.tip))
+    >>> round(dx / dy, 12)
+    1.0
+    """
     gear = profile.gear
     if crack.start_radius is None:
         g, _ = profile.tangent_point()
@@ -148,6 +228,22 @@ def crack_record(profile: ToothProfile, crack: Crack, depth: float, side: int) -
         Local crack depth at this slice [m]; 0 gives an inactive (healthy) record.
     side
         +1 if the cracked flank is the loaded one in the mesh considered, -1 otherwise.
+
+    Returns
+    -------
+    ndarray, shape (C_SIZE,)
+        Record: active flag, side, h_c = x_t, the cracked height range from the tip
+        (or the root) up to g_c, where the outline's half width first falls to h_c,
+        and the outline segment and parameter of both ends.
+
+    Raises
+    ------
+    InputError
+        As :func:`crack_geometry`.
+
+    References
+    ----------
+    Tian (2004); seed eqs. 10-11 (limiting line).
     """
     rec = np.zeros(K.C_SIZE)
     if depth <= 0.0:

@@ -10,6 +10,12 @@ Single stiffness of a tooth pair (per unit face width, transverse plane):
 with z_n = z / (cos^2(beta_b) cos(beta)), C_M = 0.8 (solid discs), C_R = 1 (solid
 gear blanks), C_B = 0.975 for the standard basic rack (h_fP = 1.25 m_n, alpha_n = 20
 deg) [ISO 6336-1:2019, eqs. 96-103]. The steel reference: E = 206 000 N/mm^2.
+Values and the check numbers: docs/references.md, "ISO 6336-1 mesh stiffness".
+
+References
+----------
+.. [ISO6336-1] ISO 6336-1:2019, Calculation of load capacity of spur and helical gears -
+   Part 1: Basic principles, introduction and general influence factors, clause 9.
 """
 
 from __future__ import annotations
@@ -25,7 +31,42 @@ ISO_C = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00
 
 def single_stiffness(pair: GearPair, *, c_m: float = 0.8, c_r: float = 1.0,
                      c_b: float = 0.975) -> float:
-    """Single stiffness c' of ISO 6336-1 method B [N/(mm um) = 1e9 N/m^2]."""
+    """Single stiffness c' of ISO 6336-1 method B.
+
+    Parameters
+    ----------
+    pair
+        The gear pair (z, x, beta, beta_b are used).
+    c_m
+        Correction factor C_M (0.8 for solid discs).
+    c_r
+        Gear blank factor C_R (1 for solid blanks).
+    c_b
+        Basic rack factor C_B (0.975 for h_fP = 1.25 m_n, alpha_n = 20 deg).
+
+    Returns
+    -------
+    float
+        c' [N/(mm um) = 1e9 N/m^2].
+
+    References
+    ----------
+    ISO 6336-1:2019, clause 9.
+
+    Examples
+    --------
+    Table-1 mesh I: z_n = 41.898 / 63.384, q' = 0.04723 + 0.15551/41.898 +
+    0.25791/63.384 = 0.055011, c'_th = 18.178, c' = 18.178 x 0.8 x 0.975 x cos 13 deg
+    = 13.816:
+
+    >>> import math
+    >>> from gearsim.geometry.gear import Gear
+    >>> from gearsim.geometry.pair import GearPair
+    >>> kw = dict(normal_module=6e-3, helix_angle=math.radians(13.0), face_width=0.15)
+    >>> pair = GearPair(Gear(teeth=39, **kw), Gear(teeth=59, **kw))
+    >>> round(single_stiffness(pair), 3)
+    13.816
+    """
     g1, g2 = pair.driver, pair.driven
     beta = abs(g1.helix_angle)
     bb = g1.base_helix_angle
@@ -43,6 +84,33 @@ def mean_mesh_stiffness(pair: GearPair) -> float:
 
     The material correction E/E_steel of ISO 6336-1 (9.3) is applied for equal
     materials other than steel.
+
+    Parameters
+    ----------
+    pair
+        The gear pair.
+
+    Returns
+    -------
+    float
+        c_gamma_alpha b = c' (0.75 eps_alpha + 0.25) b [N/m].
+
+    References
+    ----------
+    ISO 6336-1:2019, clause 9.
+
+    Examples
+    --------
+    Table-1 mesh I: 13.816 x (0.75 x 1.6806 + 0.25) = 20.868 N/(mm um), times
+    b = 150 mm: 3.130e9 N/m.
+
+    >>> import math
+    >>> from gearsim.geometry.gear import Gear
+    >>> from gearsim.geometry.pair import GearPair
+    >>> kw = dict(normal_module=6e-3, helix_angle=math.radians(13.0), face_width=0.15)
+    >>> pair = GearPair(Gear(teeth=39, **kw), Gear(teeth=59, **kw))
+    >>> round(mean_mesh_stiffness(pair) / 1e9, 3)
+    3.13
     """
     c1 = single_stiffness(pair) * (0.75 * pair.transverse_contact_ratio + 0.25)
     e_ratio = pair.driver.material.youngs_modulus / 206e9

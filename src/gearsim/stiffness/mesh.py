@@ -5,7 +5,7 @@ bending, shear, axial and fillet-foundation compliances of both teeth (seed eq. 
 pairs in contact act in parallel (seed eq. 9). A helical pair is cut into ``slices``
 transverse slices of width b/N; the slice at axial position z touches at the point of
 the transverse line of action shifted by -z tan(beta_b) (slicing method, e.g. Wan et
-al. 2014 and DESIGN section 2). A slice that is only partly inside the path of contact
+al. 2014; docs/references.md, "Helical slicing"). A slice that is only partly inside the path of contact
 contributes with its inside fraction, evaluated at the middle of that part; this keeps
 the sum smooth in the slice count.
 
@@ -29,78 +29,15 @@ import numpy as np
 
 from gearsim.errors import require
 from gearsim.geometry.pair import GearPair
-from gearsim.stiffness._kernels import C_SIZE
-from gearsim.stiffness.crack import Crack, crack_record
-from gearsim.stiffness.tooth import ToothModel, hertz_stiffness
+from gearsim.stiffness.settings import DEFAULT_SLICES, StiffnessSettings
+from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance, ToothCrack
+from gearsim.stiffness.tooth import hertz_stiffness
 
-__all__ = ["COMPONENTS", "MeshStiffness", "StiffnessSettings", "ToothCrack", "mesh_stiffness"]
+__all__ = ["COMPONENTS", "DEFAULT_SLICES", "MeshStiffness", "StiffnessSettings", "ToothCrack",
+           "mesh_stiffness"]
 
 COMPONENTS = ("hertz", "bending_1", "shear_1", "axial_1", "foundation_1",
               "bending_2", "shear_2", "axial_2", "foundation_2")
-
-#: Default number of slices of a helical face width. From the convergence study in
-#: ``tests/test_stiffness_mesh.py::test_slice_convergence`` (Table-1 mesh I, largest
-#: pointwise change relative to the mean): 10->20 slices 0.084 %, 20->40 0.021 %,
-#: 40->80 0.005 % (second order in 1/N).
-DEFAULT_SLICES = 40
-
-
-@dataclass(frozen=True)
-class StiffnessSettings:
-    """Numerical and modelling options of the stiffness computation.
-
-    Parameters
-    ----------
-    closure
-        Crack-face model, ``"contact"`` (default) or ``"open"`` (seed as printed).
-    slices
-        Number of slices of the face width for helical gears (spur: always 1).
-    positions_per_cycle
-        Mesh positions per mesh cycle (base pitch).
-    gauss_points
-        Gauss-Legendre nodes per integration piece.
-    plane
-        ``"stress"`` (seed) or ``"strain"``.
-    source
-        ``"pe"``: potential-energy tooth compliance (default); ``"fe"``: the tooth
-        compliance of the finite-element model (:func:`gearsim.fem.tables.fe_compliance`),
-        the counterpart of the seed's rigid-flexible coupling.
-    """
-
-    closure: str = "contact"
-    slices: int = DEFAULT_SLICES
-    positions_per_cycle: int = 40
-    gauss_points: int = 16
-    plane: str = "stress"
-    source: str = "pe"
-
-    def __post_init__(self) -> None:
-        require(self.closure in ("open", "contact"), "stiffness.closure", self.closure,
-                'must be "open" or "contact"')
-        require(isinstance(self.slices, int) and 1 <= self.slices <= 2000, "stiffness.slices",
-                self.slices, "must be an integer in [1, 2000]")
-        require(isinstance(self.positions_per_cycle, int) and 4 <= self.positions_per_cycle <= 10000,
-                "stiffness.positions_per_cycle", self.positions_per_cycle,
-                "must be an integer in [4, 10000]")
-        require(isinstance(self.gauss_points, int) and 2 <= self.gauss_points <= 200,
-                "stiffness.gauss_points", self.gauss_points, "must be an integer in [2, 200]")
-        require(self.plane in ("stress", "strain"), "stiffness.plane", self.plane,
-                'must be "stress" or "strain"')
-        require(self.source in ("pe", "fe"), "stiffness.source", self.source,
-                'must be "pe" or "fe"')
-
-
-@dataclass(frozen=True)
-class ToothCrack:
-    """A crack as seen by one mesh: which gear (1 driver, 2 driven), tooth and side.
-
-    ``side`` is +1 when the cracked flank is the flank this mesh loads, -1 otherwise.
-    """
-
-    gear: int
-    crack: Crack
-    side: int
-
 
 @dataclass
 class MeshStiffness:
@@ -192,7 +129,8 @@ def _slice_grid(pair: GearPair, settings: StiffnessSettings):
 
 def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
                    settings: StiffnessSettings | None = None,
-                   revolution_of: int = 1) -> MeshStiffness:
+                   revolution_of: int = 1,
+                   compliance: ToothCompliance | None = None) -> MeshStiffness:
     """TVMS of ``pair`` over one revolution of gear ``revolution_of`` (1 or 2).
 
     Parameters
@@ -205,6 +143,11 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
         Numerical and modelling options.
     revolution_of
         1: one revolution of the driver (z1 mesh cycles); 2: of the driven gear.
+    compliance
+        The tooth-compliance model (:class:`gearsim.stiffness.source.ToothCompliance`);
+        default the potential-energy model. ``settings.source`` only names the model:
+        the caller that owns the choice (:meth:`gearsim.system.GearTrain.mesh_stiffness`)
+        passes the matching object.
 
     Returns
     -------
@@ -218,37 +161,24 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
         z = g1.teeth if tc.gear == 1 else g2.teeth
         require(tc.crack.tooth < z, "crack.tooth", tc.crack.tooth,
                 f"must be < {z} (teeth of {tc.crack.gear})")
-    tm1 = ToothModel(g1, plane=settings.plane, gauss_points=settings.gauss_points,
-                     closure=settings.closure)
-    tm2 = ToothModel(g2, plane=settings.plane, gauss_points=settings.gauss_points,
-                     closure=settings.closure)
+    model = compliance if compliance is not None else PotentialEnergyCompliance()
     lmid, frac, dz, n_age, ns, zfrac = _slice_grid(pair, settings)
     npc = settings.positions_per_cycle
     inside = frac > 0
-    r1 = np.where(inside, np.hypot(g1.base_radius, lmid), 0.0).ravel()
-    r2 = np.where(inside, np.hypot(g2.base_radius, pair.line_length - lmid), 0.0).ravel()
     shape = (npc, n_age, ns)
+    r1 = np.where(inside, np.hypot(g1.base_radius, lmid), 0.0)
+    r2 = np.where(inside, np.hypot(g2.base_radius, pair.line_length - lmid), 0.0)
 
-    def table(tm: ToothModel, radii: np.ndarray, tc: ToothCrack | None) -> np.ndarray:
-        if settings.source == "fe":
-            return _fe_table(tm, radii.reshape(shape), tc, zfrac, settings)
-        records = None
-        if tc is not None:  # one record per slice -> per grid point
-            depths = tc.crack.depth_at(zfrac) if ns > 1 else np.array([tc.crack.depth])
-            recs = np.stack([crack_record(tm.profile, tc.crack, float(q), tc.side)
-                             for q in depths])
-            records = np.broadcast_to(recs[None, None, :, :], shape + (C_SIZE,)).reshape(
-                -1, C_SIZE)
-        c = tm.compliance(radii, records)
-        return np.nan_to_num(c, nan=0.0).reshape(shape + (4,))
+    def table(gear, radii: np.ndarray, tc: ToothCrack | None) -> np.ndarray:
+        return model.compliance(gear, radii, tc, zfrac, settings)
 
-    healthy1 = table(tm1, r1, None)
-    healthy2 = table(tm2, r2, None)
+    healthy1 = table(g1, r1, None)
+    healthy2 = table(g2, r2, None)
     cracked1: dict[int, np.ndarray] = {}
     cracked2: dict[int, np.ndarray] = {}
     for tc in cracks:
-        tm, radii, store = (tm1, r1, cracked1) if tc.gear == 1 else (tm2, r2, cracked2)
-        store[tc.crack.tooth] = table(tm, radii, tc)
+        gear, radii, store = (g1, r1, cracked1) if tc.gear == 1 else (g2, r2, cracked2)
+        store[tc.crack.tooth] = table(gear, radii, tc)
 
     # Hertz compliance per unit width
     ch = 1.0 / hertz_stiffness(g1.material, g2.material, 1.0)
@@ -299,27 +229,5 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
         pair_tooth2=t2,
         attrs={"closure": settings.closure, "slices": ns,
                "positions_per_cycle": npc, "plane": settings.plane,
-               "gauss_points": settings.gauss_points},
+               "gauss_points": settings.gauss_points, "source": model.name},
     )
-
-
-def _fe_table(tm: ToothModel, radii: np.ndarray, tc: ToothCrack | None, zfrac: np.ndarray,
-              settings: StiffnessSettings) -> np.ndarray:
-    """Tooth compliance table from the finite-element model, same layout as the PE one."""
-    from gearsim.fem.tables import fe_compliance  # heavy import, only when asked
-
-    out = np.zeros(radii.shape + (4,))
-    ns = radii.shape[-1]
-    for k in range(ns):
-        rk = radii[..., k].ravel()
-        depth = 0.0
-        if tc is not None:
-            depth = float(tc.crack.depth_at(zfrac[k:k + 1])[0]) if ns > 1 else tc.crack.depth
-        sel = rk > 0
-        vals = np.zeros((rk.size, 4))
-        if np.any(sel):
-            vals[sel] = fe_compliance(tm.gear, rk[sel], crack=None if tc is None else tc.crack,
-                                      depth=depth, side=0 if tc is None else tc.side,
-                                      settings=settings)
-        out[..., k, :] = vals.reshape(radii.shape[:-1] + (4,))
-    return out

@@ -8,8 +8,14 @@ References
    elasticity in gear impact dynamics, J. Mech. Trans. Autom. Des. 109 (1987) 189-196.
 .. [Tian2004] X. Tian, Dynamic simulation for system response of gearbox including
    localized gear faults, M.Sc. thesis, University of Alberta, 2004.
+.. [Chen2011] Z. Chen, Y. Shao, Dynamic simulation of spur gear with tooth root crack
+   propagating along tooth width and crack depth, Eng. Fail. Anal. 18 (2011) 2149-2164.
 .. [Sainsot2004] P. Sainsot, P. Velex, O. Duverger, Contribution of gear body to tooth
    deflections - a new bidimensional analytical formula, J. Mech. Des. 126 (2004) 748-752.
+.. [YangSun1985] D. C. H. Yang, Z. S. Sun, A rotary model for spur gear dynamics,
+   J. Mech. Trans. Autom. Des. 107 (1985) 529-535 (Hertzian line-contact stiffness).
+.. [Johnson1985] K. L. Johnson, Contact Mechanics, Cambridge University Press, 1985,
+   ch. 4 and 5 (two-dimensional Hertz contact of cylinders).
 .. [Seed] H. Shi, W. Li, W. Zhou, Actuators 14 (2025) 292, eqs. 3-11.
 """
 
@@ -46,6 +52,10 @@ SAINSOT: dict[str, tuple[float, float, float, float, float, float]] = {
 def sainsot_coefficients(h_f: float, theta_f: float) -> np.ndarray:
     """L*, M*, P*, Q* of the fillet-foundation formula [-].
 
+    Each coefficient is the polynomial fit of Sainsot et al.
+    X = A/theta_f^2 + B h_f^2 + C h_f/theta_f + D/theta_f + E h_f + F with the
+    (A .. F) rows of :data:`SAINSOT`.
+
     Parameters
     ----------
     h_f
@@ -53,9 +63,23 @@ def sainsot_coefficients(h_f: float, theta_f: float) -> np.ndarray:
     theta_f
         Half angle of the tooth at the root circle [rad].
 
+    Returns
+    -------
+    ndarray, shape (4,)
+        (L*, M*, P*, Q*) [-].
+
     References
     ----------
-    Sainsot, Velex & Duverger (2004), eq. (6) and Table 1; seed eq. (7).
+    Sainsot, Velex & Duverger (2004), eq. (6) and Table 1; seed eq. (7). Table
+    reproduced in docs/references.md, "Sainsot foundation coefficients".
+
+    Examples
+    --------
+    At h_f = 2, theta_f = 0.1 rad, by hand from the table:
+    L* = -5.574e-3 - 7.9944e-3 - 4.603e-3 + 0.047702 + 0.0542 + 6.8045 = 6.88823.
+
+    >>> [round(float(v), 5) for v in sainsot_coefficients(2.0, 0.1)]
+    [6.88823, 1.13979, 2.72676, 0.49626]
     """
     out = np.empty(4)
     for i, key in enumerate("LMPQ"):
@@ -65,10 +89,37 @@ def sainsot_coefficients(h_f: float, theta_f: float) -> np.ndarray:
 
 
 def hertz_stiffness(m1: Material, m2: Material, length: float) -> float:
-    """Hertzian contact stiffness of a line contact of length ``length`` [N/m].
+    """Hertzian contact stiffness of a line contact.
 
     k_h = pi L / (2 [(1 - nu1^2)/E1 + (1 - nu2^2)/E2]); for equal materials this is the
-    seed's k_h = pi E L / (4 (1 - nu^2)) (Yang & Sun 1985; seed section 2).
+    seed's k_h = pi E L / (4 (1 - nu^2)) (Yang & Sun 1985; seed section 2). It does
+    not depend on the load or the curvature radii (the linearised Hertz line contact).
+
+    Parameters
+    ----------
+    m1, m2
+        Materials of the two gears (:class:`~gearsim.geometry.gear.Material`).
+    length
+        Contact line length L [m].
+
+    Returns
+    -------
+    float
+        k_h [N/m].
+
+    References
+    ----------
+    Yang & Sun (1985); Johnson (1985), ch. 5 (Hertz contact of cylinders).
+
+    Examples
+    --------
+    Steel (E 206 GPa, nu 0.3) over the Table-1 face width 150 mm:
+    pi 206e9 0.15 / (4 x 0.91) = 2.6669e10 N/m.
+
+    >>> from gearsim.geometry.gear import Material
+    >>> steel = Material()
+    >>> round(hertz_stiffness(steel, steel, 0.15) / 1e10, 4)
+    2.6669
     """
     s = (1 - m1.poisson_ratio**2) / m1.youngs_modulus + (1 - m2.poisson_ratio**2) / m2.youngs_modulus
     return math.pi * length / (2.0 * s)
@@ -76,7 +127,18 @@ def hertz_stiffness(m1: Material, m2: Material, length: float) -> float:
 
 @lru_cache(maxsize=16)
 def gauss_rule(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Gauss-Legendre nodes and weights on [-1, 1] (numpy.polynomial.legendre)."""
+    """Gauss-Legendre nodes and weights on [-1, 1] (numpy.polynomial.legendre).
+
+    Parameters
+    ----------
+    n
+        Number of nodes.
+
+    Returns
+    -------
+    nodes, weights : ndarray
+        Shape (n,) each; the weights sum to 2.
+    """
     x, w = np.polynomial.legendre.leggauss(n)
     return x, w
 
@@ -95,6 +157,28 @@ class ToothModel:
         Nodes of the Gauss-Legendre rule on each integration piece.
     closure
         ``"open"`` or ``"contact"`` crack-face model.
+
+    Raises
+    ------
+    InputError
+        If ``plane``, ``closure`` or ``gauss_points`` (2 .. 200) is invalid.
+
+    References
+    ----------
+    Yang & Lin (1987), Tian (2004) and Chen & Shao (2011) for the beam terms; Sainsot,
+    Velex & Duverger (2004) for the foundation; seed eqs. 3-8.
+
+    Examples
+    --------
+    Plane strain divides E of the beam terms by 1 - nu^2 and leaves shear and
+    foundation alone, so the bending compliance ratio is 1 - 0.3^2 = 0.91:
+
+    >>> from gearsim.geometry.gear import Gear
+    >>> g = Gear(teeth=19, normal_module=3.2e-3, face_width=0.016)
+    >>> c_stress = ToothModel(g, plane="stress").compliance([0.031])
+    >>> c_strain = ToothModel(g, plane="strain").compliance([0.031])
+    >>> round(float(c_strain[0, 0] / c_stress[0, 0]), 12)
+    0.91
     """
 
     gear: Gear
@@ -112,6 +196,7 @@ class ToothModel:
 
     @cached_property
     def profile(self) -> ToothProfile:
+        """Tooth outline of the gear (:class:`ToothProfile`)."""
         return ToothProfile(self.gear)
 
     @property
@@ -125,12 +210,14 @@ class ToothModel:
 
     @cached_property
     def sainsot(self) -> np.ndarray:
+        """(L*, M*, P*, Q*) of this gear, h_f = r_f / bore radius [-]."""
         prof = self.profile
         h_f = self.gear.root_radius / self.gear.bore_radius_value
         return sainsot_coefficients(h_f, prof.root_half_angle)
 
     @property
     def model_code(self) -> int:
+        """Closure code of the kernel (``MODEL_OPEN`` or ``MODEL_CONTACT``)."""
         return K.MODEL_OPEN if self.closure == "open" else K.MODEL_CONTACT
 
     def compliance(self, radii: np.ndarray, crack_records: np.ndarray | None = None,

@@ -11,8 +11,8 @@ bands. The paper does not define its measures, so this module writes ours down:
   vibration. In a simulation the healthy record ``x_h`` at the same operating point is
   known sample for sample, so the impacts are found in the *fault residual*
   ``e = R[d - d_h]``: the difference to the healthy run with every mesh harmonic
-  ``n f_m`` removed (:func:`mesh_residual`, the residual signal of Zakrajsek et al.
-  1993). Removing the harmonics takes out the small phase shift of the whole mesh
+  ``n f_m`` removed (:func:`gearsim.signals.mesh_residual`, the residual signal of
+  Zakrajsek et al. 1993). Removing the harmonics takes out the small phase shift of the whole mesh
   vibration that a crack causes; the difference takes out the small non-mesh-periodic
   part of the healthy run (a lightly damped low mode). Impacts are the peaks of ``|e|``
   above half its maximum, at least ``T1/2`` apart
@@ -21,9 +21,10 @@ bands. The paper does not define its measures, so this module writes ours down:
   ``|d|`` above 1.5 times the median per-mesh-period peak, usable on measurements) is
   reported beside it.
 * **Impact amplitude** (seed: 209.8 % working, 203.1 % non-working): mean over the
-  impacts ``t_i`` of ``max |d|`` in the window ``|t - t_i| <= W`` divided by the same
-  quantity of the healthy record in the same windows, with ``W = eps_gamma / 2`` mesh
-  periods (the time a tooth spends in mesh).
+  impacts ``t_i`` of ``max |d|`` in the window ``|t - t_i| <= W``
+  (:func:`gearsim.signals.window_peak`) divided by the same quantity of the healthy
+  record in the same windows, with ``W = eps_gamma / 2`` mesh periods (the time a tooth
+  spends in mesh).
 * **Far-field fluctuation** (seed: 159.7 %, working): the same ratio in windows centred
   half a revolution after each impact.
 * **RMS** (seed: 132.4 % working, 97.3 % non-working): ``rms(d) / rms(d_h)``.
@@ -31,6 +32,9 @@ bands. The paper does not define its measures, so this module writes ours down:
 * **Sidebands**: the family ``n f_m +- k f_r1``, k = 1..6 (:mod:`gearsim.signals.sidebands`):
   mean sideband amplitude [N], sideband energy ratio SER and coefficient of variation CV
   (uniformity; a low CV is "uniform distribution").
+* **Sideband spacing** near ``n f_m`` (:func:`gearsim.signals.sideband_spacing`) and the
+  **off-tone fraction** (:func:`gearsim.signals.off_tone_fraction`: share of the power
+  within +- f_m / 2 of ``n f_m`` outside +- f_r1 / 2 of it).
 * **Energy band width** near ``n f_m`` (:func:`gearsim.signals.band_width`, 90 % of the
   power within +- f_m / 2 of ``n f_m``, from the averaged STFT) over the healthy width.
 
@@ -41,12 +45,19 @@ impact found), so that :func:`claims_table` can say why a claim is not met.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from gearsim.signals import Analysis, detect_impacts
+from gearsim.signals import (
+    Analysis,
+    detect_impacts,
+    mesh_residual,
+    off_tone_fraction,
+    sideband_spacing,
+    window_peak,
+)
 
 __all__ = ["SEED", "CaseMetrics", "case_metrics", "claims_table", "qualitative_findings"]
 
@@ -90,7 +101,8 @@ class CaseMetrics:
     """Measures of one cracked case against the healthy case (see module docstring).
 
     Attributes hold SI values (s, N) or dimensionless ratios; dictionaries are keyed by
-    the mesh order ``n``.
+    the mesh order ``n``. ``residual`` is the fault residual ``e`` [N] at the record's
+    sample times (for plots); it is not part of :meth:`to_dict`.
     """
 
     label: str
@@ -112,11 +124,21 @@ class CaseMetrics:
     band_energy_ratio: dict[int, float]
     off_tone: dict[int, float]
     off_tone_healthy: dict[int, float]
+    residual: np.ndarray = field(default_factory=lambda: np.empty(0), repr=False,
+                                 compare=False)
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary (NaN -> None, impact times as a list)."""
+        """JSON-ready dictionary (NaN -> None, impact times as a list; no residual).
+
+        Returns
+        -------
+        dict
+            Every attribute except ``residual``; dictionaries keyed by ``str(n)``.
+        """
         out: dict[str, Any] = {}
         for k, v in self.__dict__.items():
+            if k == "residual":
+                continue
             if isinstance(v, np.ndarray):
                 out[k] = v.tolist()
             elif isinstance(v, dict):
@@ -140,19 +162,6 @@ def _family(a: Analysis, order: int, shaft_frequency: float):
     raise KeyError(f"no sideband family of order {order} at {shaft_frequency} Hz")
 
 
-def _window_peak(d: np.ndarray, fs: float, centres: np.ndarray, half: float) -> np.ndarray:
-    """``max |d|`` in ``[c - half, c + half]`` for each centre (windows clipped to the record)."""
-    n = d.size
-    out = np.full(centres.size, np.nan)
-    h = max(1, int(round(half * fs)))
-    for i, c in enumerate(centres):
-        j = int(round(c * fs))
-        lo, hi = max(0, j - h), min(n, j + h + 1)
-        if hi - lo > h:  # at least half a window inside the record
-            out[i] = np.max(np.abs(d[lo:hi]))
-    return out
-
-
 def case_metrics(label: str, x: np.ndarray, a: Analysis, x_healthy: np.ndarray,
                  a_healthy: Analysis, *, contact_ratio: float) -> CaseMetrics:
     """Measure a cracked record against the healthy one (module docstring, SI units).
@@ -172,13 +181,18 @@ def case_metrics(label: str, x: np.ndarray, a: Analysis, x_healthy: np.ndarray,
     Returns
     -------
     CaseMetrics
+
+    References
+    ----------
+    Shi, Li & Zhou (2025), sec. 3.2 (the claims); Zakrajsek, Townsend & Decker (1993,
+    NASA TM-105950) for the residual.
     """
     fs = a.fs
-    f_m = a.train.mesh_frequency
-    f_r1 = a.train.reference_frequency
+    f_m = a.kinematics.mesh_frequency
+    f_r1 = a.kinematics.reference_frequency
     d = x - x.mean()
     dh = x_healthy - x_healthy.mean()
-    e = mesh_residual(d - dh, fs, f_m, f_r1)
+    e = mesh_residual(d - dh, fs, mesh_frequency=f_m, shaft_frequency=f_r1)
     e_peak = float(np.max(np.abs(e - e.mean())))
     if e_peak > 1e-9 * float(np.max(np.abs(d))):
         imp = detect_impacts(e, fs, min_separation=0.5 / f_r1,
@@ -188,10 +202,10 @@ def case_metrics(label: str, x: np.ndarray, a: Analysis, x_healthy: np.ndarray,
         times, period, period_std = np.empty(0), float("nan"), float("nan")
     half = 0.5 * contact_ratio / f_m
     if times.size:
-        near = _window_peak(d, fs, times, half) / _window_peak(dh, fs, times, half)
+        near = window_peak(d, fs, times, half) / window_peak(dh, fs, times, half)
         far_c = times + 0.5 / f_r1
         far_c = np.where(far_c * fs < x.size, far_c, times - 0.5 / f_r1)
-        far = _window_peak(d, fs, far_c, half) / _window_peak(dh, fs, far_c, half)
+        far = window_peak(d, fs, far_c, half) / window_peak(dh, fs, far_c, half)
         impact_ratio = float(np.nanmean(near)) if np.isfinite(near).any() else float("nan")
         far_ratio = float(np.nanmean(far)) if np.isfinite(far).any() else float("nan")
     else:
@@ -205,13 +219,13 @@ def case_metrics(label: str, x: np.ndarray, a: Analysis, x_healthy: np.ndarray,
         sb_mean[n] = float(np.mean(fam.amplitude))
         sb_ser[n] = float(fam.ser)
         sb_cv[n] = float(fam.cv)
-        spacing[n] = sideband_spacing(a, n)
+        spacing[n] = sideband_spacing(a.spectrum, center=n * f_m, shaft_frequency=f_r1)
         wh = a_healthy.band_width_stft[n]
         width[n] = float(a.band_width_stft[n] / wh) if wh > 0 else float("nan")
         eh = float(np.mean(a_healthy.band_energy[n]))
         energy[n] = float(np.mean(a.band_energy[n]) / eh) if eh > 0 else float("nan")
-        off[n] = off_tone_fraction(a, n)
-        off_h[n] = off_tone_fraction(a_healthy, n)
+        off[n] = off_tone_fraction(a.spectrum, **_band(n, f_m, f_r1))
+        off_h[n] = off_tone_fraction(a_healthy.spectrum, **_band(n, f_m, f_r1))
     return CaseMetrics(
         label=label, impact_period=float(period), impact_period_std=float(period_std),
         impact_count=int(times.size), impact_times=np.asarray(times),
@@ -221,99 +235,13 @@ def case_metrics(label: str, x: np.ndarray, a: Analysis, x_healthy: np.ndarray,
         peak_ratio=float(np.max(np.abs(d)) / np.max(np.abs(dh))),
         harmonic_ratio=harm, sideband_mean=sb_mean, sideband_ser=sb_ser, sideband_cv=sb_cv,
         sideband_spacing=spacing, band_width_ratio=width, band_energy_ratio=energy,
-        off_tone=off, off_tone_healthy=off_h)
+        off_tone=off, off_tone_healthy=off_h, residual=e)
 
 
-def mesh_residual(x: np.ndarray, fs: float, f_m: float, f_r: float) -> np.ndarray:
-    """The record with its mean and every mesh harmonic ``n f_m`` removed [units of x].
-
-    The record is resampled (cubic spline) to ``M`` samples per revolution of the shaft
-    of frequency ``f_r`` over the ``R`` whole revolutions it holds, so that every mesh
-    harmonic falls exactly on bin ``n z R`` (``z = f_m / f_r`` teeth) of the discrete
-    Fourier transform and the sidebands ``n f_m +- k f_r`` on the bins ``R`` apart; those
-    harmonic bins and the 0 Hz bin are set to zero and the result is resampled back to
-    the original times (samples after the last whole revolution are set to zero). This
-    is the residual signal of Zakrajsek, Townsend & Decker (1993, NASA TM-105950) without
-    removing shaft orders, computed on the record instead of its synchronous average.
-    """
-    from scipy.interpolate import CubicSpline
-
-    a = np.asarray(x, dtype=np.float64)
-    z = f_m / f_r
-    if abs(z - round(z)) > 1e-6 * z:
-        raise ValueError(f"f_m / f_r = {z} is not a whole number of teeth")
-    z = int(round(z))
-    t = np.arange(a.size) / fs
-    revs = int(np.floor(a.size / fs * f_r + 1e-9))
-    if revs < 1:
-        raise ValueError("the record is shorter than one revolution")
-    m = 1 << int(np.ceil(np.log2(max(8 * z, fs / f_r))))  # >= fs / f_r, >= 8 per mesh
-    tr = np.arange(revs * m) / (m * f_r)
-    spline = CubicSpline(t, a)
-    spec = np.fft.rfft(spline(tr))
-    spec[0] = 0.0
-    spec[z * revs::z * revs] = 0.0
-    res = np.fft.irfft(spec, revs * m)
-    out = np.zeros_like(a)
-    inside = t <= tr[-1]
-    out[inside] = CubicSpline(tr, res)(t[inside])
-    return out
-
-
-def off_tone_fraction(a: Analysis, order: int) -> float:
-    r"""Fraction of the band power near ``n f_m`` that is not in the mesh line.
-
-    .. math:: \eta_n = 1 - \frac{\sum_{|f_k - n f_m| \le f_{r1}/2} A_k^2}
-                               {\sum_{|f_k - n f_m| \le f_m/2} A_k^2}
-
-    with ``A_k`` the amplitude spectrum (Hann window, so the mesh line spreads over
-    +- 2 bins; the record should hold a whole number of revolutions so that the mesh line
-    and the sidebands fall on bins). A measure of how much the band around ``n f_m`` is
-    widened by sidebands (seed Figure 8, "width increases in the frequency direction");
-    dimensionless, 0 for a pure tone.
-    """
-    spec = a.spectrum
-    f_m = a.train.mesh_frequency
-    f_r1 = a.train.reference_frequency
-    dist = np.abs(spec.frequency - order * f_m)
-    p = spec.amplitude**2
-    total = float(np.sum(p[dist <= 0.5 * f_m]))
-    if total <= 0:
-        return float("nan")
-    return float(1.0 - np.sum(p[dist <= 0.5 * f_r1]) / total)
-
-
-def sideband_spacing(a: Analysis, order: int, k_max: int = 6) -> float:
-    """Most common spacing [Hz] of the strongest spectral lines within ``n f_m +- (k_max + 0.5) f_r1``.
-
-    The ``2 k_max`` largest local maxima of the amplitude spectrum in the band, other
-    than the mesh tone itself, are sorted by frequency; the differences of neighbours on
-    the same side of the tone are rounded to the frequency resolution and the most common
-    one (the smallest on a tie) is returned. For a family of sidebands at
-    ``n f_m +- k f_r`` it equals ``f_r`` to within the resolution, and a few stray lines
-    (e.g. from another shaft) do not move it. NaN if no two lines lie on one side.
-    """
-    from scipy.signal import find_peaks
-
-    spec = a.spectrum
-    f_m = a.train.mesh_frequency
-    f_r1 = a.train.reference_frequency
-    df = float(spec.frequency[1] - spec.frequency[0])
-    sel = np.flatnonzero(np.abs(spec.frequency - order * f_m) <= (k_max + 0.5) * f_r1)
-    amp = spec.amplitude[sel]
-    freq = spec.frequency[sel]
-    idx, _ = find_peaks(amp)
-    idx = idx[np.abs(freq[idx] - order * f_m) > 2.5 * df]  # not the mesh line (Hann: +-2 bins)
-    if idx.size < 2:
-        return float("nan")
-    top = idx[np.argsort(amp[idx])[::-1][: 2 * k_max]]
-    f = np.sort(freq[top])
-    same_side = np.sign(f[1:] - order * f_m) == np.sign(f[:-1] - order * f_m)
-    steps = np.round(np.diff(f)[same_side] / df).astype(int)
-    if steps.size == 0:
-        return float("nan")
-    values, counts = np.unique(steps, return_counts=True)
-    return float(values[np.argmax(counts)] * df)  # argmax takes the smallest on a tie
+def _band(order: int, f_m: float, f_r1: float) -> dict[str, float]:
+    """Line (+- f_r1/2) and band (+- f_m/2) around ``order f_m`` for the off-tone fraction."""
+    return {"center": order * f_m, "line_half_width": 0.5 * f_r1,
+            "band_half_width": 0.5 * f_m}
 
 
 def _fmt(v: float | None, scale: float = 1.0, digits: int = 4) -> str:

@@ -26,9 +26,12 @@ from pathlib import Path
 
 import numpy as np
 
+from gearsim._version import __version__
 from gearsim.errors import InputError
 from gearsim.io.atomic import atomic_write
 from gearsim.studies.sweep_case import FEATURE_GROUPS
+from gearsim.viz import save
+from gearsim.viz.sweep import plot_separability
 
 __all__ = ["CLASSES", "FOLDS", "diagnostic_report", "feature_matrix", "separability",
            "separability_table"]
@@ -168,8 +171,6 @@ def diagnostic_report(store: str | Path, out: str | Path) -> list[Path]:
     """
     import xarray as xr
 
-    import gearsim
-
     store = Path(store)
     if not store.exists():
         raise InputError("store", str(store), "file not found (run gearsim sweep first)")
@@ -188,7 +189,7 @@ def diagnostic_report(store: str | Path, out: str | Path) -> list[Path]:
     csv = "\n".join([",".join(keys), *(",".join(fmt(r[k]) for k in keys) for r in rows)]) + "\n"
     p_csv = atomic_write(out / "separability.csv", lambda p: p.write_text(csv))
     doc = {"store": str(store), "study": ds.attrs.get("title", ""),
-           "gearsim_version": gearsim.__version__, "classes": list(CLASSES),
+           "gearsim_version": __version__, "classes": list(CLASSES),
            "method": f"StandardScaler + LogisticRegression, stratified {FOLDS}-fold CV; "
                      "accuracy and macro one-vs-rest ROC AUC of out-of-fold predictions",
            "n_cases": int(ds.sizes["case"]), "n_ok": int(np.sum(ds["status"].values == "ok")),
@@ -196,8 +197,7 @@ def diagnostic_report(store: str | Path, out: str | Path) -> list[Path]:
                      for k, v in r.items()} for r in rows]}
     p_json = atomic_write(out / "separability.json",
                           lambda p: p.write_text(json.dumps(doc, indent=2)))
-    from gearsim.viz.sweep import plot_separability
 
-    p_png = plot_separability(rows, out / "separability.png",
-                              title=ds.attrs.get("title", "parameter study"))
+    p_png = save(plot_separability(rows, title=ds.attrs.get("title", "parameter study")),
+                 out / "separability.png")
     return [p_csv, p_json, p_png]

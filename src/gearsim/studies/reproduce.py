@@ -18,6 +18,10 @@ through gearsim:
 * figures (:mod:`gearsim.viz.reproduce`), ``claims.json``, ``dynamic_load.nc`` and a
   self-contained ``report.html`` (:mod:`gearsim.studies.report`).
 
+:func:`compute_reproduction` computes everything into a
+:class:`~gearsim.studies.reproduction.Reproduction` (no files);
+:func:`write_reproduction` writes the files; :func:`run_reproduction` does both.
+
 The seed does not state the crack size. The reference depth is 6 mm at 45 deg from the
 30 deg tangent point, about 2/3 of the deepest crack whose tip stays on the cracked side
 of the tooth centre line (9.28 mm); the sensitivity covers 1 to 9 mm.
@@ -25,24 +29,37 @@ of the tooth centre line (9.28 mm); the sensitivity covers 1 to 9 mm.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from gearsim._version import __version__
+from gearsim.dynamics import DynamicsSettings, simulate
 from gearsim.errors import InputError, require
+from gearsim.fem.check import fe_check
 from gearsim.io.atomic import atomic_write
+from gearsim.io.jsonout import strict_json
+from gearsim.model import load
+from gearsim.signals import analyze
+from gearsim.studies.claims import case_metrics, claims_table, qualitative_findings
+from gearsim.studies.report import write_report
+from gearsim.studies.reproduction import (
+    DEFAULT_DEPTHS,
+    CaseRun,
+    ReproduceOptions,
+    Reproduction,
+)
+from gearsim.system import GearTrain
+from gearsim.viz import save_all
+from gearsim.viz.reproduce import CAPTIONS
 
-__all__ = ["ReproduceOptions", "Reproduction", "run_reproduction", "simulate_cases"]
-
-#: Crack depths of the sensitivity study [m] (the tooth model refuses depths past
-#: 9.278 mm at 45 deg on the Table-1 input gear).
-DEFAULT_DEPTHS = (1e-3, 2e-3, 4e-3, 6e-3, 8e-3, 9e-3)
+__all__ = ["DEFAULT_DEPTHS", "ReproduceOptions", "Reproduction", "compute_reproduction",
+           "run_reproduction", "simulate_cases", "write_reproduction"]
 
 #: Cases of each route: (label, flank, closure).
 CASES = (
@@ -54,105 +71,30 @@ CASES = (
 )
 
 
-@dataclass(frozen=True)
-class ReproduceOptions:
-    """Options of :func:`run_reproduction` (SI units).
-
-    Parameters
-    ----------
-    config
-        Gear train: a TOML path or built-in example name (default the seed's Table 1).
-    depth
-        Reference crack depth [m] of the figures and the claims table.
-    depths
-        Crack depths of the sensitivity study [m].
-    revolutions
-        Recorded duration in revolutions of the input gear (a whole number, so that the
-        mesh harmonics and the sidebands fall on spectral bins).
-    fe
-        Also run the FE-stiffness route and the FE check of the tooth (Figure 3).
-    fe_points
-        Contact positions of the FE check.
-    model
-        Dynamic model, ``"lta"`` or ``"seed"`` (see :mod:`gearsim.dynamics`).
-    """
-
-    config: str = "idler-table1"
-    depth: float = 6e-3
-    depths: tuple[float, ...] = DEFAULT_DEPTHS
-    revolutions: int = 32
-    fe: bool = True
-    fe_points: int = 11
-    model: str = "lta"
-
-    def __post_init__(self) -> None:
-        require(math.isfinite(self.depth) and self.depth > 0, "depth", self.depth,
-                "must be > 0 m")
-        require(len(self.depths) >= 1, "depths", self.depths, "must hold at least one depth")
-        for d in self.depths:
-            require(math.isfinite(d) and d > 0, "depths", d, "every depth must be > 0 m")
-        require(isinstance(self.revolutions, int) and self.revolutions >= 4, "revolutions",
-                self.revolutions, "must be a whole number >= 4 (impacts need repeats)")
-        require(self.fe_points >= 3, "fe_points", self.fe_points, "must be >= 3")
-        require(self.model in ("lta", "seed"), "model", self.model, 'must be "lta" or "seed"')
-
-
-@dataclass
-class CaseRun:
-    """One simulated and analysed case."""
-
-    route: str
-    label: str
-    train: Any
-    force: np.ndarray          # mesh I dynamic load [N]
-    force2: np.ndarray         # mesh II dynamic load [N]
-    fs: float
-    analysis: Any              # gearsim.signals.Analysis of ``force``
-
-
-@dataclass
-class Reproduction:
-    """Everything the report shows (kept in memory for the figures)."""
-
-    options: ReproduceOptions
-    train: Any
-    t1: float
-    f_m: float
-    contact_ratio: float
-    runs: dict[str, CaseRun]
-    metrics: dict[str, Any]
-    stiffness: dict[str, Any]
-    fe_checks: dict[str, Any]
-    sensitivity: list[dict[str, Any]]
-    claims: list[dict[str, Any]]
-    findings: dict[str, list[dict[str, Any]]]
-    timings: dict[str, float]
-
-
-def _variant(base, *, depth: float, flank: str, closure: str, source: str):
-    """The base train with one crack of ``depth`` on ``flank`` (or none), closure, source."""
-    from gearsim.stiffness.crack import Crack
-
-    stiff = dataclasses.replace(base.stiffness, closure=closure, source=source)
-    tr = dataclasses.replace(base, stiffness=stiff)
-    if flank == "none":
-        return tr.with_cracks(())
-    cracks = base.cracks or (Crack(gear=base.gears[0].name, tooth=0, depth=depth,
-                                   angle=math.radians(45.0)),)
-    return tr.with_cracks(tuple(dataclasses.replace(c, flank=flank, depth=depth)
-                                for c in cracks))
-
-
-def simulate_cases(base, cases, settings, *, progress: Callable[[str], None] | None = None
-                   ) -> dict[str, CaseRun]:
+def simulate_cases(base: GearTrain, cases: dict[str, tuple[str, str, GearTrain]],
+                   settings: DynamicsSettings, *,
+                   progress: Callable[[str], None] | None = None) -> dict[str, CaseRun]:
     """Simulate and analyse ``cases`` = ``{key: (route, label, train)}``.
 
     The recorded signal is the mesh force of mesh I (the cracked input gear's mesh);
     the analysis uses the tooth counts of the train and the input shaft frequency.
-    """
-    from gearsim.dynamics import simulate
-    from gearsim.signals import analyze
 
+    Parameters
+    ----------
+    base : GearTrain
+        The base train (tooth counts and input shaft frequency of the analysis).
+    cases : dict
+        Key -> (route, label, train variant).
+    settings : DynamicsSettings
+        Simulation settings, the same for every case.
+    progress : callable, optional
+        Called with a short message before each case.
+
+    Returns
+    -------
+    dict
+        Key -> :class:`CaseRun`.
+    """
     teeth = [g.teeth for g in base.gears]
     f_r1 = base.shaft_frequency(0)
     out = {}
@@ -170,7 +112,7 @@ def simulate_cases(base, cases, settings, *, progress: Callable[[str], None] | N
     return out
 
 
-def _tvms(train, flank_cases) -> dict[str, Any]:
+def _tvms(flank_cases: dict[str, GearTrain]) -> dict[str, Any]:
     """Mesh-I TVMS over one input revolution for each ``label -> train``."""
     out = {}
     for label, tr in flank_cases.items():
@@ -179,46 +121,41 @@ def _tvms(train, flank_cases) -> dict[str, Any]:
     return out
 
 
-def run_reproduction(out: str | Path, options: ReproduceOptions | None = None, *,
-                     progress: Callable[[str], None] | None = None) -> Reproduction:
-    """Run the seed's study and write report, figures and ``claims.json`` into ``out``.
+def compute_reproduction(options: ReproduceOptions | None = None, *,
+                         progress: Callable[[str], None] | None = None) -> Reproduction:
+    """Run the seed's study and return every number of the report (no files written).
 
     Parameters
     ----------
-    out
-        Output folder (created). Files are written atomically.
-    options
-        :class:`ReproduceOptions`; default the full study.
-    progress
+    options : ReproduceOptions, optional
+        Default the full study.
+    progress : callable, optional
         Called with a short message before each step.
 
     Returns
     -------
     Reproduction
-        All numbers; ``out/report.html`` is the report.
-    """
-    from gearsim.dynamics import DynamicsSettings
-    from gearsim.io.config import load
-    from gearsim.studies.claims import case_metrics, claims_table, qualitative_findings
-    from gearsim.studies.report import write_report
 
+    Raises
+    ------
+    InputError
+        Before any simulation: a configuration that is not a train, too few revolutions
+        for the sideband analysis, a crack depth that does not fit the tooth.
+    """
     opt = options or ReproduceOptions()
-    out = Path(out)
-    if out.exists() and not out.is_dir():
-        raise InputError("--out", str(out), "must be a folder (a file of that name exists)")
     say = progress or (lambda _m: None)
     timings: dict[str, float] = {}
     t_all = time.perf_counter()
 
-    base = load(opt.config)
+    gb = load(opt.config)
+    base = gb.train
     require(len(base.gears) >= 2, "config", opt.config, "must define a train of >= 2 gears")
     f_r1 = base.shaft_frequency(0)
     t1 = 1.0 / f_r1
     f_m = base.mesh_frequency
     pair = base.pairs[0]
     eps = pair.transverse_contact_ratio + pair.overlap_ratio
-    settings = dataclasses.replace(base.extra.get("dynamics") or DynamicsSettings(),
-                                   duration=opt.revolutions * t1, model=opt.model)
+    settings = replace(gb.dynamics, duration=opt.revolutions * t1, model=opt.model)
     # The sideband analysis of every shaft needs 4 Hann bins per spacing of the slowest
     # shaft (gearsim.signals.analyze): refuse too short a record before any work.
     f_slow = min(base.shaft_frequency(i) for i in range(len(base.gears)))
@@ -226,19 +163,17 @@ def run_reproduction(out: str | Path, options: ReproduceOptions | None = None, *
     require(opt.revolutions >= need, "revolutions", opt.revolutions,
             f"must be >= {need} input revolutions (4 spectral bins per {f_slow:.4g} Hz "
             "sideband spacing of the slowest shaft)")
-    # Validate every crack depth before the long part (the tooth model names the limit).
+    # Every crack variant is made (and so checked) before the long part.
     for d in sorted(set(opt.depths) | {opt.depth}):
-        _variant(base, depth=d, flank="working", closure="contact",
-                 source="pe").mesh_stiffness(0, revolution_of=1)
-    out.mkdir(parents=True, exist_ok=True)
+        base.with_crack("working", depth=d)
 
     routes = ["PE"] + (["FE"] if opt.fe else [])
     t0 = time.perf_counter()
     cases = {}
     for route in routes:
         for label, flank, closure in CASES:
-            cases[f"{route}/{label}"] = (route, label, _variant(
-                base, depth=opt.depth, flank=flank, closure=closure, source=route.lower()))
+            cases[f"{route}/{label}"] = (route, label, base.with_crack(
+                flank, depth=opt.depth, closure=closure, source=route.lower()))
     runs = simulate_cases(base, cases, settings, progress=say)
     timings["cases"] = time.perf_counter() - t0
 
@@ -252,19 +187,16 @@ def run_reproduction(out: str | Path, options: ReproduceOptions | None = None, *
 
     say("stiffness curves")
     t0 = time.perf_counter()
-    stiffness = {route: _tvms(base, {label: runs[f"{route}/{label}"].train
-                                     for label, _, _ in CASES}) for route in routes}
+    stiffness = {route: _tvms({label: runs[f"{route}/{label}"].train
+                               for label, _, _ in CASES}) for route in routes}
     timings["stiffness"] = time.perf_counter() - t0
 
     fe_checks: dict[str, Any] = {}
     if opt.fe:
-        from gearsim.fem.check import fe_check
-
         t0 = time.perf_counter()
         for crack in ("none", "working", "non-working"):
             say(f"FE check of the input tooth, crack {crack}")
-            tr = _variant(base, depth=opt.depth, flank="working", closure="contact",
-                          source="pe")
+            tr = base.with_crack("working", depth=opt.depth, closure="contact", source="pe")
             fe_checks[crack] = fe_check(tr, tr.gears[0].name, crack=crack,
                                         points=opt.fe_points)
         timings["fe_check"] = time.perf_counter() - t0
@@ -274,33 +206,79 @@ def run_reproduction(out: str | Path, options: ReproduceOptions | None = None, *
     sensitivity = _sensitivity(base, opt, settings, runs["PE/healthy"], eps, say)
     timings["sensitivity"] = time.perf_counter() - t0
 
-    per_route = {k: v for k, v in metrics.items()}
-    claims = claims_table(per_route, t1=t1, depth=opt.depth)
+    claims = claims_table(metrics, t1=t1, depth=opt.depth)
     findings = {route: qualitative_findings(metrics, t1=t1, route=route) for route in routes}
-    rep = Reproduction(options=opt, train=base, t1=t1, f_m=f_m, contact_ratio=eps, runs=runs,
-                       metrics=metrics, stiffness=stiffness, fe_checks=fe_checks,
-                       sensitivity=sensitivity, claims=claims, findings=findings,
-                       timings=timings)
+    timings["compute"] = time.perf_counter() - t_all
+    return Reproduction(options=opt, train=base, t1=t1, f_m=f_m, contact_ratio=eps, runs=runs,
+                        metrics=metrics, stiffness=stiffness, fe_checks=fe_checks,
+                        sensitivity=sensitivity, claims=claims, findings=findings,
+                        timings=timings)
 
+
+def write_reproduction(rep: Reproduction, out: str | Path, *,
+                       progress: Callable[[str], None] | None = None) -> Path:
+    """Write ``dynamic_load.nc``, ``figures/``, ``claims.json`` and ``report.html``.
+
+    Parameters
+    ----------
+    rep : Reproduction
+        The result of :func:`compute_reproduction`.
+    out : str or Path
+        Output folder (created); every file is written atomically.
+    progress : callable, optional
+        Called with a short message before each step.
+
+    Returns
+    -------
+    Path
+        The report, ``out/report.html``.
+    """
+    say = progress or (lambda _m: None)
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
     say("writing results")
     _write_loads(rep, out / "dynamic_load.nc")
     say("figures")
     t0 = time.perf_counter()
-    from gearsim.viz.reproduce import plot_all
-
-    figures = plot_all(rep, out / "figures")
-    timings["figures"] = time.perf_counter() - t0
-    timings["total"] = time.perf_counter() - t_all
+    paths = save_all(rep.plot(), out / "figures")
+    figures = [{"name": p.stem, "path": p, "caption": CAPTIONS[p.stem]} for p in paths]
+    rep.timings["figures"] = time.perf_counter() - t0
     _write_claims(rep, out / "claims.json")
-    write_report(rep, figures, out / "report.html")
+    return write_report(rep, figures, out / "report.html")
+
+
+def run_reproduction(out: str | Path, options: ReproduceOptions | None = None, *,
+                     progress: Callable[[str], None] | None = None) -> Reproduction:
+    """Run the seed's study and write report, figures and ``claims.json`` into ``out``.
+
+    Parameters
+    ----------
+    out : str or Path
+        Output folder (created). Files are written atomically.
+    options : ReproduceOptions, optional
+        Default the full study.
+    progress : callable, optional
+        Called with a short message before each step.
+
+    Returns
+    -------
+    Reproduction
+        All numbers; ``out/report.html`` is the report.
+    """
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise InputError("--out", str(out), "must be a folder (a file of that name exists)")
+    t0 = time.perf_counter()
+    rep = compute_reproduction(options, progress=progress)
+    rep.timings["total"] = time.perf_counter() - t0  # written before the files, as before
+    write_reproduction(rep, out, progress=progress)
     return rep
 
 
-def _sensitivity(base, opt: ReproduceOptions, settings, healthy: CaseRun, eps: float,
+def _sensitivity(base: GearTrain, opt: ReproduceOptions, settings: DynamicsSettings,
+                 healthy: CaseRun, eps: float,
                  say: Callable[[str], None]) -> list[dict[str, Any]]:
     """Claims measures and TVMS drop versus crack depth (PE route)."""
-    from gearsim.studies.claims import case_metrics
-
     k_h = base.with_cracks(()).mesh_stiffness(0, revolution_of=1).k
     rows = []
     variants = (("working", "working", "contact"), ("non-working", "non-working", "contact"),
@@ -308,7 +286,7 @@ def _sensitivity(base, opt: ReproduceOptions, settings, healthy: CaseRun, eps: f
     for d in opt.depths:
         cases = {}
         for label, flank, closure in variants:
-            tr = _variant(base, depth=d, flank=flank, closure=closure, source="pe")
+            tr = base.with_crack(flank, depth=d, closure=closure, source="pe")
             cases[f"{label}@{d * 1e3:g}mm"] = ("PE", label, tr)
         runs = simulate_cases(base, cases, settings, progress=say)
         for (label, _, _), run in zip(variants, runs.values(), strict=True):
@@ -341,11 +319,17 @@ def _finite(v: float) -> float | None:
     return float(v) if math.isfinite(v) else None
 
 
+def _pct(v: float) -> float | None:
+    return float(100 * v) if math.isfinite(v) else None
+
+
+def _finite(v: float) -> float | None:
+    return float(v) if math.isfinite(v) else None
+
+
 def _write_loads(rep: Reproduction, path: Path) -> None:
     """Mesh forces of every case as one NetCDF file (dims case, time)."""
     import xarray as xr
-
-    import gearsim
 
     keys = list(rep.runs)
     first = rep.runs[keys[0]]
@@ -361,38 +345,11 @@ def _write_loads(rep: Reproduction, path: Path) -> None:
         coords={"case": keys, "time": ("time", t, {"units": "s"})},
         attrs={"title": "gearsim reproduce: dynamic loads of the seed study",
                "crack_depth_m": rep.options.depth, "fs": first.fs,
-               "gearsim_version": gearsim.__version__},
+               "gearsim_version": __version__},
     )
     atomic_write(path, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
 
 
-def claims_document(rep: Reproduction) -> dict[str, Any]:
-    """The JSON content of ``claims.json``."""
-    import gearsim
-
-    c = rep.train.cracks[0] if rep.train.cracks else None
-    return {
-        "gearsim_version": gearsim.__version__,
-        "system": rep.train.name,
-        "seed": "Shi, Li & Zhou, Actuators 14 (2025) 292, doi:10.3390/act14060292",
-        "crack": {"gear": c.gear if c else rep.train.gears[0].name,
-                  "tooth": c.tooth if c else 0,
-                  "depth_m": rep.options.depth,
-                  "angle_deg": math.degrees(c.angle) if c else 45.0,
-                  "profile": c.profile if c else "uniform"},
-        "T1_s": rep.t1, "mesh_frequency_hz": rep.f_m, "total_contact_ratio": rep.contact_ratio,
-        "options": dataclasses.asdict(rep.options),
-        "claims": rep.claims,
-        "findings": rep.findings,
-        "cases": {k: m.to_dict() for k, m in rep.metrics.items()},
-        "fe_check": {k: v.differences() for k, v in rep.fe_checks.items()},
-        "sensitivity": rep.sensitivity,
-        "timings_s": rep.timings,
-    }
-
-
 def _write_claims(rep: Reproduction, path: Path) -> None:
-    from gearsim.io.jsonout import strict_json
-
-    text = strict_json(claims_document(rep))
+    text = strict_json(rep.to_dict())
     atomic_write(path, lambda p: p.write_text(text))

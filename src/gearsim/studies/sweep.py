@@ -49,6 +49,11 @@ from typing import Any
 import numpy as np
 
 from gearsim.errors import InputError, require
+from gearsim.model import loads
+from gearsim.model.config import EXAMPLES, example_text, read_file_or_builtin
+from gearsim.sections import convert
+from gearsim.stiffness.settings import CLOSURES
+from gearsim.system.train import CRACK_CHOICES
 from gearsim.units import to_si
 
 __all__ = ["BUILTIN_STUDIES", "PARAMETERS", "Case", "Study", "builtin_study_text", "expand",
@@ -60,8 +65,8 @@ BUILTIN_STUDIES = ("diagnostic",)
 #: Study parameter -> quantity kind (see :data:`gearsim.units.DIMENSIONS`) or choices.
 PARAMETERS: dict[str, str | tuple[str, ...]] = {
     "crack_depth": "length",
-    "flank": ("none", "working", "non-working"),
-    "closure": ("open", "contact"),
+    "flank": CRACK_CHOICES,
+    "closure": CLOSURES,
     "speed": "speed",
     "torque": "torque",
     "bearing_stiffness": "stiffness",
@@ -198,8 +203,6 @@ def builtin_study_text(name: str) -> str:
 
 def load_study(path: str | Path) -> Study:
     """Read a study file, or a built-in study by name (:data:`BUILTIN_STUDIES`)."""
-    from gearsim.io.config import read_file_or_builtin
-
     text, folder = read_file_or_builtin(path, BUILTIN_STUDIES, builtin_study_text,
                                         parameter="study", what="study")
     return loads_study(text, base_dir=folder)
@@ -245,8 +248,6 @@ def _values(name: str, raw: Any) -> tuple | dict:
 
 def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
     """Parse study TOML text into a :class:`Study` (``base_dir``: for a relative config)."""
-    from gearsim.io.config import EXAMPLES, example_text
-
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -297,17 +298,7 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
             "must be true or false")
     dyn_raw = st.get("dynamics", {})
     require(isinstance(dyn_raw, dict), "study.dynamics", dyn_raw, "must be a table")
-    dynamics: dict[str, Any] = {}
-    for key, value in dyn_raw.items():
-        if key not in DYNAMICS_OVERRIDES:
-            raise InputError(f"study.dynamics.{key}", value, "unknown key; allowed: "
-                             + ", ".join(DYNAMICS_OVERRIDES))
-        kind = DYNAMICS_OVERRIDES[key]
-        if kind == "str":
-            require(isinstance(value, str), f"study.dynamics.{key}", value, "must be a string")
-            dynamics[key] = value
-        else:
-            dynamics[key] = to_si(value, kind, f"study.dynamics.{key}")
+    dynamics = convert(dyn_raw, DYNAMICS_OVERRIDES, "study.dynamics")
     params_raw = doc.get("parameters", {})
     require(isinstance(params_raw, dict), "parameters", params_raw, "must be a table")
     parameters: dict[str, Any] = {}
@@ -330,11 +321,8 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
 
 
 def _base_values(study: Study) -> dict[str, tuple]:
-    from gearsim.dynamics import DynamicsSettings
-    from gearsim.io.config import loads
-
-    train = loads(study.config_text)
-    settings = train.extra.get("dynamics") or DynamicsSettings()
+    gb = loads(study.config_text)
+    train, settings = gb.train, gb.dynamics
     depth = train.cracks[0].depth if train.cracks else 0.0
     flank = train.cracks[0].flank if train.cracks else "none"
     return {"crack_depth": (depth,), "flank": (flank,), "closure": (train.stiffness.closure,),

@@ -19,8 +19,12 @@ from typing import Any
 
 import numpy as np
 
+from gearsim.dynamics import DynamicsSettings, simulate
 from gearsim.errors import InputError, SimulationError
+from gearsim.model import loads
+from gearsim.signals import analyze
 from gearsim.studies.sweep import PARAMETERS, Case, Study
+from gearsim.system import GearTrain, Operating
 
 __all__ = ["FEATURE_GROUPS", "add_noise", "build_case", "features", "run_group"]
 
@@ -32,14 +36,22 @@ PARAM_UNITS = {"crack_depth": "m", "speed": "rad/s", "torque": "N*m",
                "replicate": ""}
 
 
-def build_case(study: Study, case: Case):
+def build_case(study: Study, case: Case) -> tuple[GearTrain, DynamicsSettings]:
     """Gear train and dynamics settings of a case.
+
+    Parameters
+    ----------
+    study : Study
+        The study (base configuration and dynamics overrides).
+    case : Case
+        The case (operating point, closure, crack flank and depth, bearing stiffness).
 
     Returns
     -------
     train : gearsim.system.GearTrain
-        Base train with the case's operating point, closure model and crack (on the
-        config's crack, or the default crack of ``gearsim simulate --crack``).
+        Base train with the case's operating point, closure model and crack (the
+        config's cracks, or :data:`gearsim.system.DEFAULT_CRACK`, moved to the case's
+        flank and depth by :meth:`GearTrain.with_crack`, which checks they fit).
     settings : gearsim.dynamics.DynamicsSettings
         Base settings with the study's overrides and the case's bearing stiffness.
 
@@ -48,28 +60,12 @@ def build_case(study: Study, case: Case):
     InputError
         If the crack does not fit its tooth or a setting is out of range.
     """
-    from gearsim.commands.dynamics import DEFAULT_CRACK
-    from gearsim.dynamics import DynamicsSettings
-    from gearsim.geometry.profile import ToothProfile
-    from gearsim.io.config import loads
-    from gearsim.stiffness.crack import Crack, crack_geometry
-    from gearsim.system import Operating
-
-    train = loads(study.config_text)
-    train = dataclasses.replace(
-        train, operating=Operating(speed=case.speed, torque=case.torque),
-        stiffness=dataclasses.replace(train.stiffness, closure=case.closure))
-    if case.flank == "none":
-        train = train.with_cracks(())
-    else:
-        base = train.cracks or (Crack(gear=train.gears[0].name, **DEFAULT_CRACK),)
-        cracks = tuple(dataclasses.replace(c, flank=case.flank, depth=case.crack_depth)
-                       for c in base)
-        for c in cracks:  # refuse a crack that does not fit before any computation
-            crack_geometry(ToothProfile(train.gear(c.gear)), c)
-        train = train.with_cracks(cracks)
-    settings = train.extra.get("dynamics") or DynamicsSettings()
-    settings = dataclasses.replace(settings, bearing_stiffness=case.bearing_stiffness,
+    gb = loads(study.config_text)
+    train = dataclasses.replace(gb.train, operating=Operating(speed=case.speed,
+                                                              torque=case.torque))
+    depth = None if case.flank == "none" else case.crack_depth
+    train = train.with_crack(case.flank, depth=depth, closure=case.closure)
+    settings = dataclasses.replace(gb.dynamics, bearing_stiffness=case.bearing_stiffness,
                                    **study.dynamics)
     return train, settings
 
@@ -181,9 +177,6 @@ def run_group(study: Study, cases: Sequence[Case],
         One row per case along dimension ``case`` (see module docstring). Refused input
         and failed simulations are recorded (status, message), not raised.
     """
-    from gearsim.dynamics import simulate
-    from gearsim.signals import analyze
-
     if hook is not None:
         hook(cases)
     n = len(cases)

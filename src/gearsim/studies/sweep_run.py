@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gearsim._version import __version__
 from gearsim.errors import InputError, SimulationError
 from gearsim.io.atomic import atomic_write
 from gearsim.studies.sweep import Case, Study, expand
@@ -132,8 +133,6 @@ def combine(study: Study, parts: Sequence):
     """
     import xarray as xr
 
-    import gearsim
-
     names: dict[str, tuple] = {}
     sample_time = None
     for p in parts:
@@ -161,7 +160,7 @@ def combine(study: Study, parts: Sequence):
         "title": f"gearsim parameter study: {study.name}",
         "study": study.text,
         "config": study.config_text,
-        "gearsim_version": gearsim.__version__,
+        "gearsim_version": __version__,
         "n_cases": int(ds.sizes["case"]),
         "n_ok": int(np.sum(status == "ok")),
         "n_failed": int(np.sum(status != "ok")),

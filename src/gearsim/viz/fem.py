@@ -1,26 +1,40 @@
-"""Figures of the finite-element check (matplotlib imported lazily, Agg backend)."""
+"""Figures of the finite-element check: FE versus potential-energy tooth stiffness."""
 
 from __future__ import annotations
 
-from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from gearsim.viz import pyplot
+from gearsim.viz.style import figure_and_axes, figure_or_new, styled
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from gearsim.fem.check import FECheck
 
 __all__ = ["plot_fe_check", "plot_mesh"]
 
 
-def plot_fe_check(check, path: str | Path) -> Path:
-    """FE and PE tooth stiffness along the path of contact, and their ratio.
+@styled
+def plot_fe_check(check: FECheck, *, fig: Figure | None = None) -> Figure:
+    """FE and PE tooth stiffness along the path of contact, and their differences.
 
     Parameters
     ----------
     check : gearsim.fem.check.FECheck
-    path : output PNG
+        Result of :func:`gearsim.fem.check.fe_check`.
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw into (two panels); default a new one.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
     """
-    plt = pyplot()
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    fig = figure_or_new(fig, 11, 4)
+    axes = fig.subplots(1, 2)
     roll = np.degrees(check.roll_angle)
     b = check.gear.face_width
     ax = axes[0]
@@ -36,20 +50,34 @@ def plot_fe_check(check, path: str | Path) -> Path:
     axes[1].axhline(0.0, color="k", lw=0.8)
     axes[1].set_ylabel("(k_PE - k_FE) / k_FE [%]")
     axes[1].set_title("max / min / mean")
-    fig.tight_layout()
-    out = Path(path)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out)
-    plt.close(fig)
-    return out
+    return fig
 
 
-def plot_mesh(p: np.ndarray, t: np.ndarray, path: str | Path, *, window=None,
-              crack=None) -> Path:
-    """The triangulation (optionally zoomed to ``window`` = (x0, x1, y0, y1) [m])."""
-    plt = pyplot()
-    fig, ax = plt.subplots(figsize=(7, 7))
-    ax.triplot(p[0] * 1e3, p[1] * 1e3, t.T, lw=0.3, color="0.3")
+@styled
+def plot_mesh(p: np.ndarray, t: np.ndarray, *, window: tuple[float, float, float, float]
+              | None = None, crack: Any = None, ax: Axes | None = None) -> Figure:
+    """The triangulation of a tooth model, optionally zoomed and with the crack drawn.
+
+    Parameters
+    ----------
+    p : numpy.ndarray
+        Node coordinates, shape (2, n_nodes) [m].
+    t : numpy.ndarray
+        Triangles as node indices, shape (3 or 6, n_elements) (the first three used).
+    window : tuple of float, optional
+        ``(x0, x1, y0, y1)`` [m] of the view; default the whole mesh.
+    crack : object, optional
+        Crack with ``start`` and ``tip`` points [m], drawn in red.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw into; default a new figure.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
+    fig, ax = figure_and_axes(ax, 7, 7)
+    ax.triplot(p[0] * 1e3, p[1] * 1e3, t[:3].T, lw=0.3, color="0.3")
     if crack is not None:
         ax.plot([crack.start[0] * 1e3, crack.tip[0] * 1e3],
                 [crack.start[1] * 1e3, crack.tip[1] * 1e3], "r-", lw=1.5)
@@ -60,8 +88,4 @@ def plot_mesh(p: np.ndarray, t: np.ndarray, path: str | Path, *, window=None,
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
     ax.grid(False)
-    out = Path(path)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out)
-    plt.close(fig)
-    return out
+    return fig

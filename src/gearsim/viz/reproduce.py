@@ -7,19 +7,20 @@ one curve, and fonts of at least 9 pt at the saved size.
 
 from __future__ import annotations
 
-from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from gearsim.viz import figure
+from gearsim.viz.style import figure_and_axes, figure_or_new, styled
 
 if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from gearsim.studies.reproduce import Reproduction
+    from gearsim.studies.reproduction import Reproduction
 
-__all__ = ["plot_all"]
+__all__ = ["plot_all", "plot_stiffness", "plot_time", "plot_spectrum", "plot_zooms",
+           "plot_stft", "plot_sensitivity", "CAPTIONS"]
 
 #: Colours of the cases, the same in every figure.
 COLORS = {"healthy": "black", "working": "tab:red", "non-working": "tab:blue",
@@ -29,18 +30,38 @@ NAMES = {"healthy": "healthy", "working": "working-flank crack",
          "non-working-open": "non-working, open closure", "open": "open closure (either flank)"}
 
 
-def _save(fig: Figure, path: Path) -> Path:
-    from gearsim.io.atomic import atomic_write
+_REP = """    rep : gearsim.studies.reproduce.Reproduction
+        Results of :func:`gearsim.studies.reproduce.reproduce`."""
+_ROUTE = """    route : {"PE", "FE"}
+        Stiffness route of the dynamic runs shown."""
+_RETURNS = """    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure."""
 
-    path.parent.mkdir(parents=True, exist_ok=True)
-    atomic_write(path, lambda p: fig.savefig(p, dpi=110, format="png"))
-    return path
+
+def _doc(func):
+    """Fill the shared parameter descriptions into ``func.__doc__``."""
+    if func.__doc__:  # None under python -OO
+        func.__doc__ = func.__doc__.format(rep=_REP, route=_ROUTE, returns=_RETURNS)
+    return func
 
 
-def plot_stiffness(rep: Reproduction) -> Figure:
-    """Seed Figure 3: mesh stiffness healthy and cracked, PE and FE; FE vs PE tooth check."""
+@styled
+@_doc
+def plot_stiffness(rep: Reproduction, *, fig: Figure | None = None) -> Figure:
+    """Seed Figure 3: mesh stiffness healthy and cracked, PE and FE; FE vs PE tooth check.
+
+    Parameters
+    ----------
+{rep}
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw into (one panel, three with FE checks); default a new one.
+
+{returns}
+    """
     has_fe = bool(rep.fe_checks)
-    fig = figure(12, 8.5 if has_fe else 4.5)
+    fig = figure_or_new(fig, 12, 8.5 if has_fe else 4.5)
     if has_fe:
         gs = fig.add_gridspec(2, 2)
         ax0 = fig.add_subplot(gs[0, :])
@@ -103,10 +124,22 @@ def _impacts(rep: Reproduction, key: str) -> np.ndarray:
     return np.asarray(m.impact_times) if m is not None else np.empty(0)
 
 
-def plot_time(rep: Reproduction, route: str = "PE") -> Figure:
+@styled
+@_doc
+def plot_time(rep: Reproduction, route: str = "PE", *, fig: Figure | None = None) -> Figure:
     """Seed Figure 5: dynamic load of mesh I over three revolutions, a zoom at an impact,
-    and the fault signal (cracked minus healthy load) of both flanks."""
-    fig = figure(12, 11.5)
+    and the fault signal (cracked minus healthy load) of both flanks.
+
+    Parameters
+    ----------
+{rep}
+{route}
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw into (four rows of two panels); default a new one.
+
+{returns}
+    """
+    fig = figure_or_new(fig, 12, 11.5)
     axes = fig.subplots(4, 2, width_ratios=(2.2, 1))
     h = rep.runs[f"{route}/healthy"]
     t = np.arange(h.force.size) / h.fs
@@ -146,13 +179,9 @@ def plot_time(rep: Reproduction, route: str = "PE") -> Figure:
             az.legend(loc="upper right", fontsize=8)
             lo, hi = az.get_ylim()
             az.set_ylim(lo, hi + 0.3 * (hi - lo))
-    from gearsim.studies.claims import mesh_residual
-
     ax, az = axes[3]
-    dh = h.force - h.force.mean()
     for label in ("working", "non-working"):
-        run = rep.runs[f"{route}/{label}"]
-        e = mesh_residual(run.force - run.force.mean() - dh, run.fs, rep.f_m, 1 / rep.t1)
+        e = rep.metrics[f"{route}/{label}"].residual
         for a_, s in ((ax, sel), (az, zoom)):
             a_.plot(t[s] * 1e3, e[s], color=COLORS[label], lw=0.9, label=NAMES[label])
     ax.set_title("fault residual: cracked minus healthy load, mesh harmonics removed "
@@ -165,10 +194,21 @@ def plot_time(rep: Reproduction, route: str = "PE") -> Figure:
     return fig
 
 
-def plot_spectrum(rep: Reproduction, route: str = "PE") -> Figure:
-    """Seed Figure 6: amplitude spectra of the dynamic load up to 4.5 f_m."""
-    fig = figure(12, 5)
-    ax = fig.add_subplot(1, 1, 1)
+@styled
+@_doc
+def plot_spectrum(rep: Reproduction, route: str = "PE", *, ax: Axes | None = None) -> Figure:
+    """Seed Figure 6: amplitude spectra of the dynamic load up to 4.5 f_m.
+
+    Parameters
+    ----------
+{rep}
+{route}
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw into; default a new figure.
+
+{returns}
+    """
+    fig, ax = figure_and_axes(ax, 12, 5)
     top = 4.5 * rep.f_m
     for label, lw in (("healthy", 1.6), ("working", 0.9), ("non-working", 0.9)):
         s = rep.runs[f"{route}/{label}"].analysis.spectrum
@@ -189,9 +229,21 @@ def plot_spectrum(rep: Reproduction, route: str = "PE") -> Figure:
     return fig
 
 
-def plot_zooms(rep: Reproduction, route: str = "PE") -> Figure:
-    """Seed Figure 7: spectra around n f_m (n = 1..4) with the sidebands n f_m +- k f_r1."""
-    fig = figure(12, 8)
+@styled
+@_doc
+def plot_zooms(rep: Reproduction, route: str = "PE", *, fig: Figure | None = None) -> Figure:
+    """Seed Figure 7: spectra around n f_m (n = 1..4) with the sidebands n f_m +- k f_r1.
+
+    Parameters
+    ----------
+{rep}
+{route}
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw into (four panels); default a new one.
+
+{returns}
+    """
+    fig = figure_or_new(fig, 12, 8)
     axes = fig.subplots(2, 2).ravel()
     f_r1 = 1.0 / rep.t1
     k_max = 6
@@ -219,9 +271,21 @@ def plot_zooms(rep: Reproduction, route: str = "PE") -> Figure:
     return fig
 
 
-def plot_stft(rep: Reproduction, route: str = "PE") -> Figure:
-    """Seed Figure 8: STFT spectrograms with the n f_m bands, and band energy over time."""
-    fig = figure(12, 11)
+@styled
+@_doc
+def plot_stft(rep: Reproduction, route: str = "PE", *, fig: Figure | None = None) -> Figure:
+    """Seed Figure 8: STFT spectrograms with the n f_m bands, and band energy over time.
+
+    Parameters
+    ----------
+{rep}
+{route}
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw into (four panels and a colour bar); default a new one.
+
+{returns}
+    """
+    fig = figure_or_new(fig, 12, 11)
     axes = fig.subplots(4, 1, sharex=True, height_ratios=(2, 2, 2, 1.6))
     top = 4.5 * rep.f_m
     labels = ("healthy", "working", "non-working")
@@ -265,11 +329,23 @@ def plot_stft(rep: Reproduction, route: str = "PE") -> Figure:
     return fig
 
 
-def plot_sensitivity(rep: Reproduction) -> Figure:
-    """Crack-depth sensitivity: stiffness drop, impact amplitude, RMS, SER at 1 and 2 f_m."""
-    from gearsim.studies.claims import SEED
+@styled
+@_doc
+def plot_sensitivity(rep: Reproduction, *, fig: Figure | None = None) -> Figure:
+    """Crack-depth sensitivity: stiffness drop, impact amplitude, RMS, SER at 1 and 2 f_m.
 
-    fig = figure(12, 8)
+    The seed's values (``rep.seed``) are drawn as dotted lines.
+
+    Parameters
+    ----------
+{rep}
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw into (four panels); default a new one.
+
+{returns}
+    """
+    ref = rep.seed
+    fig = figure_or_new(fig, 12, 8)
     axes = fig.subplots(2, 2).ravel()
     rows = rep.sensitivity
     cases = sorted({r["case"] for r in rows}, key=["working", "non-working", "open"].index)
@@ -284,9 +360,9 @@ def plot_sensitivity(rep: Reproduction) -> Figure:
         ("tvms_max_local_drop_percent", "largest local drop of mesh-I stiffness [%]",
          "(a) stiffness loss", None),
         ("impact_percent", "impact amplitude [% of healthy]", "(b) impact amplitude",
-         (100 * SEED["impact_working"], 100 * SEED["impact_non_working"])),
+         (100 * ref["impact_working"], 100 * ref["impact_non_working"])),
         ("rms_percent", "RMS of the dynamic load [% of healthy]", "(c) RMS",
-         (100 * SEED["rms_working"], 100 * SEED["rms_non_working"])),
+         (100 * ref["rms_working"], 100 * ref["rms_non_working"])),
         ("ser_1fm", "sideband energy ratio SER [-]", "(d) SER at 1 f_m (solid), "
          "2 f_m (dashed)", None),
     )
@@ -311,36 +387,53 @@ def plot_sensitivity(rep: Reproduction) -> Figure:
     return fig
 
 
-def plot_all(rep: Reproduction, folder: str | Path) -> list[dict[str, Any]]:
-    """Write every figure of the report to ``folder``; return ``[{name, path, caption}]``."""
-    folder = Path(folder)
-    items = [
-        ("fig3_stiffness", plot_stiffness(rep),
-         "Equivalent of seed Figure 3: (a) mesh-I stiffness around the cracked input "
-         "tooth, potential energy (solid) and FE tooth compliance (dashed; the FE working-flank "
-         "crack opens, so its contact and open curves coincide); (b) tooth "
-         "stiffness along the path of contact, PE lines and FE points; (c) PE-FE "
-         "differences of the max, min and mean tooth stiffness beside the seed's."),
-        ("fig5_time", plot_time(rep),
-         "Equivalent of seed Figure 5: dynamic load of mesh I over three input "
-         "revolutions (left; triangles: impacts found in the fault residual, bottom row) and a "
-         "zoom at an impact (right); the healthy load is drawn in grey behind the cracked "
-         "ones."),
-        ("fig6_spectrum", plot_spectrum(rep),
-         "Equivalent of seed Figure 6: amplitude spectra of the dynamic load."),
-        ("fig7_zooms", plot_zooms(rep),
-         "Equivalent of seed Figure 7: spectra around n f_m, n = 1..4; dotted lines at the "
-         "sideband positions n f_m +- k f_r1. The healthy load has only low lines off the "
-         "f_r1 grid, three to four orders below the mesh tone (as the seed describes its "
-         "Figure 7a); the cracked loads add the f_r1 families. Clipped at 1 mN."),
-        ("fig8_stft", plot_stft(rep),
-         "Equivalent of seed Figure 8: STFT of the dynamic load (same colour scale for "
-         "the three cases) and the power near 1 f_m and 2 f_m over time."),
-        ("fig_sensitivity", plot_sensitivity(rep),
-         "Crack-depth sensitivity (PE route): the seed does not state its crack size."),
-    ]
-    out = []
-    for name, fig, caption in items:
-        path = _save(fig, folder / f"{name}.png")
-        out.append({"name": name, "path": path, "caption": caption})
-    return out
+#: Caption of each figure of the report, by file stem (the keys of :func:`plot_all`).
+CAPTIONS: dict[str, str] = {
+    "fig3_stiffness":
+        "Equivalent of seed Figure 3: (a) mesh-I stiffness around the cracked input "
+        "tooth, potential energy (solid) and FE tooth compliance (dashed; the FE working-flank "
+        "crack opens, so its contact and open curves coincide); (b) tooth "
+        "stiffness along the path of contact, PE lines and FE points; (c) PE-FE "
+        "differences of the max, min and mean tooth stiffness beside the seed's.",
+    "fig5_time":
+        "Equivalent of seed Figure 5: dynamic load of mesh I over three input "
+        "revolutions (left; triangles: impacts found in the fault residual, bottom row) and a "
+        "zoom at an impact (right); the healthy load is drawn in grey behind the cracked "
+        "ones.",
+    "fig6_spectrum":
+        "Equivalent of seed Figure 6: amplitude spectra of the dynamic load.",
+    "fig7_zooms":
+        "Equivalent of seed Figure 7: spectra around n f_m, n = 1..4; dotted lines at the "
+        "sideband positions n f_m +- k f_r1. The healthy load has only low lines off the "
+        "f_r1 grid, three to four orders below the mesh tone (as the seed describes its "
+        "Figure 7a); the cracked loads add the f_r1 families. Clipped at 1 mN.",
+    "fig8_stft":
+        "Equivalent of seed Figure 8: STFT of the dynamic load (same colour scale for "
+        "the three cases) and the power near 1 f_m and 2 f_m over time.",
+    "fig_sensitivity":
+        "Crack-depth sensitivity (PE route): the seed does not state its crack size.",
+}
+
+
+def plot_all(rep: Reproduction) -> dict[str, Figure]:
+    """Every figure of the report, by file stem (captions in :data:`CAPTIONS`).
+
+    Parameters
+    ----------
+    rep : gearsim.studies.reproduce.Reproduction
+        Results of :func:`gearsim.studies.reproduce.reproduce`.
+
+    Returns
+    -------
+    dict of str to matplotlib.figure.Figure
+        ``fig3_stiffness``, ``fig5_time``, ``fig6_spectrum``, ``fig7_zooms``,
+        ``fig8_stft`` and ``fig_sensitivity``, ready for :func:`gearsim.viz.save_all`.
+    """
+    return {
+        "fig3_stiffness": plot_stiffness(rep),
+        "fig5_time": plot_time(rep),
+        "fig6_spectrum": plot_spectrum(rep),
+        "fig7_zooms": plot_zooms(rep),
+        "fig8_stft": plot_stft(rep),
+        "fig_sensitivity": plot_sensitivity(rep),
+    }

@@ -1,20 +1,23 @@
 """Figures of the signal analysis: time trace, spectrum, zooms around n f_m, spectrogram.
 
-Matplotlib is imported only inside these functions and only through the object-oriented
-API (``matplotlib.figure.Figure`` with the Agg canvas), so importing gearsim never starts
-a GUI backend and the functions are safe in worker processes.
+Each function draws one figure of an :class:`gearsim.signals.analyze.Analysis` (or a
+:class:`gearsim.signals.compare.SidebandComparison`) in the house style and returns it;
+:func:`figures` returns the standard set by name, :func:`plot` one of them by kind. The
+core calls them through ``Analysis.plot`` and ``Analysis.figures``; files are written
+with :func:`gearsim.viz.save` / :func:`gearsim.viz.save_all`.
 """
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from gearsim.viz import figure
+from gearsim.errors import InputError
+from gearsim.viz.style import figure_and_axes, figure_or_new, styled
 
 if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
     from gearsim.signals.analyze import Analysis
@@ -27,7 +30,9 @@ __all__ = [
     "plot_spectrogram",
     "plot_tsa",
     "plot_comparison",
-    "plot_analysis",
+    "figures",
+    "plot",
+    "KINDS",
 ]
 
 _SHAFT_COLORS = ("tab:red", "tab:green", "tab:purple", "tab:brown", "tab:pink")
@@ -49,9 +54,28 @@ def _envelope(t: np.ndarray, x: np.ndarray, n_bins: int) -> tuple[np.ndarray, np
     return tt, xx
 
 
-def plot_time(a: Analysis, *, units: str | None = None, revolutions: float = 4.0) -> Figure:
-    """Time trace: whole record (min/max envelope) and a close view with impacts marked."""
-    fig = figure(10, 6)
+@styled
+def plot_time(a: Analysis, *, units: str | None = None, revolutions: float = 4.0,
+              fig: Figure | None = None) -> Figure:
+    """Time trace: whole record (min/max envelope) and a close view with impacts marked.
+
+    Parameters
+    ----------
+    a : gearsim.signals.analyze.Analysis
+        Result of :func:`gearsim.signals.analyze.analyze`.
+    units : str, optional
+        Units of the signal, shown on the axes.
+    revolutions : float
+        Length of the close view in revolutions of shaft 1.
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw into (two panels); default a new one.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
+    fig = figure_or_new(fig, 10, 6)
     ax1, ax2 = fig.subplots(2, 1)
     x = a.signal - (a.stats.mean if a.stats.mean_removed else 0.0)
     t = np.arange(x.size) / a.fs
@@ -67,7 +91,7 @@ def plot_time(a: Analysis, *, units: str | None = None, revolutions: float = 4.0
     ax1.set_ylabel(_ylabel(units))
     ax1.set_title(f"Time record: RMS {a.stats.rms:.4g}, kurtosis {a.stats.kurtosis:.3g}")
     ax1.legend(loc="upper right")
-    t1 = 1.0 / a.train.reference_frequency
+    t1 = 1.0 / a.kinematics.reference_frequency
     t0 = a.impacts.times[0] - 0.5 * t1 if a.impacts.count else 0.0
     t0 = max(0.0, t0)
     sel = (t >= t0) & (t <= t0 + revolutions * t1)
@@ -88,12 +112,27 @@ def plot_time(a: Analysis, *, units: str | None = None, revolutions: float = 4.0
     return fig
 
 
-def plot_spectrum(a: Analysis, *, units: str | None = None) -> Figure:
-    """Amplitude spectrum up to just above the highest mesh harmonic, with n f_m and sidebands."""
-    fig = figure(10, 4.5)
-    ax = fig.subplots()
+@styled
+def plot_spectrum(a: Analysis, *, units: str | None = None, ax: Axes | None = None) -> Figure:
+    """Amplitude spectrum up to just above the highest mesh harmonic, with n f_m and sidebands.
+
+    Parameters
+    ----------
+    a : gearsim.signals.analyze.Analysis
+        Result of :func:`gearsim.signals.analyze.analyze`.
+    units : str, optional
+        Units of the signal, shown on the axes.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw into; default a new figure.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
+    fig, ax = figure_and_axes(ax, 10, 4.5)
     spec = a.spectrum
-    f_m = a.train.mesh_frequency
+    f_m = a.kinematics.mesh_frequency
     top = (max(a.orders) + 0.5) * f_m
     sel = spec.frequency <= top
     ax.plot(spec.frequency[sel], spec.amplitude[sel], lw=0.7, color="tab:blue",
@@ -103,7 +142,7 @@ def plot_spectrum(a: Analysis, *, units: str | None = None) -> Figure:
                 label="mesh harmonics n f_m" if n == a.orders[0] else None)
         ax.annotate(f"{n} f_m", (h.frequency, h.amplitude), textcoords="offset points",
                     xytext=(4, 6), fontsize=9)
-    shafts = list(a.train.shafts)
+    shafts = list(a.kinematics.shafts)
     for fam in a.families:
         c = _SHAFT_COLORS[shafts.index(fam.shaft) % len(_SHAFT_COLORS)]
         ax.plot(fam.frequency, fam.amplitude, "x", color=c, ms=4,
@@ -122,18 +161,34 @@ def plot_spectrum(a: Analysis, *, units: str | None = None) -> Figure:
     return fig
 
 
-def plot_zooms(a: Analysis, *, units: str | None = None) -> Figure:
-    """Zoomed spectra around each n f_m (seed Figure 7) with sideband families marked."""
+@styled
+def plot_zooms(a: Analysis, *, units: str | None = None, fig: Figure | None = None) -> Figure:
+    """Zoomed spectra around each n f_m (seed Figure 7) with sideband families marked.
+
+    Parameters
+    ----------
+    a : gearsim.signals.analyze.Analysis
+        Result of :func:`gearsim.signals.analyze.analyze`.
+    units : str, optional
+        Units of the signal, shown on the axes.
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw into (one panel per mesh harmonic); default a new one.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
     orders = a.orders
     ncol = 2 if len(orders) > 1 else 1
     nrow = int(np.ceil(len(orders) / ncol))
-    fig = figure(10, 3.2 * nrow)
+    fig = figure_or_new(fig, 10, 3.2 * nrow)
     axes = np.atleast_1d(fig.subplots(nrow, ncol)).ravel()
     spec = a.spectrum
-    f_m = a.train.mesh_frequency
-    f_r1 = a.train.reference_frequency
+    f_m = a.kinematics.mesh_frequency
+    f_r1 = a.kinematics.reference_frequency
     k_max = a.options["n_sidebands"]
-    shafts = list(a.train.shafts)
+    shafts = list(a.kinematics.shafts)
     for ax, n, h in zip(axes, orders, a.harmonics, strict=False):
         half = (k_max + 1.5) * f_r1
         sel = np.abs(spec.frequency - n * f_m) <= half
@@ -162,23 +217,40 @@ def plot_zooms(a: Analysis, *, units: str | None = None) -> Figure:
     return fig
 
 
+@styled
 def plot_spectrogram(
-    a: Analysis, *, units: str | None = None, revolutions: float | None = 8.0
+    a: Analysis, *, units: str | None = None, revolutions: float | None = 8.0,
+    fig: Figure | None = None,
 ) -> Figure:
     """STFT power spectral density (dB) with n f_m marked, and band energy over time.
 
-    ``revolutions`` limits the time axis to that many revolutions of shaft 1 so the
-    once-per-revolution pulsation (seed Figure 8) stays visible; ``None`` shows the record.
+    Parameters
+    ----------
+    a : gearsim.signals.analyze.Analysis
+        Result of :func:`gearsim.signals.analyze.analyze`.
+    units : str, optional
+        Units of the signal, shown on the axes.
+    revolutions : float or None
+        Limits the time axis to that many revolutions of shaft 1 so the
+        once-per-revolution pulsation (seed Figure 8) stays visible; ``None`` shows the
+        whole record.
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw into (two panels and a colour bar); default a new one.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
     """
-    fig = figure(10, 7)
+    fig = figure_or_new(fig, 10, 7)
     ax1, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=(3, 1.3))
     sg = a.stft
-    f_m = a.train.mesh_frequency
+    f_m = a.kinematics.mesh_frequency
     top = (max(a.orders) + 0.5) * f_m
     fsel = sg.frequency <= top
     tsel = np.ones(sg.time.size, dtype=bool)
     if revolutions is not None:
-        tsel = sg.time <= sg.time[0] + revolutions / a.train.reference_frequency
+        tsel = sg.time <= sg.time[0] + revolutions / a.kinematics.reference_frequency
     p = sg.psd[fsel][:, tsel]
     floor = np.max(p) * 1e-12 if np.max(p) > 0 else 1e-300
     db = 10 * np.log10(np.maximum(p, floor))
@@ -204,9 +276,25 @@ def plot_spectrogram(
     return fig
 
 
-def plot_tsa(a: Analysis, *, units: str | None = None) -> Figure:
-    """Time-synchronous average and its difference signal over one revolution."""
-    fig = figure(10, 5.5)
+@styled
+def plot_tsa(a: Analysis, *, units: str | None = None, fig: Figure | None = None) -> Figure:
+    """Time-synchronous average and its difference signal over one revolution.
+
+    Parameters
+    ----------
+    a : gearsim.signals.analyze.Analysis
+        Result of :func:`gearsim.signals.analyze.analyze`.
+    units : str, optional
+        Units of the signal, shown on the axes.
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw into (two panels); default a new one.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
+    fig = figure_or_new(fig, 10, 5.5)
     ax1, ax2 = fig.subplots(2, 1, sharex=True)
     m = a.tsa.samples_per_rev
     ang = np.arange(m) * 360.0 / m
@@ -225,9 +313,23 @@ def plot_tsa(a: Analysis, *, units: str | None = None) -> Figure:
     return fig
 
 
-def plot_comparison(c: SidebandComparison) -> Figure:
-    """Simulated versus measured sideband amplitudes near each mesh harmonic (seed Table 2)."""
-    fig = figure(10, 3.5 * len(c.orders))
+@styled
+def plot_comparison(c: SidebandComparison, *, fig: Figure | None = None) -> Figure:
+    """Simulated versus measured sideband amplitudes near each mesh harmonic (seed Table 2).
+
+    Parameters
+    ----------
+    c : gearsim.signals.compare.SidebandComparison
+        Result of :func:`gearsim.signals.compare.compare_sidebands`.
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw into (one panel per mesh harmonic); default a new one.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
+    fig = figure_or_new(fig, 10, 3.5 * len(c.orders))
     axes = np.atleast_1d(fig.subplots(len(c.orders), 1))
     w = 0.38
     for i, (ax, n) in enumerate(zip(axes, c.orders, strict=True)):
@@ -243,21 +345,69 @@ def plot_comparison(c: SidebandComparison) -> Figure:
     return fig
 
 
-def plot_analysis(a: Analysis, directory: str | Path, *, fmt: str = "png",
-                  units: str | None = None, dpi: int = 150) -> list[str]:
-    """Write all analysis figures into ``directory`` and return their paths."""
-    out = Path(directory)
-    out.mkdir(parents=True, exist_ok=True)
-    figs: dict[str, Any] = {
-        "time": plot_time(a, units=units),
-        "spectrum": plot_spectrum(a, units=units),
-        "zoom_mesh_harmonics": plot_zooms(a, units=units),
-        "spectrogram": plot_spectrogram(a, units=units),
-        "tsa": plot_tsa(a, units=units),
-    }
-    paths = []
-    for name, fig in figs.items():
-        path = out / f"{name}.{fmt}"
-        fig.savefig(path, dpi=dpi)
-        paths.append(str(path))
-    return paths
+#: Kinds of :func:`plot` -> (function, file stem in :func:`figures`, takes ``ax``).
+KINDS: dict[str, tuple[Any, str, bool]] = {
+    "time": (plot_time, "time", False),
+    "spectrum": (plot_spectrum, "spectrum", True),
+    "zooms": (plot_zooms, "zoom_mesh_harmonics", False),
+    "spectrogram": (plot_spectrogram, "spectrogram", False),
+    "tsa": (plot_tsa, "tsa", False),
+}
+
+
+def plot(a: Analysis, kind: str = "spectrum", *, ax: Axes | None = None,
+         fig: Figure | None = None, units: str | None = None) -> Figure:
+    """One figure of an analysis by kind (what ``Analysis.plot`` calls).
+
+    Parameters
+    ----------
+    a : gearsim.signals.analyze.Analysis
+        Result of :func:`gearsim.signals.analyze.analyze`.
+    kind : {"time", "spectrum", "zooms", "spectrogram", "tsa"}
+        Which figure.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw into, for the single-panel kind ``"spectrum"``.
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw into, for the multi-panel kinds.
+    units : str, optional
+        Units of the signal, shown on the axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+
+    Raises
+    ------
+    gearsim.errors.InputError
+        If ``kind`` is unknown, or ``ax`` is given for a multi-panel kind.
+    """
+    if kind not in KINDS:
+        raise InputError("kind", kind, f"must be one of {', '.join(KINDS)}")
+    func, _, single = KINDS[kind]
+    if single:
+        if fig is not None:
+            raise InputError("fig", "given", f'kind "{kind}" draws one panel: pass ax=')
+        return func(a, units=units, ax=ax)
+    if ax is not None:
+        raise InputError("ax", "given", f'kind "{kind}" draws several panels: pass fig=')
+    return func(a, units=units, fig=fig)
+
+
+def figures(a: Analysis, *, units: str | None = None) -> dict[str, Figure]:
+    """The standard figures of an analysis, by file stem (what ``Analysis.figures`` calls).
+
+    Parameters
+    ----------
+    a : gearsim.signals.analyze.Analysis
+        Result of :func:`gearsim.signals.analyze.analyze`.
+    units : str, optional
+        Units of the signal, shown on the axes.
+
+    Returns
+    -------
+    dict of str to matplotlib.figure.Figure
+        ``time``, ``spectrum``, ``zoom_mesh_harmonics``, ``spectrogram`` and ``tsa``,
+        ready for :func:`gearsim.viz.save_all`.
+    """
+    return {stem: func(a, units=units) for func, stem, _ in KINDS.values()}

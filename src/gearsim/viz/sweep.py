@@ -4,35 +4,39 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from pathlib import Path
+from typing import TYPE_CHECKING
 
-from gearsim.io.atomic import atomic_write
-from gearsim.viz import pyplot
+from gearsim.viz.style import figure_or_new, styled
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
 
 __all__ = ["plot_separability"]
 
 
-def plot_separability(rows: Sequence[dict], path: str | Path, *, title: str = "") -> Path:
+@styled
+def plot_separability(rows: Sequence[dict], *, title: str = "",
+                      fig: Figure | None = None) -> Figure:
     """Cross-validated accuracy and ROC AUC per feature group against noise and depth.
 
     Parameters
     ----------
     rows : sequence of dict
         Rows of :func:`gearsim.studies.diagnostic.separability_table`.
-    path : path
-        PNG file to write.
     title : str
         Figure title.
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw into (three panels); default a new one.
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure.
     """
-    plt = pyplot()
     groups = list(dict.fromkeys(r["group"] for r in rows))
     noises = sorted({r["noise"] for r in rows})
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.4))
+    fig = figure_or_new(fig, 15, 4.8)
+    axes = fig.subplots(1, 3)
     pooled = [r for r in rows if r["crack_depth_mm"] is None]
     for g in groups:
         rs = sorted((r for r in pooled if r["group"] == g), key=lambda r: r["noise"])
@@ -62,7 +66,4 @@ def plot_separability(rows: Sequence[dict], path: str | Path, *, title: str = ""
     axes[2].legend(fontsize=8)
     fig.suptitle(f"{title}\nclasses: healthy, working-flank crack, non-working-flank crack; "
                  "standardised logistic regression, stratified 5-fold CV", fontsize=10)
-    fig.tight_layout()
-    out = atomic_write(path, lambda p: fig.savefig(p, format="png", dpi=110))
-    plt.close(fig)
-    return out
+    return fig

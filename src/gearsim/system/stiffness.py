@@ -6,19 +6,28 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from gearsim import __version__
+from gearsim._version import __version__
 from gearsim.errors import InputError
 from gearsim.io.atomic import atomic_write
 from gearsim.stiffness.iso6336 import mean_mesh_stiffness
 from gearsim.stiffness.mesh import COMPONENTS, MeshStiffness
-from gearsim.system import GearTrain
+from gearsim.system.train import GearTrain
 
 __all__ = ["TrainStiffness", "train_stiffness"]
 
 
 @dataclass
 class TrainStiffness:
-    """TVMS of each mesh over one revolution of each of its two gears."""
+    """TVMS of each mesh over one revolution of each of its two gears.
+
+    Parameters
+    ----------
+    train : GearTrain
+        The train.
+    results : dict
+        ``(mesh index, 1 | 2) -> MeshStiffness``: over one revolution of the mesh's
+        driver (1) or driven gear (2).
+    """
 
     train: GearTrain
     results: dict[tuple[int, int], MeshStiffness]  # (mesh, 1|2) -> result
@@ -54,6 +63,28 @@ class TrainStiffness:
                     row[f"k_{c}"] = r.components[c][j]
                 rows.append(row)
         return rows
+
+    def plot(self, mesh: int | None = None, *, ax=None, fig=None):
+        """TVMS figure (see :func:`gearsim.viz.stiffness.plot`).
+
+        Parameters
+        ----------
+        mesh : int, optional
+            One mesh in one panel (drawn into ``ax``); default every mesh with its load
+            sharing (drawn into ``fig``).
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw into, with ``mesh``.
+        fig : matplotlib.figure.Figure, optional
+            Figure to draw into, without ``mesh``.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure; write it with :func:`gearsim.viz.save`.
+        """
+        from gearsim.viz.stiffness import plot
+
+        return plot(self, mesh, ax=ax, fig=fig)
 
     def write(self, path: str | Path) -> Path:
         """Write CSV (``.csv``) or NetCDF (``.nc``), atomically."""
@@ -95,7 +126,17 @@ class TrainStiffness:
 
 
 def train_stiffness(train: GearTrain) -> TrainStiffness:
-    """TVMS of every mesh over one revolution of each of its gears."""
+    """TVMS of every mesh over one revolution of each of its gears.
+
+    Parameters
+    ----------
+    train : GearTrain
+        The train; its stiffness options and source apply.
+
+    Returns
+    -------
+    TrainStiffness
+    """
     res = {}
     for i in range(len(train.pairs)):
         for rev in (1, 2):

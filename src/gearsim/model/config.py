@@ -1,40 +1,45 @@
-"""TOML configuration files with units, validated into frozen dataclasses.
+"""TOML configuration files with units, validated into the typed gearbox model.
 
 Values may carry units as strings (``"6 mm"``, ``"1900 rpm"``, ``"4876 N*m"``,
 ``"13 deg"``), parsed with pint; plain numbers are SI (metres, radians, rad/s, N m, Pa).
-Unknown keys are refused. Layout::
+Unknown keys and sections are refused. Layout::
 
     name = "..."
     [material]            # default material of every gear
     [common]              # default gear data (any key of [[gears]])
     [[gears]]             # one table per gear, in the order of the power flow
     [operating]           # speed and torque of the first gear
-    [stiffness]           # closure, slices, positions_per_cycle, gauss_points, plane
+    [stiffness]           # closure, slices, positions_per_cycle, gauss_points, plane, source
     [[cracks]]            # gear, tooth, flank, depth, angle, extent, profile, start_radius
+    [dynamics]            # gearsim.dynamics.DynamicsSettings
+    [analysis]            # gearsim.signals.AnalysisSettings
 
-Further sections (e.g. ``[dynamics]``) are registered in :data:`EXTRA_SECTIONS` by the
-modules that use them.
+Each section is parsed by plain code into its frozen dataclass, whose constructor checks
+every value; the result is a :class:`gearsim.model.Gearbox`.
 """
 
 from __future__ import annotations
 
-import importlib
 import tomllib
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from gearsim.dynamics.settings import parse_dynamics
 from gearsim.errors import InputError
 from gearsim.geometry.gear import Gear, Material
-from gearsim.geometry.profile import ToothProfile
-from gearsim.stiffness.crack import Crack, crack_geometry
-from gearsim.stiffness.mesh import StiffnessSettings
-from gearsim.system import GearTrain, Operating
-from gearsim.units import to_si
+from gearsim.model.gearbox import Gearbox
+from gearsim.sections import convert
+from gearsim.signals.settings import parse_analysis
+from gearsim.stiffness.crack import Crack
+from gearsim.stiffness.settings import StiffnessSettings
+from gearsim.system.train import GearTrain, Operating
 
-__all__ = ["EXAMPLES", "EXTRA_SECTIONS", "convert", "example_text", "load", "loads", "parse"]
+__all__ = ["EXAMPLES", "example", "example_text", "load", "loads", "parse",
+           "read_file_or_builtin"]
 
+#: Built-in examples: the seed's Table-1 helical idler train and Tian's spur pair.
 EXAMPLES = ("idler-table1", "spur-19-48")
 
 MATERIAL_KEYS = {"youngs_modulus": "pressure", "poisson_ratio": "dimensionless",
@@ -53,49 +58,8 @@ CRACK_KEYS = {"gear": "str", "tooth": "int", "flank": "str", "depth": "length",
               "angle": "angle", "extent": "dimensionless", "profile": "str",
               "start_radius": "length"}
 
-#: name -> parser(dict, section_name) -> object, stored in GearTrain.extra[name].
-#: Modules listed in EXTRA_SECTION_MODULES register their sections when imported.
-EXTRA_SECTIONS: dict[str, Callable[[dict, str], Any]] = {}
-EXTRA_SECTION_MODULES = ("gearsim.dynamics.settings", "gearsim.fem.settings")
-
-
-def _register_extra_sections() -> None:
-    for mod in EXTRA_SECTION_MODULES:
-        try:
-            importlib.import_module(mod)
-        except ModuleNotFoundError as exc:  # that part of gearsim is not present
-            if exc.name != mod:
-                raise
-TOP_KEYS = ("name", "material", "common", "gears", "operating", "stiffness", "cracks")
-
-
-def convert(data: Any, spec: dict[str, str], section: str) -> dict[str, Any]:
-    """Check keys of ``data`` against ``spec`` and convert values to SI / Python types."""
-    if not isinstance(data, dict):
-        raise InputError(section, data, "must be a table")
-    out: dict[str, Any] = {}
-    for key, value in data.items():
-        name = f"{section}.{key}"
-        if key not in spec:
-            raise InputError(name, value, f"unknown key; allowed keys: {', '.join(spec)}")
-        kind = spec[key]
-        if kind == "str":
-            if not isinstance(value, str):
-                raise InputError(name, value, "must be a string")
-            out[key] = value
-        elif kind == "int":
-            if isinstance(value, bool) or not isinstance(value, int):
-                raise InputError(name, value, "must be an integer")
-            out[key] = value
-        elif kind == "bool":
-            if not isinstance(value, bool):
-                raise InputError(name, value, "must be true or false")
-            out[key] = value
-        elif kind == "table":
-            out[key] = value
-        else:
-            out[key] = to_si(value, kind, name)
-    return out
+TOP_KEYS = ("name", "material", "common", "gears", "operating", "stiffness", "cracks",
+            "dynamics", "analysis")
 
 
 def _material(data: Any, section: str, base: Material | None = None) -> Material:
@@ -106,13 +70,27 @@ def _material(data: Any, section: str, base: Material | None = None) -> Material
     return Material(**kw)
 
 
-def parse(doc: dict[str, Any]) -> GearTrain:
-    """Build a :class:`GearTrain` from a parsed TOML document."""
-    _register_extra_sections()
+def parse(doc: dict[str, Any]) -> Gearbox:
+    """Build a :class:`Gearbox` from a parsed TOML document.
+
+    Parameters
+    ----------
+    doc : dict
+        The document (as from :func:`tomllib.loads`).
+
+    Returns
+    -------
+    Gearbox
+        The train and its dynamics and analysis settings, all checked.
+
+    Raises
+    ------
+    InputError
+        The first problem found, naming the parameter, its value and the limit.
+    """
     for key in doc:
-        if key not in TOP_KEYS and key not in EXTRA_SECTIONS:
-            raise InputError(key, "...", "unknown section; allowed: "
-                             + ", ".join((*TOP_KEYS, *EXTRA_SECTIONS)))
+        if key not in TOP_KEYS:
+            raise InputError(key, "...", "unknown section; allowed: " + ", ".join(TOP_KEYS))
     material = _material(doc.get("material", {}), "material")
     common = convert(doc.get("common", {}), GEAR_KEYS, "common")
     gear_tables = doc.get("gears")
@@ -146,21 +124,39 @@ def parse(doc: dict[str, Any]) -> GearTrain:
         if "gear" not in kw:
             raise InputError(f"cracks[{i}].gear", "missing", "name the cracked gear")
         cracks.append(Crack(**kw))
-    extra = {name: parser(doc[name], name) for name, parser in EXTRA_SECTIONS.items()
-             if name in doc}
     name = doc.get("name", "gear train")
     if not isinstance(name, str):
         raise InputError("name", name, "must be a string")
     train = GearTrain(gears=tuple(gears), operating=operating, stiffness=stiffness,
-                      cracks=tuple(cracks), name=name, extra=extra)
-    # check every crack fits its tooth now rather than deep inside a computation
-    for c in train.cracks:
-        crack_geometry(ToothProfile(train.gear(c.gear)), c)
-    return train
+                      cracks=tuple(cracks), name=name)
+    dynamics = parse_dynamics(doc.get("dynamics", {}), "dynamics")
+    analysis = parse_analysis(doc.get("analysis", {}), "analysis")
+    return Gearbox(train=train, dynamics=dynamics, analysis=analysis)
 
 
-def loads(text: str) -> GearTrain:
-    """Parse TOML text into a :class:`GearTrain`."""
+def loads(text: str) -> Gearbox:
+    """Parse TOML text into a :class:`Gearbox`.
+
+    Parameters
+    ----------
+    text : str
+        A configuration (see module docstring).
+
+    Returns
+    -------
+    Gearbox
+
+    Raises
+    ------
+    InputError
+        Invalid TOML or any bad value.
+
+    Examples
+    --------
+    >>> gb = loads(example_text("spur-19-48"))
+    >>> [g.teeth for g in gb.train.gears]
+    [19, 48]
+    """
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -168,13 +164,35 @@ def loads(text: str) -> GearTrain:
     return parse(doc)
 
 
-def read_file_or_builtin(path: str | Path, builtins, builtin_text, *, parameter: str,
+def read_file_or_builtin(path: str | Path, builtins: Sequence[str],
+                         builtin_text: Callable[[str], str], *, parameter: str,
                          what: str) -> tuple[str, Path | None]:
     """Text of a file, or of a built-in document when ``path`` is one of ``builtins``.
 
-    Returns the text and the folder of the file (``None`` for a built-in), for relative
-    paths inside it. A missing or unreadable file is an :class:`InputError` naming
-    ``parameter`` and listing the built-in ``what`` names.
+    Parameters
+    ----------
+    path : str or Path
+        A file, or the name of a built-in document.
+    builtins : sequence of str
+        Names of the built-in documents.
+    builtin_text : callable
+        Name -> text of a built-in document.
+    parameter : str
+        Parameter name for messages (e.g. ``"config"``).
+    what : str
+        What the built-ins are (e.g. ``"example"``), for messages.
+
+    Returns
+    -------
+    text : str
+        The document.
+    folder : Path or None
+        The folder of the file (``None`` for a built-in), for relative paths inside it.
+
+    Raises
+    ------
+    InputError
+        A missing or unreadable file, naming ``parameter`` and the built-in names.
     """
     p = Path(path)
     if not p.exists():
@@ -188,15 +206,55 @@ def read_file_or_builtin(path: str | Path, builtins, builtin_text, *, parameter:
         raise InputError(parameter, str(path), f"cannot be read: {exc}") from None
 
 
-def load(path: str | Path) -> GearTrain:
-    """Read a TOML configuration file, or a built-in example by name."""
+def load(path: str | Path) -> Gearbox:
+    """Read a TOML configuration file, or a built-in example by name.
+
+    Parameters
+    ----------
+    path : str or Path
+        A TOML file, or a name of :data:`EXAMPLES`.
+
+    Returns
+    -------
+    Gearbox
+
+    Raises
+    ------
+    InputError
+        A missing file or any bad value, in one line.
+    """
     text, _ = read_file_or_builtin(path, EXAMPLES, example_text, parameter="config",
                                    what="example")
     return loads(text)
 
 
+def example(name: str) -> Gearbox:
+    """A built-in example by name (one of :data:`EXAMPLES`).
+
+    Parameters
+    ----------
+    name : str
+        ``"idler-table1"`` (the seed's Table-1 idler train) or ``"spur-19-48"``.
+
+    Returns
+    -------
+    Gearbox
+    """
+    return loads(example_text(name))
+
+
 def example_text(name: str) -> str:
-    """TOML text of a built-in example."""
+    """TOML text of a built-in example.
+
+    Parameters
+    ----------
+    name : str
+        One of :data:`EXAMPLES`.
+
+    Returns
+    -------
+    str
+    """
     if name not in EXAMPLES:
         raise InputError("example", name, "unknown; built-in examples: " + ", ".join(EXAMPLES))
     return resources.files("gearsim.data").joinpath(f"{name}.toml").read_text(encoding="utf-8")

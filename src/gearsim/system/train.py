@@ -1,0 +1,360 @@
+"""A chain of gears in mesh (input, idler(s), output) with its operating point and cracks.
+
+Gear i drives gear i+1; power enters at gear 0. Consecutive external helical gears have
+opposite hands (gear i has the sign (-1)^i on its helix angle). Which flank a mesh
+loads follows from the power flow: the driver's front face (facing the direction of
+rotation) and the driven gear's rear face. The *working* flank of a gear is the flank
+loaded in the first mesh it takes part in; for an idler the second mesh loads the other
+flank (reversed bending).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from functools import cached_property
+
+from gearsim.errors import InputError, require
+from gearsim.fem.tables import FiniteElementCompliance
+from gearsim.geometry.gear import Gear
+from gearsim.geometry.pair import GearPair
+from gearsim.geometry.profile import ToothProfile
+from gearsim.stiffness.crack import FLANKS, Crack, crack_geometry
+from gearsim.stiffness.mesh import MeshStiffness, StiffnessSettings, ToothCrack, mesh_stiffness
+from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance
+
+__all__ = ["CRACK_CHOICES", "DEFAULT_CRACK", "GearTrain", "Operating", "tooth_compliance"]
+
+#: The one default crack, used when a fault variant is asked for and the configuration
+#: names no crack: tooth 0 of the input gear, 2 mm deep at 45 deg to the tooth centre
+#: line from the 30 deg tangent point (the crack of the built-in Table-1 example; the
+#: 45 deg angle after Chen & Shao 2011). Keys are fields of :class:`Crack` (SI units).
+DEFAULT_CRACK: dict[str, float | int] = {"tooth": 0, "depth": 2e-3, "angle": math.radians(45.0)}
+
+#: Fault variants :meth:`GearTrain.with_crack` knows.
+CRACK_CHOICES = ("none", *FLANKS)
+
+
+def tooth_compliance(source: str) -> ToothCompliance:
+    """The tooth-compliance model named by ``stiffness.source``.
+
+    Parameters
+    ----------
+    source : {"pe", "fe"}
+        ``"pe"``: potential-energy model (:mod:`gearsim.stiffness.source`); ``"fe"``: the
+        finite-element tooth (:mod:`gearsim.fem.tables`), the counterpart of the seed's
+        rigid-flexible coupling.
+
+    Returns
+    -------
+    ToothCompliance
+        An object with the :class:`gearsim.stiffness.source.ToothCompliance` interface.
+    """
+    if source == "fe":
+        return FiniteElementCompliance()
+    if source == "pe":
+        return PotentialEnergyCompliance()
+    raise InputError("stiffness.source", source, 'must be "pe" or "fe"')
+
+
+@dataclass(frozen=True)
+class Operating:
+    """Operating point of the input gear.
+
+    Parameters
+    ----------
+    speed
+        Input speed [rad/s] (> 0).
+    torque
+        Input torque [N m] (> 0).
+    """
+
+    speed: float = 1900 * 2 * math.pi / 60
+    torque: float = 4876.0
+
+    def __post_init__(self) -> None:
+        require(self.speed > 0, "operating.speed", self.speed, "must be > 0 rad/s")
+        require(self.torque > 0, "operating.torque", self.torque, "must be > 0 N*m")
+
+
+@dataclass(frozen=True)
+class GearTrain:
+    """A chain of gears, its operating point, stiffness options and cracks.
+
+    Every check runs where the train is made: at least two gears with unique names,
+    every mesh valid (interference, contact ratio; :class:`GearPair`), every crack on an
+    existing gear and tooth and fitting its tooth (:func:`crack_geometry`). Variants made
+    with :meth:`with_cracks` or :meth:`with_crack` are checked the same way.
+
+    Parameters
+    ----------
+    gears : tuple of Gear
+        Gears in the order of the power flow (gear i drives gear i + 1).
+    operating : Operating
+        Speed and torque of the input gear.
+    stiffness : StiffnessSettings
+        Options of the mesh-stiffness computation (closure, slices, source, ...).
+    cracks : tuple of Crack
+        Tooth-root cracks.
+    name : str
+        Name of the train.
+    """
+
+    gears: tuple[Gear, ...]
+    operating: Operating = field(default_factory=Operating)
+    stiffness: StiffnessSettings = field(default_factory=StiffnessSettings)
+    cracks: tuple[Crack, ...] = ()
+    name: str = "gear train"
+
+    def __post_init__(self) -> None:
+        require(len(self.gears) >= 2, "gears", len(self.gears), "need at least 2 gears")
+        names = [g.name for g in self.gears]
+        require(len(set(names)) == len(names), "gears.name", names, "names must be unique")
+        for c in self.cracks:
+            require(c.gear in names, "crack.gear", c.gear, f"must be one of {names}")
+            z = self.gear(c.gear).teeth
+            require(c.tooth < z, "crack.tooth", c.tooth, f"must be < {z} (teeth of {c.gear})")
+        _ = self.pairs  # validates every mesh (interference, contact ratio)
+        for c in self.cracks:  # every crack fits its tooth, checked once, here
+            crack_geometry(ToothProfile(self.gear(c.gear)), c)
+
+    def gear(self, name: str) -> Gear:
+        """The gear called ``name``.
+
+        Parameters
+        ----------
+        name : str
+            Name of a gear of the train.
+
+        Returns
+        -------
+        Gear
+        """
+        for g in self.gears:
+            if g.name == name:
+                return g
+        raise KeyError(name)
+
+    def gear_index(self, name: str) -> int:
+        """Position of the gear called ``name`` in the power flow (0 = input).
+
+        Parameters
+        ----------
+        name : str
+            Name of a gear of the train.
+
+        Returns
+        -------
+        int
+        """
+        return [g.name for g in self.gears].index(name)
+
+    @cached_property
+    def pairs(self) -> tuple[GearPair, ...]:
+        """The meshes of the chain, named I, II, ... (gear i drives gear i + 1)."""
+        roman = ("I", "II", "III", "IV", "V", "VI", "VII", "VIII")
+        return tuple(
+            GearPair(self.gears[i], self.gears[i + 1],
+                     name=roman[i] if i < len(roman) else str(i + 1))
+            for i in range(len(self.gears) - 1)
+        )
+
+    # ------------------------------------------------------------------- kinematics
+    def speed(self, i: int) -> float:
+        """Speed of gear ``i`` [rad/s] (magnitude), from the input speed and tooth counts.
+
+        Parameters
+        ----------
+        i : int
+            Gear index in the power flow.
+
+        Returns
+        -------
+        float
+        """
+        return self.operating.speed * self.gears[0].teeth / self.gears[i].teeth
+
+    def torque(self, i: int) -> float:
+        """Torque on gear ``i`` for loss-free transmission [N m].
+
+        Parameters
+        ----------
+        i : int
+            Gear index in the power flow.
+
+        Returns
+        -------
+        float
+        """
+        return self.operating.torque * self.gears[i].teeth / self.gears[0].teeth
+
+    def shaft_frequency(self, i: int) -> float:
+        """Shaft frequency f_r of gear ``i`` [Hz].
+
+        Parameters
+        ----------
+        i : int
+            Gear index in the power flow.
+
+        Returns
+        -------
+        float
+        """
+        return self.speed(i) / (2 * math.pi)
+
+    @property
+    def mesh_frequency(self) -> float:
+        """f_m = z_1 f_r1 (common to all meshes of a chain) [Hz]."""
+        return self.gears[0].teeth * self.shaft_frequency(0)
+
+    @property
+    def power(self) -> float:
+        """Transmitted power T_1 omega_1 [W]."""
+        return self.operating.torque * self.operating.speed
+
+    def static_mesh_force(self, mesh: int) -> float:
+        """Static transverse force along the line of action of mesh ``mesh``, T_i / r_bi [N].
+
+        Parameters
+        ----------
+        mesh : int
+            Mesh index (0 = mesh I).
+
+        Returns
+        -------
+        float
+        """
+        return self.torque(mesh) / self.gears[mesh].base_radius
+
+    # ------------------------------------------------------------------- flanks
+    def crack_side(self, crack: Crack, mesh: int) -> int:
+        """+1 if mesh ``mesh`` loads the cracked flank, -1 if it loads the other flank.
+
+        Parameters
+        ----------
+        crack : Crack
+            A crack of this train.
+        mesh : int
+            Mesh index (0 = mesh I).
+
+        Returns
+        -------
+        int
+        """
+        gi = self.gear_index(crack.gear)
+        first_mesh = 0 if gi == 0 else gi - 1
+        # working flank = loaded in the first mesh; an idler's other mesh loads the other
+        loaded_is_working = mesh == first_mesh
+        crack_on_working = crack.flank == "working"
+        return 1 if crack_on_working == loaded_is_working else -1
+
+    def mesh_cracks(self, mesh: int) -> tuple[ToothCrack, ...]:
+        """The cracks of both gears of mesh ``mesh`` with their sides.
+
+        Parameters
+        ----------
+        mesh : int
+            Mesh index (0 = mesh I).
+
+        Returns
+        -------
+        tuple of ToothCrack
+        """
+        out = []
+        for c in self.cracks:
+            gi = self.gear_index(c.gear)
+            if gi in (mesh, mesh + 1):
+                out.append(ToothCrack(gear=1 if gi == mesh else 2, crack=c,
+                                      side=self.crack_side(c, mesh)))
+        return tuple(out)
+
+    def mesh_stiffness(self, mesh: int, *, revolution_of: int = 1,
+                       settings: StiffnessSettings | None = None) -> MeshStiffness:
+        """TVMS of mesh ``mesh`` over one revolution of its gear 1 or 2.
+
+        The tooth compliance comes from the model named by ``settings.source``
+        (:func:`tooth_compliance`).
+
+        Parameters
+        ----------
+        mesh : int
+            Mesh index (0 = mesh I).
+        revolution_of : {1, 2}
+            Over one revolution of the driver (1) or of the driven gear (2).
+        settings : StiffnessSettings, optional
+            Options; default the train's own.
+
+        Returns
+        -------
+        MeshStiffness
+            Stiffness [N/m] per position, components and load sharing.
+        """
+        settings = settings or self.stiffness
+        return mesh_stiffness(self.pairs[mesh], cracks=self.mesh_cracks(mesh),
+                              settings=settings, revolution_of=revolution_of,
+                              compliance=tooth_compliance(settings.source))
+
+    def with_cracks(self, cracks: tuple[Crack, ...]) -> GearTrain:
+        """A copy with other cracks (checked like the train's own).
+
+        Parameters
+        ----------
+        cracks : tuple of Crack
+            The cracks of the copy.
+
+        Returns
+        -------
+        GearTrain
+        """
+        return replace(self, cracks=tuple(cracks))
+
+    def with_crack(self, flank: str | None, *, depth: float | None = None,
+                   closure: str | None = None, source: str | None = None) -> GearTrain:
+        """The fault variant of this train: the one place that turns a train into it.
+
+        Parameters
+        ----------
+        flank : {"none", "working", "non-working"} or None
+            ``"none"``: no crack; ``"working"`` / ``"non-working"``: the train's cracks
+            (or :data:`DEFAULT_CRACK` on the input gear when it has none) moved to that
+            flank; ``None``: the cracks as they are.
+        depth : float, optional
+            Crack depth q0 [m] of every crack; default: as configured.
+        closure : {"contact", "open"}, optional
+            Crack-face model of the stiffness computation; default: as configured.
+        source : {"pe", "fe"}, optional
+            Tooth-compliance model; default: as configured.
+
+        Returns
+        -------
+        GearTrain
+            The variant, checked (a crack that does not fit its tooth is refused here).
+
+        Raises
+        ------
+        InputError
+            For an unknown flank, or a crack deeper than its tooth allows.
+
+        Examples
+        --------
+        >>> from gearsim import example
+        >>> train = example("idler-table1").train.with_crack("non-working", depth=6e-3)
+        >>> [(c.gear, c.tooth, c.flank, round(c.depth * 1e3, 3)) for c in train.cracks]
+        [('input', 0, 'non-working', 6.0)]
+        """
+        tr = self
+        changes = {k: v for k, v in (("closure", closure), ("source", source)) if v is not None}
+        if changes:
+            tr = replace(tr, stiffness=replace(tr.stiffness, **changes))
+        if flank is None:
+            cracks = tr.cracks
+        elif flank == "none":
+            cracks = ()
+        elif flank in FLANKS:
+            cracks = tr.cracks or (Crack(gear=tr.gears[0].name, **DEFAULT_CRACK),)
+            cracks = tuple(replace(c, flank=flank) for c in cracks)
+        else:
+            raise InputError("crack", flank, "must be one of " + ", ".join(CRACK_CHOICES))
+        if depth is not None:
+            cracks = tuple(replace(c, depth=depth) for c in cracks)
+        return replace(tr, cracks=cracks)

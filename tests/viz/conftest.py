@@ -1,0 +1,160 @@
+"""Results to draw: small real ones where they are cheap, a synthetic study otherwise.
+
+The reproduction of the seed's study takes a minute, so :func:`reproduction` builds a
+stand-in with the attributes the figures read: real :class:`Analysis` objects of
+synthetic gear signals and made-up stiffness curves and sensitivity rows.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+FS = 20_000.0
+F_R = 1900.0 / 60.0
+TEETH = 39
+
+
+def load_example(name: str):
+    """A built-in example: ``(train, dynamics settings)`` (``gearsim.load`` or older)."""
+    try:
+        from gearsim import load
+    except ImportError:  # pragma: no cover - older layout
+        from gearsim.io.config import load
+    model = load(name)
+    train = getattr(model, "train", model)
+    settings = getattr(model, "dynamics", None) or train.extra.get("dynamics")
+    return train, settings
+
+
+def _signal(*, impacts: bool, sideband: float, seed: int) -> np.ndarray:
+    from gearsim.signals.synthetic import ImpactSpec, gear_signal
+
+    return gear_signal(fs=FS, duration=1.0, shaft_frequency=F_R, teeth=TEETH,
+                       mesh_amplitudes={1: 1000.0, 2: 500.0, 3: 200.0, 4: 100.0},
+                       sidebands={(1, -1): sideband, (1, 1): sideband},
+                       impacts=ImpactSpec(4000.0, 3e-4, 4000.0, 0.01) if impacts else None,
+                       noise=5.0, offset=10_000.0, seed=seed)
+
+
+def _analyze(x: np.ndarray):
+    from gearsim.signals.analyze import analyze
+
+    return analyze(x, FS, teeth=(TEETH, 59), shaft_frequency=F_R)
+
+
+@pytest.fixture(scope="session")
+def analysis():
+    """Analysis of a synthetic signal with impacts once per revolution."""
+    return _analyze(_signal(impacts=True, sideband=50.0, seed=2))
+
+
+@pytest.fixture(scope="session")
+def comparison():
+    """Sideband comparison of two synthetic signals."""
+    from gearsim.signals.compare import compare_sidebands
+
+    s = _signal(impacts=False, sideband=50.0, seed=3)
+    m = _signal(impacts=False, sideband=60.0, seed=4)
+    return compare_sidebands(s, FS, m, FS, mesh_frequency=F_R * TEETH, shaft_frequency=F_R,
+                             orders=(1, 2), n_sidebands=2)
+
+
+@pytest.fixture(scope="session")
+def spur():
+    """The built-in 19/48 spur pair."""
+    return load_example("spur-19-48")[0]
+
+
+@pytest.fixture(scope="session")
+def idler():
+    """The built-in Table-1 idler train with its example crack."""
+    return load_example("idler-table1")[0]
+
+
+@pytest.fixture(scope="session")
+def spur_stiffness(spur):
+    """TVMS of every mesh of the spur pair."""
+    from gearsim.system import train_stiffness
+
+    return train_stiffness(spur)
+
+
+@pytest.fixture(scope="session")
+def fe_result(spur):
+    """A coarse FE check of the spur pinion."""
+    from gearsim.fem.check import fe_check
+
+    return fe_check(spur, None, crack="working", closure="open", level=1, points=4)
+
+
+@pytest.fixture(scope="session")
+def dynamics_run():
+    """A short dynamics run of the idler train."""
+    from gearsim.dynamics import DynamicsSettings, simulate
+
+    train, settings = load_example("idler-table1")
+    settings = settings or DynamicsSettings()
+    return simulate(train, dataclasses.replace(settings, duration=0.11, fs=10_000.0))
+
+
+@pytest.fixture(scope="session")
+def separability_rows():
+    """Rows shaped like those of ``separability_table``."""
+    rows = []
+    for noise in (0.0, 0.1):
+        for group in ("time", "spectrum", "all"):
+            rows.append({"group": group, "noise": noise, "crack_depth_mm": None,
+                         "accuracy": 0.9 - noise, "auc": 0.95 - noise})
+        for depth in (1.0, 3.0):
+            rows.append({"group": "all", "noise": noise, "crack_depth_mm": depth,
+                         "accuracy": 0.6 + 0.1 * depth - noise, "auc": 0.9})
+    return rows
+
+
+@pytest.fixture(scope="session")
+def reproduction():
+    """Stand-in for ``gearsim.studies.reproduce.Reproduction`` (see the module docstring)."""
+    f_m = F_R * TEETH
+    t1 = 1.0 / F_R
+    labels = ("healthy", "working", "non-working")
+    runs, metrics = {}, {}
+    for route in ("PE", "FE"):
+        for i, label in enumerate(labels):
+            x = _signal(impacts=label != "healthy", sideband=0.0 if label == "healthy" else 50.0,
+                        seed=10 + i)
+            runs[f"{route}/{label}"] = SimpleNamespace(force=x, fs=FS, analysis=_analyze(x))
+            a = runs[f"{route}/{label}"].analysis
+            metrics[f"{route}/{label}"] = SimpleNamespace(
+                impact_times=np.asarray(a.impacts.times), impact_period=t1,
+                residual=x - np.mean(x))
+    theta = np.linspace(0.0, 360.0, 19 * 40, endpoint=False)
+    base = 1e9 * (1.5 + 0.3 * (np.mod(theta * 19 / 360.0, 1.0) < 0.6))
+    drop = np.exp(-0.5 * ((theta - 180.0) / 4.0) ** 2)
+    curves = {"healthy": base, "working": base * (1 - 0.2 * drop),
+              "non-working": base * (1 - 0.1 * drop), "working-open": base * (1 - 0.25 * drop)}
+    stiffness = {route: {k: {"theta_deg": theta, "k": v} for k, v in curves.items()}
+                 for route in ("PE", "FE")}
+    roll = np.radians(np.linspace(10.0, 30.0, 4))
+
+    def check(scale: float):
+        return SimpleNamespace(roll_angle=roll, k_pe=scale * np.linspace(1.0, 2.0, 4) * 1e10,
+                               k_fe=scale * np.linspace(1.1, 2.1, 4) * 1e10,
+                               differences=lambda: {"max": 5.0, "min": 6.0, "mean": 5.5})
+
+    sensitivity = [
+        {"case": case, "depth_m": d * 1e-3, "tvms_max_local_drop_percent": 2.0 * d,
+         "impact_percent": 100 + 20 * d, "rms_percent": 100 + 5 * d, "ser_1fm": 0.1 * d,
+         "ser_2fm": None if d == 2 else 0.05 * d}
+        for case in ("working", "non-working", "open") for d in (2, 4, 6)]
+    seed = {"T1": 0.032, "impact_working": 2.098, "impact_non_working": 2.031,
+            "far_field_working": 1.597, "rms_working": 1.324, "rms_non_working": 0.973}
+    gear = SimpleNamespace(teeth=19, face_width=0.02, name="input")
+    return SimpleNamespace(
+        options=SimpleNamespace(depth=6e-3, revolutions=30), train=SimpleNamespace(gears=[gear]),
+        t1=t1, f_m=f_m, contact_ratio=1.6, runs=runs, metrics=metrics, stiffness=stiffness,
+        fe_checks={"none": check(1.0), "working": check(0.8)}, sensitivity=sensitivity,
+        claims=[], findings={}, timings={}, seed=seed)

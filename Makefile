@@ -40,7 +40,7 @@ run: sysdeps
 	$(BIN)/gearsim reproduce --out $(OUT)
 
 test: sysdeps browser
-	$(BIN)/python -m pytest -q tests
+	$(BIN)/python -m pytest -q tests --doctest-modules src/gearsim
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks

@@ -93,8 +93,10 @@ def convert(data: Any, spec: Mapping[str, str], section: str, *,
 
     Examples
     --------
-    >>> convert({"speed": "1900 rpm"}, {"speed": "speed", "torque": "torque"}, "operating")
-    {'speed': 198.96753472735358}
+    >>> kw = convert({"speed": "1900 rpm"}, {"speed": "speed", "torque": "torque"},
+    ...              "operating")
+    >>> round(kw["speed"], 6)  # 1900 * 2 pi / 60 rad/s
+    198.967535
     """
     if not isinstance(data, dict):
         raise InputError(section, data, "must be a table")

@@ -11,7 +11,9 @@ from numpy.testing import assert_allclose
 from typer.testing import CliRunner
 
 import gearsim.fem.tables as tables
+from gearsim.errors import InputError
 from gearsim.fem.geometry import SectorOptions
+from gearsim.fem.tables import FiniteElementCompliance
 from gearsim.fem.tooth import fe_tooth_compliance
 from gearsim.stiffness.mesh import StiffnessSettings, mesh_stiffness
 
@@ -60,7 +62,12 @@ def test_fem_table_as_mesh_stiffness_source(spur, cache):
     pair = spur.pairs[0]
     pe = mesh_stiffness(pair, settings=StiffnessSettings(positions_per_cycle=8))
     s = StiffnessSettings(positions_per_cycle=8, source="fe")
-    fe = mesh_stiffness(pair, settings=s)
+    with pytest.raises(InputError, match="stiffness.source"):  # never a silent PE answer
+        mesh_stiffness(pair, settings=s)
+    fe = mesh_stiffness(pair, settings=s, compliance=FiniteElementCompliance())
+    # the train chooses the model from its settings (one layer up)
+    via_train = dataclasses.replace(spur.with_crack("none"), stiffness=s).mesh_stiffness(0)
+    np.testing.assert_array_equal(via_train.k, fe.k)
     # FE teeth are stiffer (see test_fem_tooth); with Hertz in series the mesh
     # stiffness rises by less than the tooth stiffness difference (< 15 %)
     ratio = fe.mean / pe.mean

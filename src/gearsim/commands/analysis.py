@@ -13,19 +13,21 @@ import typer
 
 from gearsim.errors import InputError
 from gearsim.io.jsonout import strict_json
+from gearsim.io.measured import read_signal
+from gearsim.signals._checks import check_speed_source, check_teeth
+from gearsim.signals.analyze import analyze as run
+from gearsim.signals.compare import compare_sidebands
+from gearsim.viz import save, save_all
+from gearsim.viz.signals import plot_comparison
 
 __all__ = ["register"]
 
 
 def _speed(shaft_rpm: float | None, tacho: str | None) -> None:
-    from gearsim.signals._checks import check_speed_source
-
     check_speed_source(shaft_rpm, tacho, names=("--shaft-rpm", "--tacho"), unit="rpm")
 
 
 def _teeth(teeth: list[int] | None) -> list[int]:
-    from gearsim.signals._checks import check_teeth
-
     if not teeth:
         raise InputError("--teeth", None, "must be given (teeth of the gear on the measured "
                                           "shaft first, then the other gears)")
@@ -118,9 +120,6 @@ def analyze(
              "default 3.0")] = None,
 ) -> None:
     """Time, frequency, time-frequency and TSA analysis of one vibration record."""
-    from gearsim.io.measured import read_signal
-    from gearsim.signals.analyze import analyze as run
-
     _speed(shaft_rpm, tacho)
     zs = _teeth(teeth)
     if max_order < 1:
@@ -151,8 +150,6 @@ def analyze(
                    "baseline": str(baseline) if baseline is not None else None,
                    "shaft_rpm": shaft_rpm}
     if plot is not None:
-        from gearsim.viz import save_all
-
         d["figures"] = [str(p) for p in save_all(result.figures(units=sig.units), plot)]
     if json_:
         typer.echo(strict_json(d, indent=1))
@@ -182,9 +179,6 @@ def compare(
     json_: Annotated[bool, typer.Option("--json", help="print the JSON table")] = False,
 ) -> None:
     """Sideband amplitudes near n f_m, simulated versus measured, with % errors (seed Table 2)."""
-    from gearsim.io.measured import read_signal
-    from gearsim.signals.compare import compare_sidebands
-
     _speed(shaft_rpm, None)
     if teeth is None or teeth < 1:
         raise InputError("--teeth", teeth, "must be given as an integer >= 1")
@@ -204,9 +198,6 @@ def compare(
         "measured": {"file": m.path, "channel": m.channel, "fs_hz": m.fs},
     }
     if plot is not None:
-        from gearsim.viz import save
-        from gearsim.viz.signals import plot_comparison
-
         d["figure"] = str(save(plot_comparison(c), plot, parameter="--plot"))
     if json_:
         typer.echo(strict_json(d, indent=1))
@@ -222,6 +213,12 @@ def compare(
 
 
 def register(app: typer.Typer) -> None:
-    """Add ``analyze`` and ``compare`` to the ``gearsim`` application."""
+    """Add ``analyze`` and ``compare`` to the ``gearsim`` application.
+
+    Parameters
+    ----------
+    app : typer.Typer
+        The ``gearsim`` application (:mod:`gearsim.cli`).
+    """
     app.command("analyze")(analyze)
     app.command("compare")(compare)

@@ -11,6 +11,7 @@ import typer
 from gearsim.commands._options import as_options
 from gearsim.model import example_text, load
 from gearsim.system import train_stiffness
+from gearsim.viz import save
 
 __all__ = ["register"]
 
@@ -36,8 +37,6 @@ def stiffness(
     if out is not None:
         ts.write(out)
     if plot is not None:
-        from gearsim.viz import save
-
         save(ts.plot(), plot, parameter="--plot")
     summary = ts.summary()
     if json_:
@@ -52,7 +51,14 @@ def stiffness(
 
 
 def register(app: typer.Typer) -> None:
-    """Add the verbs of this module to ``app``."""
+    """Add the verbs of this module to ``app``.
+
+    Parameters
+    ----------
+    app : typer.Typer
+        The ``gearsim`` application (:mod:`gearsim.cli`); ``example`` and ``stiffness``
+        are registered on it.
+    """
     app.command("example")(example)
     app.command("stiffness")(stiffness)
 

@@ -13,6 +13,8 @@ from gearsim.dynamics import simulate as run
 from gearsim.dynamics import summary
 from gearsim.io.results import write_results
 from gearsim.model import load
+from gearsim.viz import save
+from gearsim.viz.dynamics import plot_run
 
 __all__ = ["register"]
 
@@ -40,9 +42,6 @@ def simulate(
     ds = run(gb.train, gb.dynamics)
     path = write_results(ds, out)
     if plot:
-        from gearsim.viz import save
-        from gearsim.viz.dynamics import plot_run
-
         save(plot_run(ds), path.with_suffix(".png"))
     s = summary(ds)
     s["out"] = str(path)
@@ -57,5 +56,11 @@ def simulate(
 
 
 def register(app: typer.Typer) -> None:
-    """Add ``simulate`` to ``app``."""
+    """Add ``simulate`` to ``app``.
+
+    Parameters
+    ----------
+    app : typer.Typer
+        The ``gearsim`` application (:mod:`gearsim.cli`).
+    """
     app.command("simulate")(simulate)

@@ -10,6 +10,7 @@ import typer
 
 from gearsim.fem.check import fe_check
 from gearsim.model import load
+from gearsim.viz import save
 
 __all__ = ["fe_check_command", "register"]
 
@@ -28,13 +29,42 @@ def fe_check_command(
     json_: Annotated[bool, typer.Option("--json", help="print a JSON report")] = False,
 ) -> None:
     """FE and potential-energy tooth compliance along the path of contact, with the
-    max / min / mean differences (the seed's Figure 3) and the mesh level used."""
+    max / min / mean differences (the seed's Figure 3) and the mesh level used.
+    \f
+
+    The first paragraph is the command help: Typer and Click cut the help at the form
+    feed ``\\f`` above, and list the first paragraph; the rest documents the function
+    (it calls :func:`gearsim.fem.check.fe_check`).
+
+    Parameters
+    ----------
+    config : str
+        TOML file or built-in example name.
+    gear : str, optional
+        Gear to check; default the first cracked gear, else the first gear.
+    crack : str
+        ``"none"``, ``"working"`` or ``"non-working"``; depth and angle from the
+        config's crack on that gear.
+    closure : str, optional
+        ``"open"`` or ``"contact"``; default the config's ``stiffness.closure``.
+    level : int
+        FE mesh level N: element size m_n / (4 2^N) on the loaded tooth.
+    points : int
+        Contact positions along the path of contact.
+    plot : Path, optional
+        Folder for the PNG figure ``fe_check_<gear>_<crack>_<closure>.png``.
+    json_ : bool
+        Print the JSON report instead of the table (option ``--json``).
+
+    Raises
+    ------
+    InputError
+        An unknown gear, crack or closure, or a bad config (exit status 2 in the CLI).
+    """
     result = fe_check(load(config).train, gear, crack=crack, closure=closure, level=level,
                       points=points)
     if plot is not None:
         name = f"fe_check_{result.gear.name}_{result.crack}_{result.closure}.png"
-        from gearsim.viz import save
-
         save(result.plot(), Path(plot) / name)
     if json_:
         typer.echo(json.dumps(result.to_dict(), indent=2))
@@ -56,5 +86,12 @@ def fe_check_command(
 
 
 def register(app: typer.Typer) -> None:
-    """Add ``fe-check`` to ``app``."""
+    """Add ``fe-check`` to ``app``.
+
+    Parameters
+    ----------
+    app : typer.Typer
+        The ``gearsim`` application (:mod:`gearsim.cli`); :func:`fe_check_command` is
+        registered under the name ``fe-check``.
+    """
     app.command("fe-check")(fe_check_command)

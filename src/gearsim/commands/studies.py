@@ -59,5 +59,11 @@ def reproduce(
 
 
 def register(app: typer.Typer) -> None:
-    """Add ``reproduce`` to ``app``."""
+    """Add ``reproduce`` to ``app``.
+
+    Parameters
+    ----------
+    app : typer.Typer
+        The ``gearsim`` application (:mod:`gearsim.cli`).
+    """
     app.command("reproduce")(reproduce)

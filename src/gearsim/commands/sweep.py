@@ -66,6 +66,12 @@ def sweep_report(
 
 
 def register(app: typer.Typer) -> None:
-    """Add ``sweep`` and ``sweep-report`` to ``app``."""
+    """Add ``sweep`` and ``sweep-report`` to ``app``.
+
+    Parameters
+    ----------
+    app : typer.Typer
+        The ``gearsim`` application (:mod:`gearsim.cli`).
+    """
     app.command("sweep")(sweep)
     app.command("sweep-report")(sweep_report)

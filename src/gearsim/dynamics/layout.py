@@ -61,15 +61,22 @@ __all__ = ["Layout", "layout"]
 
 @dataclass(frozen=True)
 class Layout:
-    """Planar layout of a chain.
+    """Planar layout of a chain (conventions in the module docstring).
 
-    Attributes
+    Parameters
     ----------
-    centres : (n_gears, 2) gear centres [m]
-    senses : (n_gears,) sense of rotation s_j (+1 counter-clockwise)
-    line_angle : (n_meshes,) global angle phi_i of centre line i [rad]
-    normal : (n_meshes, 2) unit vector n_i of the transverse line of action
-    phase : (n_meshes,) cycle offset of each mesh against mesh 0 [mesh cycles]
+    centres : ndarray, shape (n_gears, 2)
+        Gear centres in the global axes [m]; gear 0 at the origin.
+    senses : ndarray, shape (n_gears,)
+        Sense of rotation s_j = (-1)^j (+1: counter-clockwise) [-].
+    line_angle : ndarray, shape (n_meshes,)
+        Global angle phi_i of centre line i, from gear i to gear i+1 [rad]; phi_0 = 0.
+    normal : ndarray, shape (n_meshes, 2)
+        Unit vector n_i of the transverse line of action of mesh i, pointing along the
+        force on the driven gear [-].
+    phase : ndarray, shape (n_meshes,)
+        Offset of the cycle coordinate of each mesh against mesh 0 (cumulative sum of
+        the Delta_j of the module docstring; phase[0] = 0) [mesh cycles].
     """
 
     centres: np.ndarray
@@ -82,21 +89,53 @@ class Layout:
 def layout(train: GearTrain, idler_angles: tuple[float, ...]) -> Layout:
     """Centres, line-of-action vectors and mesh phases of ``train``.
 
+    Centre line i has the global angle ``phi_i = phi_{i-1} + pi + s_i gamma_i`` (phi_0 =
+    0), the line of action ``n_i = s_i cos(alpha_wt) e_perp + sin(alpha_wt) e`` and the
+    mesh phase ``c_i = c_{i-1} + Delta_i`` with Delta_i of the module docstring (derived
+    there; the idler phase is the fractional part of z gamma / (2 pi) as in Parker & Lin
+    2004, applied to an idler train as in Kahraman 1994).
+
     Parameters
     ----------
-    train
-        The gear chain.
-    idler_angles
-        gamma_j for each idler j = 1 .. n-2 [rad] (see the module docstring).
+    train : GearTrain
+        The gear chain (gear i drives gear i+1).
+    idler_angles : tuple of float
+        Idler angle gamma_j for each idler j = 1 .. n_gears-2 [rad] (see the module
+        docstring); pi puts the three centres on a line. Empty for a single pair.
 
     Returns
     -------
     Layout
+        Centres [m], senses of rotation, centre-line angles [rad], line-of-action unit
+        vectors and mesh phases [mesh cycles].
 
     Raises
     ------
     InputError
-        If two gears that are not in mesh would overlap (tip circles intersect).
+        (parameter ``dynamics.idler_angle``) if two gears that are not in mesh would
+        overlap (centre distance <= sum of their tip radii).
+
+    References
+    ----------
+    Kahraman (1994); Parker & Lin (2004) (module docstring).
+
+    Examples
+    --------
+    Table-1 idler train with the centres on a line (gamma = 180 deg): the idler's second
+    mesh starts -28.958 cycles after the first (fractional part 0.042; checked by hand
+    with the involute formulas for psi_b, l_A and p_bt):
+
+    >>> import math
+    >>> import gearsim as gs
+    >>> from gearsim.dynamics.layout import layout
+    >>> tr = gs.example("idler-table1").train
+    >>> lay = layout(tr, (math.pi,))
+    >>> lay.centres[:, 0].round(6).tolist()  # a_I = 301.733 mm, a_I + a_II = 868.253 mm
+    [0.0, 0.301733, 0.868253]
+    >>> lay.normal.round(4).tolist()  # (sin, +-cos) of alpha_wt = 20.483 deg
+    [[0.3499, 0.9368], [0.3499, -0.9368]]
+    >>> round(float(lay.phase[1]), 3)
+    -28.958
     """
     gears, pairs = train.gears, train.pairs
     ng = len(gears)

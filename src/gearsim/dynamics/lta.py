@@ -70,6 +70,34 @@ def agma_backlash(train: GearTrain, mesh: int) -> float:
     AGMA 2002-B88 minimum normal backlash, j_bn = (2/3)(0.06 + 0.0005 a + 0.03 m_n) mm
     (a, m_n in mm), divided by cos(beta_b) to express it along the transverse line of
     action.
+
+    Parameters
+    ----------
+    train : GearTrain
+        The gear chain.
+    mesh : int
+        Mesh index (0 = mesh I); a = its centre distance, m_n and beta_b of its driver.
+
+    Returns
+    -------
+    float
+        Clearance 2b = j_bn / cos(beta_b) [m].
+
+    References
+    ----------
+    AGMA 2002-B88, Tooth thickness specification and measurement (minimum backlash).
+
+    Examples
+    --------
+    Table-1 train (m_n 6 mm, beta_b 12.2035 deg): mesh I, a = 301.733 mm, gives
+    (2/3)(0.06 + 0.15087 + 0.18) / cos(beta_b) = 0.2666 mm; mesh II, a = 566.520 mm,
+    0.3569 mm:
+
+    >>> import gearsim as gs
+    >>> from gearsim.dynamics.lta import agma_backlash
+    >>> tr = gs.example("idler-table1").train
+    >>> [round(agma_backlash(tr, i) * 1e3, 4) for i in range(2)]  # mm
+    [0.2666, 0.3569]
     """
     pair = train.pairs[mesh]
     a_mm = pair.centre_distance * 1e3
@@ -105,8 +133,56 @@ def ste_harmonics(train: GearTrain, settings: DynamicsSettings, phase: np.ndarra
       - angle(n_i)), where sign_ij is V_i's sign for gear j (+1 driver, -1 driven);
     * assembly error: a constant per mesh.
 
-    Returns e0 (n_mesh,), amplitude, angular frequency and phase arrays (n_mesh, 3) [m,
-    rad/s, rad].
+    Parameters
+    ----------
+    train : GearTrain
+        The gear chain; gives f_m and the gear speeds Omega_j [rad/s].
+    settings : DynamicsSettings
+        ``profile_modification``, ``crowning`` and ``assembly_error`` (per mesh) [m],
+        ``runout`` [m] and ``runout_phase`` [rad] (per gear), one value or one per item.
+    phase : ndarray, shape (n_mesh,)
+        Mesh phase phase_i of each mesh (:attr:`Layout.phase`) [mesh cycles].
+    normal_angle : ndarray, shape (n_mesh,)
+        Global angle of the line-of-action vector n_i [rad].
+    senses : ndarray, shape (n_gears,)
+        Sense of rotation s_j of each gear (+1 counter-clockwise) [-].
+    signs : ndarray, shape (n_mesh, 2)
+        sign_ij of V_i for the driver (column 0) and the driven gear (column 1) [-].
+
+    Returns
+    -------
+    e0 : ndarray, shape (n_mesh,)
+        Constant part crowning / 3 + assembly error [m].
+    amplitude, omega, phase : ndarray, shape (n_mesh, 3)
+        Harmonics ``amplitude sin(omega t + phase)`` [m, rad/s, rad]; column 0: profile
+        modification (omega = 2 pi f_m, phase = 2 pi phase_i + pi/2), columns 1 and 2:
+        runout of the driver and of the driven gear (omega = s_j Omega_j).
+
+    Raises
+    ------
+    InputError
+        If a per-mesh or per-gear option has neither one value nor one per item.
+
+    References
+    ----------
+    Oezgueven & Houser (1988), J. Sound Vib. 121, 383-411 (STE by its mesh harmonics);
+    Velex & Maatar (1996) (eccentricities projected on the line of action).
+
+    Examples
+    --------
+    Table-1 train, 2 um tip-relief harmonic and 3 um crowning: e0 = 3 / 3 = 1 um, the
+    mesh harmonic turns at 2 pi f_m = 2 pi 39 (1900 / 60) Hz = 7759.7 rad/s:
+
+    >>> import numpy as np
+    >>> import gearsim as gs
+    >>> from gearsim.dynamics.lta import ste_harmonics
+    >>> from gearsim.dynamics.settings import DynamicsSettings
+    >>> tr = gs.example("idler-table1").train
+    >>> st = DynamicsSettings(profile_modification=2e-6, crowning=3e-6)
+    >>> e0, amp, om, ph = ste_harmonics(tr, st, np.zeros(2), np.zeros(2),
+    ...                                 np.array([1.0, -1.0, 1.0]), np.tile([1.0, -1.0], (2, 1)))
+    >>> e0.tolist(), amp[:, 0].tolist(), round(float(om[0, 0]), 1)
+    ([1e-06, 1e-06], [2e-06, 2e-06], 7759.7)
     """
     ng, nm = len(train.gears), len(train.pairs)
     pm = settings.per_item("profile_modification", nm, "mesh")

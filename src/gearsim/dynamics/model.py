@@ -37,33 +37,62 @@ __all__ = ["DynamicModel", "mean_stiffness_matrix"]
 
 @dataclass(frozen=True)
 class DynamicModel:
-    """Arrays of the equations of motion (SI units).
+    """Arrays of the equations of motion (SI units; n coordinates, n_mesh meshes).
 
-    Attributes
+    Built by :func:`gearsim.dynamics.lta.build_lta` or
+    :func:`gearsim.dynamics.seed3dof.build_seed`; the equations are in the module
+    docstring.
+
+    Parameters
     ----------
-    kind : "lta" or "seed"
-    gear_names : names of the gears in power-flow order
-    dof_labels : label of each coordinate, e.g. ``"input.x"``, ``"idler.theta"``
-    mass : (n,) diagonal of M [kg or kg m^2]
-    kb, cb : (n,) bearing stiffness [N/m] and damping [N s/m] on each coordinate
-    fext : (n,) constant external generalized forces [N or N m]
-    V : (n_mesh, n) projection vectors: mesh deflection = V_i . q [m]
-    kappa : (n_mesh,) force projection factor (seed: cos(alpha_n) cos(beta); LTA: 1)
-    kscale : (n_mesh,) factor on the tabulated transverse stiffness (seed: 1/cos^2 beta_b)
-    cm : (n_mesh,) mesh damping [N s/m]
-    clearance : (n_mesh,) backlash 2b [m]; ``inf``: linear mesh (no separation)
-    tables : stiffness tables
-    phase : (n_mesh,) mesh-cycle offsets [cycles]
-    mesh_frequency : f_m [Hz]
-    e0 : (n_mesh,) constant STE [m]
-    h_amp, h_omega, h_phase : (n_mesh, n_h) STE harmonics [m], [rad/s], [rad]
-    to_transverse : (n_mesh,) factor from f_i to the transverse line-of-action force
-    dte_offset : (n_mesh,) added to V.q to give the reported transmission error [m]
-    static_force : (n_mesh,) T_i / r_bi [N]
-    bearing_dofs : (n_gears, n_axes) index of each bearing coordinate
-    axes : names of the bearing axes
-    q_static : (n,) static equilibrium of the mean-stiffness system [m, rad]
-    info : further descriptive data (mesh damping ratio, equivalent masses, ...)
+    kind : str
+        ``"lta"`` or ``"seed"``.
+    gear_names : tuple of str
+        Names of the gears in power-flow order.
+    dof_labels : tuple of str
+        Label of each coordinate, e.g. ``"input.x"``, ``"idler.theta"``.
+    mass : ndarray, shape (n,)
+        Diagonal of M [kg for translations, kg m^2 for rotations].
+    kb, cb : ndarray, shape (n,)
+        Bearing stiffness [N/m] and damping [N s/m] on each coordinate (0 on rotations).
+    fext : ndarray, shape (n,)
+        Constant external generalized forces [N, or N m for rotations].
+    V : ndarray, shape (n_mesh, n)
+        Projection vectors: mesh deflection = V_i . q [m] (entries [-] on translations,
+        base radii [m] on rotations).
+    kappa : ndarray, shape (n_mesh,)
+        Force projection factor (seed: cos(alpha_n) cos(beta); LTA: 1) [-].
+    kscale : ndarray, shape (n_mesh,)
+        Factor s_i on the tabulated transverse stiffness (seed: 1/cos^2 beta_b; LTA: 1)
+        [-].
+    cm : ndarray, shape (n_mesh,)
+        Mesh damping c_m [N s/m].
+    clearance : ndarray, shape (n_mesh,)
+        Backlash 2b [m]; ``inf``: linear mesh (no separation).
+    tables : tuple of MeshTable
+        Stiffness table of each mesh against the mesh-cycle coordinate.
+    phase : ndarray, shape (n_mesh,)
+        Mesh-cycle offsets phase_i, c_i = f_m t + phase_i [mesh cycles].
+    mesh_frequency : float
+        Mesh frequency f_m [Hz].
+    e0 : ndarray, shape (n_mesh,)
+        Constant part of the static transmission error [m].
+    h_amp, h_omega, h_phase : ndarray, shape (n_mesh, n_h)
+        STE harmonics ``h_amp sin(h_omega t + h_phase)`` [m], [rad/s], [rad].
+    to_transverse : ndarray, shape (n_mesh,)
+        Factor from f_i to the reported force along the transverse line of action [-].
+    dte_offset : ndarray, shape (n_mesh,)
+        Added to V_i . q to give the reported dynamic transmission error [m].
+    static_force : ndarray, shape (n_mesh,)
+        Static transverse mesh force T_i / r_bi [N].
+    bearing_dofs : ndarray of int, shape (n_gears, n_axes)
+        Index of the coordinate of each gear's bearing along each axis.
+    axes : tuple of str
+        Names of the bearing axes (LTA: x, y, z; seed: y).
+    q_static : ndarray, shape (n,)
+        Static equilibrium of the mean-stiffness system [m, rad]; the initial state.
+    info : dict, optional
+        Further descriptive data (mesh damping ratio, equivalent masses, ...).
     """
 
     kind: str
@@ -95,10 +124,12 @@ class DynamicModel:
 
     @property
     def n_dof(self) -> int:
+        """Number of coordinates n (size of ``mass``)."""
         return self.mass.size
 
     @property
     def n_mesh(self) -> int:
+        """Number of meshes (rows of ``V``)."""
         return self.V.shape[0]
 
     def mean_stiffness(self) -> np.ndarray:
@@ -112,14 +143,69 @@ class DynamicModel:
                          for i, t in enumerate(self.tables)])
 
     def ste(self, t: np.ndarray) -> np.ndarray:
-        """Static transmission error e_i(t), shape (len(t), n_mesh) [m]."""
+        """Static transmission error e_i(t) = e0_i + sum_h A_ih sin(w_ih t + p_ih) [m].
+
+        Parameters
+        ----------
+        t : array_like
+            Times [s] (a scalar counts as one time).
+
+        Returns
+        -------
+        ndarray, shape (len(t), n_mesh)
+            e_i at each time [m].
+        """
         t = np.atleast_1d(np.asarray(t, dtype=float))
         arg = t[:, None, None] * self.h_omega[None] + self.h_phase[None]
         return self.e0[None, :] + np.sum(self.h_amp[None] * np.sin(arg), axis=-1)
 
 
 def mean_stiffness_matrix(model: DynamicModel, *, which: str = "mean") -> np.ndarray:
-    """K_b + sum_i kappa_i s_i k_i V_i V_i^T with the mean (or maximum) mesh stiffness [N/m]."""
+    """K_b + sum_i kappa_i s_i k_i V_i V_i^T with the mean (or maximum) mesh stiffness [N/m].
+
+    The stiffness matrix of the linear mean system: each mesh is a spring of stiffness
+    kappa_i s_i k_i acting on the deflection V_i . q, so it adds k V_i V_i^T (projection
+    vector of a mesh as in Kahraman 1994 and Velex & Maatar 1996; see
+    :mod:`gearsim.dynamics.lta`).
+
+    Parameters
+    ----------
+    model : DynamicModel
+        Equations of motion.
+    which : {"mean", "max"}
+        Mesh stiffness used: the mean over each table's period
+        (:meth:`DynamicModel.mean_stiffness`), or (any other value) the largest
+        tabulated value (:meth:`DynamicModel.max_stiffness`).
+
+    Returns
+    -------
+    ndarray, shape (n_dof, n_dof)
+        Symmetric stiffness matrix [N/m, N/rad or N m/rad by coordinate pair].
+
+    Examples
+    --------
+    Two discs coupled by one mesh on base radii 0.1 m, stiffness alternating between
+    0.8e8 and 1.2e8 N/m, no bearings: k V V^T with V = (0.1, -0.1) gives +-1e6 with the
+    mean 1e8 N/m.
+
+    >>> import numpy as np
+    >>> from gearsim.dynamics.model import DynamicModel, mean_stiffness_matrix
+    >>> from gearsim.dynamics.tables import MeshTable
+    >>> o, z = np.ones(1), np.zeros(2)
+    >>> pair = DynamicModel(
+    ...     kind="lta", gear_names=("a", "b"), dof_labels=("a.theta", "b.theta"),
+    ...     mass=np.array([0.5, 0.5]), kb=z, cb=z, fext=z, V=np.array([[0.1, -0.1]]),
+    ...     kappa=o, kscale=o, cm=500 * o, clearance=np.inf * o,
+    ...     tables=(MeshTable(k=np.array([0.8e8, 1.2e8]), positions_per_cycle=2, period=1),),
+    ...     phase=0 * o, mesh_frequency=100.0, e0=0 * o, h_amp=np.zeros((1, 1)),
+    ...     h_omega=np.zeros((1, 1)), h_phase=np.zeros((1, 1)), to_transverse=o,
+    ...     dte_offset=0 * o, static_force=0 * o,
+    ...     bearing_dofs=np.zeros((2, 0), dtype=np.int64), axes=(), q_static=z)
+    >>> mean_stiffness_matrix(pair).round(6).tolist()
+    [[1000000.0, -1000000.0], [-1000000.0, 1000000.0]]
+    >>> round(float(mean_stiffness_matrix(pair, which="max")[0, 0]), 6)
+    1200000.0
+    """
     k = model.mean_stiffness() if which == "mean" else model.max_stiffness()
     K = np.diag(model.kb).astype(float)
     for i in range(model.n_mesh):

@@ -156,7 +156,28 @@ class DynamicsSettings:
                     getattr(self, name), "must be >= 0 m")
 
     def per_item(self, name: str, count: int, what: str) -> tuple[float, ...]:
-        """The option ``name`` as one value per item (mesh, gear or idler)."""
+        """The option ``name`` as one value per item (mesh, gear or idler).
+
+        Parameters
+        ----------
+        name : str
+            A tuple-valued option, e.g. ``"runout"`` or ``"idler_angle"``.
+        count : int
+            Number of items (meshes, gears or idlers of the train).
+        what : str
+            Item kind for the error message (``"mesh"``, ``"gear"``, ``"idler"``).
+
+        Returns
+        -------
+        tuple of float
+            ``count`` values (SI): a single given value repeated, else the values given.
+
+        Raises
+        ------
+        InputError
+            (parameter ``dynamics.<name>``) if more than one value is given and their
+            number is not ``count``.
+        """
         vals = getattr(self, name)
         if len(vals) == 1:
             return vals * count

@@ -71,7 +71,29 @@ def settings_of(train: GearTrain, settings: DynamicsSettings | None = None) -> D
 
 def build_model(train: GearTrain, settings: DynamicsSettings | None = None, *,
                 tables: tuple[MeshTable, ...] | None = None) -> DynamicModel:
-    """Equations of motion of ``train`` for ``settings.model`` ("lta" or "seed")."""
+    """Equations of motion of ``train`` for ``settings.model`` ("lta" or "seed").
+
+    Parameters
+    ----------
+    train : GearTrain
+        Gear chain with operating point and cracks.
+    settings : DynamicsSettings, optional
+        Dynamics options; default :class:`DynamicsSettings` ``()``.
+    tables : tuple of MeshTable, optional
+        Precomputed stiffness tables; default :func:`mesh_tables` of ``train``.
+
+    Returns
+    -------
+    DynamicModel
+        :func:`gearsim.dynamics.seed3dof.build_seed` for ``"seed"``, else
+        :func:`gearsim.dynamics.lta.build_lta`.
+
+    Raises
+    ------
+    InputError
+        A per-item option of the wrong length, or an idler angle that makes gears
+        overlap.
+    """
     settings = settings_of(train, settings)
     tables = tables or mesh_tables(train)
     if settings.model == "seed":
@@ -80,7 +102,34 @@ def build_model(train: GearTrain, settings: DynamicsSettings | None = None, *,
 
 
 def integration_step(settings: DynamicsSettings) -> tuple[float, int]:
-    """(dt, m): the step used and the number of steps per internal sample."""
+    """(dt, m): the step used and the number of steps per internal sample.
+
+    ``dt = 1 / (r fs m)`` with the smallest integer m >= 1 that makes ``dt <= step``
+    (r = ``oversample``), so every internal sample falls on a step.
+
+    Parameters
+    ----------
+    settings : DynamicsSettings
+        Uses ``step`` [s], ``fs`` [Hz] and ``oversample``.
+
+    Returns
+    -------
+    dt : float
+        Integration step [s].
+    m : int
+        Steps per internal sample.
+
+    Examples
+    --------
+    50 kHz output, oversampling 2 (internal samples every 10 us), largest step 3 us:
+    m = ceil(10 / 3) = 4 steps of 2.5 us.
+
+    >>> from gearsim.dynamics.settings import DynamicsSettings
+    >>> from gearsim.dynamics.simulate import integration_step
+    >>> dt, m = integration_step(DynamicsSettings(step=3e-6, fs=50e3, oversample=2))
+    >>> round(dt * 1e6, 9), m
+    (2.5, 4)
+    """
     t_int = 1.0 / (settings.oversample * settings.fs)
     m = max(1, math.ceil(t_int / settings.step * (1 - 1e-12)))
     return t_int / m, m
@@ -88,7 +137,19 @@ def integration_step(settings: DynamicsSettings) -> tuple[float, int]:
 
 @dataclass
 class Raw:
-    """Instantaneous kernel records (internal rate)."""
+    """Instantaneous kernel records (internal rate), returned by :func:`run_kernel`.
+
+    Parameters
+    ----------
+    t : ndarray, shape (n_rec,)
+        Record times [s].
+    q, v : ndarray, shape (n_rec, n_dof)
+        Coordinates [m, rad] and velocities [m/s, rad/s] at the record times.
+    f : ndarray, shape (n_rec, n_mesh)
+        Mesh forces f_i (kernel units, before ``to_transverse``) [N].
+    q_end, v_end : ndarray, shape (n_dof,)
+        State after the last step.
+    """
 
     t: np.ndarray
     q: np.ndarray
@@ -190,7 +251,8 @@ def simulate(train: GearTrain, settings: DynamicsSettings | None = None, *,
     train
         Gear chain with operating point and cracks.
     settings
-        Dynamics options; default: the config's ``[dynamics]`` section or the defaults.
+        Dynamics options; default: :class:`DynamicsSettings` ``()`` (the train does not
+        carry the config's ``[dynamics]`` section: pass ``Gearbox.dynamics`` for it).
     tables, model
         Precomputed stiffness tables or model (parameter studies reuse them).
     check_step
@@ -309,7 +371,21 @@ def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient)
 
 
 def summary(ds) -> dict:
-    """Per-mesh mean, RMS, peak of the dynamic mesh force and the static force [N]."""
+    """Per-mesh mean, RMS, peak of the dynamic mesh force and the static force [N].
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Result of :func:`simulate` (or a results file read back).
+
+    Returns
+    -------
+    dict
+        ``model``, ``fs`` [Hz], ``step`` [s], ``duration`` (samples / fs) [s], ``cracks``
+        and ``meshes``: per mesh ``mesh`` (1-based), ``mean``, ``rms`` (of the force
+        itself), ``peak`` (max abs), ``rms_fluctuation`` (standard deviation),
+        ``static_force`` [N] and ``mean_error`` = (mean - static) / static [-].
+    """
     meshes = []
     i = 1
     while f"mesh_force_{i}" in ds:
@@ -330,7 +406,25 @@ def summary(ds) -> dict:
 
 def reference_mesh_forces(model: DynamicModel, t: float, q: np.ndarray,
                           v: np.ndarray) -> np.ndarray:
-    """Mesh forces f_i [N] of the equations in plain numpy (see :func:`reference_rhs`)."""
+    """Mesh forces f_i [N] of the equations in plain numpy (see :func:`reference_rhs`).
+
+    The force law of :mod:`gearsim.dynamics.model` (backlash function, contact force
+    clipped at zero on either flank, linear when the clearance is ``inf``).
+
+    Parameters
+    ----------
+    model : DynamicModel
+        Equations of motion.
+    t : float
+        Time [s].
+    q, v : ndarray, shape (n_dof,)
+        Coordinates [m, rad] and velocities [m/s, rad/s].
+
+    Returns
+    -------
+    ndarray, shape (n_mesh,)
+        f_i including the factor kappa_i [N].
+    """
     arg = model.h_omega * t + model.h_phase
     e = model.e0 + np.sum(model.h_amp * np.sin(arg), axis=1)
     ed = np.sum(model.h_amp * model.h_omega * np.cos(arg), axis=1)
@@ -351,6 +445,16 @@ def reference_rhs(model: DynamicModel):
 
     ``y = [q, q']``. Independent of the numba code (vectorised numpy, the table's own
     interpolation :meth:`MeshTable.__call__`), for cross-checks and benchmarks.
+
+    Parameters
+    ----------
+    model : DynamicModel
+        Equations of motion.
+
+    Returns
+    -------
+    callable
+        ``fun(t, y) -> [q', q'']`` with ``q'' = M^-1 (F_ext - K_b q - C_b q' - V^T f)``.
     """
     n = model.n_dof
     minv = 1.0 / model.mass

@@ -29,11 +29,17 @@ __all__ = ["MeshTable", "mesh_tables"]
 class MeshTable:
     """Periodic table of the transverse mesh stiffness of one mesh.
 
-    Attributes
+    Sample j is at the mesh-cycle coordinate ``c = j / positions_per_cycle``; the table
+    repeats after ``period`` cycles (``k.size == period * positions_per_cycle``).
+
+    Parameters
     ----------
-    k : stiffness samples [N/m] (transverse, along the transverse line of action)
-    positions_per_cycle : samples per mesh cycle
-    period : table period in mesh cycles
+    k : ndarray
+        Stiffness samples [N/m] (transverse, along the transverse line of action).
+    positions_per_cycle : int
+        Samples per mesh cycle.
+    period : int
+        Table period [mesh cycles]: 1, the teeth z of the cracked gear, or lcm(z1, z2).
     """
 
     k: np.ndarray
@@ -47,6 +53,7 @@ class MeshTable:
 
     @property
     def max(self) -> float:
+        """Largest tabulated stiffness [N/m] (sets the RK4 step limit)."""
         return float(np.max(self.k))
 
     def __call__(self, cycles: np.ndarray) -> np.ndarray:
@@ -60,7 +67,22 @@ class MeshTable:
 
 
 def mesh_tables(train: GearTrain) -> tuple[MeshTable, ...]:
-    """Stiffness tables of every mesh of ``train`` (see the module docstring)."""
+    """Stiffness tables of every mesh of ``train`` (see the module docstring).
+
+    Computed with :meth:`GearTrain.mesh_stiffness` (its stiffness options and cracks):
+    one mesh cycle for a healthy mesh, one revolution of the cracked gear, or
+    lcm(z1, z2) cycles built as k_1 + k_2 - k_healthy when both gears are cracked.
+
+    Parameters
+    ----------
+    train : GearTrain
+        Gear chain with its cracks and stiffness options.
+
+    Returns
+    -------
+    tuple of MeshTable
+        One table per mesh, in mesh order [N/m].
+    """
     out = []
     for i, pair in enumerate(train.pairs):
         cracks = train.mesh_cracks(i)

@@ -226,7 +226,7 @@ def fe_check(train, gear_name: str | None = None, *, crack: str = "none",
     Parameters
     ----------
     train
-        :class:`gearsim.system.GearTrain` (e.g. from :func:`gearsim.io.config.load`).
+        :class:`gearsim.system.GearTrain` (e.g. from :func:`gearsim.load` (its ``train``)).
     gear_name
         Gear to check; default the first cracked gear, else the first gear.
     crack

@@ -78,7 +78,18 @@ def _key(gear: Gear, crack, depth: float, side: int, closure: str, plane: str,
 
 
 def fe_nodes(gear: Gear) -> np.ndarray:
-    """Contact radii of the FE table: NODES points equally spaced in roll length [m]."""
+    """Contact radii of the FE table: NODES points equally spaced in roll length [m].
+
+    Parameters
+    ----------
+    gear : Gear
+        The gear.
+
+    Returns
+    -------
+    ndarray
+        :data:`NODES` radii from the form (or base) circle to the tip [m].
+    """
     prof = ToothProfile(gear)
     rb = gear.base_radius
     r_lo = max(prof.form_radius, rb)

@@ -78,14 +78,14 @@ _FS_NAMES = ("fs", "Fs", "FS", "sampling_rate", "samplerate", "sample_rate")
 
 @dataclass(frozen=True)
 class MeasuredSignal:
-    """One channel read from a file.
+    """One channel read from a file (returned by :func:`read_signal`).
 
-    Attributes
+    Parameters
     ----------
     data : ndarray
         Samples (float64, units of the file).
     fs : float
-        Sampling rate (Hz).
+        Sampling rate [Hz].
     channel : str
         Channel name as used to select it.
     path : str
@@ -94,9 +94,9 @@ class MeasuredSignal:
         Format key of :data:`FORMATS`.
     fs_source : str
         ``"file"`` or ``"user"``.
-    channels : tuple of str
+    channels : tuple of str, optional
         All channels in the file.
-    units : str or None
+    units : str or None, optional
         Units stored with the channel, if any.
     """
 
@@ -111,7 +111,7 @@ class MeasuredSignal:
 
     @property
     def duration(self) -> float:
-        """Record length (s)."""
+        """Record length, samples / fs [s]."""
         return self.data.size / self.fs
 
 
@@ -444,7 +444,26 @@ def _load(path: str | Path, fmt: str | None) -> tuple[Path, str, _Raw]:
 
 
 def list_channels(path: str | Path, *, fmt: str | None = None) -> tuple[str, ...]:
-    """Names of the channels in a file (see the module table for naming)."""
+    """Names of the channels in a file (see the module table for naming).
+
+    Parameters
+    ----------
+    path : str or Path
+        File to read.
+    fmt : str, optional
+        Format key of :data:`FORMATS`; by default from the extension.
+
+    Returns
+    -------
+    tuple of str
+        Channel names, in file order, as accepted by :func:`read_signal`.
+
+    Raises
+    ------
+    InputError
+        Missing, empty or unreadable file, unknown format or extension, no numeric
+        channel.
+    """
     _, _, raw = _load(path, fmt)
     return tuple(raw.channels)
 
@@ -473,6 +492,13 @@ def read_signal(
     Returns
     -------
     MeasuredSignal
+
+    Raises
+    ------
+    InputError
+        Missing, empty or unreadable file; unknown format; channel missing or not
+        named when the file has several; fewer than 2 or non-finite samples; no
+        sampling rate, or a given ``fs`` that disagrees with the file's.
     """
     p, kind, raw = _load(path, fmt)
     names = tuple(raw.channels)

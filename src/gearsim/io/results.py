@@ -18,7 +18,21 @@ __all__ = ["read_results", "write_results"]
 
 
 def write_results(ds, path: str | Path) -> Path:
-    """Write ``ds`` to ``path`` (NetCDF-4, h5netcdf engine) atomically."""
+    """Write ``ds`` to ``path`` (NetCDF-4, h5netcdf engine) atomically.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Results, e.g. of :func:`gearsim.dynamics.simulate`.
+    path : str or Path
+        Target file; its folder is created if needed, an existing file is replaced
+        only after a complete write.
+
+    Returns
+    -------
+    Path
+        The written file.
+    """
     def write(tmp: Path) -> None:
         ds.to_netcdf(tmp, engine="h5netcdf")
         umask = os.umask(0)
@@ -29,7 +43,18 @@ def write_results(ds, path: str | Path) -> Path:
 
 
 def read_results(path: str | Path):
-    """Open a results file written by :func:`write_results` (loaded into memory)."""
+    """Open a results file written by :func:`write_results` (loaded into memory).
+
+    Parameters
+    ----------
+    path : str or Path
+        NetCDF file.
+
+    Returns
+    -------
+    xarray.Dataset
+        The dataset, loaded and with the file closed.
+    """
     import xarray as xr
 
     with xr.open_dataset(path, engine="h5netcdf") as ds:

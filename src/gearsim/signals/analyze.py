@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from gearsim._version import __version__
 from gearsim.errors import InputError
 from gearsim.signals._checks import (
     as_signal,
@@ -84,7 +85,7 @@ class Kinematics:
     Not the physical train (:class:`gearsim.system.GearTrain`): only what is needed to
     place the spectral lines.
 
-    Attributes
+    Parameters
     ----------
     teeth : tuple of int
         Tooth counts, reference gear first.
@@ -165,11 +166,9 @@ class Analysis:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-serialisable summary (no long arrays except impact times)."""
-        import gearsim
-
         t1 = 1.0 / self.kinematics.reference_frequency
         out: dict[str, Any] = {
-            "gearsim_version": gearsim.__version__,
+            "gearsim_version": __version__,
             "fs_hz": self.fs,
             "n_samples": int(self.signal.size),
             "duration_s": self.signal.size / self.fs,

@@ -62,7 +62,7 @@ EMD_METHODS = ("correlation", "kurtosis")
 #: Threshold rule of Ayenu-Prah & Attoh-Okine (2010), the word accepted for emd_threshold.
 AYENU_PRAH = "ayenu-prah"
 
-#: Config value kind of every option (as in :data:`gearsim.io.config.convert`).
+#: Config value kind of every option (as in :func:`gearsim.sections.convert`).
 #: ``emd_threshold`` is a number or the word ``"ayenu-prah"``; ``emd_method`` may be
 #: left out (no EMD).
 KEYS: dict[str, str] = {

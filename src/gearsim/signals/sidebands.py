@@ -65,7 +65,9 @@ SEARCH_FRACTION = 0.25
 class SidebandFamily:
     """Sidebands ``n f_m + k f_r`` (``k = -K..-1, 1..K``) of one shaft around one harmonic.
 
-    Attributes
+    Built by :func:`sideband_families`.
+
+    Parameters
     ----------
     order : int
         Mesh harmonic ``n``.
@@ -85,11 +87,14 @@ class SidebandFamily:
         False where another requested line (mesh harmonic or another shaft's sideband) lies
         within the resolution of the window, so the amplitude mixes two lines.
     ser : float
-        Sideband energy ratio (dimensionless).
+        Sideband energy ratio (:func:`sideband_energy_ratio`, dimensionless); NaN when
+        the mesh tone has zero amplitude.
     cv : float
-        Coefficient of variation of the sideband amplitudes (dimensionless).
+        Coefficient of variation of the sideband amplitudes
+        (:func:`coefficient_of_variation`, dimensionless).
     flatness : float
-        Spectral flatness of the sideband powers, in (0, 1].
+        Spectral flatness of the sideband powers (:func:`spectral_flatness`), in (0, 1];
+        NaN if a sideband amplitude is zero.
     """
 
     order: int
@@ -105,7 +110,14 @@ class SidebandFamily:
     flatness: float
 
     def to_dict(self) -> dict:
-        """JSON-serialisable summary."""
+        """JSON-serialisable summary.
+
+        Returns
+        -------
+        dict
+            The fields, arrays as lists, the mesh tone flattened to
+            ``mesh_frequency_hz`` and ``mesh_amplitude``; frequencies in Hz.
+        """
         return {
             "order": self.order,
             "shaft": self.shaft,
@@ -126,6 +138,34 @@ def sideband_energy_ratio(mesh_amplitude: float, sideband_amplitudes: np.ndarray
     r"""Sideband energy ratio :math:`\mathrm{SER} = \sum_{k=1}^{K}(A_{-k}+A_{+k}) / A_{n f_m}`.
 
     Dimensionless; Hanna et al. (2011) use ``K = 6`` and report SER < 1 for healthy gears.
+
+    Parameters
+    ----------
+    mesh_amplitude : float
+        Amplitude of the mesh harmonic :math:`A_{n f_m}` (signal units), > 0.
+    sideband_amplitudes : array_like
+        Amplitudes of the sidebands :math:`A_{\pm k}`, ``k = 1..K`` (same units); all of
+        them are summed.
+
+    Returns
+    -------
+    float
+        SER (dimensionless).
+
+    Raises
+    ------
+    InputError
+        If ``mesh_amplitude`` is not > 0.
+
+    References
+    ----------
+    Hanna, Hatch, Kalb, Weiss & Luo (2011), Detection of wind turbine gear tooth defects
+    using sideband energy ratio, China Wind Power 2011.
+
+    Examples
+    --------
+    >>> sideband_energy_ratio(2.0, [0.1, 0.2, 0.3, 0.4])
+    0.5
     """
     if not mesh_amplitude > 0.0:
         raise InputError("mesh_amplitude", mesh_amplitude, "must be > 0 to form the SER")
@@ -133,7 +173,26 @@ def sideband_energy_ratio(mesh_amplitude: float, sideband_amplitudes: np.ndarray
 
 
 def coefficient_of_variation(amplitudes: np.ndarray) -> float:
-    r"""Coefficient of variation :math:`\sigma(A)/\bar A` of amplitudes (population std)."""
+    r"""Coefficient of variation :math:`\sigma(A)/\bar A` of amplitudes (population std).
+
+    A measure of the uniformity of a sideband family: 0 for perfectly even sidebands,
+    larger for a family whose lines fluctuate (seed, sec. 3.2).
+
+    Parameters
+    ----------
+    amplitudes : array_like
+        Sideband amplitudes (any units, all the same).
+
+    Returns
+    -------
+    float
+        CV (dimensionless); NaN when the mean amplitude is not > 0.
+
+    Examples
+    --------
+    >>> coefficient_of_variation([2.0, 2.0, 2.0]), coefficient_of_variation([1.0, 3.0])
+    (0.0, 0.5)
+    """
     a = np.asarray(amplitudes, dtype=np.float64)
     m = a.mean()
     return float(a.std() / m) if m > 0 else float("nan")
@@ -143,6 +202,28 @@ def spectral_flatness(amplitudes: np.ndarray) -> float:
     r"""Spectral flatness :math:`\exp(\overline{\ln P}) / \bar P` of powers ``P = A^2``.
 
     Gray & Markel (1974); 1 for equal lines, near 0 when a few lines dominate.
+
+    Parameters
+    ----------
+    amplitudes : array_like
+        Line amplitudes ``A`` (any units); the powers are ``A**2``.
+
+    Returns
+    -------
+    float
+        Ratio of geometric to arithmetic mean power, in (0, 1] (dimensionless); NaN for
+        an empty input or when a line has zero amplitude.
+
+    References
+    ----------
+    Gray & Markel (1974), *IEEE Trans. ASSP* 22, 207-217.
+
+    Examples
+    --------
+    Powers 1 and 4: geometric mean 2, arithmetic mean 2.5.
+
+    >>> spectral_flatness([1.0, 1.0, 1.0]), spectral_flatness([1.0, 2.0])
+    (1.0, 0.8)
     """
     p = np.asarray(amplitudes, dtype=np.float64) ** 2
     if p.size == 0 or np.any(p <= 0.0):
@@ -166,6 +247,37 @@ def check_sideband_request(
     and the record must last at least ``2 L / f_r`` for every shaft (``L`` = main-lobe half
     width of the window in bins, :data:`gearsim.signals.spectrum.WINDOWS`), so that
     adjacent sidebands do not share a main lobe.
+
+    Parameters
+    ----------
+    n_samples : int
+        Record length (samples).
+    fs : float
+        Sampling rate (Hz).
+    mesh_frequency : float
+        Fundamental mesh frequency ``f_m`` (Hz), > 0.
+    shafts : mapping of str to float
+        Shaft label to shaft frequency ``f_r`` (Hz), at least one, each > 0.
+    orders : sequence of int
+        Mesh harmonics ``n`` requested, each an integer >= 1.
+    n_sidebands : int
+        ``K``, sidebands per side, >= 1.
+    window : str
+        Window name, one of :data:`gearsim.signals.spectrum.WINDOWS`.
+
+    Raises
+    ------
+    InputError
+        If an argument is out of range, the highest line is not below ``fs/2``, or the
+        record (``n_samples / fs`` s) is shorter than ``2 L / f_r`` for some shaft.
+
+    Examples
+    --------
+    >>> check_sideband_request(1000, 1000.0, mesh_frequency=100.0, shafts={"in": 10.0},
+    ...                        orders=[5], n_sidebands=1, window="hann")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    gearsim.errors.InputError: fs = 1000 Hz: must exceed 2 x 510 Hz = 1020 Hz to cover ...
     """
     check_positive("mesh_frequency", mesh_frequency)
     if window not in WINDOWS:
@@ -191,7 +303,41 @@ def check_sideband_request(
 def mesh_harmonics(
     spec: Spectrum, *, mesh_frequency: float, orders: Sequence[int], search: float
 ) -> list[Tone]:
-    """Tones at ``n f_m`` for each ``n`` in ``orders`` (search half width in Hz)."""
+    """Tones at ``n f_m`` for each ``n`` in ``orders`` (search half width in Hz).
+
+    Each is estimated by :func:`gearsim.signals.spectrum.tone` (largest bin within
+    ``+- search`` of ``n f_m``, scalloping-corrected).
+
+    Parameters
+    ----------
+    spec : Spectrum
+        Amplitude spectrum of the signal.
+    mesh_frequency : float
+        Fundamental mesh frequency ``f_m`` (Hz).
+    orders : sequence of int
+        Mesh harmonics ``n``; ``n f_m`` must not exceed ``fs/2``.
+    search : float
+        Half width of the search band around each harmonic (Hz), > 0.
+
+    Returns
+    -------
+    list of Tone
+        One per order, in the order given (frequency in Hz, amplitude in signal units).
+
+    Raises
+    ------
+    InputError
+        If ``search`` is not > 0 or a harmonic lies outside ``[0, fs/2]``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gearsim.signals.spectrum import amplitude_spectrum
+    >>> t = np.arange(1000) / 1000.0
+    >>> spec = amplitude_spectrum(3.0 * np.cos(2 * np.pi * 100.0 * t), 1000.0)
+    >>> mesh_harmonics(spec, mesh_frequency=100.0, orders=[1], search=2.5)
+    [Tone(frequency=100.0, amplitude=3.0)]
+    """
     return [tone(spec, n * mesh_frequency, search=search) for n in orders]
 
 

@@ -41,25 +41,102 @@ __all__ = [
 def rms(x: np.ndarray) -> float:
     r"""Root mean square :math:`\sqrt{\frac1N\sum_i x_i^2}` (units of ``x``).
 
+    The mean is not removed: pass ``x - x.mean()`` for the RMS of the dynamic part
+    (as :func:`time_stats` does with ``remove_mean=True``).
+
+    Parameters
+    ----------
+    x : array_like
+        Signal, 1-D, at least two finite samples (any units).
+
+    Returns
+    -------
+    float
+        RMS in units of ``x``.
+
+    Raises
+    ------
+    InputError
+        If ``x`` is not 1-D, has fewer than two samples or holds NaN/inf.
+
     References
     ----------
     Randall (2011), eq. 5.1.
+
+    Examples
+    --------
+    A sine of amplitude :math:`A` over whole periods has RMS :math:`A/\sqrt2`:
+
+    >>> import numpy as np
+    >>> t = np.arange(1000) / 1000.0
+    >>> round(rms(2.0 * np.sin(2 * np.pi * 10 * t)), 6)
+    1.414214
     """
     a = as_signal(x)
     return float(np.sqrt(np.mean(a * a)))
 
 
 def peak(x: np.ndarray) -> float:
-    r"""Peak value :math:`\max_i |x_i|` (units of ``x``)."""
+    r"""Peak value :math:`\max_i |x_i|` (units of ``x``).
+
+    Parameters
+    ----------
+    x : array_like
+        Signal, 1-D, at least two finite samples (any units).
+
+    Returns
+    -------
+    float
+        Largest absolute sample, in units of ``x``.
+
+    Raises
+    ------
+    InputError
+        If ``x`` is not 1-D, has fewer than two samples or holds NaN/inf.
+
+    References
+    ----------
+    Randall (2011), sec. 5.2.
+
+    Examples
+    --------
+    >>> peak([1.0, -3.0, 2.0])
+    3.0
+    """
     return float(np.max(np.abs(as_signal(x))))
 
 
 def crest_factor(x: np.ndarray) -> float:
     r"""Crest factor :math:`\max|x| / \mathrm{RMS}(x)` (dimensionless).
 
+    Parameters
+    ----------
+    x : array_like
+        Signal, 1-D, at least two finite samples (any units). The mean is not removed.
+
+    Returns
+    -------
+    float
+        Peak over RMS; :math:`\sqrt2` for a sine, larger for an impulsive signal.
+
+    Raises
+    ------
+    InputError
+        If ``x`` is not 1-D, has fewer than two samples, holds NaN/inf, or is all zeros
+        (RMS = 0).
+
     References
     ----------
     Randall (2011), sec. 5.2.1.
+
+    Examples
+    --------
+    A sine sampled at its crest has crest factor :math:`\sqrt2`:
+
+    >>> import numpy as np
+    >>> t = np.arange(1000) / 1000.0
+    >>> round(crest_factor(2.0 * np.sin(2 * np.pi * 10 * t)), 6)
+    1.414214
     """
     a = as_signal(x)
     r = float(np.sqrt(np.mean(a * a)))
@@ -74,10 +151,37 @@ def kurtosis(x: np.ndarray) -> float:
     Equals 3 for Gaussian noise and ``scipy.stats.kurtosis(x, fisher=False)`` (biased
     moments).
 
+    Parameters
+    ----------
+    x : array_like
+        Signal, 1-D, at least two finite samples (any units); its mean is removed.
+
+    Returns
+    -------
+    float
+        Normalised fourth central moment: 1.5 for a sine, 3 for Gaussian noise, larger
+        for an impulsive signal.
+
+    Raises
+    ------
+    InputError
+        If ``x`` is not 1-D, has fewer than two samples, holds NaN/inf, or is constant
+        (zero variance).
+
     References
     ----------
     Randall (2011), sec. 5.2.1; Stewart (1977) uses the same normalised fourth moment
     for FM4.
+
+    Examples
+    --------
+    A sine over whole periods: :math:`\overline{\sin^4} / (\overline{\sin^2})^2 =
+    (3/8) / (1/2)^2 = 1.5`:
+
+    >>> import numpy as np
+    >>> t = np.arange(1000) / 1000.0
+    >>> round(kurtosis(np.sin(2 * np.pi * 10 * t)), 6)
+    1.5
     """
     a = as_signal(x)
     d = a - a.mean()
@@ -90,18 +194,25 @@ def kurtosis(x: np.ndarray) -> float:
 
 @dataclass(frozen=True)
 class TimeStats:
-    """Overall time-domain statistics of one signal.
+    """Overall time-domain statistics of one signal (built by :func:`time_stats`).
 
-    Attributes
+    Parameters
     ----------
-    rms, peak
-        In units of the signal (after mean removal if ``mean_removed``).
-    crest_factor, kurtosis
-        Dimensionless.
-    mean
+    rms : float
+        Root mean square (:func:`rms`), in units of the signal (of the signal minus its
+        mean if ``mean_removed``).
+    peak : float
+        Peak absolute value (:func:`peak`), in units of the signal (after mean removal if
+        ``mean_removed``).
+    crest_factor : float
+        ``peak / rms`` (dimensionless).
+    kurtosis : float
+        Pearson kurtosis of the signal (:func:`kurtosis`; dimensionless, always about
+        the mean).
+    mean : float
         Mean of the raw signal (units of the signal).
-    mean_removed
-        Whether ``rms`` and ``peak`` refer to the signal minus its mean.
+    mean_removed : bool
+        Whether ``rms``, ``peak`` and ``crest_factor`` refer to the signal minus its mean.
     """
 
     rms: float
@@ -117,6 +228,33 @@ def time_stats(x: np.ndarray, *, remove_mean: bool) -> TimeStats:
 
     A mesh force carries the static load as its mean; the seed's RMS comparison concerns
     the dynamic part, so :func:`gearsim.signals.analyze.analyze` passes ``remove_mean=True``.
+
+    Parameters
+    ----------
+    x : array_like
+        Signal, 1-D, at least two finite samples (any units).
+    remove_mean : bool
+        If True, RMS, peak and crest factor are those of ``x - mean(x)``; if False, of
+        ``x`` as given. Kurtosis is always taken about the mean.
+
+    Returns
+    -------
+    TimeStats
+        The statistics, with ``mean`` and ``mean_removed`` recorded.
+
+    Raises
+    ------
+    InputError
+        If ``x`` is not a valid signal, or is constant (crest factor or kurtosis
+        undefined).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.arange(1000) / 1000.0
+    >>> s = time_stats(3.0 + 2.0 * np.sin(2 * np.pi * 10 * t), remove_mean=True)
+    >>> round(s.mean, 6), round(s.rms, 6), round(s.peak, 6), round(s.kurtosis, 6)
+    (3.0, 1.414214, 2.0, 1.5)
     """
     a = as_signal(x)
     mu = float(a.mean())
@@ -129,9 +267,9 @@ def time_stats(x: np.ndarray, *, remove_mean: bool) -> TimeStats:
 
 @dataclass(frozen=True)
 class Impacts:
-    """Impacts found in a signal and their period.
+    """Impacts found in a signal and their period (built by :func:`detect_impacts`).
 
-    Attributes
+    Parameters
     ----------
     times : ndarray
         Impact times (s), refined by parabolic interpolation of the peak.
@@ -269,6 +407,36 @@ def ratios_to_baseline(current: TimeStats, baseline: TimeStats) -> dict[str, flo
     """Ratios current / baseline of RMS, peak, crest factor and kurtosis (dimensionless).
 
     The seed reports these as percentages of the healthy system (e.g. RMS 132.4 %).
+
+    Parameters
+    ----------
+    current : TimeStats
+        Statistics of the signal under test (e.g. the cracked system).
+    baseline : TimeStats
+        Statistics of the reference signal (e.g. the healthy system), computed with the
+        same ``remove_mean`` setting.
+
+    Returns
+    -------
+    dict of str to float
+        Keys ``"rms"``, ``"peak"``, ``"crest_factor"``, ``"kurtosis"``; values
+        ``current / baseline`` (1.0 = unchanged; multiply by 100 for percent).
+
+    Raises
+    ------
+    InputError
+        If the two were computed with different ``mean_removed``, or a baseline value is
+        zero.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.arange(1000) / 1000.0
+    >>> x = np.sin(2 * np.pi * 10 * t)
+    >>> r = ratios_to_baseline(time_stats(1.5 * x, remove_mean=True),
+    ...                        time_stats(x, remove_mean=True))
+    >>> {k: round(v, 6) for k, v in r.items()}
+    {'rms': 1.5, 'peak': 1.5, 'crest_factor': 1.0, 'kurtosis': 1.0}
     """
     if current.mean_removed != baseline.mean_removed:
         raise InputError(

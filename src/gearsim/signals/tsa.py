@@ -78,9 +78,9 @@ __all__ = [
 
 @dataclass(frozen=True)
 class TSA:
-    """Time-synchronous average over one revolution.
+    """Time-synchronous average over one revolution (built by :func:`tsa`).
 
-    Attributes
+    Parameters
     ----------
     average : ndarray, shape (M,)
         Averaged revolution (signal units), sample ``j`` at shaft angle ``2 pi j / M``.
@@ -96,11 +96,28 @@ class TSA:
 
     @property
     def samples_per_rev(self) -> int:
-        """``M``."""
+        """Number of samples per revolution ``M`` (length of ``average``)."""
         return int(self.average.size)
 
     def order_amplitudes(self) -> np.ndarray:
-        """Peak amplitude per shaft order ``0..M/2`` (signal units, DFT of the average)."""
+        """Peak amplitude per shaft order ``0..M/2`` (signal units, DFT of the average).
+
+        Returns
+        -------
+        ndarray, shape (M // 2 + 1,)
+            Entry ``o`` is the amplitude of shaft order ``o``: ``2 |Y_o| / M`` for
+            ``0 < o < M/2``, ``|Y_o| / M`` for the mean (``o = 0``) and, for even ``M``,
+            the Nyquist order. A tone ``A cos(2 pi o j / M)`` gives exactly ``A``.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> j = np.arange(64)
+        >>> t = TSA(average=3.0 * np.cos(2 * np.pi * 10 * j / 64), n_averages=1,
+        ...         shaft_frequency=1.0)
+        >>> round(float(t.order_amplitudes()[10]), 6)
+        3.0
+        """
         a = np.abs(scipy.fft.rfft(self.average)) * (2.0 / self.average.size)
         a[0] *= 0.5
         if self.average.size % 2 == 0:
@@ -398,6 +415,31 @@ def regular_signal(
 ) -> np.ndarray:
     """Regular meshing signal: TSA restricted to shaft orders 1..H, mesh orders and sidebands.
 
+    The mean is not kept. ``TSA - regular`` is :func:`difference_signal`.
+
+    Parameters
+    ----------
+    t : TSA
+        Time-synchronous average of the shaft carrying the gear.
+    teeth : int
+        Tooth count ``Z`` of that gear (mesh order), ``2 Z < M``.
+    shaft_harmonics : int
+        ``H``: shaft orders ``1..H`` kept (0: none).
+    sideband_orders : int, default 1
+        ``S``: sidebands ``n Z +- 1..S`` kept around every mesh order (1 in Zakrajsek
+        et al. 1993).
+
+    Returns
+    -------
+    ndarray, shape (M,)
+        Regular signal, in units of the TSA.
+
+    Raises
+    ------
+    InputError
+        If ``teeth``, ``shaft_harmonics`` or ``sideband_orders`` is not an integer of
+        the allowed range, or ``M <= 2 Z`` (the mesh order is above Nyquist).
+
     References
     ----------
     Zakrajsek et al. (1993), sec. "Difference signal"; Decker (2002).
@@ -412,14 +454,86 @@ def regular_signal(
 def difference_signal(
     t: TSA, *, teeth: int, shaft_harmonics: int, sideband_orders: int = 1
 ) -> np.ndarray:
-    """Difference signal ``d = TSA - regular`` (zero mean; Zakrajsek et al. 1993)."""
+    """Difference signal ``d = TSA - regular`` (zero mean; Zakrajsek et al. 1993).
+
+    The TSA without its mean, shaft orders ``1..H``, mesh orders ``n Z`` and their
+    sidebands ``n Z +- 1..S`` (see :func:`regular_signal`); what is left is the part of
+    the average not explained by normal meshing, whose moments FM4, M6A and M8A measure.
+
+    Parameters
+    ----------
+    t : TSA
+        Time-synchronous average of the shaft carrying the gear.
+    teeth : int
+        Tooth count ``Z`` of that gear (mesh order), ``2 Z < M``.
+    shaft_harmonics : int
+        ``H``: shaft orders ``1..H`` removed (0: none).
+    sideband_orders : int, default 1
+        ``S``: sidebands ``n Z +- 1..S`` removed around every mesh order (1 in Zakrajsek
+        et al. 1993).
+
+    Returns
+    -------
+    ndarray, shape (M,)
+        Difference signal, in units of the TSA.
+
+    Raises
+    ------
+    InputError
+        If ``teeth``, ``shaft_harmonics`` or ``sideband_orders`` is not an integer of
+        the allowed range, or ``M <= 2 Z``.
+
+    References
+    ----------
+    Zakrajsek et al. (1993); Decker (2002).
+
+    Examples
+    --------
+    Mesh order 10, shaft order 1 and an extra order 5: only order 5 remains.
+
+    >>> import numpy as np
+    >>> j = np.arange(64)
+    >>> extra = 0.1 * np.cos(2 * np.pi * 5 * j / 64)
+    >>> avg = 2 * np.cos(2 * np.pi * 10 * j / 64) + 0.5 * np.cos(2 * np.pi * j / 64) + extra
+    >>> d = difference_signal(TSA(avg, 1, 1.0), teeth=10, shaft_harmonics=2)
+    >>> bool(np.allclose(d, extra))
+    True
+    """
     mask = order_mask(t.samples_per_rev, teeth=teeth, shaft_harmonics=shaft_harmonics,
                        sideband_orders=sideband_orders)
     return remove_orders(t.average, mask)
 
 
 def residual_signal(t: TSA, *, teeth: int, shaft_harmonics: int) -> np.ndarray:
-    """Residual ``r = TSA - (shaft orders 1..H + mesh orders n Z)`` (Zakrajsek et al. 1993)."""
+    """Residual ``r = TSA - (shaft orders 1..H + mesh orders n Z)`` (Zakrajsek et al. 1993).
+
+    Unlike :func:`difference_signal` the mesh sidebands are kept, so that the sideband
+    growth of a developing fault counts in NA4 (:func:`na4`). The mean is removed too.
+
+    Parameters
+    ----------
+    t : TSA
+        Time-synchronous average of the shaft carrying the gear.
+    teeth : int
+        Tooth count ``Z`` of that gear (mesh order), ``2 Z < M``.
+    shaft_harmonics : int
+        ``H``: shaft orders ``1..H`` removed (0: none).
+
+    Returns
+    -------
+    ndarray, shape (M,)
+        Residual signal, in units of the TSA.
+
+    Raises
+    ------
+    InputError
+        If ``teeth`` or ``shaft_harmonics`` is not an integer of the allowed range, or
+        ``M <= 2 Z``.
+
+    References
+    ----------
+    Zakrajsek et al. (1993); Decker (2002).
+    """
     mask = order_mask(t.samples_per_rev, teeth=teeth, shaft_harmonics=shaft_harmonics,
                        sideband_orders=0)
     return remove_orders(t.average, mask)
@@ -437,7 +551,42 @@ def _moment_ratio(d: np.ndarray, power: int, name: str) -> float:
 def fm0(t: TSA, *, teeth: int) -> float:
     r"""FM0 = :math:`(\max \bar y - \min \bar y) / \sum_n A_{nZ}` (dimensionless; Stewart 1977).
 
-    ``A_{nZ}``: amplitudes of all mesh orders ``n Z`` below ``M/2`` in the TSA.
+    ``A_{nZ}``: amplitudes of all mesh orders ``n Z`` up to ``M/2`` in the TSA
+    (:meth:`TSA.order_amplitudes`). The peak-to-peak of the average grows with a local
+    fault (a tooth crack adds a once-per-revolution transient) while the mesh harmonics
+    hardly change, so FM0 rises; general wear raises both and leaves it about constant.
+
+    Parameters
+    ----------
+    t : TSA
+        Time-synchronous average of the shaft carrying the gear.
+    teeth : int
+        Tooth count ``Z`` of that gear, ``1 <= Z <= M/2``.
+
+    Returns
+    -------
+    float
+        FM0 (dimensionless); 2 for a TSA that is one pure mesh tone.
+
+    Raises
+    ------
+    InputError
+        If ``teeth`` is not an integer in ``[1, M/2]``, or every mesh-order amplitude is
+        zero.
+
+    References
+    ----------
+    Stewart (1977); reviewed in Zakrajsek et al. (1993).
+
+    Examples
+    --------
+    A pure mesh tone :math:`A\cos(2\pi Z j/M)` has peak-to-peak :math:`2A` and one mesh
+    amplitude :math:`A`:
+
+    >>> import numpy as np
+    >>> j = np.arange(64)
+    >>> round(fm0(TSA(np.cos(2 * np.pi * 10 * j / 64), 1, 1.0), teeth=10), 6)
+    2.0
     """
     amps = t.order_amplitudes()
     if int(teeth) != teeth or not 1 <= teeth < amps.size:
@@ -451,7 +600,37 @@ def fm0(t: TSA, *, teeth: int) -> float:
 def fm4(d: np.ndarray) -> float:
     r"""FM4 = :math:`N\sum(d_i-\bar d)^4 / [\sum(d_i-\bar d)^2]^2` of the difference signal.
 
-    About 3 for a healthy gear (Gaussian difference signal); Stewart (1977).
+    About 3 for a healthy gear (Gaussian difference signal); a localised fault (crack,
+    pit) puts one or a few peaks into the difference signal and raises it.
+
+    Parameters
+    ----------
+    d : array_like
+        Difference signal (:func:`difference_signal`), 1-D, any units; its mean is
+        removed.
+
+    Returns
+    -------
+    float
+        FM4 (dimensionless): 3 for Gaussian noise, 1.5 for a pure tone.
+
+    Raises
+    ------
+    InputError
+        If ``d`` is not a valid signal or has zero variance.
+
+    References
+    ----------
+    Stewart (1977); reviewed in Zakrajsek et al. (1993).
+
+    Examples
+    --------
+    A difference signal that is one pure tone (no Gaussian part):
+
+    >>> import numpy as np
+    >>> j = np.arange(64)
+    >>> round(fm4(0.1 * np.cos(2 * np.pi * 5 * j / 64)), 6)
+    1.5
     """
     return _moment_ratio(d, 4, "difference")
 
@@ -459,7 +638,37 @@ def fm4(d: np.ndarray) -> float:
 def m6a(d: np.ndarray) -> float:
     r"""M6A = :math:`N^2\sum(d_i-\bar d)^6 / [\sum(d_i-\bar d)^2]^3` (Martin 1989).
 
-    15 for Gaussian noise.
+    Normalised sixth moment of the difference signal, more sensitive than FM4 to a few
+    large peaks (surface damage); 15 for Gaussian noise.
+
+    Parameters
+    ----------
+    d : array_like
+        Difference signal (:func:`difference_signal`), 1-D, any units; its mean is
+        removed.
+
+    Returns
+    -------
+    float
+        M6A (dimensionless): 15 for Gaussian noise, 2.5 for a pure tone.
+
+    Raises
+    ------
+    InputError
+        If ``d`` is not a valid signal or has zero variance.
+
+    References
+    ----------
+    Martin (1989); reviewed in Zakrajsek et al. (1993).
+
+    Examples
+    --------
+    For a tone, :math:`\overline{\cos^6} / (\overline{\cos^2})^3 = (5/16) / (1/8)`:
+
+    >>> import numpy as np
+    >>> j = np.arange(64)
+    >>> round(m6a(np.cos(2 * np.pi * 5 * j / 64)), 6)
+    2.5
     """
     return _moment_ratio(d, 6, "difference")
 
@@ -467,7 +676,36 @@ def m6a(d: np.ndarray) -> float:
 def m8a(d: np.ndarray) -> float:
     r"""M8A = :math:`N^3\sum(d_i-\bar d)^8 / [\sum(d_i-\bar d)^2]^4` (Martin 1989).
 
-    105 for Gaussian noise.
+    Normalised eighth moment of the difference signal; 105 for Gaussian noise.
+
+    Parameters
+    ----------
+    d : array_like
+        Difference signal (:func:`difference_signal`), 1-D, any units; its mean is
+        removed.
+
+    Returns
+    -------
+    float
+        M8A (dimensionless): 105 for Gaussian noise, 4.375 for a pure tone.
+
+    Raises
+    ------
+    InputError
+        If ``d`` is not a valid signal or has zero variance.
+
+    References
+    ----------
+    Martin (1989); reviewed in Zakrajsek et al. (1993).
+
+    Examples
+    --------
+    For a tone, :math:`\overline{\cos^8} / (\overline{\cos^2})^4 = (35/128) / (1/16)`:
+
+    >>> import numpy as np
+    >>> j = np.arange(64)
+    >>> round(m8a(np.cos(2 * np.pi * 5 * j / 64)), 6)
+    4.375
     """
     return _moment_ratio(d, 8, "difference")
 
@@ -480,7 +718,41 @@ def na4(residuals: Sequence[np.ndarray]) -> float:
 
     with ``r_j`` the residual of record ``j`` (``j = M`` current, earlier ones the history,
     e.g. the healthy baseline), all of the same length ``N`` (Zakrajsek et al. 1993).
-    With one record it equals the kurtosis of the residual.
+    With one record it equals the kurtosis of the residual. Normalising by the run
+    average rather than the current variance lets NA4 keep growing as damage spreads
+    (about 3 for a healthy gear).
+
+    Parameters
+    ----------
+    residuals : sequence of array_like
+        Residual signals (:func:`residual_signal`) of records ``1..M``, oldest first, the
+        current record last; all 1-D, of equal length, any (common) units.
+
+    Returns
+    -------
+    float
+        NA4 (dimensionless).
+
+    Raises
+    ------
+    InputError
+        If ``residuals`` is empty, a residual is not a valid signal, the lengths differ,
+        or the average variance is zero.
+
+    References
+    ----------
+    Zakrajsek, Townsend & Decker (1993), NASA TM-105950.
+
+    Examples
+    --------
+    One record: the kurtosis of the residual (1.5 for a tone). A baseline with twice
+    the amplitude makes the average variance :math:`2.5\sigma^2`, so NA4 =
+    :math:`1.5 / 2.5^2 = 0.24`:
+
+    >>> import numpy as np
+    >>> r = np.cos(2 * np.pi * 5 * np.arange(64) / 64)
+    >>> round(na4([r]), 6), round(na4([2 * r, r]), 6)
+    (1.5, 0.24)
     """
     rs = [as_signal(r, name=f"residuals[{j}]") for j, r in enumerate(residuals)]
     if not rs:
@@ -498,7 +770,33 @@ def na4(residuals: Sequence[np.ndarray]) -> float:
 
 @dataclass(frozen=True)
 class Indicators:
-    """TSA-based condition indicators (all dimensionless)."""
+    """TSA-based condition indicators (all dimensionless), from :func:`condition_indicators`.
+
+    Parameters
+    ----------
+    fm0 : float
+        FM0, peak-to-peak of the TSA over the sum of mesh-order amplitudes
+        (:func:`fm0`; Stewart 1977).
+    fm4 : float
+        FM4, kurtosis of the difference signal (:func:`fm4`; Stewart 1977); 3 healthy.
+    na4 : float
+        NA4, kurtosis of the residual normalised by the run-average variance
+        (:func:`na4`; Zakrajsek et al. 1993); 3 healthy.
+    m6a : float
+        M6A, normalised sixth moment of the difference signal (:func:`m6a`; Martin
+        1989); 15 for Gaussian noise.
+    m8a : float
+        M8A, normalised eighth moment of the difference signal (:func:`m8a`; Martin
+        1989); 105 for Gaussian noise.
+    n_averages : int
+        Number of revolutions averaged in the TSA.
+    samples_per_rev : int
+        Samples per revolution ``M`` of the TSA.
+    shaft_harmonics : int
+        ``H``, shaft orders ``1..H`` removed for the difference and residual signals.
+    sideband_orders : int
+        ``S``, mesh sidebands ``n Z +- 1..S`` removed for the difference signal.
+    """
 
     fm0: float
     fm4: float
@@ -511,7 +809,13 @@ class Indicators:
     sideband_orders: int
 
     def to_dict(self) -> dict:
-        """JSON-serialisable dict."""
+        """JSON-serialisable dict.
+
+        Returns
+        -------
+        dict
+            Field name to value, for every field.
+        """
         return dict(self.__dict__)
 
 

@@ -43,14 +43,27 @@ COMPONENTS = ("hertz", "bending_1", "shear_1", "axial_1", "foundation_1",
 class MeshStiffness:
     """TVMS of one mesh over one revolution of one of its gears.
 
-    Attributes
+    Parameters
     ----------
-    cycles : mesh cycles (base pitches of rotation) from the reference position [-]
-    theta1, theta2 : rotation of driver and driven gear [rad]
-    k : total transverse mesh stiffness [N/m]
-    components : effective component stiffnesses [N/m], ``sum(1/k_c) = 1/k``
-    pair_k : stiffness of each tooth pair in contact, shape (n, pairs) [N/m]
-    pair_tooth1, pair_tooth2 : tooth indices of those pairs (driver, driven)
+    name : str
+        Name of the mesh (``"I"``, ``"II"``, ...).
+    revolution_of : str
+        Name of the gear whose revolution the positions cover.
+    cycles : ndarray
+        Mesh cycles (base pitches of rotation) from the reference position [-].
+    theta1, theta2 : ndarray
+        Rotation of driver and driven gear [rad].
+    k : ndarray
+        Total transverse mesh stiffness [N/m].
+    components : dict of str to ndarray
+        Effective component stiffnesses [N/m], ``sum(1/k_c) = 1/k`` (keys
+        :data:`COMPONENTS`).
+    pair_k : ndarray, shape (n, pairs)
+        Stiffness of each tooth pair in contact [N/m].
+    pair_tooth1, pair_tooth2 : ndarray, shape (n, pairs)
+        Tooth indices of those pairs (driver, driven).
+    attrs : dict
+        Settings the table was computed with (closure, slices, source, ...).
     """
 
     name: str
@@ -72,10 +85,16 @@ class MeshStiffness:
 
     @property
     def mean(self) -> float:
+        """Mean mesh stiffness over the revolution [N/m]."""
         return float(np.mean(self.k))
 
     def to_dataset(self):
-        """The result as an :class:`xarray.Dataset` with units in attributes."""
+        """The result as an :class:`xarray.Dataset` with units in attributes.
+
+        Returns
+        -------
+        xarray.Dataset
+        """
         import xarray as xr
 
         ds = xr.Dataset(
@@ -162,6 +181,9 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
         require(tc.crack.tooth < z, "crack.tooth", tc.crack.tooth,
                 f"must be < {z} (teeth of {tc.crack.gear})")
     model = compliance if compliance is not None else PotentialEnergyCompliance()
+    require(model.name == settings.source, "stiffness.source", settings.source,
+            f"the tooth-compliance model passed is {model.name!r}: pass the model the "
+            "settings name (gearsim.system.tooth_compliance) or use GearTrain.mesh_stiffness")
     lmid, frac, dz, n_age, ns, zfrac = _slice_grid(pair, settings)
     npc = settings.positions_per_cycle
     inside = frac > 0

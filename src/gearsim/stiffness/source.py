@@ -50,7 +50,8 @@ class ToothCrack:
 class ToothCompliance(Protocol):
     """Compliance of one tooth at contact points: the interface of a stiffness source.
 
-    Implementations: :class:`PotentialEnergyCompliance`,
+    A structural protocol: any object with a ``name`` and this ``compliance`` method is a
+    stiffness source. Implementations: :class:`PotentialEnergyCompliance`,
     :class:`gearsim.fem.tables.FiniteElementCompliance`.
     """
 
@@ -88,6 +89,13 @@ class ToothCompliance(Protocol):
 class PotentialEnergyCompliance:
     """The potential-energy tooth (seed eqs. 3-7, Sainsot foundation; docs/stiffness.md).
 
+    Parameters
+    ----------
+    name : str
+        ``"pe"`` (written into results).
+
+    Notes
+    -----
     The tooth section integrals run in the compiled kernel of
     :meth:`gearsim.stiffness.tooth.ToothModel.compliance`; cracked sections follow the
     limiting-line model and the closure option (:mod:`gearsim.stiffness.crack`).

@@ -100,9 +100,40 @@ ORDERS = (1, 2, 3, 4)
 class CaseMetrics:
     """Measures of one cracked case against the healthy case (see module docstring).
 
-    Attributes hold SI values (s, N) or dimensionless ratios; dictionaries are keyed by
-    the mesh order ``n``. ``residual`` is the fault residual ``e`` [N] at the record's
-    sample times (for plots); it is not part of :meth:`to_dict`.
+    Dictionaries are keyed by the mesh order ``n``; ratios are cracked / healthy.
+
+    Parameters
+    ----------
+    label : str
+        Name of the case.
+    impact_period, impact_period_std : float
+        Fitted period of the impacts in the fault residual and the spread of the
+        intervals [s] (NaN with fewer than two impacts).
+    impact_count : int
+        Number of impacts found in the fault residual.
+    impact_times : ndarray
+        Impact times [s].
+    default_detector_count : int
+        Impacts found by :func:`gearsim.signals.analyze`'s detector on the raw load.
+    impact_ratio, far_field_ratio : float
+        Mean window-peak ratio at the impacts and half a revolution later [-].
+    rms_ratio, peak_ratio : float
+        Ratio of the RMS and of the peak of the load fluctuation [-].
+    harmonic_ratio : dict
+        Amplitude ratio of the mesh harmonic ``n f_m`` [-].
+    sideband_mean : dict
+        Mean amplitude of the sidebands ``n f_m +- k f_r1`` [N].
+    sideband_ser, sideband_cv : dict
+        Sideband energy ratio and coefficient of variation [-].
+    sideband_spacing : dict
+        Measured sideband spacing near ``n f_m`` [Hz].
+    band_width_ratio, band_energy_ratio : dict
+        Ratio of the 90 % band width and of the mean band energy near ``n f_m`` [-].
+    off_tone, off_tone_healthy : dict
+        Off-tone power fraction near ``n f_m`` of the cracked and healthy loads [-].
+    residual : ndarray
+        Fault residual ``e`` [N] at the record's sample times, for plots; not part of
+        :meth:`to_dict`.
     """
 
     label: str
@@ -387,8 +418,20 @@ def qualitative_findings(metrics: dict[str, CaseMetrics], *, t1: float,
                          route: str = "PE") -> list[dict[str, Any]]:
     """The seed's qualitative findings as checks on our numbers (one dict per finding).
 
-    Each item has ``finding`` (the seed's statement), ``holds`` (bool or None when the
-    quantity does not exist) and ``evidence`` (our numbers).
+    Parameters
+    ----------
+    metrics : dict
+        ``{"route/case": CaseMetrics}`` with cases ``working`` and ``non-working``.
+    t1 : float
+        ``1 / f_r1`` of the system [s].
+    route : str
+        Route whose numbers are judged.
+
+    Returns
+    -------
+    list of dict
+        Each item has ``finding`` (the seed's statement), ``holds`` (bool or None when
+        the quantity does not exist) and ``evidence`` (our numbers).
     """
     w = metrics[f"{route}/working"]
     nw = metrics[f"{route}/non-working"]

@@ -48,6 +48,22 @@ def feature_matrix(ds, group: str) -> tuple[np.ndarray, list[str]]:
     Columns with a NaN or without variance in ``ds`` are dropped; a column whose values
     are all > 0 is replaced by its logarithm (amplitudes, energies and moment ratios span
     decades; the log makes their spread closer to normal for the logistic model).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A sweep store or a subset of its cases; features are the float variables along
+        ``case`` whose name starts with a prefix of :data:`FEATURE_GROUPS`.
+    group : str
+        ``"all"`` or a feature group (``"time-domain"``, ``"sideband"``, ``"TSA"``,
+        ``"band energy"``).
+
+    Returns
+    -------
+    x : ndarray, shape (n_cases, n_kept)
+        Feature matrix (empty second axis when no column is kept).
+    names : list of str
+        Names of the kept columns, sorted.
     """
     names = [v for v in ds.data_vars if ds[v].dims == ("case",) and ds[v].dtype.kind == "f"
              and any(v.startswith(p) and (group == "all" or g == group)

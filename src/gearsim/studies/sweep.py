@@ -82,7 +82,7 @@ DYNAMICS_OVERRIDES = {"duration": "time", "fs": "frequency", "transient": "time"
 class Case:
     """One analysed record of a study (SI units).
 
-    Attributes
+    Parameters
     ----------
     index : int
         Position in the study's case list.
@@ -129,9 +129,9 @@ class Case:
 
 @dataclass(frozen=True)
 class Study:
-    """A parsed study file.
+    """A parsed study file (made by :func:`loads_study`; see the module docstring).
 
-    Attributes
+    Parameters
     ----------
     name : str
         Study name.
@@ -182,19 +182,60 @@ class Study:
         return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
 
     def case_key(self, case: Case) -> str:
-        """Hash of a case's parameters and the study fingerprint (hex, 16 characters)."""
+        """Hash of a case's parameters and the study fingerprint (hex, 16 characters).
+
+        Parameters
+        ----------
+        case : Case
+            A case of this study (its index is not hashed).
+
+        Returns
+        -------
+        str
+            First 16 hex digits of the SHA-256 of the parameters and
+            :meth:`fingerprint`; also seeds the case's measurement noise.
+        """
         doc = json.dumps({"study": self.fingerprint(), **case.params()}, sort_keys=True)
         return hashlib.sha256(doc.encode()).hexdigest()[:16]
 
     def simulation_key(self, case: Case) -> str:
-        """Hash of the simulation parameters: cases with equal keys share one simulation."""
+        """Hash of the simulation parameters: cases with equal keys share one simulation.
+
+        Parameters
+        ----------
+        case : Case
+            A case of this study; noise and replicate are not hashed, and the crack
+            depth counts as 0 when ``flank == "none"``.
+
+        Returns
+        -------
+        str
+            First 16 hex digits of the SHA-256 of :meth:`Case.simulation_params` and
+            :meth:`fingerprint`; names the part file of the group.
+        """
         doc = json.dumps({"study": self.fingerprint(), **case.simulation_params()},
                          sort_keys=True)
         return hashlib.sha256(doc.encode()).hexdigest()[:16]
 
 
 def builtin_study_text(name: str) -> str:
-    """TOML text of a built-in study (see :data:`BUILTIN_STUDIES`)."""
+    """TOML text of a built-in study (see :data:`BUILTIN_STUDIES`).
+
+    Parameters
+    ----------
+    name : str
+        Name of a built-in study, e.g. ``"diagnostic"``.
+
+    Returns
+    -------
+    str
+        The study TOML text (``gearsim/data/studies/<name>.toml``).
+
+    Raises
+    ------
+    InputError
+        If ``name`` is not a built-in study.
+    """
     if name not in BUILTIN_STUDIES:
         raise InputError("study", name, "unknown; built-in studies: " + ", ".join(BUILTIN_STUDIES))
     return (resources.files("gearsim.data").joinpath("studies", f"{name}.toml")
@@ -202,7 +243,23 @@ def builtin_study_text(name: str) -> str:
 
 
 def load_study(path: str | Path) -> Study:
-    """Read a study file, or a built-in study by name (:data:`BUILTIN_STUDIES`)."""
+    """Read a study file, or a built-in study by name (:data:`BUILTIN_STUDIES`).
+
+    Parameters
+    ----------
+    path : str or Path
+        Study TOML file, or a built-in study name. A relative ``config`` in the file is
+        taken relative to the file's folder.
+
+    Returns
+    -------
+    Study
+
+    Raises
+    ------
+    InputError
+        A missing or unreadable file, or any refused content (see :func:`loads_study`).
+    """
     text, folder = read_file_or_builtin(path, BUILTIN_STUDIES, builtin_study_text,
                                         parameter="study", what="study")
     return loads_study(text, base_dir=folder)
@@ -247,7 +304,30 @@ def _values(name: str, raw: Any) -> tuple | dict:
 
 
 def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
-    """Parse study TOML text into a :class:`Study` (``base_dir``: for a relative config)."""
+    """Parse study TOML text into a :class:`Study` (``base_dir``: for a relative config).
+
+    Values with units are converted to SI (:func:`gearsim.units.to_si`); plain numbers
+    are SI. The base train is read here (its text is part of the study fingerprint).
+
+    Parameters
+    ----------
+    text : str
+        Study TOML (layout in the module docstring).
+    base_dir : str or Path, optional
+        Folder against which a relative ``study.config`` path is resolved; default the
+        current directory.
+
+    Returns
+    -------
+    Study
+
+    Raises
+    ------
+    InputError
+        Invalid TOML, an unknown section, key or parameter, a config file not found, a
+        bad value (sampling, samples, seed, replicates, signal, shafts, units), an empty
+        list or range, or a grid range without ``num``.
+    """
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -350,7 +430,39 @@ def expand(study: Study) -> list[Case]:
 
     Random sampling draws each parameter independently with
     ``numpy.random.default_rng(study.seed)``. Each parameter combination is repeated
-    ``study.replicates`` times (replicate number 0, 1, ...).
+    ``study.replicates`` times (replicate number 0, 1, ...). Parameters the study does
+    not vary take the base train's value (noise: 0).
+
+    Parameters
+    ----------
+    study : Study
+        The parsed study.
+
+    Returns
+    -------
+    list of Case
+        Cases with ``index`` 0, 1, ... in that order.
+
+    Examples
+    --------
+    Two flanks x two noise levels x two replicates = 8 cases on the Table-1 train
+    (input speed 1900 rpm = 198.968 rad/s, torque 4876 N m):
+
+    >>> from gearsim.studies.sweep import expand, loads_study
+    >>> st = loads_study('''
+    ... [study]
+    ... replicates = 2
+    ... [parameters]
+    ... flank = ["none", "working"]
+    ... noise = [0.0, 0.5]
+    ... ''')
+    >>> cases = expand(st)
+    >>> len(cases)
+    8
+    >>> [(c.flank, c.noise, c.replicate) for c in cases[:3]]
+    [('none', 0.0, 0), ('none', 0.0, 1), ('none', 0.5, 0)]
+    >>> round(cases[0].speed, 3), cases[0].torque
+    (198.968, 4876.0)
     """
     specs = {**_base_values(study), **study.parameters}
     names = list(PARAMETERS)

@@ -94,6 +94,29 @@ def add_noise(x: np.ndarray, level: float, seed: int) -> np.ndarray:
     The level is the noise-to-signal RMS ratio of the dynamic part of the record, i.e.
     SNR = -20 log10(level) dB (Randall, *Vibration-based Condition Monitoring*, 2nd ed.,
     Wiley 2021, sec. 3.1, for the definition of SNR). ``numpy.random.default_rng(seed)``.
+
+    Parameters
+    ----------
+    x : ndarray
+        Noise-free record (any units).
+    level : float
+        Noise RMS / standard deviation of ``x`` [-]; 0 returns a copy of ``x``.
+    seed : int
+        Seed of the noise generator (the study uses the case key as an integer).
+
+    Returns
+    -------
+    ndarray
+        ``x`` plus the noise, same shape and units.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gearsim.studies.sweep_case import add_noise
+    >>> x = np.sin(np.linspace(0.0, 200 * np.pi, 100_000))
+    >>> n = add_noise(x, 0.1, seed=1) - x
+    >>> round(float(np.std(n) / np.std(x)), 2)  # SNR 20 dB
+    0.1
     """
     if level == 0.0:
         return x.copy()
@@ -113,6 +136,16 @@ def features(summary: dict) -> dict[str, float]:
     each sideband family; ``band_{energy,cv,modulation}_o{n}`` STFT band energy around
     each mesh harmonic; ``tsa_{fm0,fm4,na4,m6a,m8a}`` condition indicators of the
     time-synchronous average; ``mesh_amplitude_o{n}``.
+
+    Parameters
+    ----------
+    summary : dict
+        ``Analysis.to_dict()`` of one analysed record.
+
+    Returns
+    -------
+    dict of str to float
+        Feature name -> value; ``None`` and non-finite values become NaN.
     """
     td = summary["time_domain"]
     out = {f"td_{k}": _num(td[k]) for k in ("rms", "peak", "crest_factor", "kurtosis")}

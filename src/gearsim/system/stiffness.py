@@ -87,7 +87,22 @@ class TrainStiffness:
         return plot(self, mesh, ax=ax, fig=fig)
 
     def write(self, path: str | Path) -> Path:
-        """Write CSV (``.csv``) or NetCDF (``.nc``), atomically."""
+        """Write CSV (``.csv``) or NetCDF (``.nc``), atomically.
+
+        Parameters
+        ----------
+        path : str or Path
+            Output file; its suffix chooses the format.
+
+        Returns
+        -------
+        Path
+
+        Raises
+        ------
+        InputError
+            For another suffix.
+        """
         path = Path(path)
         suffix = path.suffix.lower()
         if suffix == ".csv":

@@ -119,6 +119,12 @@ def kinematics(*, shaft_frequency: float, teeth: Sequence[int]) -> Kinematics:
     -------
     Kinematics
         ``f_m = f_r1 Z_1`` [Hz] and shaft ``j`` at ``f_m / Z_j`` [Hz].
+
+    Raises
+    ------
+    InputError
+        If ``shaft_frequency`` is not > 0 or a tooth count is not an integer >= 1 (or none
+        is given).
     """
     f_r = check_positive("shaft_frequency", shaft_frequency)
     zs = check_teeth(teeth)
@@ -134,7 +140,60 @@ def _finite(v: float) -> float | None:
 
 @dataclass(frozen=True)
 class Analysis:
-    """Everything :func:`analyze` computed. Arrays are kept for plotting; see ``to_dict``."""
+    """Everything :func:`analyze` computed. Arrays are kept for plotting; see ``to_dict``.
+
+    Parameters
+    ----------
+    signal : ndarray
+        The record analysed (units of the input; the sum of the selected IMFs when EMD
+        was used).
+    fs : float
+        Sampling rate (Hz).
+    kinematics : Kinematics
+        Tooth counts, mesh frequency and shaft frequencies (Hz).
+    stats : TimeStats
+        RMS, peak, crest factor and kurtosis (:func:`~gearsim.signals.timedomain.time_stats`).
+    impacts : Impacts
+        Impacts and their period (s) (:func:`~gearsim.signals.timedomain.detect_impacts`).
+    spectrum : Spectrum
+        Amplitude spectrum of the record.
+    harmonics : list of Tone
+        Mesh harmonics ``n f_m``, one per analysed order.
+    families : list of SidebandFamily
+        Sideband family of every shaft around every mesh harmonic, with SER, CV and
+        flatness.
+    stft : Spectrogram
+        Short-time PSD (signal units squared per Hz).
+    band_energy : dict of int to ndarray
+        Mesh order ``n`` to the mean-square value in ``n f_m +- f_m/2`` per STFT frame
+        (signal units squared).
+    band_width_spectrum : dict of int to float
+        Mesh order to the occupied band width (Hz) from the amplitude spectrum.
+    band_width_stft : dict of int to float
+        Mesh order to the occupied band width (Hz) from the time-averaged STFT PSD.
+    band_modulation : dict of int to float
+        Mesh order to the relative modulation of the band energy at ``f_r1``
+        (:func:`~gearsim.signals.timefreq.modulation_index`, dimensionless).
+    tsa : TSA
+        Time-synchronous average of the reference shaft.
+    indicators : Indicators
+        FM0, FM4, NA4, M6A, M8A (dimensionless).
+    difference : ndarray
+        Difference signal of the TSA (signal units).
+    residual : ndarray
+        Residual signal of the TSA (signal units).
+    options : dict of str to Any
+        The options used (settings, speed source, search fraction), as recorded in the
+        JSON summary.
+    timings : dict of str to float
+        Wall-clock time of each stage (s).
+    baseline_stats : TimeStats or None
+        Statistics of the baseline record, if one was given.
+    ratios : dict of str to float or None
+        Ratios current / baseline of the time-domain statistics, if a baseline was given.
+    emd_selection : Selection or None
+        The IMF selection, if EMD was used.
+    """
 
     signal: np.ndarray
     fs: float
@@ -165,7 +224,16 @@ class Analysis:
         return tuple(self.options["orders"])
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-serialisable summary (no long arrays except impact times)."""
+        """JSON-serialisable summary (no long arrays except impact times).
+
+        Returns
+        -------
+        dict of str to Any
+            Version, record, train, options, time domain, impacts, mesh harmonics,
+            sidebands, time-frequency bands, TSA indicators and timings; frequencies in
+            Hz and times in s (keys ending ``_hz``, ``_s``), amplitudes in signal units.
+            Baseline statistics and ratios, and the EMD selection, when present.
+        """
         t1 = 1.0 / self.kinematics.reference_frequency
         out: dict[str, Any] = {
             "gearsim_version": __version__,
@@ -315,6 +383,15 @@ def analyze(
     Returns
     -------
     Analysis
+        Every result, with the options used; ``Analysis.to_dict()`` for JSON.
+
+    Raises
+    ------
+    InputError
+        If an input or option is invalid: not exactly one of ``shaft_frequency`` and
+        ``tacho``, a tacho of another length or with less than one revolution, a line
+        above Nyquist, a record too short to resolve the sidebands or shorter than two
+        revolutions, or an EMD threshold that selects no IMF.
 
     References
     ----------

@@ -34,7 +34,27 @@ __all__ = ["SidebandComparison", "compare_sidebands", "percentage_error"]
 
 
 def percentage_error(simulated: np.ndarray, measured: np.ndarray) -> np.ndarray:
-    r"""Relative error :math:`100\,|s - m| / |m|` (%), measured taken as the standard."""
+    r"""Relative error :math:`100\,|s - m| / |m|` (%), measured taken as the standard.
+
+    This is the error measure of the seed's Table 2 (sec. 4).
+
+    Parameters
+    ----------
+    simulated : array_like
+        Simulated values ``s`` (any units, the same as ``measured``).
+    measured : array_like
+        Measured values ``m``, the reference; broadcast against ``simulated``.
+
+    Returns
+    -------
+    ndarray
+        Error (%), NaN where ``m == 0``.
+
+    Examples
+    --------
+    >>> percentage_error([110.0, 90.0, 1.0], [100.0, 100.0, 0.0])
+    array([10., 10., nan])
+    """
     s = np.asarray(simulated, dtype=np.float64)
     m = np.asarray(measured, dtype=np.float64)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -45,16 +65,22 @@ def percentage_error(simulated: np.ndarray, measured: np.ndarray) -> np.ndarray:
 class SidebandComparison:
     """Sideband amplitudes of two signals near each mesh harmonic and their errors.
 
-    Attributes
+    Built by :func:`compare_sidebands`.
+
+    Parameters
     ----------
     orders : tuple of int
         Mesh harmonics compared.
-    k : ndarray
-        Signed sideband numbers.
-    simulated, measured : ndarray, shape (n_orders, 2K)
-        Sideband amplitudes (relative to the mesh harmonic if ``normalize == "mesh"``).
+    k : ndarray of int, shape (2K,)
+        Signed sideband numbers ``-K..-1, 1..K``.
+    simulated : ndarray, shape (n_orders, 2K)
+        Sideband amplitudes of the simulated signal: dimensionless (relative to the mesh
+        harmonic) if ``normalize == "mesh"``, otherwise in the signal's units.
+    measured : ndarray, shape (n_orders, 2K)
+        The same for the measured signal.
     error_percent : ndarray, shape (n_orders, 2K)
-        Per-sideband error (%).
+        Per-sideband error (%, :func:`percentage_error`; NaN where the measured
+        amplitude is zero).
     mean_error_percent : ndarray, shape (n_orders,)
         Error of the family mean amplitude (%).
     normalize : str
@@ -73,7 +99,15 @@ class SidebandComparison:
     shaft: str
 
     def to_dict(self) -> dict:
-        """JSON-serialisable table."""
+        """JSON-serialisable table.
+
+        Returns
+        -------
+        dict
+            ``shaft``, ``normalize`` and ``orders``: one row per harmonic with ``k``,
+            both amplitude lists, the per-sideband errors (None where not finite), both
+            family means and their error.
+        """
         rows = []
         for i, n in enumerate(self.orders):
             rows.append({
@@ -108,8 +142,14 @@ def compare_sidebands(
 
     Parameters
     ----------
-    simulated, measured : array_like
-        Signals; sampling rates ``fs_simulated`` and ``fs_measured`` (Hz).
+    simulated : array_like
+        Simulated signal (e.g. mesh force, N).
+    fs_simulated : float
+        Sampling rate of ``simulated`` (Hz).
+    measured : array_like
+        Measured signal (e.g. acceleration, m/s^2), the reference of the errors.
+    fs_measured : float
+        Sampling rate of ``measured`` (Hz).
     mesh_frequency : float
         ``f_m`` (Hz), the same operating point for both.
     shaft_frequency : float
@@ -128,6 +168,15 @@ def compare_sidebands(
     Returns
     -------
     SidebandComparison
+        Amplitudes of both signals and the errors of the simulated ones.
+
+    Raises
+    ------
+    InputError
+        If ``normalize`` is not ``"mesh"`` or ``"none"``, a signal or sampling rate is
+        invalid, the request fails :func:`gearsim.signals.sidebands.check_sideband_request`
+        for either signal (Nyquist, record length), or, with ``normalize="mesh"``, a mesh
+        harmonic has zero amplitude.
     """
     if normalize not in ("mesh", "none"):
         raise InputError("normalize", normalize, "must be 'mesh' or 'none'")

@@ -43,7 +43,17 @@ __all__ = ["Decomposition", "Selection", "emd", "imf_correlations", "imf_kurtose
 
 @dataclass(frozen=True)
 class Decomposition:
-    """IMFs (rows, highest frequency first) and residue of a signal (signal units)."""
+    """IMFs (rows, highest frequency first) and residue of a signal (signal units).
+
+    Built by :func:`emd`; the IMFs and the residue add up to the signal.
+
+    Parameters
+    ----------
+    imfs : ndarray, shape (n_imfs, n_samples)
+        Intrinsic mode functions, one per row, highest frequency first (signal units).
+    residue : ndarray, shape (n_samples,)
+        What remains after the last IMF, the slow trend (signal units).
+    """
 
     imfs: np.ndarray
     residue: np.ndarray
@@ -56,20 +66,22 @@ class Decomposition:
 
 @dataclass(frozen=True)
 class Selection:
-    """Chosen IMFs and their sum.
+    """Chosen IMFs and their sum (built by :func:`select_imfs`).
 
-    Attributes
+    Parameters
     ----------
     indices : tuple of int
         Selected IMF rows.
-    scores : ndarray
-        Correlation coefficient or kurtosis of every IMF.
+    scores : ndarray, shape (n_imfs,)
+        Score of every IMF (dimensionless): absolute correlation coefficient with the
+        signal, or kurtosis.
     threshold : float
-        Threshold applied to ``scores``.
+        Threshold applied to ``scores`` (the value used, also when it was computed by
+        the Ayenu-Prah rule).
     method : str
         ``"correlation"`` or ``"kurtosis"``.
     signal : ndarray
-        Sum of the selected IMFs (zeros if none passed).
+        Sum of the selected IMFs (signal units; zeros if none passed).
     """
 
     indices: tuple[int, ...]
@@ -94,6 +106,13 @@ def emd(x: np.ndarray, *, max_imf: int, spline_kind: str = "cubic") -> Decomposi
     Returns
     -------
     Decomposition
+        IMFs (highest frequency first) and residue, in units of ``x``.
+
+    Raises
+    ------
+    InputError
+        If ``x`` is not a valid signal, ``max_imf`` is neither -1 nor an integer >= 1,
+        or ``spline_kind`` is not supported.
     """
     from PyEMD import EMD  # imported here: PyEMD is only needed for this step
 
@@ -110,7 +129,41 @@ def emd(x: np.ndarray, *, max_imf: int, spline_kind: str = "cubic") -> Decomposi
 
 
 def imf_correlations(x: np.ndarray, imfs: np.ndarray) -> np.ndarray:
-    """Pearson correlation coefficient of each IMF with ``x`` (dimensionless)."""
+    r"""Pearson correlation coefficient of each IMF with ``x`` (dimensionless).
+
+    .. math:: \rho_c = \frac{\sum_i (c_i - \bar c)(x_i - \bar x)}
+              {\sqrt{\sum_i (c_i - \bar c)^2 \sum_i (x_i - \bar x)^2}}
+
+    the score of the correlation selection rule (Ayenu-Prah & Attoh-Okine 2010).
+
+    Parameters
+    ----------
+    x : array_like
+        Signal that was decomposed, 1-D (any units).
+    imfs : array_like, shape (n_imfs, n_samples) or (n_samples,)
+        IMFs, one per row, of the same length as ``x``.
+
+    Returns
+    -------
+    ndarray, shape (n_imfs,)
+        Correlation coefficients in [-1, 1]; 0 for a constant IMF or a constant ``x``.
+
+    Raises
+    ------
+    InputError
+        If ``x`` is not a valid signal or the rows of ``imfs`` differ in length from it.
+
+    References
+    ----------
+    Ayenu-Prah & Attoh-Okine (2010), *Adv. Adapt. Data Anal.* 2, 1-24.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.sin(2 * np.pi * 10 * np.arange(1000) / 1000.0)
+    >>> imf_correlations(x, np.vstack([x, -2.0 * x])).round(6)
+    array([ 1., -1.])
+    """
     a = as_signal(x)
     m = np.atleast_2d(np.asarray(imfs, dtype=np.float64))
     if m.shape[1] != a.size:
@@ -124,7 +177,33 @@ def imf_correlations(x: np.ndarray, imfs: np.ndarray) -> np.ndarray:
 
 
 def imf_kurtoses(imfs: np.ndarray) -> np.ndarray:
-    """Kurtosis (Pearson, Gaussian = 3) of each IMF."""
+    """Kurtosis (Pearson, Gaussian = 3) of each IMF.
+
+    Uses :func:`gearsim.signals.timedomain.kurtosis`; IMFs above 3 are impulsive and
+    carry tooth impacts (Randall 2011, sec. 3.7).
+
+    Parameters
+    ----------
+    imfs : array_like, shape (n_imfs, n_samples) or (n_samples,)
+        IMFs, one per row (any units).
+
+    Returns
+    -------
+    ndarray, shape (n_imfs,)
+        Kurtosis of each IMF (dimensionless).
+
+    Raises
+    ------
+    InputError
+        If an IMF is constant (zero variance), shorter than two samples or not finite.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.arange(1000) / 1000.0
+    >>> imf_kurtoses(np.vstack([np.sin(2 * np.pi * 10 * t), np.cos(2 * np.pi * 10 * t)])).round(6)
+    array([1.5, 1.5])
+    """
     m = np.atleast_2d(np.asarray(imfs, dtype=np.float64))
     return np.array([kurtosis(row) for row in m])
 
@@ -143,6 +222,7 @@ def select_imfs(
     x : array_like
         Raw signal that was decomposed.
     dec : Decomposition
+        Its EMD (:func:`emd`).
     method : {"correlation", "kurtosis"}
         Score of each IMF: ``|rho|`` with ``x``, or kurtosis.
     threshold : float or "ayenu-prah"
@@ -154,6 +234,14 @@ def select_imfs(
     Returns
     -------
     Selection
+        Indices, scores, the threshold used and the sum of the selected IMFs (zeros if
+        none passes).
+
+    Raises
+    ------
+    InputError
+        If ``method`` is unknown, ``"ayenu-prah"`` is asked for with ``"kurtosis"``, the
+        threshold is not finite, or (kurtosis) an IMF is constant.
     """
     if method == "correlation":
         scores = np.abs(imf_correlations(x, dec.imfs))

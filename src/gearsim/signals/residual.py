@@ -90,6 +90,12 @@ def mesh_residual(
     ndarray
         Residual (units of ``x``), same length as ``x``.
 
+    Raises
+    ------
+    InputError
+        If ``x`` is not a valid signal, a frequency is not > 0, ``f_m / f_r`` is not a
+        whole number, or the record is shorter than one revolution.
+
     References
     ----------
     Zakrajsek, Townsend & Decker (1993), residual signal (here of the record, without

@@ -82,37 +82,43 @@ class AnalysisSettings:
 
     Parameters
     ----------
-    orders
+    orders : tuple of int, default (1, 2, 3, 4)
         Mesh harmonics ``n`` examined (seed: 1..4), integers >= 1.
-    n_sidebands
+    n_sidebands : int, default 6
         Sidebands per side ``K`` (Hanna et al. 2011 use 6 for SER), >= 1.
-    window
+    window : str, default "hann"
         Window of the amplitude spectrum: ``"hann"``, ``"flattop"`` or ``"boxcar"``.
-    remove_mean
+    remove_mean : bool, default True
         RMS and peak of the signal minus its mean (the dynamic part) if True.
-    impact_factor
+    impact_factor : float, default 1.5
         Multiple of the median per-mesh-period peak that an impact must exceed [-]
         (:data:`IMPACT_FACTOR`), > 0.
-    band_fraction
+    band_fraction : float, default 0.9
         Fraction of the band power that defines the band width [-]
         (:data:`BAND_FRACTION`), in (0, 1).
-    stft_frames_per_rev
+    stft_frames_per_rev : int, default 4
         STFT frames per revolution of the reference shaft (:data:`STFT_FRAMES_PER_REV`);
         the hop is half a frame.
-    shaft_harmonics
+    shaft_harmonics : int, default 2
         Shaft orders 1..H removed for the TSA residual and difference signals, >= 0
         (Zakrajsek et al. 1993: 2 in practice).
-    sideband_orders
+    sideband_orders : int, default 1
         Mesh sidebands +-1..S removed for the TSA difference signal, >= 0.
-    emd_method
+    emd_method : str or None, default None
         ``None`` (no EMD), ``"correlation"`` or ``"kurtosis"``: decompose by EMD first and
         analyse the sum of the selected IMFs (seed sec. 4).
-    emd_threshold
+    emd_threshold : float or str, default "ayenu-prah"
         IMF selection threshold [-], a finite number or ``"ayenu-prah"``.
-    emd_max_imf
+    emd_max_imf : int, default -1
         Maximum number of IMFs, -1 for no limit.
-    pulses_per_rev
+    pulses_per_rev : int, default 1
         Tacho pulses per revolution of the reference shaft, >= 1.
+
+    Raises
+    ------
+    InputError
+        If an option is of the wrong kind or out of range; the message names it
+        ``analysis.<option>``.
     """
 
     orders: tuple[int, ...] = (1, 2, 3, 4)
@@ -164,7 +170,13 @@ class AnalysisSettings:
                 f'must be a finite number or "{AYENU_PRAH}"'))
 
     def to_dict(self) -> dict[str, Any]:
-        """Plain dict of the options (lists for tuples), for results files."""
+        """Plain dict of the options (lists for tuples), for results files.
+
+        Returns
+        -------
+        dict of str to Any
+            Option name to value, every field.
+        """
         return {f.name: list(v) if isinstance(v := getattr(self, f.name), tuple) else v
                 for f in fields(self)}
 
@@ -195,6 +207,7 @@ def parse_analysis(table: Any, section: str = "analysis") -> AnalysisSettings:
     Returns
     -------
     AnalysisSettings
+        The validated options; defaults for the keys not given.
 
     Raises
     ------

@@ -372,6 +372,12 @@ def sideband_families(
     -------
     list of SidebandFamily
         Ordered by harmonic, then by shaft in the order given.
+
+    Raises
+    ------
+    InputError
+        If the request fails :func:`check_sideband_request` (arguments, Nyquist, record
+        length).
     """
     check_sideband_request(
         spec.n_samples, spec.fs, mesh_frequency=mesh_frequency, shafts=shafts,
@@ -440,6 +446,11 @@ def off_tone_fraction(
     float
         ``eta`` in [0, 1] (dimensionless); NaN if the band holds no power.
 
+    Raises
+    ------
+    InputError
+        If ``center`` or a half width is not > 0, or ``band_half_width < line_half_width``.
+
     References
     ----------
     Randall (2011), sec. 3.6 (sidebands around the mesh harmonics).
@@ -486,6 +497,12 @@ def sideband_spacing(
     -------
     float
         Spacing [Hz]; NaN if no two lines lie on one side of the tone.
+
+    Raises
+    ------
+    InputError
+        If ``center`` or ``shaft_frequency`` is not > 0, or ``n_sidebands`` is not an
+        integer >= 1.
 
     References
     ----------

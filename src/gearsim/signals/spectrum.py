@@ -42,9 +42,9 @@ WINDOWS: dict[str, int] = {"boxcar": 1, "hann": 2, "flattop": 5}
 
 @dataclass(frozen=True)
 class Spectrum:
-    """One-sided amplitude spectrum.
+    """One-sided amplitude spectrum (built by :func:`amplitude_spectrum`).
 
-    Attributes
+    Parameters
     ----------
     frequency : ndarray
         Bin frequencies (Hz), spacing ``fs / n_samples``.
@@ -77,7 +77,18 @@ class Spectrum:
 
 @dataclass(frozen=True)
 class Tone:
-    """Estimated tone: interpolated frequency (Hz) and peak amplitude (signal units)."""
+    """Estimated tone: interpolated frequency (Hz) and peak amplitude (signal units).
+
+    Built by :func:`tone`.
+
+    Parameters
+    ----------
+    frequency : float
+        Frequency of the tone (Hz), interpolated between bins.
+    amplitude : float
+        Peak amplitude ``A`` of ``A cos(2 pi f t)`` (units of the signal), corrected for
+        the window's scalloping loss.
+    """
 
     frequency: float
     amplitude: float
@@ -110,6 +121,22 @@ def amplitude_spectrum(x: np.ndarray, fs: float, *, window: str = "hann") -> Spe
     Returns
     -------
     Spectrum
+        Frequencies ``k fs / N`` (Hz) and amplitudes (units of ``x``).
+
+    Raises
+    ------
+    InputError
+        If ``x`` is not a valid signal, ``fs`` is not > 0, or the window is unknown.
+
+    Examples
+    --------
+    A tone of amplitude 3 on a bin shows exactly 3:
+
+    >>> import numpy as np
+    >>> t = np.arange(1000) / 1000.0
+    >>> spec = amplitude_spectrum(3.0 * np.cos(2 * np.pi * 100.0 * t), 1000.0)
+    >>> spec.df, round(float(spec.amplitude[100]), 6)
+    (1.0, 3.0)
     """
     a = as_signal(x)
     fs = check_fs(fs)
@@ -169,6 +196,11 @@ def tone(spec: Spectrum, frequency: float, *, search: float) -> Tone:
     -------
     Tone
         Interpolated frequency (Hz) and peak amplitude (signal units).
+
+    Raises
+    ------
+    InputError
+        If ``search`` is not > 0 or ``frequency`` lies outside ``[0, fs/2]``.
     """
     check_positive("search", search)
     nyq = 0.5 * spec.fs
@@ -185,7 +217,40 @@ def tone(spec: Spectrum, frequency: float, *, search: float) -> Tone:
 
 
 def zoom(spec: Spectrum, center: float, half_width: float) -> tuple[np.ndarray, np.ndarray]:
-    """Frequencies (Hz) and amplitudes of ``spec`` within ``center +- half_width`` Hz."""
+    """Frequencies (Hz) and amplitudes of ``spec`` within ``center +- half_width`` Hz.
+
+    Parameters
+    ----------
+    spec : Spectrum
+        Amplitude spectrum.
+    center : float
+        Centre of the band (Hz).
+    half_width : float
+        Half width of the band (Hz), > 0; both edges are included.
+
+    Returns
+    -------
+    frequency : ndarray
+        Bin frequencies in the band (Hz).
+    amplitude : ndarray
+        Their amplitudes (signal units).
+
+    Raises
+    ------
+    InputError
+        If ``half_width`` is not a finite number > 0.
+
+    Examples
+    --------
+    A tone of amplitude 3 on a bin, Hann window: the main lobe spans +- 2 bins.
+
+    >>> import numpy as np
+    >>> t = np.arange(1000) / 1000.0
+    >>> spec = amplitude_spectrum(3.0 * np.cos(2 * np.pi * 100.0 * t), 1000.0)
+    >>> f, a = zoom(spec, 100.0, 1.0)
+    >>> f.tolist(), np.round(a, 6).tolist()
+    ([99.0, 100.0, 101.0], [1.5, 3.0, 1.5])
+    """
     check_positive("half_width", half_width)
     sel = np.abs(spec.frequency - center) <= half_width
     return spec.frequency[sel], spec.amplitude[sel]

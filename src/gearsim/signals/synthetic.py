@@ -35,16 +35,19 @@ __all__ = ["ImpactSpec", "gear_signal"]
 class ImpactSpec:
     """Once-per-revolution decaying resonance burst.
 
-    Attributes
+    Burst ``I exp(-(t - t_i)/tau) sin(2 pi f_c (t - t_i))`` for ``t >= t_i``, with
+    ``t_i = t_0 + i / f_r`` (see :func:`gear_signal`).
+
+    Parameters
     ----------
     amplitude : float
         ``I`` (signal units).
     decay : float
-        ``tau`` (s).
+        ``tau`` (s), > 0; each burst is cut after ``10 tau``.
     carrier : float
         ``f_c`` (Hz), the excited resonance.
     first : float
-        Time of the first impact ``t_0`` (s).
+        Time of the first impact ``t_0`` (s), >= 0.
     """
 
     amplitude: float
@@ -96,6 +99,12 @@ def gear_signal(
     -------
     ndarray
         ``round(fs * duration)`` samples.
+
+    Raises
+    ------
+    InputError
+        If ``fs``, ``duration``, a shaft frequency or ``impacts.decay`` is not > 0, or
+        ``teeth`` is not an integer >= 1.
     """
     fs = check_fs(fs)
     duration = check_positive("duration", duration)

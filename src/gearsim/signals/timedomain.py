@@ -322,6 +322,12 @@ def impact_threshold(x: np.ndarray, fs: float, *, window: float, factor: float) 
     -------
     float
         Threshold in units of ``x``.
+
+    Raises
+    ------
+    InputError
+        If ``x`` is not a valid signal, ``fs``, ``window`` or ``factor`` is not > 0, or the
+        window spans fewer than 2 samples or more than the record.
     """
     a = as_signal(x)
     fs = check_fs(fs)
@@ -363,6 +369,13 @@ def detect_impacts(
     Returns
     -------
     Impacts
+        Impact times (s), amplitudes (units of ``x``), period and its scatter (s).
+
+    Raises
+    ------
+    InputError
+        If ``x`` is not a valid signal or ``fs``, ``min_separation`` or ``threshold`` is
+        not > 0.
     """
     a = as_signal(x)
     fs = check_fs(fs)
@@ -475,6 +488,11 @@ def window_peak(x: np.ndarray, fs: float, centres: np.ndarray, half_width: float
     -------
     ndarray
         Peak per centre (units of ``x``), NaN where the window lies mostly outside.
+
+    Raises
+    ------
+    InputError
+        If ``x`` is not a valid signal or ``fs`` or ``half_width`` is not > 0.
 
     References
     ----------

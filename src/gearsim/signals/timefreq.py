@@ -27,20 +27,22 @@ __all__ = ["Spectrogram", "spectrogram", "band_energy", "band_width", "modulatio
 
 @dataclass(frozen=True)
 class Spectrogram:
-    """Power spectral density over time.
+    """Power spectral density over time (built by :func:`spectrogram`).
 
-    Attributes
+    Parameters
     ----------
-    time : ndarray
+    time : ndarray, shape (n_time,)
         Frame centre times (s).
-    frequency : ndarray
-        Frequencies (Hz).
+    frequency : ndarray, shape (n_freq,)
+        Frequencies (Hz), spacing ``fs / nperseg``.
     psd : ndarray, shape (n_freq, n_time)
         One-sided power spectral density (signal units squared per Hz).
-    nperseg, hop : int
-        Frame length and hop (samples).
+    nperseg : int
+        Frame length (samples).
+    hop : int
+        Step between frames (samples).
     window : str
-        Window name.
+        Window name (``scipy.signal.get_window``).
     fs : float
         Sampling rate (Hz).
     """
@@ -85,6 +87,13 @@ def spectrogram(
     Returns
     -------
     Spectrogram
+        Frame times (s), frequencies (Hz) and PSD (signal units squared per Hz).
+
+    Raises
+    ------
+    InputError
+        If ``x`` is not a valid signal, ``fs`` is not > 0, ``nperseg`` or ``hop`` is out
+        of range, the window is unknown, or no frame fits wholly in the record.
     """
     a = as_signal(x)
     fs = check_fs(fs)
@@ -116,13 +125,21 @@ def band_energy(spec: Spectrogram, *, center: float, half_width: float) -> np.nd
     Parameters
     ----------
     spec : Spectrogram
-    center, half_width : float
-        Band centre and half width (Hz); the band must hold at least one bin.
+        PSD spectrogram (:func:`spectrogram`).
+    center : float
+        Band centre (Hz).
+    half_width : float
+        Band half width (Hz), > 0; the band must hold at least one bin.
 
     Returns
     -------
-    ndarray
+    ndarray, shape (n_time,)
         Mean-square value in the band for each frame (signal units squared).
+
+    Raises
+    ------
+    InputError
+        If ``half_width`` is not > 0 or the band holds no frequency bin.
     """
     check_positive("half_width", half_width)
     sel = np.abs(spec.frequency - center) <= half_width
@@ -164,6 +181,12 @@ def band_width(
     -------
     float
         Band width ``2 w`` (Hz).
+
+    Raises
+    ------
+    InputError
+        If ``half_window`` is not > 0, ``fraction`` is not in (0, 1), or the reference band
+        holds fewer than two bins.
     """
     check_positive("half_window", half_window)
     if not 0.0 < fraction < 1.0:
@@ -194,6 +217,39 @@ def modulation_index(series: np.ndarray, times: np.ndarray, *, frequency: float)
     i.e. the amplitude of the Fourier component of the band-energy series ``e(t_j)`` at
     ``frequency`` (Hz) relative to its mean: 0 for a steady band, about 1 or more when the
     band energy pulses once per revolution (seed Figure 8, time direction).
+
+    Parameters
+    ----------
+    series : array_like
+        Values ``e_j``, e.g. the band energy per frame from :func:`band_energy` (any
+        units; the result is relative to their mean).
+    times : array_like
+        Times ``t_j`` of the values (s), same shape as ``series``, at least two.
+    frequency : float
+        Frequency ``f`` of the modulation looked for (Hz), > 0, e.g. the shaft frequency
+        of the cracked gear.
+
+    Returns
+    -------
+    float
+        :math:`|c_f| / \bar e` (dimensionless); NaN when the mean is not > 0. Exact for a
+        sinusoidal modulation sampled evenly over whole periods of ``f``.
+
+    Raises
+    ------
+    InputError
+        If ``frequency`` is not > 0, or ``series`` and ``times`` differ in shape or hold
+        fewer than two values.
+
+    Examples
+    --------
+    A series :math:`1 + 0.5\cos(2\pi f t)` over four whole periods:
+
+    >>> import numpy as np
+    >>> t = np.arange(40) * 0.01
+    >>> e = 1.0 + 0.5 * np.cos(2 * np.pi * 10.0 * t)
+    >>> round(modulation_index(e, t, frequency=10.0), 6)
+    0.5
     """
     check_positive("frequency", frequency)
     e = np.asarray(series, dtype=np.float64)

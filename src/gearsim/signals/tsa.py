@@ -142,6 +142,12 @@ def pulse_times(tacho: np.ndarray, fs: float, *, threshold: float | None = None)
     -------
     ndarray
         Rising-edge times (s).
+
+    Raises
+    ------
+    InputError
+        If the tacho is not a valid signal or is constant, ``fs`` is not > 0, or
+        ``threshold`` lies outside the tacho's range.
     """
     a = as_signal(tacho, name="tacho")
     fs = check_fs(fs)
@@ -172,6 +178,11 @@ def revolution_times_from_speed(duration: float, *, shaft_frequency: float) -> n
     ndarray
         ``k / f_r`` [s] for ``k = 0..R``, ``R = floor(duration f_r)`` whole revolutions
         (a relative slack of 1e-9 revolutions absorbs rounding of ``duration``).
+
+    Raises
+    ------
+    InputError
+        If ``duration`` or ``shaft_frequency`` is not > 0.
     """
     duration = check_positive("duration", duration)
     f_r = check_positive("shaft_frequency", shaft_frequency)
@@ -202,6 +213,12 @@ def cubic_resample(x: np.ndarray, fs: float, times: np.ndarray) -> np.ndarray:
     -------
     ndarray
         Interpolated values (units of ``x``), shape of ``times``.
+
+    Raises
+    ------
+    InputError
+        If ``x`` has fewer than 4 samples or is not finite, ``fs`` is not > 0, or a time
+        lies outside the record.
 
     References
     ----------
@@ -254,6 +271,12 @@ def angular_resample(
     -------
     ndarray, shape (N, M)
         One row per revolution.
+
+    Raises
+    ------
+    InputError
+        If ``x`` or ``fs`` is invalid, a count is out of range, or the pulses are not
+        increasing, span less than one revolution or lie outside the record.
 
     References
     ----------
@@ -314,6 +337,15 @@ def tsa(
     Returns
     -------
     TSA
+        The averaged revolution (units of ``x``), the number of revolutions and the
+        mean shaft frequency (Hz).
+
+    Raises
+    ------
+    InputError
+        If ``x`` or ``fs`` is invalid, not exactly one of ``shaft_frequency`` and
+        ``pulses`` is given, ``samples_per_rev < 4``, or the pulses are not increasing,
+        span less than one revolution or lie outside the record.
 
     References
     ----------
@@ -361,6 +393,12 @@ def order_mask(
     -------
     ndarray of bool, shape (n // 2 + 1,)
         True at the bins to remove (for :func:`remove_orders`).
+
+    Raises
+    ------
+    InputError
+        If a count is not an integer of its range, or the mesh order ``Z R`` is not below
+        the Nyquist bin ``n // 2``.
 
     References
     ----------
@@ -847,8 +885,31 @@ def condition_indicators(
     Returns
     -------
     indicators : Indicators
-    difference : ndarray
-    residual : ndarray
+        FM0, FM4, NA4, M6A, M8A (dimensionless) and the settings used.
+    difference : ndarray, shape (M,)
+        Difference signal (:func:`difference_signal`), units of the TSA.
+    residual : ndarray, shape (M,)
+        Residual signal (:func:`residual_signal`), units of the TSA.
+
+    Raises
+    ------
+    InputError
+        If an order argument is out of range, the difference or residual signal has
+        zero variance, the history residuals differ in length, or the TSA has no mesh
+        harmonic (FM0).
+
+    Examples
+    --------
+    Mesh order 10 and an extra tone at order 5 (the "fault"): the difference and
+    residual signals are that tone, so FM4 = NA4 = 1.5.
+
+    >>> import numpy as np
+    >>> j = np.arange(64)
+    >>> avg = 2 * np.cos(2 * np.pi * 10 * j / 64) + 0.1 * np.cos(2 * np.pi * 5 * j / 64)
+    >>> ind, d, r = condition_indicators(TSA(avg, 1, 1.0), teeth=10, shaft_harmonics=2,
+    ...                                  sideband_orders=1)
+    >>> round(ind.fm4, 6), round(ind.na4, 6), round(ind.m6a, 6), round(ind.m8a, 6)
+    (1.5, 1.5, 2.5, 4.375)
     """
     d = difference_signal(t, teeth=teeth, shaft_harmonics=shaft_harmonics,
                           sideband_orders=sideband_orders)

@@ -1,54 +1,219 @@
-"""Command-line interface: a thin typer layer over the Python API.
+"""Command-line interface: a thin typer layer over the Python API, with one error path.
 
 Each verb lives in a module of :mod:`gearsim.commands` that defines ``register(app)``;
-this module only collects them. Bad input (:class:`gearsim.errors.InputError`) is printed
-as one line on standard error with exit status 2.
+this module collects them (on first use, so that ``import gearsim.cli`` is light and an
+interrupt during start-up is handled like any other) and turns every way a run can end
+into one line on standard error and an exit status:
+
+========================================  ==========================================  ====
+what happened                             standard error                              exit
+========================================  ==========================================  ====
+bad input (:class:`InputError`)           ``gearsim: error: PARAM = VALUE: LIMIT``    2
+usage error (unknown option or verb,      ``gearsim: error: MESSAGE (see gearsim       2
+missing argument, ``--fs abc``)           VERB --help)``
+failed computation (``SimulationError``)  ``gearsim: failed: MESSAGE``                1
+Ctrl-C (``KeyboardInterrupt``, abort)     ``gearsim: interrupted``                    130
+anything else (a bug)                     ``gearsim: internal error: TYPE: MESSAGE    1
+                                          (rerun with --debug for the traceback)``
+========================================  ==========================================  ====
+
+``--debug`` (anywhere on the command line) or ``GEARSIM_DEBUG=1`` prints the Python
+traceback before that line.
+
+Typer bundles its own copy of click (``typer._click``); usage errors are recognised by
+class name along the exception's MRO, so those of either click package are caught.
 """
 
 from __future__ import annotations
 
+import os
+import re
 import sys
+import traceback
+from typing import Any
 
 import typer
 
-from gearsim.commands import analysis, basic, dynamics, fem, studies, sweep
 from gearsim.errors import InputError, SimulationError
 
-app = typer.Typer(
-    name="gearsim",
-    help="Mesh stiffness, tooth-root cracks and vibration of spur and helical gear trains.",
-    no_args_is_help=True,
-    add_completion=False,
-    pretty_exceptions_enable=False,
-)
+__all__ = ["main", "run"]
 
-# One module per verb group; each defines register(app).
-for _verbs in (basic, analysis, dynamics, fem, studies, sweep):
-    _verbs.register(app)
+HELP = "Mesh stiffness, tooth-root cracks and vibration of spur and helical gear trains."
+DEBUG_FLAG = "--debug"
+DEBUG_ENV = "GEARSIM_DEBUG"
+EXIT_INTERRUPTED = 130
+
+_APP: typer.Typer | None = None
+
+
+def _global_options(
+    debug: bool = typer.Option(False, DEBUG_FLAG, help="on an error, also print the Python "
+                               "traceback (or set GEARSIM_DEBUG=1); allowed anywhere"),
+) -> None:
+    """Mesh stiffness, tooth-root cracks and vibration of spur and helical gear trains."""
+
+
+def _build_app() -> typer.Typer:
+    """The typer application with every verb (imported here, on first use)."""
+    global _APP
+    if _APP is None:
+        from gearsim.commands import analysis, basic, dynamics, fem, studies, sweep
+
+        new = typer.Typer(name="gearsim", help=HELP, no_args_is_help=True,
+                          add_completion=False, pretty_exceptions_enable=False)
+        new.callback()(_global_options)
+        # One module per verb group; each defines register(app).
+        for verbs in (basic, analysis, dynamics, fem, studies, sweep):
+            verbs.register(new)
+        _APP = new
+    return _APP
+
+
+def __getattr__(name: str) -> Any:
+    if name == "app":
+        return _build_app()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def _one_line(text: object) -> str:
+    return re.sub(r"\s*\n\s*", " ", str(text)).strip()
+
+
+def _is_a(exc: BaseException, *names: str) -> bool:
+    """Whether a class of ``exc``'s MRO has one of ``names`` (click, typer._click, typer)."""
+    return any(c.__name__ in names for c in type(exc).__mro__)
+
+
+def _strip_debug(args: list[str]) -> tuple[list[str], bool]:
+    """Remove ``--debug`` (before a ``--`` separator) from the arguments."""
+    if "--" in args:
+        cut = args.index("--")
+        head, tail = args[:cut], args[cut:]
+    else:
+        head, tail = args, []
+    kept = [a for a in head if a != DEBUG_FLAG]
+    return kept + tail, len(kept) < len(head)
+
+
+def _say(line: str) -> None:
+    try:
+        print(line, file=sys.stderr, flush=True)
+    except (OSError, ValueError):  # closed or broken standard error: nothing to tell
+        pass
+
+
+def _verb(args: list[str]) -> str | None:
+    """The verb of the command line, if it names one."""
+    first = next((a for a in args if not a.startswith("-")), None)
+    names = {c.name for c in _APP.registered_commands} if _APP is not None else set()
+    return first if first in names else None
+
+
+def _interrupted() -> int:
+    """Report an interrupt; the exit status 130.
+
+    CPython remembers a ``KeyboardInterrupt`` that passed through ``exec`` of a string
+    (as some imports do) and, under ``python -m``, then ends the process by SIGINT at exit
+    whatever the exit status; running any string clears that flag.
+    """
+    exec("pass")  # noqa: S102  (clears CPython's unhandled-interrupt flag; see above)
+    _say("gearsim: interrupted")
+    return EXIT_INTERRUPTED
+
+
+def _usage_line(exc: BaseException, args: list[str]) -> str:
+    fmt = getattr(exc, "format_message", None)
+    msg = _one_line(fmt() if callable(fmt) else exc)
+    ctx = getattr(exc, "ctx", None)
+    path = getattr(ctx, "command_path", None) if ctx is not None else None
+    if not path:  # some parser errors carry no context
+        verb = _verb(args)
+        path = f"gearsim {verb}" if verb else "gearsim"
+    return f"gearsim: error: {msg} (see {path} --help)"
+
+
+def _exit_code(code: object) -> int:
+    if code is None:
+        return 0
+    if isinstance(code, bool):
+        return int(code)
+    if isinstance(code, int):
+        return code
+    _say(f"gearsim: {_one_line(code)}")  # sys.exit("message")
+    return 1
+
+
+def _finish(exc: BaseException, debug: bool, args: list[str]) -> int:
+    """Print the one line for ``exc`` (with the traceback if ``debug``); the exit status."""
+    if debug and not isinstance(exc, SystemExit) and not _is_a(exc, "Exit"):
+        traceback.print_exception(exc, file=sys.stderr)
+    if isinstance(exc, KeyboardInterrupt) or _is_a(exc, "Abort"):
+        return _interrupted()
+    if isinstance(exc, InputError):
+        _say(f"gearsim: error: {_one_line(exc)}")
+        return 2
+    if isinstance(exc, SimulationError):
+        _say(f"gearsim: failed: {_one_line(exc)}")
+        return 1
+    if isinstance(exc, SystemExit):
+        return _exit_code(exc.code)
+    if _is_a(exc, "Exit"):  # typer.Exit / click Exit raised past typer
+        code = _exit_code(getattr(exc, "exit_code", 0))
+        return _interrupted() if code == EXIT_INTERRUPTED else code
+    if _is_a(exc, "NoArgsIsHelpError"):  # bare `gearsim`: the help, as click does
+        try:
+            exc.show()  # type: ignore[attr-defined]
+        except Exception:
+            _say(_usage_line(exc, args))
+        return 2
+    if _is_a(exc, "ClickException"):  # usage errors of typer's click or of click
+        _say(_usage_line(exc, args))
+        code = getattr(exc, "exit_code", 2)
+        return code if isinstance(code, int) and code else 2
+    if isinstance(exc, BrokenPipeError):  # `gearsim ... | head`
+        try:
+            sys.stdout = open(os.devnull, "w")  # noqa: SIM115  (silence the final flush)
+        except OSError:
+            pass
+        return 1
+    _say(f"gearsim: internal error: {type(exc).__name__}: {_one_line(exc)}"
+         + ("" if debug else f" (rerun with {DEBUG_FLAG} for the traceback)"))
+    return 1
+
+
+def run(argv: list[str] | None = None) -> int:
+    """Run the command line ``argv`` (default ``sys.argv[1:]``) and return the exit status.
+
+    Never raises (but for ``SystemExit`` of the interpreter itself): every error is
+    reported as one line on standard error (see the module docstring).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Arguments after the program name, e.g. ``["simulate", "idler-table1"]``.
+
+    Returns
+    -------
+    int
+        0 on success, 2 for bad input or usage, 1 for a failed computation or an
+        unexpected error, 130 when interrupted.
+    """
+    args = list(sys.argv[1:] if argv is None else argv)
+    args, debug = _strip_debug([str(a) for a in args])
+    debug = debug or os.environ.get(DEBUG_ENV, "").strip().lower() not in ("", "0", "false",
+                                                                           "no")
+    try:
+        rv = _build_app()(args=args, prog_name="gearsim", standalone_mode=False)
+    except BaseException as exc:  # noqa: BLE001  (the one error path of the CLI)
+        return _finish(exc, debug, args)
+    # non-standalone typer returns the code of typer.Exit, and 130 for a Ctrl-C it caught
+    code = rv if isinstance(rv, int) and not isinstance(rv, bool) else 0
+    return _interrupted() if code == EXIT_INTERRUPTED else code
 
 
 def main() -> None:
-    """Entry point of the ``gearsim`` script."""
-    try:
-        app(standalone_mode=False)
-    except InputError as exc:
-        print(f"gearsim: error: {exc}", file=sys.stderr)
-        sys.exit(2)
-    except SimulationError as exc:
-        print(f"gearsim: failed: {exc}", file=sys.stderr)
-        sys.exit(1)
-    except typer.Exit as exc:
-        sys.exit(exc.exit_code)
-    except (typer.Abort, KeyboardInterrupt):
-        print("gearsim: aborted", file=sys.stderr)
-        sys.exit(130)
-    except Exception as exc:  # click usage errors
-        import click
-
-        if isinstance(exc, click.exceptions.ClickException):
-            exc.show()
-            sys.exit(2)
-        raise
+    """Entry point of the ``gearsim`` script: ``sys.exit(run())``."""
+    sys.exit(run())
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -17,7 +17,7 @@ from gearsim.model import load
 
 def test_unstable_step_refused_with_largest_safe_step():
     tr = load("idler-table1").train
-    s = DynamicsSettings(step=2e-4, fs=1000.0, oversample=1, duration=0.11)
+    s = DynamicsSettings(step=2e-4, fs=5000.0, oversample=1, duration=0.11)  # fs > 2 f_m
     m = build_model(tr, s)
     limit = stable_step(m)
     assert limit == pytest.approx(RK4_LIMIT / (2 * 3.141592653589793
@@ -33,7 +33,7 @@ def test_unstable_step_refused_with_largest_safe_step():
 
 def test_divergence_raises_simulation_error_not_nan():
     tr = load("idler-table1").train
-    s = DynamicsSettings(step=5e-4, fs=2000.0, oversample=1, duration=0.11, transient=0.0)
+    s = DynamicsSettings(step=5e-4, fs=2500.0, oversample=1, duration=0.11, transient=0.0)
     with pytest.raises(SimulationError, match="diverged"):
         simulate(tr, s, check_step=False)
 
@@ -71,7 +71,7 @@ def test_cli_main_exit_status(tmp_path, monkeypatch, capsys):
     with pytest.raises(SystemExit) as exc:
         main()
     assert exc.value.code == 2
-    assert "dynamics.duration" in capsys.readouterr().err
+    assert "--duration = 0.01" in capsys.readouterr().err  # the option the user typed
     assert not out.exists()
 
 

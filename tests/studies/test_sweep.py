@@ -42,7 +42,7 @@ duration = "0.15 s"
 fs = "20 kHz"
 transient = "0.02 s"
 [parameters]
-crack_depth = ["1 mm", "30 mm"]     # 30 mm does not fit the tooth: those cases fail
+crack_depth = ["1 mm", "2 mm"]
 flank = ["none", "working", "non-working"]
 torque = ["2000 N*m", "4876 N*m"]
 noise = [0.0, 0.5]
@@ -65,12 +65,10 @@ def test_expansion_and_serial_numbers(study, serial):
     assert len(cases) == 2 * 3 * 2 * 2 * 2 == serial.sizes["case"]
     # healthy cases share one simulation per torque whatever the nominal depth
     assert len(groups(study)) == 2 + 2 * 2 * 2
+    # a depth that does not fit the tooth is refused with the study (check_study); a
+    # case that fails at run time is recorded: tests/studies/test_sweep_bad_input.py
     ok = serial["status"].values == "ok"
-    deep = serial["crack_depth"].values > 0.01
-    cracked = serial["flank"].values != "none"
-    np.testing.assert_array_equal(ok, ~(deep & cracked))
-    assert all("crack.depth = 30 mm" in e for e in serial["error"].values[~ok])
-    assert np.isnan(serial["td_rms"].values[~ok]).all()
+    assert ok.all()
     # td_rms of a noise-free case is the RMS of the simulated record minus its mean
     case = cases[0]
     assert case.noise == 0.0 and case.flank == "none"
@@ -104,7 +102,7 @@ def test_expansion_and_serial_numbers(study, serial):
 
 def test_two_worker_cluster_equals_serial(study, serial, tmp_path):
     res = run_study(study, tmp_path / "s.nc", workers=2, progress=False)
-    assert (res.n_cases, res.computed, res.skipped, res.failed) == (48, 48, 0, 16)
+    assert (res.n_cases, res.computed, res.skipped, res.failed) == (48, 48, 0, 0)
     ds = xr.load_dataset(tmp_path / "s.nc", engine="h5netcdf")
     xr.testing.assert_identical(ds, serial)
     assert ds.attrs["study"] == TINY and ds.attrs["gearsim_version"]

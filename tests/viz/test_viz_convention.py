@@ -274,7 +274,8 @@ def _runtime_imports(path: Path) -> list[str]:
 
 
 ALLOWED = ("__future__", "collections", "functools", "math", "pathlib", "typing",
-           "matplotlib", "numpy", "xarray", "gearsim.errors", "gearsim.io.atomic", "gearsim.viz")
+           "matplotlib", "numpy", "xarray", "gearsim.errors", "gearsim.io.atomic",
+           "gearsim.io.targets", "gearsim.viz")
 
 
 @pytest.mark.parametrize("path", sorted(VIZ_DIR.glob("*.py")), ids=lambda p: p.name)

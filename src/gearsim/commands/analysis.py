@@ -11,16 +11,22 @@ from typing import Annotated, Any
 
 import typer
 
+from gearsim.commands._options import as_options
 from gearsim.errors import InputError
 from gearsim.io.jsonout import strict_json
 from gearsim.io.measured import read_signal
+from gearsim.io.targets import atomic_folder, check_output_folder
 from gearsim.signals._checks import check_speed_source, check_teeth
 from gearsim.signals.analyze import analyze as run
 from gearsim.signals.compare import compare_sidebands
-from gearsim.viz import save, save_all
-from gearsim.viz.signals import plot_comparison
+from gearsim.viz import check_plot_file, save, save_all
+from gearsim.viz.signals import KINDS, plot_comparison
 
 __all__ = ["register"]
+
+#: Files ``analyze --plot DIR`` writes; an existing DIR may hold only these (it is
+#: replaced as a whole).
+FIGURE_FILES = frozenset(f"{stem}.png" for _, stem, _ in KINDS.values())
 
 
 def _speed(shaft_rpm: float | None, tacho: str | None) -> None:
@@ -108,7 +114,8 @@ def analyze(
     tacho: Annotated[str | None, typer.Option(help="tacho channel of the measured shaft")] = None,
     pulses_per_rev: Annotated[int, typer.Option(help="tacho pulses per revolution")] = 1,
     baseline: Annotated[Path | None, typer.Option(help="healthy record, same channel")] = None,
-    plot: Annotated[Path | None, typer.Option(help="directory for the figures")] = None,
+    plot: Annotated[str | None, typer.Option(
+        help="folder for the figures (replaced as a whole)")] = None,
     json_: Annotated[bool, typer.Option("--json", help="print the JSON summary")] = False,
     max_order: Annotated[int, typer.Option(help="mesh harmonics 1..N")] = 4,
     sidebands: Annotated[int, typer.Option(help="sidebands per side (SER uses 6)")] = 6,
@@ -120,15 +127,19 @@ def analyze(
              "default 3.0")] = None,
 ) -> None:
     """Time, frequency, time-frequency and TSA analysis of one vibration record."""
+    if plot is not None:  # every output target is checked before any work
+        plot = check_output_folder(plot, "--plot", owned=FIGURE_FILES.__contains__)
     _speed(shaft_rpm, tacho)
     zs = _teeth(teeth)
     if max_order < 1:
         raise InputError("--max-order", max_order, "must be >= 1")
     threshold = _emd_threshold(emd, emd_threshold)
-    sig = read_signal(file, channel=channel, fs=fs)
+    with as_options({"channel": "--channel", "fs": "--fs"}):
+        sig = read_signal(file, channel=channel, fs=fs)
     tach = None
     if tacho is not None:
-        tach = read_signal(file, channel=tacho, fs=fs).data
+        with as_options({"channel": "--tacho", "fs": "--fs"}):
+            tach = read_signal(file, channel=tacho, fs=fs).data
     base = base_tach = None
     if baseline is not None:
         b = read_signal(baseline, channel=sig.channel, fs=fs)
@@ -149,8 +160,10 @@ def analyze(
                    "fs_source": sig.fs_source, "units": sig.units,
                    "baseline": str(baseline) if baseline is not None else None,
                    "shaft_rpm": shaft_rpm}
-    if plot is not None:
-        d["figures"] = [str(p) for p in save_all(result.figures(units=sig.units), plot)]
+    if plot is not None:  # written into a temporary folder, then swapped in
+        with atomic_folder(plot) as tmp:
+            written = save_all(result.figures(units=sig.units), tmp)
+        d["figures"] = [str(plot / p.name) for p in written]
     if json_:
         typer.echo(strict_json(d, indent=1))
     else:
@@ -175,10 +188,12 @@ def compare(
     normalize: Annotated[str, typer.Option(
         help="'mesh': amplitudes relative to n f_m of the same signal; 'none': absolute")]
     = "mesh",
-    plot: Annotated[Path | None, typer.Option(help="figure file (.png, .pdf, .svg)")] = None,
+    plot: Annotated[str | None, typer.Option(help="figure file (.png, .pdf, .svg)")] = None,
     json_: Annotated[bool, typer.Option("--json", help="print the JSON table")] = False,
 ) -> None:
     """Sideband amplitudes near n f_m, simulated versus measured, with % errors (seed Table 2)."""
+    if plot is not None:  # every output target is checked before any work
+        plot = check_plot_file(plot, "--plot")
     _speed(shaft_rpm, None)
     if teeth is None or teeth < 1:
         raise InputError("--teeth", teeth, "must be given as an integer >= 1")

@@ -3,15 +3,15 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 from typing import Annotated
 
 import typer
 
 from gearsim.commands._options import as_options
+from gearsim.io.targets import check_output_file
 from gearsim.model import example_text, load
 from gearsim.system import train_stiffness
-from gearsim.viz import save
+from gearsim.viz import check_plot_file, save
 
 __all__ = ["register"]
 
@@ -23,13 +23,19 @@ def example(name: Annotated[str, typer.Argument(help="idler-table1 or spur-19-48
 
 def stiffness(
     config: Annotated[str, typer.Argument(help="TOML file or built-in example name")],
-    out: Annotated[Path | None, typer.Option(help="TVMS table, .csv or .nc")] = None,
-    plot: Annotated[Path | None, typer.Option(help="PNG figure of the TVMS")] = None,
+    out: Annotated[str | None, typer.Option(help="TVMS table, .csv or .nc")] = None,
+    plot: Annotated[str | None, typer.Option(help="figure of the TVMS (.png, .pdf, .svg)")]
+    = None,
     json_: Annotated[bool, typer.Option("--json", help="print a JSON summary")] = False,
     crack: Annotated[str | None, typer.Option(help="none, working or non-working")] = None,
     closure: Annotated[str | None, typer.Option(help="open or contact")] = None,
 ) -> None:
     """Time-varying mesh stiffness of every mesh over one revolution of each gear."""
+    # every output target is checked before any work
+    if out is not None:
+        out = check_output_file(out, "--out", (".csv", ".nc"))
+    if plot is not None:
+        plot = check_plot_file(plot, "--plot")
     gb = load(config)
     with as_options({"crack": "--crack", "stiffness.closure": "--closure"}):
         train = gb.train.with_crack(crack, closure=closure)

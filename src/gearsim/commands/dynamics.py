@@ -1,9 +1,15 @@
-"""CLI verb ``simulate``: train dynamics to a NetCDF file, with a JSON summary."""
+"""CLI verb ``simulate``: train dynamics to a NetCDF file, with a JSON summary.
+
+The output files are checked before any work, and the run's cost before the model is
+built (:func:`gearsim.dynamics.simulate.check_cost`): more than 1e9 integration steps or
+an estimated memory above half of the machine's are refused unless ``--force`` (or
+``GEARSIM_FORCE=1``) is given; an output rate that would alias the mesh harmonics of the
+config's ``[analysis] orders`` is always refused.
+"""
 
 from __future__ import annotations
 
 import json
-from pathlib import Path
 from typing import Annotated
 
 import typer
@@ -12,35 +18,49 @@ from gearsim.commands._options import as_options
 from gearsim.dynamics import simulate as run
 from gearsim.dynamics import summary
 from gearsim.io.results import write_results
+from gearsim.io.targets import check_output_file
 from gearsim.model import load
-from gearsim.viz import save
+from gearsim.viz import check_plot_file, save
 from gearsim.viz.dynamics import plot_run
 
 __all__ = ["register"]
 
+
 def simulate(
     config: Annotated[str, typer.Argument(help="TOML file or built-in example name")],
-    out: Annotated[Path, typer.Option(help="results file (NetCDF)")] = Path("run.nc"),
+    out: Annotated[str, typer.Option(help="results file (NetCDF, .nc)")] = "run.nc",
     crack: Annotated[str | None, typer.Option(
         help="none, working or non-working (default: as in the config)")] = None,
-    duration: Annotated[float | None, typer.Option(help="recorded duration in s")] = None,
-    fs: Annotated[float | None, typer.Option(help="output sampling rate in Hz")] = None,
-    step: Annotated[float | None, typer.Option(help="largest integration step in s")] = None,
-    transient: Annotated[float | None, typer.Option(help="dropped transient in s")] = None,
+    duration: Annotated[float | None, typer.Option(help="recorded duration in s (> 0, <= 1e4)")] = None,
+    fs: Annotated[float | None, typer.Option(help="output sampling rate in Hz (> 0, <= 1e7)")] = None,
+    step: Annotated[float | None, typer.Option(help="largest integration step in s (1e-9 to 1)")] = None,
+    transient: Annotated[float | None, typer.Option(
+        help="dropped transient in s (>= 0, 0: none; default: from the damping)")] = None,
     model: Annotated[str | None, typer.Option(help="lta or seed")] = None,
     plot: Annotated[bool, typer.Option("--plot", help="also write a PNG beside --out")] = False,
     json_: Annotated[bool, typer.Option("--json", help="print a JSON summary")] = False,
+    force: Annotated[bool, typer.Option(
+        "--force", help="run even above the cost bounds (1e9 steps, half the memory); "
+                        "or set GEARSIM_FORCE=1")] = False,
 ) -> None:
     """Simulate the gear train; write mesh forces, DTE, bearing forces, accelerations."""
+    # every output target is checked before any work
+    target = check_output_file(out, "--out", (".nc",))
+    if plot:
+        check_plot_file(target.with_suffix(".png"), "--plot")
     changes = {k: v for k, v in {"duration": duration, "fs": fs, "step": step,
                                  "transient": transient, "model": model}.items()
                if v is not None}
     gb = load(config)
     # every value is checked where the settings are made; the message names the option
-    with as_options({"crack": "--crack", **{f"dynamics.{k}": f"--{k}" for k in changes}}):
+    names = {"crack": "--crack", **{f"dynamics.{k}": f"--{k}" for k in changes}}
+    with as_options(names):
         gb = gb.with_crack(crack).replace(dynamics=changes)
-    ds = run(gb.train, gb.dynamics)
-    path = write_results(ds, out)
+    # cost and aliasing (for the mesh harmonics the analysis looks at) before any work
+    with as_options(names):
+        ds = run(gb.train, gb.dynamics, harmonics=max(gb.analysis.orders),
+                 force=True if force else None)
+    path = write_results(ds, target)
     if plot:
         save(plot_run(ds), path.with_suffix(".png"))
     s = summary(ds)

@@ -8,11 +8,18 @@ from typing import Annotated
 
 import typer
 
+from gearsim.commands._options import as_options
 from gearsim.fem.check import fe_check
+from gearsim.io.targets import atomic_folder, check_output_folder
 from gearsim.model import load
 from gearsim.viz import save
 
 __all__ = ["fe_check_command", "register"]
+
+
+def _figure_file(name: str) -> bool:
+    """A figure ``fe-check`` writes (the other ones are kept when the folder is replaced)."""
+    return name.startswith("fe_check_") and name.endswith(".png")
 
 
 def fe_check_command(
@@ -24,8 +31,11 @@ def fe_check_command(
                                                      "config)")] = None,
     level: Annotated[int, typer.Option(help="mesh level N: element size m_n/(4 2^N) on the "
                                             "loaded tooth")] = 2,
-    points: Annotated[int, typer.Option(help="contact positions on the path")] = 11,
-    plot: Annotated[Path | None, typer.Option(help="folder for the PNG figures")] = None,
+    points: Annotated[int, typer.Option(help="contact positions on the path (3 to 201)")]
+    = 11,
+    plot: Annotated[str | None, typer.Option(
+        help="folder for the PNG figures (fe_check_*.png only; replaced as a whole, "
+             "keeping the other fe_check_*.png)")] = None,
     json_: Annotated[bool, typer.Option("--json", help="print a JSON report")] = False,
 ) -> None:
     """FE and potential-energy tooth compliance along the path of contact, with the
@@ -50,22 +60,33 @@ def fe_check_command(
     level : int
         FE mesh level N: element size m_n / (4 2^N) on the loaded tooth.
     points : int
-        Contact positions along the path of contact.
-    plot : Path, optional
-        Folder for the PNG figure ``fe_check_<gear>_<crack>_<closure>.png``.
+        Contact positions along the path of contact (3 to
+        :data:`gearsim.fem.check.MAX_POINTS`).
+    plot : str, optional
+        Folder for the PNG figure ``fe_check_<gear>_<crack>_<closure>.png``. Checked
+        before any work; an existing folder may hold only ``fe_check_*.png`` figures,
+        which are kept. The folder is written as a whole (temporary folder, then
+        swapped in).
     json_ : bool
         Print the JSON report instead of the table (option ``--json``).
 
     Raises
     ------
     InputError
-        An unknown gear, crack or closure, or a bad config (exit status 2 in the CLI).
+        An unknown gear, crack or closure, too many points, a bad config or an
+        unwritable ``--plot`` folder (exit status 2 in the CLI).
     """
-    result = fe_check(load(config).train, gear, crack=crack, closure=closure, level=level,
-                      points=points)
-    if plot is not None:
+    folder = None
+    if plot is not None:  # every output target is checked before any work
+        folder = check_output_folder(plot, "--plot", owned=_figure_file)
+    train = load(config).train
+    with as_options({"fem.level": "--level", "points": "--points"}):
+        result = fe_check(train, gear, crack=crack, closure=closure, level=level,
+                          points=points)
+    if folder is not None:
         name = f"fe_check_{result.gear.name}_{result.crack}_{result.closure}.png"
-        save(result.plot(), Path(plot) / name)
+        with atomic_folder(folder, keep=_figure_file) as tmp:
+            save(result.plot(), Path(tmp) / name, parameter="--plot")
     if json_:
         typer.echo(json.dumps(result.to_dict(), indent=2))
         return

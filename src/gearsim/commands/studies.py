@@ -9,24 +9,43 @@ from typing import Annotated
 
 import typer
 
+from gearsim.commands._options import as_options
 from gearsim.errors import InputError
-from gearsim.studies.reproduce import ReproduceOptions, run_reproduction
+from gearsim.studies.reproduce import ReproduceOptions, check_output, run_reproduction
 from gearsim.units import to_si
 
 __all__ = ["register"]
+
+
+def _depth(text: str, option: str) -> float:
+    """One crack depth: a length with a unit, or a plain number of millimetres."""
+    s = text.strip()
+    try:
+        float(s)  # a plain number ("2", "1e-1", "inf", "nan"): millimetres
+    except ValueError:
+        pass
+    else:
+        s = f"{s} mm"
+    try:  # finite; a non-length unit ("a" is a year) is refused
+        d = to_si(s, "length", option)
+    except InputError as exc:
+        raise InputError(option, text, exc.limit) from None
+    if not d > 0:
+        raise InputError(option, text, "a crack depth must be > 0 mm")
+    return d
 
 
 def _depths(text: str) -> tuple[float, ...]:
     parts = [p.strip() for p in text.split(",") if p.strip()]
     if not parts:
         raise InputError("--depths", text, "must list at least one depth, e.g. '2 mm, 6 mm'")
-    return tuple(to_si(p if any(c.isalpha() for c in p) else f"{p} mm", "length", "--depths")
-                 for p in parts)
+    return tuple(_depth(p, "--depths") for p in parts)
 
 
 def reproduce(
-    out: Annotated[Path, typer.Option(help="output folder (report.html, claims.json, "
-                                           "figures/, dynamic_load.nc)")] = Path("out"),
+    out: Annotated[str, typer.Option(help="output folder (report.html, claims.json, "
+                                          "figures/, dynamic_load.nc): new, empty or an "
+                                          "earlier output; replaced as a whole")] = "out",
     config: Annotated[str, typer.Option(help="TOML file or built-in example name")]
     = "idler-table1",
     depth: Annotated[str, typer.Option(help="reference crack depth, e.g. '6 mm' "
@@ -39,23 +58,31 @@ def reproduce(
                                                           "and the FE tooth check")] = True,
     model: Annotated[str, typer.Option(help="dynamic model: lta or seed")] = "lta",
     quiet: Annotated[bool, typer.Option("--quiet", help="no progress messages")] = False,
+    force: Annotated[bool, typer.Option(
+        "--force", help="run even above the cost bounds (1e9 integration steps over all "
+                        "cases, half the memory); or set GEARSIM_FORCE=1")] = False,
 ) -> None:
     """Reproduce the seed's study (Shi, Li & Zhou 2025): healthy, working- and
     non-working-flank crack; figures like its Figs. 3, 5-8; claims table; report.html."""
-    d = to_si(depth if any(c.isalpha() for c in depth) else f"{depth} mm", "length", "--depth")
-    opt = ReproduceOptions(config=config, depth=d, depths=_depths(depths),
-                           revolutions=revolutions, fe=fe, model=model)
+    folder: Path = check_output(out, "--out")  # every output target before any work
+    d = _depth(depth, "--depth")
+    names = {"revolutions": "--revolutions", "model": "--model", "depth": "--depth",
+             "depths": "--depths"}
+    with as_options(names):
+        opt = ReproduceOptions(config=config, depth=d, depths=_depths(depths),
+                               revolutions=revolutions, fe=fe, model=model)
     t0 = time.perf_counter()
 
     def progress(msg: str) -> None:
         if not quiet:
             print(f"[{time.perf_counter() - t0:6.1f} s] {msg}", file=sys.stderr, flush=True)
 
-    rep = run_reproduction(out, opt, progress=progress)
+    with as_options(names):
+        rep = run_reproduction(folder, opt, progress=progress, force=True if force else None)
     n_ok = sum(1 for f in rep.findings["PE"] if f["holds"])
     typer.echo(f"gearsim: {n_ok} of {len(rep.findings['PE'])} qualitative findings of the seed "
-               f"hold (PE route); claims table in {out / 'claims.json'}")
-    typer.echo(f"gearsim: report written to {(out / 'report.html').resolve()}")
+               f"hold (PE route); claims table in {folder / 'claims.json'}")
+    typer.echo(f"gearsim: report written to {(folder / 'report.html').resolve()}")
 
 
 def register(app: typer.Typer) -> None:

@@ -8,9 +8,11 @@ from typing import Annotated
 
 import typer
 
-from gearsim.studies.diagnostic import diagnostic_report
-from gearsim.studies.sweep import load_study
-from gearsim.studies.sweep_run import run_study
+from gearsim.errors import InputError
+from gearsim.io.targets import check_output_file, check_output_folder
+from gearsim.studies.diagnostic import CLASSES, diagnostic_report
+from gearsim.studies.sweep import expand, load_study
+from gearsim.studies.sweep_run import check_scheduler, plan_workers, run_study
 
 __all__ = ["register"]
 
@@ -23,7 +25,9 @@ def sweep(
     scheduler: Annotated[str | None, typer.Option(
         help="address of a running Dask scheduler, e.g. tcp://host:8786 "
              "(default: a local cluster)")] = None,
-    workers: Annotated[int, typer.Option(help="local worker processes (1 thread each)")] = 2,
+    workers: Annotated[int, typer.Option(help="local worker processes (1 thread each; at "
+                                         "most one per CPU core and per simulation to "
+                                         "compute)")] = 2,
     show: Annotated[bool, typer.Option("--show", help="print the study TOML and stop")] = False,
     progress: Annotated[bool, typer.Option(help="progress bar on stderr")] = True,
     report: Annotated[Path | None, typer.Option(
@@ -32,11 +36,23 @@ def sweep(
     """Run a parameter study (crack depth, flank, closure, speed, torque, bearing stiffness,
     noise) on Dask; resumes from OUT.parts/ after an interruption."""
 
-    st = load_study(study)
+    st = load_study(study)  # every study-wide setting is checked here, once
     if show:
         typer.echo(st.text, nl=False)
         return
-    res = run_study(st, out, scheduler=scheduler, workers=workers, progress=progress)
+    plan_workers(workers, 1)
+    if scheduler is not None:
+        check_scheduler(scheduler)
+    check_output_file(out, "--out", (".nc",))
+    if report is not None:
+        check_output_folder(report, "--report")
+        flanks = sorted({c.flank for c in expand(st)}, key=CLASSES.index)
+        if len(flanks) < 2:
+            raise InputError("--report", str(report), f"the study has {len(flanks)} flank "
+                             f"class ({', '.join(flanks)}); the diagnostic report compares "
+                             "at least two of " + ", ".join(CLASSES))
+    res = run_study(st, out, scheduler=scheduler, workers=workers, progress=progress,
+                    note=lambda line: typer.echo(line, err=True))
     typer.echo(f"gearsim: {res.n_cases} cases ({res.computed} computed, {res.skipped} resumed,"
                f" {res.failed} failed) written to {res.store}")
     if report is not None:
@@ -45,7 +61,7 @@ def sweep(
 
 def _report(store: Path, out: Path) -> None:
 
-    paths = diagnostic_report(store, out)
+    paths = diagnostic_report(store, out, out_parameter="--report")
     for p in paths:
         typer.echo(f"gearsim: report written to {p}")
 

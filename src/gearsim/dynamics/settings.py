@@ -21,13 +21,15 @@ Example section::
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, fields
 from typing import Any
 
 from gearsim.errors import InputError, require
-from gearsim.sections import convert
+from gearsim.sections import as_written, convert
 
-__all__ = ["DEFAULT_STEP", "KEYS", "LIST_KEYS", "MODELS", "DynamicsSettings", "parse_dynamics"]
+__all__ = ["DEFAULT_STEP", "KEYS", "LIST_KEYS", "MAX_DURATION", "MAX_FS", "MAX_TRANSIENT",
+           "MIN_STEP", "MODELS", "DynamicsSettings", "parse_dynamics"]
 
 #: Default largest integration step [s]. From the step-halving study on the Table-1 train
 #: (working-flank crack; ``tests/dynamics/test_dyn_convergence.py``, table in
@@ -37,6 +39,27 @@ __all__ = ["DEFAULT_STEP", "KEYS", "LIST_KEYS", "MODELS", "DynamicsSettings", "p
 DEFAULT_STEP = 1e-5
 
 MODELS = ("lta", "seed")
+
+#: Sane bounds of the time and rate options. They keep a run finite and its arrays in
+#: memory; whether a run is affordable is decided by the cost check of
+#: :func:`gearsim.dynamics.simulate`.
+MIN_STEP = 1e-9  # s
+MAX_STEP = 1.0  # s
+MAX_DURATION = 1e4  # s
+MAX_TRANSIENT = 1e4  # s
+MAX_FS = 1e7  # Hz (10 MHz)
+#: Ceilings of the bearing data (a stiffer support is rigid for every gear train; larger
+#: values overflow the static solve).
+MAX_BEARING_STIFFNESS = 1e15  # N/m
+MAX_BEARING_DAMPING = 1e12  # N s/m
+#: Ceiling of backlash, profile modification, crowning, runout and assembly error [m]:
+#: micrometre quantities; 10 mm means a unit mistake.
+MAX_ERROR = 1e-2
+
+
+def _number(v: object) -> bool:
+    """A finite real number (not a bool)."""
+    return isinstance(v, numbers.Real) and not isinstance(v, bool) and math.isfinite(v)
 
 
 def _as_tuple(value: float | tuple | list | None) -> tuple[float, ...] | None:
@@ -129,31 +152,50 @@ class DynamicsSettings:
             object.__setattr__(self, name, _as_tuple(getattr(self, name)))
         p = "dynamics"
         require(self.model in MODELS, f"{p}.model", self.model, 'must be "lta" or "seed"')
-        require(self.step > 0, f"{p}.step", self.step, "must be > 0 s")
-        require(self.duration > 0, f"{p}.duration", self.duration, "must be > 0 s")
-        require(self.transient is None or self.transient >= 0, f"{p}.transient",
-                self.transient, "must be >= 0 s")
-        require(self.fs > 0, f"{p}.fs", self.fs, "must be > 0 Hz")
-        require(isinstance(self.oversample, int) and 1 <= self.oversample <= 64,
+        require(_number(self.step) and MIN_STEP <= self.step <= MAX_STEP, f"{p}.step",
+                self.step, f"must be a finite number in [{MIN_STEP:g}, {MAX_STEP:g}] s")
+        require(_number(self.duration) and 0 < self.duration <= MAX_DURATION,
+                f"{p}.duration", self.duration,
+                f"must be a finite number in (0, {MAX_DURATION:g}] s")
+        require(self.transient is None
+                or (_number(self.transient) and 0 <= self.transient <= MAX_TRANSIENT),
+                f"{p}.transient", self.transient,
+                f"must be a finite number >= 0 s (0: no transient) and <= {MAX_TRANSIENT:g} s")
+        require(_number(self.fs) and 0 < self.fs <= MAX_FS, f"{p}.fs", self.fs,
+                f"must be a finite number in (0, {MAX_FS:g}] Hz")
+        require(isinstance(self.oversample, int) and not isinstance(self.oversample, bool)
+                and 1 <= self.oversample <= 64,
                 f"{p}.oversample", self.oversample, "must be an integer in [1, 64]")
-        require(self.bearing_stiffness > 0, f"{p}.bearing_stiffness", self.bearing_stiffness,
-                "must be > 0 N/m")
-        require(self.bearing_axial_stiffness is None or self.bearing_axial_stiffness > 0,
-                f"{p}.bearing_axial_stiffness", self.bearing_axial_stiffness, "must be > 0 N/m")
-        require(self.bearing_damping is None or self.bearing_damping >= 0,
-                f"{p}.bearing_damping", self.bearing_damping, "must be >= 0 N*s/m")
-        require(0 <= self.bearing_damping_ratio < 1, f"{p}.bearing_damping_ratio",
-                self.bearing_damping_ratio, "must be in [0, 1)")
-        require(0 <= self.mesh_damping_ratio < 1, f"{p}.mesh_damping_ratio",
-                self.mesh_damping_ratio, "must be in [0, 1)")
-        if self.backlash is not None:
-            require(all(b >= 0 for b in self.backlash), f"{p}.backlash", self.backlash,
-                    "must be >= 0 m")
-        require(all(0 < a < 2 * math.pi for a in self.idler_angle), f"{p}.idler_angle",
-                self.idler_angle, "must be in (0, 360) deg")
-        for name in ("profile_modification", "crowning", "runout"):
-            require(all(v >= 0 for v in getattr(self, name)), f"{p}.{name}",
-                    getattr(self, name), "must be >= 0 m")
+        for name in ("bearing_stiffness", "bearing_axial_stiffness"):
+            v = getattr(self, name)
+            require((v is None and name != "bearing_stiffness")
+                    or (_number(v) and 0 < v <= MAX_BEARING_STIFFNESS), f"{p}.{name}", v,
+                    f"must be a finite number in (0, {MAX_BEARING_STIFFNESS:g}] N/m")
+        require(self.bearing_damping is None
+                or (_number(self.bearing_damping)
+                    and 0 <= self.bearing_damping <= MAX_BEARING_DAMPING),
+                f"{p}.bearing_damping", self.bearing_damping,
+                f"must be a finite number in [0, {MAX_BEARING_DAMPING:g}] N*s/m")
+        require(isinstance(self.nonlinear, bool), f"{p}.nonlinear", self.nonlinear,
+                "must be true or false")
+        require(_number(self.bearing_damping_ratio) and 0 <= self.bearing_damping_ratio < 1,
+                f"{p}.bearing_damping_ratio", self.bearing_damping_ratio, "must be in [0, 1)")
+        require(_number(self.mesh_damping_ratio) and 0 <= self.mesh_damping_ratio < 1,
+                f"{p}.mesh_damping_ratio", self.mesh_damping_ratio, "must be in [0, 1)")
+        require(all(_number(a) and 0 < a < 2 * math.pi for a in self.idler_angle),
+                f"{p}.idler_angle", self.idler_angle, "must be in (0, 360) deg")
+        require(all(_number(a) for a in self.runout_phase), f"{p}.runout_phase",
+                self.runout_phase, "must be finite angles (rad)")
+        for name in ("backlash", "profile_modification", "crowning", "runout"):
+            vals = getattr(self, name)
+            if vals is None:
+                continue
+            require(all(_number(v) and 0 <= v <= MAX_ERROR for v in vals), f"{p}.{name}",
+                    vals, f"must be finite, >= 0 m and <= {MAX_ERROR:g} m (plain numbers "
+                    "are metres)")
+        require(all(_number(v) and abs(v) <= MAX_ERROR for v in self.assembly_error),
+                f"{p}.assembly_error", self.assembly_error,
+                f"must be finite with |e| <= {MAX_ERROR:g} m (plain numbers are metres)")
 
     def per_item(self, name: str, count: int, what: str) -> tuple[float, ...]:
         """The option ``name`` as one value per item (mesh, gear or idler).
@@ -234,4 +276,6 @@ def parse_dynamics(table: Any, section: str = "dynamics") -> DynamicsSettings:
     InputError
         Unknown key, bad value or a value out of range.
     """
-    return DynamicsSettings(**convert(table, KEYS, section, list_keys=LIST_KEYS))
+    kw = convert(table, KEYS, section, list_keys=LIST_KEYS)
+    with as_written(table, "dynamics"):
+        return DynamicsSettings(**kw)

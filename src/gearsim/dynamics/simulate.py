@@ -14,16 +14,32 @@ r fs / 2 (e.g. images of the stiffness table at 40 f_m, about 1e-6 of the static
 could still fold into the output; it is negligible for the default settings.
 ``oversample = 1`` gives unfiltered instantaneous samples.
 
-Checks before running: the duration must cover one revolution of the slowest gear; the
-step must be below the RK4 stability limit ``2.78 / omega_max`` (highest natural
-frequency with the largest tabulated stiffness). During the run the kernel stops when a
-coordinate leaves [-1, 1] m (or rad) or is not finite, and :class:`SimulationError` is
-raised; no NaN output is produced.
+Checks before running
+---------------------
+First, from the settings and the train alone (:func:`check_cost`, before the model is
+built, so a refusal takes milliseconds):
+
+* the duration must cover one revolution of the slowest gear;
+* no aliasing: ``fs > 2 n f_m`` with n the highest mesh harmonic the record is for
+  (``harmonics``: 1 for the API, the highest ``[analysis] orders`` for ``gearsim
+  simulate`` and the studies, default 4);
+* the cost: at most :data:`MAX_STEPS` RK4 steps, ``(transient + duration) / dt``, and an
+  estimated peak memory of at most :data:`MEMORY_FRACTION` of the machine's physical
+  memory. Both bounds are lifted by ``force=True`` (``gearsim simulate --force``) or the
+  environment variable ``GEARSIM_FORCE=1``.
+
+Then, with the model: the step must be below the RK4 stability limit ``2.78 /
+omega_max`` (highest natural frequency with the largest tabulated stiffness), and the
+cost is checked again with the default transient (12 decay times of the slowest mode)
+once it is known. During the run the kernel stops when a coordinate leaves [-1, 1] m
+(or rad) or is not finite, and :class:`SimulationError` is raised; no NaN output is
+produced.
 """
 
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -40,8 +56,9 @@ from gearsim.errors import InputError, SimulationError
 from gearsim.system.toml import train_to_toml
 from gearsim.system.train import GearTrain
 
-__all__ = ["Raw", "build_model", "integration_step", "reference_mesh_forces", "reference_rhs", "run_kernel",
-           "settings_of", "simulate", "summary"]
+__all__ = ["FORCE_ENV", "MAX_STEPS", "MEMORY_FRACTION", "Raw", "RunCost", "build_model",
+           "check_cost", "cost_bounds_lifted", "integration_step", "physical_memory", "reference_mesh_forces",
+           "reference_rhs", "run_kernel", "settings_of", "simulate", "summary"]
 
 #: |q| limit [m or rad] beyond which a run counts as diverged.
 Q_LIMIT = 1.0
@@ -49,6 +66,19 @@ Q_LIMIT = 1.0
 FIR_HALF_PER_R = 12
 FIR_BETA = 8.0
 FIR_CUTOFF = 0.45  # of fs
+
+#: Largest number of RK4 steps of one run without ``force``. The compiled kernel takes
+#: about 1e5 to 2e5 steps per second on the three-gear Table-1 train (one core), so 1e9
+#: steps are hours of computing: past it, a run is almost surely a typing error (``--fs
+#: 1e9``, ``--step 1e-12``, ``--duration 1e6``).
+MAX_STEPS = 1e9
+#: Largest share of the machine's physical memory the estimated peak of a run's arrays
+#: may take without ``force`` (the rest is for the system, the analysis, the writer).
+MEMORY_FRACTION = 0.5
+#: Environment variable that lifts the cost bounds (like ``force=True``) when set to
+#: 1, yes or true.
+FORCE_ENV = "GEARSIM_FORCE"
+_OVERRIDE = f"or override with --force ({FORCE_ENV}=1)"
 
 
 def settings_of(train: GearTrain, settings: DynamicsSettings | None = None) -> DynamicsSettings:
@@ -223,14 +253,194 @@ def _fir(r: int, fs: float) -> np.ndarray:
     return firwin(2 * half + 1, FIR_CUTOFF * fs, window=("kaiser", FIR_BETA), fs=r * fs)
 
 
-def check_inputs(train: GearTrain, settings: DynamicsSettings, model: DynamicModel) -> float:
-    """Refuse a too short duration or an unstable step; return the step used [s]."""
+@dataclass(frozen=True)
+class RunCost:
+    """What a run will take, estimated by :func:`check_cost` before it starts.
+
+    Parameters
+    ----------
+    steps : float
+        RK4 steps, transient included.
+    samples : float
+        Output samples (``round(duration fs)``).
+    internal_samples : float
+        Samples recorded by the kernel (``oversample`` times more, plus the filter
+        margins).
+    memory : float
+        Estimated peak of the run's arrays [bytes].
+    dt : float
+        Integration step [s].
+    transient : float
+        Transient used for the estimate [s] (0 while the default is not yet known).
+    """
+
+    steps: float
+    samples: float
+    internal_samples: float
+    memory: float
+    dt: float
+    transient: float
+
+
+def physical_memory() -> int | None:
+    """Physical memory of the machine [bytes], or ``None`` if it cannot be read.
+
+    Returns
+    -------
+    int or None
+        ``MemTotal`` of ``/proc/meminfo``, else ``os.sysconf`` pages x page size.
+    """
+    try:
+        with open("/proc/meminfo", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("MemTotal:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return int(os.sysconf("SC_PHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
+def cost_bounds_lifted(force: bool | None = None) -> bool:
+    """Whether the cost bounds of :func:`check_cost` are lifted.
+
+    Parameters
+    ----------
+    force : bool, optional
+        An explicit choice (``--force``); default: the environment variable
+        :data:`FORCE_ENV` set to 1, yes, true or on.
+
+    Returns
+    -------
+    bool
+    """
+    if force is not None:
+        return bool(force)
+    return os.environ.get(FORCE_ENV, "").strip().lower() in ("1", "yes", "true", "on")
+
+
+def _gigabytes(n: float) -> str:
+    return f"{n / 1e9:.3g} GB"
+
+
+def check_cost(train: GearTrain, settings: DynamicsSettings | None = None, *,
+               harmonics: int = 1, transient: float | None = None,
+               force: bool | None = None) -> RunCost:
+    """Refuse, before any work, a run that is too short, aliased or too costly.
+
+    Only arithmetic on the settings and the train (no model is built), so the API, the
+    CLI, the studies and the sweeps can check every case up front.
+
+    Parameters
+    ----------
+    train : GearTrain
+        The train (shaft and mesh frequencies, number of gears and meshes).
+    settings : DynamicsSettings, optional
+        Dynamics options; default :class:`DynamicsSettings` ``()``.
+    harmonics : int
+        Highest mesh harmonic n the record must hold: ``fs > 2 n f_m`` (1: the mesh
+        frequency itself; the analysis of ``gearsim`` uses up to 4 by default).
+    transient : float, optional
+        Transient [s] to count; default ``settings.transient``, or 0 when that is the
+        default (known only with the model: :func:`simulate` checks again).
+    force : bool, optional
+        Lift the step and memory bounds; default: the environment variable
+        ``GEARSIM_FORCE`` (set to 1). The duration and aliasing checks always apply.
+
+    Returns
+    -------
+    RunCost
+        The estimate.
+
+    Raises
+    ------
+    InputError
+        ``dynamics.duration`` shorter than one revolution of the slowest gear;
+        ``dynamics.fs`` not above ``2 n f_m``; more than :data:`MAX_STEPS` steps or an
+        estimated memory above :data:`MEMORY_FRACTION` of the physical memory (the
+        parameter named is the one that contributes most: ``dynamics.fs``,
+        ``dynamics.step``, ``dynamics.duration`` or ``dynamics.transient``).
+
+    Examples
+    --------
+    >>> from gearsim.model import load
+    >>> from gearsim.dynamics.settings import DynamicsSettings
+    >>> from gearsim.dynamics.simulate import check_cost
+    >>> train = load("spur-19-48").train
+    >>> round(check_cost(train, DynamicsSettings(duration=1.0, transient=0.0)).steps, -3)
+    100000.0
+    >>> check_cost(train, DynamicsSettings(duration=1e4, fs=1e6))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    gearsim.errors.InputError: dynamics.duration = 10000.0: the run needs 2e+10 ...
+    """
+    s = settings_of(train, settings)
     slow = min(range(len(train.gears)), key=train.shaft_frequency)
     t_rev = 1.0 / train.shaft_frequency(slow)
-    if settings.duration < t_rev * (1 - 1e-9):
-        raise InputError("dynamics.duration", settings.duration,
+    if s.duration < t_rev * (1 - 1e-9):
+        raise InputError("dynamics.duration", s.duration,
                          f"must be >= {t_rev:.6g} s (one revolution of the slowest gear, "
                          f"{train.gears[slow].name})")
+    f_m = train.mesh_frequency
+    n = max(1, int(harmonics))
+    if not s.fs > 2.0 * n * f_m:
+        which = "the mesh frequency f_m" if n == 1 else \
+            f"the highest analysed mesh harmonic {n} f_m"
+        fewer = "" if n == 1 else " or analyse fewer orders"
+        raise InputError("dynamics.fs", s.fs,
+                         f"must be > {2 * n * f_m:.6g} Hz, twice {which} = {n * f_m:.6g} Hz, "
+                         f"else the record is aliased: raise fs, lower the speed{fewer}")
+    if transient is None:
+        transient = s.transient if s.transient is not None else 0.0
+    if not math.isfinite(transient):
+        raise InputError("dynamics.transient", transient,
+                         "must be finite; the default (12 decay times of the slowest mode) "
+                         "is infinite for an undamped system: give the transient")
+    dt, _ = integration_step(s)
+    r = s.oversample
+    half = FIR_HALF_PER_R * r if r > 1 else 0
+    t_int = 1.0 / (r * s.fs)
+    n_out = float(round(s.duration * s.fs))
+    n_rec = (n_out - 1) * r + 1 + 2 * half
+    steps = max(transient / t_int, half) * (t_int / dt) + (n_rec - 1 - half) * (t_int / dt)
+    g, n_mesh = len(train.gears), len(train.pairs)
+    n_dof = 4 * g
+    width = 2 * n_dof + n_mesh  # q, v, f records
+    out_vars = n_dof + 4 * n_mesh + 7 * g  # acceleration, dte, ste, forces, bearing data
+    memory = 8.0 * (2 * n_rec * width + n_out * (2 * width + 2 * out_vars))
+    cost = RunCost(steps=steps, samples=n_out, internal_samples=n_rec, memory=memory, dt=dt,
+                   transient=transient)
+    if cost_bounds_lifted(force):
+        return cost
+    if steps > MAX_STEPS:
+        rate_ratio = (1.0 / dt) * 1e-5          # against the default 10 us step
+        time_ratio = transient + s.duration     # against the default 1 s
+        if rate_ratio >= time_ratio:
+            name = "fs" if t_int < s.step * (1 - 1e-12) else "step"
+        else:
+            name = "transient" if transient > s.duration else "duration"
+        raise InputError(f"dynamics.{name}", getattr(s, name) if name != "transient"
+                         else transient,
+                         f"the run needs {steps:.3g} integration steps (transient "
+                         f"{transient:.4g} s + duration {s.duration:.4g} s at dt = {dt:.3g} "
+                         f"s), above the limit of {MAX_STEPS:.0e} (hours of computing): "
+                         "shorten the duration or transient, raise the step or lower fs "
+                         f"(--duration, --transient, --step, --fs), {_OVERRIDE}")
+    ram = physical_memory()
+    if ram is not None and memory > MEMORY_FRACTION * ram:
+        name = "duration" if s.duration >= s.fs / 50e3 else "fs"
+        raise InputError(f"dynamics.{name}", getattr(s, name),
+                         f"the run needs about {_gigabytes(memory)} of memory for "
+                         f"{n_out:.3g} output samples ({n_rec:.3g} internal), above half "
+                         f"of this machine's {_gigabytes(ram)}: shorten the duration or "
+                         f"lower fs (--duration, --fs), {_OVERRIDE}")
+    return cost
+
+
+def check_inputs(train: GearTrain, settings: DynamicsSettings, model: DynamicModel) -> float:
+    """Refuse an unstable step; return the step used [s] (after :func:`check_cost`)."""
     dt, _ = integration_step(settings)
     limit = stable_step(model)
     if dt > limit:
@@ -243,7 +453,7 @@ def check_inputs(train: GearTrain, settings: DynamicsSettings, model: DynamicMod
 
 def simulate(train: GearTrain, settings: DynamicsSettings | None = None, *,
              tables: tuple[MeshTable, ...] | None = None, model: DynamicModel | None = None,
-             check_step: bool = True):
+             check_step: bool = True, harmonics: int = 1, force: bool | None = None):
     """Simulate the gear train and return an :class:`xarray.Dataset`.
 
     Parameters
@@ -258,6 +468,12 @@ def simulate(train: GearTrain, settings: DynamicsSettings | None = None, *,
     check_step
         Refuse an unstable step before running (default). ``False`` only for tests of
         the divergence detection.
+    harmonics
+        Highest mesh harmonic the record must hold without aliasing, ``fs > 2 n f_m``
+        (see :func:`check_cost`).
+    force
+        Lift the bounds on steps and memory (default: ``GEARSIM_FORCE`` in the
+        environment); see :func:`check_cost`.
 
     Returns
     -------
@@ -270,11 +486,13 @@ def simulate(train: GearTrain, settings: DynamicsSettings | None = None, *,
     Raises
     ------
     InputError
-        Duration shorter than one revolution of the slowest gear, unstable step.
+        Duration shorter than one revolution of the slowest gear, aliasing, too many
+        steps or too much memory (:func:`check_cost`, before any work), unstable step.
     SimulationError
         The run diverged.
     """
     settings = settings_of(train, settings)
+    check_cost(train, settings, harmonics=harmonics, force=force)
     model = model or build_model(train, settings, tables=tables)
     if check_step:
         dt = check_inputs(train, settings, model)
@@ -288,6 +506,7 @@ def simulate(train: GearTrain, settings: DynamicsSettings | None = None, *,
     transient = settings.transient
     if transient is None:
         transient = max(12.0 * decay_time(model), 1.0 / model.mesh_frequency)
+        check_cost(train, settings, harmonics=harmonics, transient=transient, force=force)
     tr_samples = max(math.ceil(transient / t_int - 1e-9), half)
     transient = tr_samples * t_int
     n_out = int(round(settings.duration * fs))

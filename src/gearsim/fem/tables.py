@@ -27,7 +27,7 @@ from scipy.interpolate import CubicSpline
 
 from gearsim.errors import InputError
 from gearsim.fem.geometry import SectorOptions, element_size
-from gearsim.fem.tooth import fe_tooth_compliance
+from gearsim.fem.tooth import check_crack_resolved, fe_tooth_compliance
 from gearsim.geometry.gear import Gear
 from gearsim.geometry.profile import ToothProfile
 from gearsim.io.atomic import atomic_write
@@ -151,6 +151,8 @@ def fe_compliance(gear: Gear, radii, *, crack=None, depth: float = 0.0, side: in
     if not cracked:
         crack, depth, side = None, 0.0, 0
     base = options or SectorOptions(level=DEFAULT_LEVEL)
+    if cracked:
+        check_crack_resolved(gear, depth, crack_depth=getattr(crack, "depth", None))
     lvl = _level_for(gear, depth, base.level)
     opt = SectorOptions(level=lvl, n_teeth=base.n_teeth, sides=base.sides,
                         growth=base.growth, tip_refinement=base.tip_refinement)

@@ -37,12 +37,23 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from gearsim.errors import InputError
-from gearsim.fem.geometry import CrackLine, SectorMesh, SectorOptions, crack_line, mesh_sector
+from gearsim.fem.geometry import (
+    CrackLine,
+    SectorMesh,
+    SectorOptions,
+    crack_line,
+    element_size,
+    mesh_sector,
+)
 from gearsim.fem.solve import ElasticModel
 from gearsim.geometry.gear import Gear
 from gearsim.geometry.profile import ToothProfile
 
-__all__ = ["PATCH_HALF_LENGTH", "FEToothResult", "fe_tooth_compliance", "load_geometry"]
+__all__ = ["FINEST_LEVEL", "PATCH_HALF_LENGTH", "FEToothResult", "check_crack_resolved",
+           "fe_tooth_compliance", "load_geometry"]
+
+#: Finest mesh refinement level (:class:`gearsim.fem.geometry.SectorOptions`).
+FINEST_LEVEL = 6
 
 #: Half length of the loaded patch on the flank, in normal modules [-]. Of the order of
 #: the Hertzian half width of steel gears at rated load (0.05 m_n); the measure at Q is
@@ -169,6 +180,40 @@ def _contact_pairs(model: ElasticModel, sector: SectorMesh) -> tuple[np.ndarray,
     return arr, np.asarray(wts)
 
 
+def check_crack_resolved(gear: Gear, depth: float, *, crack_depth: float | None = None) -> None:
+    """Refuse a crack shallower than the finest FE mesh can resolve.
+
+    The crack needs elements no larger than half its depth; the finest level
+    (:data:`FINEST_LEVEL`) has elements ``m_n / (4 2^6)``, so it resolves depths down to
+    ``m_n / 128``.
+
+    Parameters
+    ----------
+    gear : Gear
+        The cracked gear.
+    depth : float
+        Crack depth of the (transverse) section meshed [m]; 0 for none.
+    crack_depth : float, optional
+        Depth of the crack at the face [m], when ``depth`` is that of a slice.
+
+    Raises
+    ------
+    InputError
+        ``crack.depth`` when ``0 < depth < 2 h`` at the finest level, naming that
+        smallest depth in mm.
+    """
+    h = element_size(gear, FINEST_LEVEL)
+    if 0.0 < depth < 2.0 * h:
+        where = "" if crack_depth is None or math.isclose(crack_depth, depth) else \
+            f" (depth {depth * 1e3:.4g} mm in a face-width slice)"
+        shown = crack_depth if crack_depth is not None else depth
+        raise InputError("crack.depth", f"{shown * 1e3:.4g} mm",
+                         f"is too small for the FE mesh of {gear.name}{where}: the finest "
+                         f"level ({FINEST_LEVEL}, elements {h * 1e3:.3g} mm) resolves depths "
+                         f">= {2e3 * h:.4g} mm (2 elements); use stiffness.source = \"pe\" "
+                         "for a smaller crack")
+
+
 def fe_tooth_compliance(gear: Gear, radii, *, crack=None, depth: float | None = None,
                         side: int = 0, closure: str = "contact", plane: str = "stress",
                         options: SectorOptions | None = None) -> FEToothResult:
@@ -210,6 +255,7 @@ def fe_tooth_compliance(gear: Gear, radii, *, crack=None, depth: float | None = 
     if crack is not None and side != 0:
         q = crack.depth if depth is None else float(depth)
         if q > 0.0:
+            check_crack_resolved(gear, q, crack_depth=crack.depth)
             cl = crack_line(prof, crack, q, side)
     sector = mesh_sector(gear, crack=cl, options=opt)
     mat = gear.material

@@ -20,7 +20,24 @@ from dataclasses import dataclass, field
 
 from gearsim.errors import InputError, require
 
-__all__ = ["Material", "Gear", "inv", "inv_inverse"]
+__all__ = ["MAX_DENSITY", "MAX_YOUNGS_MODULUS", "Material", "Gear", "inv", "inv_inverse"]
+
+#: Ceiling of Young's modulus [Pa]: 10 TPa, ten times the stiffest solids (diamond,
+#: graphene ~1 TPa); a larger value is a unit mistake.
+MAX_YOUNGS_MODULUS = 1e13
+#: Ceiling of the mass density [kg/m^3]: the densest element (osmium) has 22 600.
+MAX_DENSITY = 1e5
+#: Ranges of the basic-rack coefficients and the profile shift (ISO 53 profiles use
+#: h_a* 1, h_f* 1.25-1.4, rho_f* 0.25-0.4; high-contact-ratio racks reach h_a* ~1.5).
+ADDENDUM_RANGE = (0.0, 2.0)
+DEDENDUM_RANGE = (0.0, 3.0)
+FILLET_RANGE = (0.0, 1.0)
+PROFILE_SHIFT_RANGE = (-2.0, 2.0)
+#: Ceilings of the module and the face width [m] (beyond: a unit mistake).
+MAX_MODULE = 0.2
+MAX_FACE_WIDTH = 2.0
+#: Largest tooth count (the largest ring gears have a few hundred teeth).
+MAX_TEETH = 1000
 
 
 def inv(alpha: float) -> float:
@@ -107,7 +124,8 @@ class Material:
     Raises
     ------
     InputError
-        If E <= 0, nu outside [0, 0.5) or the density <= 0.
+        If E is outside (0, 1e13) Pa, nu outside (-1, 0.5) or the density outside
+        (0, 1e5) kg/m^3 (NaN and inf are outside every range).
 
     References
     ----------
@@ -124,11 +142,12 @@ class Material:
     density: float = 7850.0
 
     def __post_init__(self) -> None:
-        require(self.youngs_modulus > 0, "material.youngs_modulus", self.youngs_modulus,
-                "must be > 0 Pa")
-        require(0.0 <= self.poisson_ratio < 0.5, "material.poisson_ratio", self.poisson_ratio,
-                "must be in [0, 0.5)")
-        require(self.density > 0, "material.density", self.density, "must be > 0 kg/m^3")
+        require(0.0 < self.youngs_modulus < MAX_YOUNGS_MODULUS, "material.youngs_modulus",
+                self.youngs_modulus, f"must be a finite number in (0, {MAX_YOUNGS_MODULUS:g}) Pa")
+        require(-1.0 < self.poisson_ratio < 0.5, "material.poisson_ratio", self.poisson_ratio,
+                "must be in (-1, 0.5)")
+        require(0.0 < self.density < MAX_DENSITY, "material.density", self.density,
+                f"must be a finite number in (0, {MAX_DENSITY:g}) kg/m^3")
 
     @property
     def shear_modulus(self) -> float:
@@ -143,7 +162,7 @@ class Gear:
     Parameters
     ----------
     teeth
-        Number of teeth z (>= 7).
+        Number of teeth z (7 to 1000).
     normal_module
         Normal module m_n [m].
     normal_pressure_angle
@@ -170,7 +189,9 @@ class Gear:
     Raises
     ------
     InputError
-        If a value is out of range, or the tooth would be undercut (profile shift
+        If a value is out of range (NaN and inf are outside every range; the module
+        below 0.2 m, the face width below 2 m, h_a* in (0, 2], h_f* in (0, 3],
+        rho_fP* in [0, 1], x in [-2, 2]), or the tooth would be undercut (profile shift
         below :attr:`min_profile_shift`), pointed (tip thickness <= 0), or the rack
         tip round does not fit the rack tooth.
 
@@ -208,27 +229,41 @@ class Gear:
 
     def __post_init__(self) -> None:
         p = self.name
-        require(isinstance(self.teeth, int) and self.teeth >= 7, f"{p}.teeth", self.teeth,
-                "must be an integer >= 7")
+        require(isinstance(self.teeth, int) and not isinstance(self.teeth, bool)
+                and 7 <= self.teeth <= MAX_TEETH, f"{p}.teeth", self.teeth,
+                f"must be an integer in [7, {MAX_TEETH}]")
         require(self.normal_module > 0, f"{p}.normal_module", self.normal_module, "must be > 0 m")
-        require(self.normal_module < 0.2, f"{p}.normal_module", self.normal_module,
-                "must be < 0.2 m (is the unit right? plain numbers are metres)")
+        require(self.normal_module < MAX_MODULE, f"{p}.normal_module", self.normal_module,
+                f"must be a finite number < {MAX_MODULE:g} m (is the unit right? plain numbers "
+                "are metres)")
         require(math.radians(5) <= self.normal_pressure_angle <= math.radians(35),
                 f"{p}.normal_pressure_angle", f"{math.degrees(self.normal_pressure_angle):.4g} deg",
                 "must be between 5 and 35 deg")
         require(0.0 <= abs(self.helix_angle) < math.radians(45), f"{p}.helix_angle",
                 f"{math.degrees(self.helix_angle):.4g} deg", "must satisfy |beta| < 45 deg")
-        require(self.face_width > 0, f"{p}.face_width", self.face_width, "must be > 0 m")
-        require(self.addendum_coefficient > 0, f"{p}.addendum_coefficient",
-                self.addendum_coefficient, "must be > 0")
-        require(self.dedendum_coefficient > 0, f"{p}.dedendum_coefficient",
-                self.dedendum_coefficient, "must be > 0")
-        require(self.fillet_radius_coefficient >= 0, f"{p}.fillet_radius_coefficient",
-                self.fillet_radius_coefficient, "must be >= 0")
+        require(0.0 < self.face_width < MAX_FACE_WIDTH, f"{p}.face_width", self.face_width,
+                f"must be a finite number in (0, {MAX_FACE_WIDTH:g}) m (plain numbers are "
+                "metres)")
+        for attr, (lo, hi), closed in (
+                ("addendum_coefficient", ADDENDUM_RANGE, "(]"),
+                ("dedendum_coefficient", DEDENDUM_RANGE, "(]"),
+                ("fillet_radius_coefficient", FILLET_RANGE, "[]"),
+                ("profile_shift", PROFILE_SHIFT_RANGE, "[]")):
+            v = getattr(self, attr)
+            ok = (lo <= v if closed[0] == "[" else lo < v) and v <= hi
+            require(ok, f"{p}.{attr}", v, f"must be in {closed[0]}{lo:g}, {hi:g}{closed[1]}")
+        a_deg = math.degrees(self.normal_pressure_angle)
+        h_max = math.pi / (4.0 * math.tan(self.normal_pressure_angle))
+        require(self.dedendum_coefficient < h_max, f"{p}.dedendum_coefficient",
+                self.dedendum_coefficient,
+                f"must be < {h_max:.4f} at a {a_deg:.4g} deg pressure angle (the rack tooth "
+                "would leave no room for its tip round)")
         rho_max = self.max_fillet_radius_coefficient
         require(self.fillet_radius_coefficient <= rho_max + 1e-12,
                 f"{p}.fillet_radius_coefficient", self.fillet_radius_coefficient,
-                f"must be <= {rho_max:.4f} (largest rack tip round that fits the rack tooth)")
+                f"must be <= {rho_max:.4f}, the largest rack tip round that fits the rack "
+                f"tooth at normal_pressure_angle {a_deg:.4g} deg and dedendum_coefficient "
+                f"{self.dedendum_coefficient:g}")
         if self.bore_radius is not None:
             require(self.bore_radius > 0, f"{p}.bore_radius", self.bore_radius, "must be > 0 m")
             require(self.bore_radius < 0.9 * self.root_radius, f"{p}.bore_radius",
@@ -240,9 +275,18 @@ class Gear:
                 f"gives an undercut tooth; must be >= {x_min:.4f} for z = {self.teeth}")
         require(self.root_radius > 0, f"{p}.root_radius", self.root_radius, "must be > 0")
         sa = self.tip_thickness
-        require(sa > 0.0, f"{p}.profile_shift", self.profile_shift,
-                f"gives a pointed tooth (transverse tip thickness {sa * 1e3:.4g} mm); "
-                "the tip thickness must be > 0")
+        if sa <= 0.0:
+            # the tip is as high as h_a* + x: blame the shift if it is positive, else the
+            # addendum, and name the other one
+            thin = f"gives a pointed tooth (transverse tip thickness {sa * 1e3:.4g} mm at z = " \
+                   f"{self.teeth}"
+            if self.profile_shift > 0.0:
+                raise InputError(f"{p}.profile_shift", self.profile_shift,
+                                 f"{thin}, addendum_coefficient {self.addendum_coefficient:g}); "
+                                 "the tip thickness must be > 0: reduce the profile shift")
+            raise InputError(f"{p}.addendum_coefficient", self.addendum_coefficient,
+                             f"{thin}, profile_shift {self.profile_shift:g}); the tip "
+                             "thickness must be > 0: reduce the addendum coefficient")
 
     # ---------------------------------------------------------------- basic derived data
     @property

@@ -16,7 +16,47 @@ from gearsim.errors import InputError, require
 from gearsim.geometry.gear import Gear, inv, inv_inverse
 from gearsim.geometry.profile import ToothProfile
 
-__all__ = ["GearPair"]
+__all__ = ["GearPair", "require_same_rack"]
+
+
+def require_same_rack(first: str, module1: float, angle1: float, second: str,
+                      module2: float, angle2: float, *, mesh: str | None = None) -> None:
+    """Refuse two gears that cannot mesh: unequal normal module or normal pressure angle.
+
+    Parameters
+    ----------
+    first, second : str
+        Names of the two gears (the message blames ``second``).
+    module1, module2 : float
+        Normal modules [m].
+    angle1, angle2 : float
+        Normal pressure angles [rad].
+    mesh : str, optional
+        Name of the mesh, prefixed to the parameter name.
+
+    Raises
+    ------
+    InputError
+        ``<second>.normal_module`` (values in mm) or ``<second>.normal_pressure_angle``
+        (values in degrees) when they differ from those of ``first``.
+
+    Examples
+    --------
+    >>> import math
+    >>> require_same_rack("pinion", 3.2e-3, math.radians(20), "gear", 3.2e-3,
+    ...                   math.radians(25))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    gearsim.errors.InputError: gear.normal_pressure_angle = 25 deg: must equal pinion...
+    """
+    at = f"{mesh}: " if mesh else ""
+    why = "(meshing gears need equal normal module and pressure angle)"
+    require(math.isclose(module1, module2, rel_tol=1e-9), f"{at}{second}.normal_module",
+            f"{module2 * 1e3:.6g} mm",
+            f"must equal {first}.normal_module = {module1 * 1e3:.6g} mm {why}")
+    require(math.isclose(angle1, angle2, rel_tol=1e-9), f"{at}{second}.normal_pressure_angle",
+            f"{math.degrees(angle2):.6g} deg",
+            f"must equal {first}.normal_pressure_angle = {math.degrees(angle1):.6g} deg {why}")
 
 
 @dataclass(frozen=True)
@@ -69,10 +109,8 @@ class GearPair:
     def __post_init__(self) -> None:
         g1, g2 = self.driver, self.driven
         n = self.name
-        for attr in ("normal_module", "normal_pressure_angle"):
-            require(math.isclose(getattr(g1, attr), getattr(g2, attr), rel_tol=1e-9),
-                    f"{n}: {g2.name}.{attr}", getattr(g2, attr),
-                    f"must equal {g1.name}.{attr} = {getattr(g1, attr)!r} for gears in mesh")
+        require_same_rack(g1.name, g1.normal_module, g1.normal_pressure_angle, g2.name,
+                          g2.normal_module, g2.normal_pressure_angle, mesh=n)
         require(math.isclose(abs(g1.helix_angle), abs(g2.helix_angle), rel_tol=1e-9, abs_tol=1e-12),
                 f"{n}: {g2.name}.helix_angle", f"{math.degrees(g2.helix_angle):.6g} deg",
                 f"must equal {g1.name}.helix_angle = {math.degrees(g1.helix_angle):.6g} deg "

@@ -11,17 +11,27 @@ import threading
 from collections.abc import Callable
 from pathlib import Path
 
-__all__ = ["atomic_write"]
+__all__ = ["atomic_write", "current_umask"]
 
 _UMASK_LOCK = threading.Lock()
 
 
-def _file_mode() -> int:
-    """Mode of a new file under the process umask (``mkstemp`` itself creates 0600)."""
+def current_umask() -> int:
+    """The process umask (read under a lock: reading it means setting it briefly).
+
+    Returns
+    -------
+    int
+    """
     with _UMASK_LOCK:
         mask = os.umask(0o022)
         os.umask(mask)
-    return 0o666 & ~mask
+    return mask
+
+
+def _file_mode() -> int:
+    """Mode of a new file under the process umask (``mkstemp`` itself creates 0600)."""
+    return 0o666 & ~current_umask()
 
 
 def atomic_write(path: str | Path, write: Callable[[Path], None]) -> Path:

@@ -153,7 +153,8 @@ def _read_csv(path: Path) -> _Raw:
     fs = None
     header = None
     with open(path, encoding="utf-8", errors="replace") as fh:
-        for line in fh:
+        lines = enumerate(fh, start=1)
+        for _, line in lines:
             s = line.strip()
             if not s:
                 continue
@@ -169,6 +170,16 @@ def _read_csv(path: Path) -> _Raw:
             except ValueError:
                 header = 0
             break
+        # a blank line between data rows is a missing sample (pandas would skip it)
+        blank = None
+        for number, line in lines:
+            s = line.strip()
+            if not s:
+                blank = blank or number
+            elif not s.startswith("#") and blank is not None:
+                raise InputError(f"{path.name}: line {blank}", "empty",
+                                 "every row must hold a finite number (a blank line inside "
+                                 "the data is a missing sample)")
     try:
         df = pd.read_csv(path, comment="#", header=header, skip_blank_lines=True)
     except Exception as exc:  # pandas raises many types for malformed text
@@ -186,9 +197,14 @@ def _read_csv(path: Path) -> _Raw:
         bad = ~np.isfinite(v)
         if bad.any():
             row = int(np.flatnonzero(bad)[0])
+            if np.isnan(v[row]):
+                shown, why = "missing/NaN", "truncated or damaged file?"
+            else:
+                shown, why = f"{v[row]:g}", "an overflowed or saturated value?"
             raise InputError(
-                f"{path.name}: column {c!r} row {row + 1}", "missing/NaN",
-                "every row must hold a finite number (truncated or damaged file?)",
+                f"{path.name}: column {c!r} data row {row + 1}", shown,
+                f"every row must hold a finite number ({int(bad.sum())} non-finite in this "
+                f"column; {why})",
             )
         channels[c] = v
     time_col = next((c for c in cols if c.lower() in _TIME_NAMES), None)

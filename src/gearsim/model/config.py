@@ -1,8 +1,11 @@
 """TOML configuration files with units, validated into the typed gearbox model.
 
 Values may carry units as strings (``"6 mm"``, ``"1900 rpm"``, ``"4876 N*m"``,
-``"13 deg"``), parsed with pint; plain numbers are SI (metres, radians, rad/s, N m, Pa).
-Unknown keys and sections are refused. Layout::
+``"13 deg"``), parsed with pint; plain numbers are SI (metres, radians, N m, Pa), except
+the speed, which needs a unit (rpm or rad/s?). Every value must be finite. Unknown keys
+and sections are refused; a refused value is shown as written. A leading UTF-8 byte
+order mark is ignored; the effective configuration that results files store (its first
+line says "SI units") reads plain numbers as SI throughout. Layout::
 
     name = "..."
     [material]            # default material of every gear
@@ -20,6 +23,7 @@ every value; the result is a :class:`gearsim.model.Gearbox`.
 
 from __future__ import annotations
 
+import dataclasses
 import tomllib
 from collections.abc import Callable, Sequence
 from importlib import resources
@@ -29,12 +33,14 @@ from typing import Any
 from gearsim.dynamics.settings import parse_dynamics
 from gearsim.errors import InputError
 from gearsim.geometry.gear import Gear, Material
+from gearsim.geometry.pair import require_same_rack
 from gearsim.model.gearbox import Gearbox
-from gearsim.sections import convert
+from gearsim.sections import as_written, convert
 from gearsim.signals.settings import parse_analysis
 from gearsim.stiffness.crack import Crack
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.system.train import GearTrain, Operating
+from gearsim.units import plain_numbers_are_si
 
 __all__ = ["EXAMPLES", "example", "example_text", "load", "loads", "parse",
            "read_file_or_builtin"]
@@ -62,12 +68,31 @@ TOP_KEYS = ("name", "material", "common", "gears", "operating", "stiffness", "cr
             "dynamics", "analysis")
 
 
+#: First line of the effective configuration written by
+#: :func:`gearsim.system.train_to_toml`; its plain numbers are SI (also a speed).
+EFFECTIVE_HEADER = "# gearsim effective configuration (SI units"
+
+_GEAR_DEFAULTS = {f.name: f.default for f in dataclasses.fields(Gear)}
+
+
 def _material(data: Any, section: str, base: Material | None = None) -> Material:
     kw = convert(data, MATERIAL_KEYS, section)
     if base is not None:
         kw = {"youngs_modulus": base.youngs_modulus, "poisson_ratio": base.poisson_ratio,
               "density": base.density, **kw}
-    return Material(**kw)
+    try:
+        with as_written(data, "material"):
+            return Material(**kw)
+    except InputError as exc:  # name the table the value came from
+        if section != "material" and exc.parameter.startswith("material."):
+            raise InputError(section + exc.parameter[len("material"):], exc.value,
+                             exc.limit) from None
+        raise
+
+
+def _rack(kw: dict[str, Any]) -> tuple[float, float]:
+    return (kw["normal_module"], kw.get("normal_pressure_angle",
+                                        _GEAR_DEFAULTS["normal_pressure_angle"]))
 
 
 def parse(doc: dict[str, Any]) -> Gearbox:
@@ -98,6 +123,8 @@ def parse(doc: dict[str, Any]) -> Gearbox:
         raise InputError("gears", gear_tables if gear_tables is not None else "missing",
                          "need at least 2 [[gears]] tables")
     gears = []
+    raw_common = doc.get("common", {})
+    previous: dict[str, Any] | None = None
     for i, table in enumerate(gear_tables):
         kw = {**common, **convert(table, GEAR_KEYS, f"gears[{i}]")}
         kw.setdefault("name", f"gear{i + 1}")
@@ -107,12 +134,22 @@ def parse(doc: dict[str, Any]) -> Gearbox:
             raise InputError(f"gears[{i}].normal_module", "missing",
                              "give it in [common] or in the gear")
         mat = kw.pop("material", None)
-        kw["material"] = material if mat is None else _material(mat, f"gears[{i}].material",
-                                                                material)
+        at = f"gears[{i}].material" if "material" in table else "common.material"
+        kw["material"] = material if mat is None else _material(mat, at, material)
         if "helix_angle" in kw:  # consecutive external gears have opposite hands
             kw["helix_angle"] = abs(kw["helix_angle"]) * (-1) ** i
-        gears.append(Gear(**kw))
-    operating = Operating(**convert(doc.get("operating", {}), OPERATING_KEYS, "operating"))
+        where = f"gears[{i}]"
+        with as_written(None, kw["name"], GEAR_KEYS, default=where,
+                        sources=[("common", raw_common), (where, table)],
+                        label=f"for {where}, {kw['name']!r}"):
+            if previous is not None:  # before the gear's own checks: name the mismatch
+                require_same_rack(f"gears[{i - 1}]", *_rack(previous), kw["name"], *_rack(kw))
+            gears.append(Gear(**kw))
+        previous = kw
+    op_raw = doc.get("operating", {})
+    op_kw = convert(op_raw, OPERATING_KEYS, "operating")
+    with as_written(op_raw, "operating"):
+        operating = Operating(**op_kw)
     stiffness = StiffnessSettings(**convert(doc.get("stiffness", {}), STIFFNESS_KEYS,
                                             "stiffness"))
     cracks_raw = doc.get("cracks", [])
@@ -123,12 +160,23 @@ def parse(doc: dict[str, Any]) -> Gearbox:
         kw = convert(table, CRACK_KEYS, f"cracks[{i}]")
         if "gear" not in kw:
             raise InputError(f"cracks[{i}].gear", "missing", "name the cracked gear")
-        cracks.append(Crack(**kw))
+        with as_written(table, "crack", CRACK_KEYS, sources=[(f"cracks[{i}]", table)],
+                        default=f"cracks[{i}]"):
+            cracks.append(Crack(**kw))
     name = doc.get("name", "gear train")
     if not isinstance(name, str):
         raise InputError("name", name, "must be a string")
-    train = GearTrain(gears=tuple(gears), operating=operating, stiffness=stiffness,
-                      cracks=tuple(cracks), name=name)
+    kw = {"gears": tuple(gears), "operating": operating, "stiffness": stiffness, "name": name}
+    try:
+        train = GearTrain(cracks=tuple(cracks), **kw)
+    except InputError as exc:  # a crack that does not fit: name the [[cracks]] table
+        if not exc.parameter.startswith("crack.") or not cracks:
+            raise
+        for i, (crack, table) in enumerate(zip(cracks, cracks_raw, strict=True)):
+            with as_written(table, "crack", CRACK_KEYS, sources=[(f"cracks[{i}]", table)],
+                            default=f"cracks[{i}]"):
+                GearTrain(cracks=(crack,), **kw)
+        raise
     dynamics = parse_dynamics(doc.get("dynamics", {}), "dynamics")
     analysis = parse_analysis(doc.get("analysis", {}), "analysis")
     return Gearbox(train=train, dynamics=dynamics, analysis=analysis)
@@ -157,10 +205,14 @@ def loads(text: str) -> Gearbox:
     >>> [g.teeth for g in gb.train.gears]
     [19, 48]
     """
+    text = text.removeprefix("\ufeff")  # a UTF-8 byte order mark (Windows editors)
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError("config", "TOML", f"is not valid TOML: {exc}") from None
+    if text.startswith(EFFECTIVE_HEADER):  # written by gearsim, SI throughout
+        with plain_numbers_are_si():
+            return parse(doc)
     return parse(doc)
 
 
@@ -192,7 +244,9 @@ def read_file_or_builtin(path: str | Path, builtins: Sequence[str],
     Raises
     ------
     InputError
-        A missing or unreadable file, naming ``parameter`` and the built-in names.
+        A missing or unreadable file or one that is not a regular file (a FIFO, a
+        device, a directory), naming ``parameter`` and the built-in names. A leading
+        UTF-8 byte order mark is dropped.
     """
     p = Path(path)
     if not p.exists():
@@ -200,8 +254,11 @@ def read_file_or_builtin(path: str | Path, builtins: Sequence[str],
             return builtin_text(str(path)), None
         raise InputError(parameter, str(path), f"file not found (or give a built-in {what}: "
                          + ", ".join(builtins) + ")")
+    if not p.is_file():  # a FIFO or a device would block or never end
+        raise InputError(parameter, str(path), "is not a regular file (a directory, FIFO or "
+                         "device cannot be read)")
     try:
-        return p.read_text(encoding="utf-8"), p.parent
+        return p.read_text(encoding="utf-8-sig"), p.parent
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(parameter, str(path), f"cannot be read: {exc}") from None
 

@@ -14,6 +14,7 @@ import numpy as np
 from gearsim.errors import InputError
 
 __all__ = [
+    "MAX_MAGNITUDE",
     "as_signal",
     "check_positive",
     "check_fs",
@@ -25,8 +26,19 @@ __all__ = [
 ]
 
 
+#: Largest peak magnitude of a record: the indicators take moments up to the 8th (M8A),
+#: and ``max|x|^8`` times the record length must stay below the float range (1e308),
+#: else they overflow to null. Any record in physical units lies far inside; rescale
+#: (change the unit) otherwise.
+MAX_MAGNITUDE = 1e30
+
+
 def as_signal(x: object, *, name: str = "signal", min_length: int = 2) -> np.ndarray:
-    """Return ``x`` as a 1-D float64 array after checking shape, length and finiteness."""
+    """Return ``x`` as a 1-D float64 array after checking shape, length and values.
+
+    The samples must be finite and of a peak magnitude <= :data:`MAX_MAGNITUDE` (the
+    moments of the indicators would overflow otherwise).
+    """
     try:
         arr = np.asarray(x, dtype=np.float64)
     except (TypeError, ValueError) as exc:
@@ -45,6 +57,16 @@ def as_signal(x: object, *, name: str = "signal", min_length: int = 2) -> np.nda
             f"{name}[{bad}]",
             float(arr[bad]),
             f"must be finite ({int((~finite).sum())} {kind}/non-finite samples found)",
+        )
+    mag = np.abs(arr)
+    i = int(np.argmax(mag))
+    top = float(mag[i])
+    if top > MAX_MAGNITUDE:
+        raise InputError(
+            f"{name}[{i}]", float(arr[i]),
+            f"the peak magnitude must be <= {MAX_MAGNITUDE:g}: the 4th- to 8th-order moments "
+            "of the indicators (kurtosis, FM4, NA4, M8A) would overflow; rescale the record "
+            "(another unit)",
         )
     return arr
 

@@ -63,7 +63,8 @@ class Crack:
     Raises
     ------
     InputError
-        If the flank or profile name is unknown, the depth < 0, the angle outside
+        If the flank or profile name is unknown, the depth < 0 or not finite, the
+        start radius not a finite number > 0, the angle outside
         (0, 90] deg, the extent outside (0, 1] or the tooth index not an integer >= 0.
 
     References
@@ -86,12 +87,16 @@ class Crack:
                 'must be "working" or "non-working"')
         require(self.profile in PROFILES, "crack.profile", self.profile,
                 'must be "uniform", "linear" or "parabolic"')
-        require(self.depth >= 0.0, "crack.depth", self.depth, "must be >= 0 m")
+        require(math.isfinite(self.depth) and self.depth >= 0.0, "crack.depth", self.depth,
+                "must be a finite number >= 0 m")
         require(0.0 < self.angle <= 0.5 * math.pi + 1e-12, "crack.angle",
                 f"{math.degrees(self.angle):.6g} deg", "must be in (0, 90] deg")
         require(0.0 < self.extent <= 1.0, "crack.extent", self.extent, "must be in (0, 1]")
-        require(isinstance(self.tooth, int) and self.tooth >= 0, "crack.tooth", self.tooth,
-                "must be an integer >= 0")
+        require(isinstance(self.tooth, int) and not isinstance(self.tooth, bool)
+                and self.tooth >= 0, "crack.tooth", self.tooth, "must be an integer >= 0")
+        require(self.start_radius is None
+                or (math.isfinite(self.start_radius) and self.start_radius > 0.0),
+                "crack.start_radius", self.start_radius, "must be a finite number > 0 m")
 
     def depth_at(self, z_fraction: np.ndarray) -> np.ndarray:
         """Crack depth at axial positions along the face width.

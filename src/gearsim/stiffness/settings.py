@@ -55,13 +55,11 @@ class StiffnessSettings:
     def __post_init__(self) -> None:
         require(self.closure in CLOSURES, "stiffness.closure", self.closure,
                 'must be "open" or "contact"')
-        require(isinstance(self.slices, int) and 1 <= self.slices <= 2000, "stiffness.slices",
-                self.slices, "must be an integer in [1, 2000]")
-        require(isinstance(self.positions_per_cycle, int) and 4 <= self.positions_per_cycle <= 10000,
-                "stiffness.positions_per_cycle", self.positions_per_cycle,
-                "must be an integer in [4, 10000]")
-        require(isinstance(self.gauss_points, int) and 2 <= self.gauss_points <= 200,
-                "stiffness.gauss_points", self.gauss_points, "must be an integer in [2, 200]")
+        for name, lo, hi in (("slices", 1, 2000), ("positions_per_cycle", 4, 10000),
+                             ("gauss_points", 2, 200)):
+            v = getattr(self, name)
+            require(isinstance(v, int) and not isinstance(v, bool) and lo <= v <= hi,
+                    f"stiffness.{name}", v, f"must be an integer in [{lo}, {hi}]")
         require(self.plane in PLANES, "stiffness.plane", self.plane,
                 'must be "stress" or "strain"')
         require(self.source in SOURCES, "stiffness.source", self.source,

@@ -28,18 +28,21 @@ import numpy as np
 
 from gearsim._version import __version__
 from gearsim.errors import InputError
-from gearsim.io.atomic import atomic_write
+from gearsim.io.targets import atomic_folder, check_output_folder
 from gearsim.studies.sweep_case import FEATURE_GROUPS
 from gearsim.viz import save
 from gearsim.viz.sweep import plot_separability
 
-__all__ = ["CLASSES", "FOLDS", "diagnostic_report", "feature_matrix", "separability",
-           "separability_table"]
+__all__ = ["CLASSES", "FOLDS", "STORE_ATTRS", "STORE_VARIABLES", "diagnostic_report",
+           "feature_matrix", "open_store", "separability", "separability_table"]
 
 #: Class labels: the ``flank`` coordinate of the store.
 CLASSES = ("none", "working", "non-working")
 #: Folds of the stratified cross-validation.
 FOLDS = 5
+#: Variables and attributes every store of :func:`gearsim.studies.sweep_run.run_study` has.
+STORE_VARIABLES = ("case", "status", "flank", "noise", "crack_depth")
+STORE_ATTRS = ("study", "n_cases")
 
 
 def feature_matrix(ds, group: str) -> tuple[np.ndarray, list[str]]:
@@ -170,31 +173,90 @@ def separability_table(ds, *, groups: Sequence[str] | None = None) -> list[dict]
     return rows
 
 
-def diagnostic_report(store: str | Path, out: str | Path) -> list[Path]:
+def open_store(store: str | Path, parameter: str = "store"):
+    """Read a store written by :func:`gearsim.studies.sweep_run.run_study`, checked.
+
+    Parameters
+    ----------
+    store : str or Path
+        The NetCDF store.
+    parameter : str
+        Name of the argument for messages.
+
+    Returns
+    -------
+    xarray.Dataset
+        The store, loaded into memory.
+
+    Raises
+    ------
+    InputError
+        A missing file, a file that is not NetCDF, or a NetCDF file without the
+        variables (:data:`STORE_VARIABLES`) and attributes (:data:`STORE_ATTRS`) of a
+        sweep store.
+    """
+    import xarray as xr
+
+    path = Path(store)
+    if not path.exists():
+        raise InputError(parameter, str(path), "file not found (run gearsim sweep first)")
+    if path.is_dir():
+        raise InputError(parameter, str(path), "is a folder; give the store file (.nc)")
+    try:
+        with xr.open_dataset(path, engine="h5netcdf") as ds:
+            ds = ds.load()
+    except Exception as exc:  # noqa: BLE001  (any reader failure means: not a store)
+        first = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
+        raise InputError(parameter, str(path), "is not a sweep store (cannot be read as "
+                         f"NetCDF: {first})") from None
+    missing = [v for v in STORE_VARIABLES if v not in ds.variables]
+    missing += [f"attribute {a}" for a in STORE_ATTRS if a not in ds.attrs]
+    if missing or "case" not in ds.dims:
+        raise InputError(parameter, str(path), "is not a sweep store written by gearsim "
+                         "sweep (missing " + ", ".join(missing or ["dimension case"]) + ")")
+    return ds
+
+
+def diagnostic_report(store: str | Path, out: str | Path, *,
+                      out_parameter: str = "--out") -> list[Path]:
     """Write ``separability.csv``, ``separability.json`` and ``separability.png``.
+
+    The folder is checked first and written as a whole (:func:`gearsim.io.targets.atomic_folder`):
+    a killed run leaves an earlier report whole.
 
     Parameters
     ----------
     store : path
-        Sweep store (NetCDF).
+        Sweep store (NetCDF, :func:`open_store`).
     out : path
-        Output folder.
+        Output folder (replaced as a whole).
+    out_parameter : str
+        Name of the option giving ``out``, for messages.
 
     Returns
     -------
     list of Path
         CSV, JSON and PNG paths.
-    """
-    import xarray as xr
 
+    Raises
+    ------
+    InputError
+        An output folder that cannot be written, a file that is not a sweep store, no
+        successful case, or fewer than two flank classes among the successful cases.
+    """
+    out = check_output_folder(out, out_parameter)
     store = Path(store)
-    if not store.exists():
-        raise InputError("store", str(store), "file not found (run gearsim sweep first)")
-    with xr.open_dataset(store, engine="h5netcdf") as ds:
-        ds = ds.load()
+    ds = open_store(store)
+    ok = ds["status"].values == "ok"
+    if not ok.any():
+        raise InputError("store", str(store), "has no successful case (status ok)")
+    present = [c for c in CLASSES if c in set(np.asarray(ds["flank"].values[ok], dtype=str))]
+    if len(present) < 2:
+        raise InputError("store", str(store), f"has {len(present)} flank class"
+                         f"{'es' if len(present) != 1 else ''} among its successful cases "
+                         f"({', '.join(present) or 'none'}); the report compares at least two"
+                         " of " + ", ".join(CLASSES))
     rows = separability_table(ds)
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
     keys = list(rows[0])
 
     def fmt(v) -> str:
@@ -203,17 +265,17 @@ def diagnostic_report(store: str | Path, out: str | Path) -> list[Path]:
         return f"{v:.6g}" if isinstance(v, float) else str(v)
 
     csv = "\n".join([",".join(keys), *(",".join(fmt(r[k]) for k in keys) for r in rows)]) + "\n"
-    p_csv = atomic_write(out / "separability.csv", lambda p: p.write_text(csv))
     doc = {"store": str(store), "study": ds.attrs.get("title", ""),
            "gearsim_version": __version__, "classes": list(CLASSES),
            "method": f"StandardScaler + LogisticRegression, stratified {FOLDS}-fold CV; "
                      "accuracy and macro one-vs-rest ROC AUC of out-of-fold predictions",
-           "n_cases": int(ds.sizes["case"]), "n_ok": int(np.sum(ds["status"].values == "ok")),
+           "n_cases": int(ds.sizes["case"]), "n_ok": int(np.sum(ok)),
            "rows": [{k: (None if isinstance(v, float) and not math.isfinite(v) else v)
                      for k, v in r.items()} for r in rows]}
-    p_json = atomic_write(out / "separability.json",
-                          lambda p: p.write_text(json.dumps(doc, indent=2)))
-
-    p_png = save(plot_separability(rows, title=ds.attrs.get("title", "parameter study")),
-                 out / "separability.png")
-    return [p_csv, p_json, p_png]
+    fig = plot_separability(rows, title=ds.attrs.get("title", "parameter study"))
+    names = ("separability.csv", "separability.json", "separability.png")
+    with atomic_folder(out) as tmp:
+        (tmp / names[0]).write_text(csv)
+        (tmp / names[1]).write_text(json.dumps(doc, indent=2))
+        save(fig, tmp / names[2])
+    return [out / n for n in names]

@@ -22,6 +22,16 @@ through gearsim:
 :class:`~gearsim.studies.reproduction.Reproduction` (no files);
 :func:`write_reproduction` writes the files; :func:`run_reproduction` does both.
 
+Before any work, :func:`run_reproduction` checks the output folder (a new one, an
+empty one or an earlier output of ``reproduce``: it is replaced as a whole) and
+:func:`compute_reproduction` the options, including the cost of the whole study
+(:func:`gearsim.dynamics.simulate.check_cost` per case, and at most
+:data:`gearsim.dynamics.simulate.MAX_STEPS` integration steps over all cases, unless
+forced). The files are written into a temporary folder beside the output folder and
+swapped in at the end (:func:`gearsim.io.targets.atomic_folder`): a run killed at any
+point leaves the old folder whole or the new one whole. The FE cache
+(``$GEARSIM_CACHE``) is not part of the output folder.
+
 The seed does not state the crack size. The reference depth is 6 mm at 45 deg from the
 30 deg tangent point, about 2/3 of the deepest crack whose tip stays on the cracked side
 of the tooth centre line (9.28 mm); the sensitivity covers 1 to 9 mm.
@@ -40,12 +50,22 @@ import numpy as np
 
 from gearsim._version import __version__
 from gearsim.dynamics import DynamicsSettings, simulate
+from gearsim.dynamics.simulate import (
+    FORCE_ENV,
+    MAX_STEPS,
+    MEMORY_FRACTION,
+    check_cost,
+    cost_bounds_lifted,
+    physical_memory,
+)
 from gearsim.errors import InputError, require
-from gearsim.fem.check import fe_check
+from gearsim.fem.check import MAX_POINTS, fe_check
 from gearsim.io.atomic import atomic_write
 from gearsim.io.jsonout import strict_json
+from gearsim.io.targets import atomic_folder, check_output_folder
 from gearsim.model import load
 from gearsim.signals import analyze
+from gearsim.signals.settings import AnalysisSettings
 from gearsim.studies.claims import case_metrics, claims_table, qualitative_findings
 from gearsim.studies.report import write_report
 from gearsim.studies.reproduction import (
@@ -58,8 +78,9 @@ from gearsim.system import GearTrain
 from gearsim.viz import save_all
 from gearsim.viz.reproduce import CAPTIONS
 
-__all__ = ["DEFAULT_DEPTHS", "ReproduceOptions", "Reproduction", "compute_reproduction",
-           "run_reproduction", "simulate_cases", "write_reproduction"]
+__all__ = ["DEFAULT_DEPTHS", "OUTPUT_NAMES", "ReproduceOptions", "Reproduction",
+           "check_output", "compute_reproduction", "run_reproduction", "simulate_cases",
+           "write_reproduction"]
 
 #: Cases of each route: (label, flank, closure).
 CASES = (
@@ -69,11 +90,44 @@ CASES = (
     ("working-open", "working", "open"),
     ("non-working-open", "non-working", "open"),
 )
+#: Cases of the crack-depth sensitivity, per depth (label, flank, closure).
+SENSITIVITY = (("working", "working", "contact"), ("non-working", "non-working", "contact"),
+               ("open", "working", "open"))
+#: Entries of an output folder; an existing folder may hold only these.
+OUTPUT_NAMES = frozenset({"report.html", "claims.json", "dynamic_load.nc", "figures"})
+#: Highest mesh harmonic of the analysis of every case (the default ``orders``): the
+#: sampling rate must keep it free of aliasing.
+HARMONICS = max(AnalysisSettings().orders)
+
+
+def check_output(out: str | Path, parameter: str = "--out") -> Path:
+    """Check the output folder before any work.
+
+    Parameters
+    ----------
+    out : str or Path
+        The output folder: a new folder, an empty one or an earlier output of
+        ``reproduce`` (it is replaced as a whole, see :func:`write_reproduction`).
+    parameter : str
+        Name of the option, for the message.
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    InputError
+        An empty path, a file, the working folder, a folder holding entries other than
+        :data:`OUTPUT_NAMES`, or one that cannot be written.
+    """
+    return check_output_folder(out, parameter, owned=OUTPUT_NAMES.__contains__)
 
 
 def simulate_cases(base: GearTrain, cases: dict[str, tuple[str, str, GearTrain]],
                    settings: DynamicsSettings, *,
-                   progress: Callable[[str], None] | None = None) -> dict[str, CaseRun]:
+                   progress: Callable[[str], None] | None = None,
+                   force: bool | None = None) -> dict[str, CaseRun]:
     """Simulate and analyse ``cases`` = ``{key: (route, label, train)}``.
 
     The recorded signal is the mesh force of mesh I (the cracked input gear's mesh);
@@ -89,6 +143,8 @@ def simulate_cases(base: GearTrain, cases: dict[str, tuple[str, str, GearTrain]]
         Simulation settings, the same for every case.
     progress : callable, optional
         Called with a short message before each case.
+    force : bool, optional
+        Lift the cost bounds of :func:`gearsim.dynamics.simulate.check_cost`.
 
     Returns
     -------
@@ -101,7 +157,7 @@ def simulate_cases(base: GearTrain, cases: dict[str, tuple[str, str, GearTrain]]
     for key, (route, label, train) in cases.items():
         if progress:
             progress(f"simulating {key}")
-        ds = simulate(train, settings)
+        ds = simulate(train, settings, harmonics=HARMONICS, force=force)
         x = np.asarray(ds["mesh_force_1"].values, dtype=np.float64)
         x2 = np.asarray(ds["mesh_force_2"].values, dtype=np.float64) if "mesh_force_2" in ds \
             else np.zeros_like(x)
@@ -121,8 +177,38 @@ def _tvms(flank_cases: dict[str, GearTrain]) -> dict[str, Any]:
     return out
 
 
+def _check_cost(base: GearTrain, settings: DynamicsSettings, opt: ReproduceOptions,
+                n_cases: int, force: bool | None) -> None:
+    """Refuse a study whose simulations would take too long or too much memory."""
+    try:  # the checks that always apply (duration, aliasing), and the estimate
+        cost = check_cost(base, settings, harmonics=HARMONICS, force=True)
+    except InputError as exc:
+        if exc.parameter == "dynamics.duration":
+            raise InputError("revolutions", opt.revolutions, exc.limit) from None
+        raise
+    if cost_bounds_lifted(force):
+        return
+    override = f"or override with --force ({FORCE_ENV}=1)"
+    total = cost.steps * n_cases
+    if total > MAX_STEPS:
+        raise InputError("revolutions", opt.revolutions,
+                         f"the study runs {n_cases} simulations of {cost.steps:.3g} "
+                         f"integration steps each ({total:.3g} in all), above the limit of "
+                         f"{MAX_STEPS:.0e} (hours of computing): fewer --revolutions or "
+                         f"--depths, {override}")
+    # one case's arrays at a time, plus the kept mesh forces of every case
+    memory = cost.memory + n_cases * cost.samples * 2 * 8 * 4
+    ram = physical_memory()
+    if ram is not None and memory > MEMORY_FRACTION * ram:
+        raise InputError("revolutions", opt.revolutions,
+                         f"the study needs about {memory / 1e9:.3g} GB of memory, above "
+                         f"half of this machine's {ram / 1e9:.3g} GB: fewer --revolutions, "
+                         f"{override}")
+
+
 def compute_reproduction(options: ReproduceOptions | None = None, *,
-                         progress: Callable[[str], None] | None = None) -> Reproduction:
+                         progress: Callable[[str], None] | None = None,
+                         force: bool | None = None) -> Reproduction:
     """Run the seed's study and return every number of the report (no files written).
 
     Parameters
@@ -131,6 +217,9 @@ def compute_reproduction(options: ReproduceOptions | None = None, *,
         Default the full study.
     progress : callable, optional
         Called with a short message before each step.
+    force : bool, optional
+        Lift the bounds on the cost (integration steps over all cases, memory); default
+        the environment variable ``GEARSIM_FORCE``.
 
     Returns
     -------
@@ -140,7 +229,9 @@ def compute_reproduction(options: ReproduceOptions | None = None, *,
     ------
     InputError
         Before any simulation: a configuration that is not a train, too few revolutions
-        for the sideband analysis, a crack depth that does not fit the tooth.
+        for the sideband analysis, a crack depth that does not fit the tooth, too many
+        FE points, a sampling rate that aliases the analysed mesh harmonics, a study
+        above the cost bounds.
     """
     opt = options or ReproduceOptions()
     say = progress or (lambda _m: None)
@@ -155,7 +246,14 @@ def compute_reproduction(options: ReproduceOptions | None = None, *,
     f_m = base.mesh_frequency
     pair = base.pairs[0]
     eps = pair.transverse_contact_ratio + pair.overlap_ratio
-    settings = replace(gb.dynamics, duration=opt.revolutions * t1, model=opt.model)
+    try:
+        settings = replace(gb.dynamics, duration=opt.revolutions * t1, model=opt.model)
+    except InputError as exc:
+        if exc.parameter != "dynamics.duration":
+            raise
+        raise InputError("revolutions", opt.revolutions,
+                         f"gives {opt.revolutions * t1:.4g} s per case; the duration {exc.limit}"
+                         ) from None
     # The sideband analysis of every shaft needs 4 Hann bins per spacing of the slowest
     # shaft (gearsim.signals.analyze): refuse too short a record before any work.
     f_slow = min(base.shaft_frequency(i) for i in range(len(base.gears)))
@@ -163,18 +261,28 @@ def compute_reproduction(options: ReproduceOptions | None = None, *,
     require(opt.revolutions >= need, "revolutions", opt.revolutions,
             f"must be >= {need} input revolutions (4 spectral bins per {f_slow:.4g} Hz "
             "sideband spacing of the slowest shaft)")
-    # Every crack variant is made (and so checked) before the long part.
-    for d in sorted(set(opt.depths) | {opt.depth}):
-        base.with_crack("working", depth=d)
+    # Every crack variant is made (and so checked) before the long part; a depth that
+    # does not fit is reported under the option that gave it.
+    for name, values in (("depth", (opt.depth,)), ("depths", opt.depths)):
+        for d in values:
+            try:
+                base.with_crack("working", depth=d)
+            except InputError as exc:
+                raise InputError(name, f"{d * 1e3:.6g} mm", exc.limit) from None
+    if opt.fe:
+        require(opt.fe_points <= MAX_POINTS, "fe_points", opt.fe_points,
+                f"must be <= {MAX_POINTS} (each point is one FE solve)")
 
     routes = ["PE"] + (["FE"] if opt.fe else [])
+    _check_cost(base, settings, opt, len(routes) * len(CASES)
+                + len(SENSITIVITY) * len(opt.depths), force)
     t0 = time.perf_counter()
     cases = {}
     for route in routes:
         for label, flank, closure in CASES:
             cases[f"{route}/{label}"] = (route, label, base.with_crack(
                 flank, depth=opt.depth, closure=closure, source=route.lower()))
-    runs = simulate_cases(base, cases, settings, progress=say)
+    runs = simulate_cases(base, cases, settings, progress=say, force=force)
     timings["cases"] = time.perf_counter() - t0
 
     metrics = {}
@@ -203,7 +311,7 @@ def compute_reproduction(options: ReproduceOptions | None = None, *,
 
     say("crack-depth sensitivity")
     t0 = time.perf_counter()
-    sensitivity = _sensitivity(base, opt, settings, runs["PE/healthy"], eps, say)
+    sensitivity = _sensitivity(base, opt, settings, runs["PE/healthy"], eps, say, force)
     timings["sensitivity"] = time.perf_counter() - t0
 
     claims = claims_table(metrics, t1=t1, depth=opt.depth)
@@ -219,12 +327,18 @@ def write_reproduction(rep: Reproduction, out: str | Path, *,
                        progress: Callable[[str], None] | None = None) -> Path:
     """Write ``dynamic_load.nc``, ``figures/``, ``claims.json`` and ``report.html``.
 
+    Everything is written into a temporary folder beside ``out`` (``.NAME.*.tmp``),
+    which then replaces ``out`` in one step (:func:`gearsim.io.targets.atomic_folder`):
+    a run killed while writing leaves an earlier ``out`` whole and unchanged. Entries of
+    an existing ``out`` other than :data:`OUTPUT_NAMES` are carried over (hard links);
+    :func:`run_reproduction` refuses such a folder before any work.
+
     Parameters
     ----------
     rep : Reproduction
         The result of :func:`compute_reproduction`.
     out : str or Path
-        Output folder (created); every file is written atomically.
+        Output folder (created, or replaced as a whole).
     progress : callable, optional
         Called with a short message before each step.
 
@@ -235,60 +349,70 @@ def write_reproduction(rep: Reproduction, out: str | Path, *,
     """
     say = progress or (lambda _m: None)
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    say("writing results")
-    _write_loads(rep, out / "dynamic_load.nc")
-    say("figures")
-    t0 = time.perf_counter()
-    paths = save_all(rep.plot(), out / "figures")
-    figures = [{"name": p.stem, "path": p, "caption": CAPTIONS[p.stem]} for p in paths]
-    rep.timings["figures"] = time.perf_counter() - t0
-    _write_claims(rep, out / "claims.json")
-    return write_report(rep, figures, out / "report.html")
+    if out.exists() and not out.is_dir():
+        raise InputError("--out", str(out), "must be a folder (a file of that name exists)")
+    with atomic_folder(out, keep=lambda name: name not in OUTPUT_NAMES) as tmp:
+        say("writing results")
+        _write_loads(rep, tmp / "dynamic_load.nc")
+        say("figures")
+        t0 = time.perf_counter()
+        paths = save_all(rep.plot(), tmp / "figures")
+        figures = [{"name": p.stem, "path": p, "caption": CAPTIONS[p.stem]} for p in paths]
+        rep.timings["figures"] = time.perf_counter() - t0
+        _write_claims(rep, tmp / "claims.json")
+        write_report(rep, figures, tmp / "report.html")
+    return out / "report.html"
 
 
 def run_reproduction(out: str | Path, options: ReproduceOptions | None = None, *,
-                     progress: Callable[[str], None] | None = None) -> Reproduction:
+                     progress: Callable[[str], None] | None = None,
+                     force: bool | None = None) -> Reproduction:
     """Run the seed's study and write report, figures and ``claims.json`` into ``out``.
 
     Parameters
     ----------
     out : str or Path
-        Output folder (created). Files are written atomically.
+        Output folder: new, empty, or an earlier output of ``reproduce`` (checked
+        before any work by :func:`check_output`; replaced as a whole at the end, see
+        :func:`write_reproduction`).
     options : ReproduceOptions, optional
         Default the full study.
     progress : callable, optional
         Called with a short message before each step.
+    force : bool, optional
+        Lift the cost bounds (see :func:`compute_reproduction`).
 
     Returns
     -------
     Reproduction
         All numbers; ``out/report.html`` is the report.
+
+    Raises
+    ------
+    InputError
+        A bad output folder or bad options, before any work.
     """
-    out = Path(out)
-    if out.exists() and not out.is_dir():
-        raise InputError("--out", str(out), "must be a folder (a file of that name exists)")
+    out = check_output(out)
     t0 = time.perf_counter()
-    rep = compute_reproduction(options, progress=progress)
+    rep = compute_reproduction(options, progress=progress, force=force)
     rep.timings["total"] = time.perf_counter() - t0  # written before the files, as before
     write_reproduction(rep, out, progress=progress)
     return rep
 
 
 def _sensitivity(base: GearTrain, opt: ReproduceOptions, settings: DynamicsSettings,
-                 healthy: CaseRun, eps: float,
-                 say: Callable[[str], None]) -> list[dict[str, Any]]:
+                 healthy: CaseRun, eps: float, say: Callable[[str], None],
+                 force: bool | None = None) -> list[dict[str, Any]]:
     """Claims measures and TVMS drop versus crack depth (PE route)."""
     k_h = base.with_cracks(()).mesh_stiffness(0, revolution_of=1).k
     rows = []
-    variants = (("working", "working", "contact"), ("non-working", "non-working", "contact"),
-                ("open", "working", "open"))
+    variants = SENSITIVITY
     for d in opt.depths:
         cases = {}
         for label, flank, closure in variants:
             tr = base.with_crack(flank, depth=d, closure=closure, source="pe")
             cases[f"{label}@{d * 1e3:g}mm"] = ("PE", label, tr)
-        runs = simulate_cases(base, cases, settings, progress=say)
+        runs = simulate_cases(base, cases, settings, progress=say, force=force)
         for (label, _, _), run in zip(variants, runs.values(), strict=True):
             m = case_metrics(label, run.force, run.analysis, healthy.force, healthy.analysis,
                              contact_ratio=eps)
@@ -309,14 +433,6 @@ def _sensitivity(base: GearTrain, opt: ReproduceOptions, settings: DynamicsSetti
                 "sideband_mean_2fm_N": m.sideband_mean[2],
             })
     return rows
-
-
-def _pct(v: float) -> float | None:
-    return float(100 * v) if math.isfinite(v) else None
-
-
-def _finite(v: float) -> float | None:
-    return float(v) if math.isfinite(v) else None
 
 
 def _pct(v: float) -> float | None:

@@ -31,6 +31,15 @@ Parameters not given take the base train's value (noise: 0). Plain numbers are S
 ``sampling = "random"`` a list is sampled uniformly and a range ``{min, max}`` uniformly
 in value (``log = true``: in logarithm). Unknown keys, empty lists and empty ranges are
 refused with :class:`gearsim.errors.InputError`.
+
+Every study-wide setting is checked once, when the file is read (:func:`check_study`),
+so that a bad one is refused before any case runs rather than failing every case: the
+dynamics overrides (applied to the base train's settings, which check them), the
+analysed signal (a variable the simulation produces), every parameter value (noise
+>= 0, speed, torque and bearing stiffness > 0, all finite; each crack depth fits the
+tooth on each cracked flank of the study), the recorded duration (at least one
+revolution of the slowest gear at the lowest speed), a study that varies nothing, and
+the number of cases (at most :data:`MAX_CASES`, or ``study.max_cases``).
 """
 
 from __future__ import annotations
@@ -40,6 +49,7 @@ import hashlib
 import itertools
 import json
 import math
+import re
 import tomllib
 from dataclasses import dataclass
 from importlib import resources
@@ -48,16 +58,19 @@ from typing import Any
 
 import numpy as np
 
+from gearsim.dynamics.lta import AXES as LTA_AXES
+from gearsim.dynamics.simulate import check_cost
 from gearsim.errors import InputError, require
-from gearsim.model import loads
+from gearsim.model import Gearbox, loads
 from gearsim.model.config import EXAMPLES, example_text, read_file_or_builtin
 from gearsim.sections import convert
 from gearsim.stiffness.settings import CLOSURES
+from gearsim.system import Operating
 from gearsim.system.train import CRACK_CHOICES
 from gearsim.units import to_si
 
-__all__ = ["BUILTIN_STUDIES", "PARAMETERS", "Case", "Study", "builtin_study_text", "expand",
-           "load_study", "loads_study"]
+__all__ = ["BUILTIN_STUDIES", "MAX_CASES", "PARAMETERS", "Case", "Study", "builtin_study_text",
+           "case_count", "check_study", "expand", "load_study", "loads_study", "signal_choices"]
 
 #: Built-in studies in ``gearsim/data/studies``.
 BUILTIN_STUDIES = ("diagnostic",)
@@ -73,7 +86,13 @@ PARAMETERS: dict[str, str | tuple[str, ...]] = {
     "noise": "dimensionless",
 }
 STUDY_KEYS = ("name", "config", "sampling", "samples", "seed", "replicates", "signal",
-              "shafts", "store_signals", "dynamics")
+              "shafts", "store_signals", "max_cases", "dynamics")
+#: Largest number of cases a study may have unless its ``study.max_cases`` allows more.
+MAX_CASES = 100_000
+#: Parameter -> (lowest value, whether the lowest value itself is allowed, unit shown).
+LOWER_BOUNDS = {"crack_depth": (0.0, True, "m"), "speed": (0.0, False, "rad/s"),
+                "torque": (0.0, False, "N*m"), "bearing_stiffness": (0.0, False, "N/m"),
+                "noise": (0.0, True, "")}
 DYNAMICS_OVERRIDES = {"duration": "time", "fs": "frequency", "transient": "time",
                       "step": "time", "model": "str"}
 
@@ -265,6 +284,17 @@ def load_study(path: str | Path) -> Study:
     return loads_study(text, base_dir=folder)
 
 
+def _checked(name: str, value: float, where: str, raw: Any) -> float:
+    """``value`` (SI) if finite and above the parameter's lower bound, else refused."""
+    low, inclusive, unit = LOWER_BOUNDS[name]
+    unit = f" {unit}" if unit else ""
+    limit = f"must be >= {low:g}{unit} and finite" if inclusive else \
+        f"must be > {low:g}{unit} and finite"
+    ok = math.isfinite(value) and (value >= low if inclusive else value > low)
+    require(ok, where, raw, limit)
+    return value
+
+
 def _values(name: str, raw: Any) -> tuple | dict:
     kind = PARAMETERS[name]
     where = f"parameters.{name}"
@@ -277,8 +307,8 @@ def _values(name: str, raw: Any) -> tuple | dict:
                                  "num, log")
         if "min" not in raw or "max" not in raw:
             raise InputError(where, raw, "a range needs min and max")
-        lo = to_si(raw["min"], kind, f"{where}.min")
-        hi = to_si(raw["max"], kind, f"{where}.max")
+        lo = _checked(name, to_si(raw["min"], kind, f"{where}.min"), f"{where}.min", raw["min"])
+        hi = _checked(name, to_si(raw["max"], kind, f"{where}.max"), f"{where}.max", raw["max"])
         require(lo <= hi, where, f"min {raw['min']} > max {raw['max']}",
                 "empty range: need min <= max")
         num = raw.get("num")
@@ -299,7 +329,7 @@ def _values(name: str, raw: Any) -> tuple | dict:
             require(v in kind, f"{where}[{i}]", v, "must be one of " + ", ".join(kind))
             out.append(v)
         else:
-            out.append(to_si(v, kind, f"{where}[{i}]"))
+            out.append(_checked(name, to_si(v, kind, f"{where}[{i}]"), f"{where}[{i}]", v))
     return tuple(out)
 
 
@@ -342,7 +372,9 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
             raise InputError(f"study.{key}", st[key], "unknown key; allowed: "
                              + ", ".join(STUDY_KEYS))
     config = st.get("config", "idler-table1")
-    require(isinstance(config, str), "study.config", config, "must be a string")
+    require(isinstance(config, str) and config.strip() != "", "study.config",
+            config if config != "" else '""', "must name a config file or a built-in example: "
+            + ", ".join(EXAMPLES))
     if config in EXAMPLES and not Path(config).exists():
         config_text = example_text(config)
     else:
@@ -352,7 +384,13 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
         if not p.exists():
             raise InputError("study.config", config, "file not found (or give a built-in "
                              "example: " + ", ".join(EXAMPLES) + ")")
-        config, config_text = str(p), p.read_text(encoding="utf-8")
+        if not p.is_file():
+            raise InputError("study.config", config, "is not a file")
+        try:
+            config, config_text = str(p), p.read_text(encoding="utf-8-sig")
+        except (OSError, UnicodeDecodeError) as exc:
+            raise InputError("study.config", config, f"cannot be read: "
+                             f"{getattr(exc, 'strerror', None) or exc}") from None
     sampling = st.get("sampling", "grid")
     require(sampling in ("grid", "random"), "study.sampling", sampling,
             'must be "grid" or "random"')
@@ -394,10 +432,197 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
                         "a grid range needs num (number of points)")
     name = st.get("name", "parameter study")
     require(isinstance(name, str), "study.name", name, "must be a string")
-    return Study(name=name, text=text, config=config, config_text=config_text,
-                 sampling=sampling, samples=int(samples or 0), seed=seed,
-                 replicates=replicates, signal=signal, shafts=shafts,
-                 store_signals=store_signals, dynamics=dynamics, parameters=parameters)
+    max_cases = st.get("max_cases", MAX_CASES)
+    require(isinstance(max_cases, int) and not isinstance(max_cases, bool) and max_cases >= 1,
+            "study.max_cases", max_cases, "must be an integer >= 1")
+    if not parameters:
+        raise InputError("parameters", "none", "nothing to vary: give at least one of "
+                         + ", ".join(PARAMETERS) + " under [parameters]")
+    study = Study(name=name, text=text, config=config, config_text=config_text,
+                  sampling=sampling, samples=int(samples or 0), seed=seed,
+                  replicates=replicates, signal=signal, shafts=shafts,
+                  store_signals=store_signals, dynamics=dynamics, parameters=parameters)
+    n = case_count(study)
+    if n > max_cases:
+        what = ("samples x replicates" if sampling == "random"
+                else "product of the parameter list lengths x replicates")
+        raise InputError("study", f"{n} cases ({what})",
+                         f"at most {max_cases} cases; set study.max_cases to allow more")
+    check_study(study)
+    return study
+
+
+def case_count(study: Study) -> int:
+    """Number of cases of a study, without listing them.
+
+    Parameters
+    ----------
+    study : Study
+        The parsed study.
+
+    Returns
+    -------
+    int
+        ``len(expand(study))``: grid: the product of the lengths of the parameter lists
+        (ranges: ``num``) times ``replicates``; random: ``samples`` times ``replicates``.
+    """
+    if study.sampling == "random":
+        return study.samples * study.replicates
+    n = study.replicates
+    for spec in study.parameters.values():
+        n *= len(spec) if isinstance(spec, tuple) else int(spec["num"])
+    return n
+
+
+def signal_choices(gearbox: Gearbox) -> list[str]:
+    """The records a study can analyse: what :func:`gearsim.dynamics.simulate` produces.
+
+    Parameters
+    ----------
+    gearbox : gearsim.model.Gearbox
+        The base train with the study's dynamics settings (the model decides the axes).
+
+    Returns
+    -------
+    list of str
+        ``mesh_force_i``, ``dte_i``, ``ste_i`` for each mesh ``i`` (1, 2, ...), then
+        ``bearing_force[gear,axis]`` and ``acceleration[gear,axis]`` for every gear and
+        bearing axis (LTA model: x, y, z; seed model: y).
+
+    Examples
+    --------
+    >>> from gearsim.model import load
+    >>> from gearsim.studies.sweep import signal_choices
+    >>> names = signal_choices(load("idler-table1"))
+    >>> names[:3], "acceleration[input,y]" in names
+    (['mesh_force_1', 'dte_1', 'ste_1'], True)
+    """
+    out = []
+    for i in range(len(gearbox.train.pairs)):
+        out += [f"mesh_force_{i + 1}", f"dte_{i + 1}", f"ste_{i + 1}"]
+    axes = LTA_AXES if gearbox.dynamics.model == "lta" else ("y",)
+    for var in ("bearing_force", "acceleration"):
+        out += [f"{var}[{g.name},{a}]" for g in gearbox.train.gears for a in axes]
+    return out
+
+
+def _signal_key(spec: str) -> str | None:
+    """``spec`` normalised as in :func:`signal_choices` (``None``: not of that form)."""
+    m = re.fullmatch(r"\s*(\w+)\s*(?:\[\s*([\w-]+)\s*,\s*(\w+)\s*\])?\s*", spec)
+    if m is None:
+        return None
+    return m.group(1) if m.group(2) is None else f"{m.group(1)}[{m.group(2)},{m.group(3)}]"
+
+
+def _raw_parameter(study: Study, name: str) -> Any:
+    try:
+        return tomllib.loads(study.text).get("parameters", {}).get(name)
+    except tomllib.TOMLDecodeError:  # pragma: no cover (the text was parsed before)
+        return None
+
+
+def _points(study: Study, name: str) -> list[tuple[str, Any, float]]:
+    """(parameter name, value as written, SI value) of each value a parameter can take.
+
+    For a range, its ends (every grid point and every random draw lies between them).
+    """
+    spec = study.parameters[name]
+    raw = _raw_parameter(study, name)
+    where = f"parameters.{name}"
+    if isinstance(spec, dict):
+        raw = raw if isinstance(raw, dict) else {}
+        return [(f"{where}.{k}", raw.get(k, spec[k]), spec[k]) for k in ("min", "max")]
+    raw = raw if isinstance(raw, list) else [raw] * len(spec)
+    return [(f"{where}[{i}]", raw[i] if i < len(raw) else v, v) for i, v in enumerate(spec)]
+
+
+def check_study(study: Study) -> None:
+    """Check every study-wide setting once, before any case runs.
+
+    A bad setting here would fail every case alike; it is refused instead: the dynamics
+    overrides (applied with :meth:`gearsim.model.Gearbox.replace`, which checks them,
+    and finite), the analysed signal (one of :func:`signal_choices`), the bearing
+    stiffness values (as dynamics settings), each crack depth on each cracked flank of the
+    study (:meth:`gearsim.system.GearTrain.with_crack` checks it fits the tooth), and the
+    recorded duration (at least one revolution of the slowest gear at the lowest speed).
+    :func:`loads_study` calls it; the values' signs were checked when they were read.
+
+    Parameters
+    ----------
+    study : Study
+        The parsed study.
+
+    Raises
+    ------
+    InputError
+        Naming the study key or parameter value (``study.dynamics.fs``,
+        ``parameters.crack_depth[2]``, ``study.signal``, ...).
+    """
+    gb = loads(study.config_text)
+    for key, value in study.dynamics.items():
+        if isinstance(value, float):
+            require(math.isfinite(value), f"study.dynamics.{key}", value, "must be finite")
+    try:
+        gb = gb.replace(dynamics=dict(study.dynamics))
+    except InputError as exc:
+        name = exc.parameter
+        if name.startswith("dynamics."):
+            name = "study." + name
+        raise InputError(name, exc.value, exc.limit) from None
+    except TypeError as exc:  # pragma: no cover (keys were checked when read)
+        raise InputError("study.dynamics", dict(study.dynamics), str(exc)) from None
+    choices = signal_choices(gb)
+    key = _signal_key(study.signal)
+    if key not in choices:
+        shown = ", ".join(choices[:6]) + ", ..." if len(choices) > 6 else ", ".join(choices)
+        raise InputError("study.signal", study.signal,
+                         f"not a variable of the simulation; give one of {shown} "
+                         "(variable[gear,axis] with gears "
+                         + ", ".join(g.name for g in gb.train.gears) + ")")
+    if "bearing_stiffness" in study.parameters:
+        for where, raw, value in _points(study, "bearing_stiffness"):
+            try:
+                gb.replace(dynamics={"bearing_stiffness": value})
+            except InputError as exc:
+                raise InputError(where, raw, exc.limit) from None
+    flanks = study.parameters.get("flank")
+    if flanks is None:
+        flanks = (gb.train.cracks[0].flank,) if gb.train.cracks else ("none",)
+    cracked = [f for f in dict.fromkeys(flanks) if f != "none"]
+    if "crack_depth" in study.parameters:
+        depths = _points(study, "crack_depth")
+    else:
+        d = gb.train.cracks[0].depth if gb.train.cracks else None
+        depths = [("crack.depth", d, d)]
+    for flank in cracked:
+        for where, raw, value in depths:
+            try:
+                gb.train.with_crack(flank, depth=value)
+            except InputError as exc:
+                raise InputError(where, raw, f"{exc.limit} (flank {flank})") from None
+    train = gb.train
+    speeds = ([v for _, _, v in _points(study, "speed")] if "speed" in study.parameters
+              else [train.operating.speed])
+    slowest = dataclasses.replace(train, operating=Operating(speed=min(speeds),
+                                                             torque=train.operating.torque))
+    t_rev = 1.0 / min(slowest.shaft_frequency(j) for j in range(len(train.gears)))
+    duration = gb.dynamics.duration
+    if duration < t_rev * (1 - 1e-9):
+        raise InputError("study.dynamics.duration", f"{duration:g} s",
+                         f"must be >= {t_rev:.6g} s (one revolution of the slowest gear at "
+                         f"the lowest speed, {min(speeds) * 30 / math.pi:.6g} rpm)")
+    # aliasing and run cost of the most demanding case (highest speed): refused here,
+    # not case by case inside the cluster
+    fastest = dataclasses.replace(train, operating=Operating(speed=max(speeds),
+                                                             torque=train.operating.torque))
+    try:
+        check_cost(fastest, gb.dynamics, harmonics=max(gb.analysis.orders))
+    except InputError as exc:
+        name = exc.parameter
+        if name.startswith("dynamics."):
+            name = "study." + name
+        raise InputError(name, exc.value, f"{exc.limit} (at the highest speed of the study, "
+                         f"{max(speeds) * 30 / math.pi:.6g} rpm)") from None
 
 
 def _base_values(study: Study) -> dict[str, tuple]:

@@ -22,8 +22,16 @@ Design (see ``docs/studies.md``, "Parameter sweeps"):
 
 from __future__ import annotations
 
+import logging
+import os
+import re
+import signal
 import sys
-from collections.abc import Callable, Sequence
+import threading
+import time
+import warnings
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -32,16 +40,25 @@ import numpy as np
 from gearsim._version import __version__
 from gearsim.errors import InputError, SimulationError
 from gearsim.io.atomic import atomic_write
+from gearsim.io.targets import check_output_file
 from gearsim.studies.sweep import Case, Study, expand
 from gearsim.studies.sweep_case import run_group
 
-__all__ = ["ALLOWED_FAILURES", "RETRIES", "SweepResult", "combine", "groups", "part_bytes",
-           "parts_dir", "run_serial", "run_study"]
+__all__ = ["ALLOWED_FAILURES", "CONNECT_TIMEOUT", "RETRIES", "SweepResult", "check_scheduler",
+           "combine", "groups", "lock_path", "part_bytes", "parts_dir", "plan_workers",
+           "run_serial", "run_study", "store_lock"]
 
 #: Worker deaths a task may cause before the scheduler gives up on it (local cluster).
 ALLOWED_FAILURES = 3
 #: Retries of a task that raised (``Client.submit(retries=...)``).
 RETRIES = 2
+#: How long to wait for a remote scheduler (``--scheduler``).
+CONNECT_TIMEOUT = "10s"
+#: Seconds the local cluster's workers may take to start, and to be spawned.
+WORKER_START_TIMEOUT = 120.0
+SPAWN_WAIT = 10.0
+_ADDRESS = re.compile(r"(?:(?P<scheme>tcp|tls|ucx|ws|wss|inproc)://)?"
+                      r"(?P<host>\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):(?P<port>\d{1,5})/?")
 
 
 @dataclass(frozen=True)
@@ -262,10 +279,256 @@ def _progress(total: int, done: int, enabled: bool):
     return prog, task
 
 
+def check_scheduler(address: str) -> str:
+    """Check the form of a Dask scheduler address before connecting to it.
+
+    Parameters
+    ----------
+    address : str
+        ``tcp://host:port`` (or ``tls://``, ``ucx://``, ``ws://``, ``wss://``, ``inproc://``)
+        or ``host:port``; the host a name, an IPv4 address or a bracketed IPv6 address.
+
+    Returns
+    -------
+    str
+        The address, stripped of surrounding blanks.
+
+    Raises
+    ------
+    InputError
+        Any other form, or a port outside 1-65535.
+
+    Examples
+    --------
+    >>> check_scheduler("tcp://10.0.0.5:8786")
+    'tcp://10.0.0.5:8786'
+    """
+    text = address.strip() if isinstance(address, str) else ""
+    m = _ADDRESS.fullmatch(text)
+    if m is None:
+        raise InputError("--scheduler", address, "must be a scheduler address, "
+                         "tcp://host:port or host:port (e.g. tcp://127.0.0.1:8786)")
+    if m.group("scheme") != "inproc" and not 1 <= int(m.group("port")) <= 65535:
+        raise InputError("--scheduler", address, "port must be in 1-65535")
+    return text
+
+
+def plan_workers(requested: int, tasks: int) -> tuple[int, str | None]:
+    """Local worker processes for ``tasks`` simulation groups: at most one per group or core.
+
+    Parameters
+    ----------
+    requested : int
+        Workers asked for (``--workers``), >= 1.
+    tasks : int
+        Simulation groups still to compute.
+
+    Returns
+    -------
+    n : int
+        ``min(requested, tasks, os.cpu_count())``, at least 1.
+    note : str or None
+        A one-line note when ``n < requested``, else ``None``.
+
+    Raises
+    ------
+    InputError
+        ``requested`` is not an integer >= 1.
+    """
+    if isinstance(requested, bool) or not isinstance(requested, int) or requested < 1:
+        raise InputError("--workers", requested, "must be an integer >= 1")
+    cores = os.cpu_count() or 1
+    n = max(1, min(requested, tasks, cores))
+    if n >= requested:
+        return n, None
+    why = (f"{tasks} simulation group{'s' if tasks != 1 else ''} to compute"
+           if n == max(1, tasks) and tasks < cores else f"{cores} CPU core{'s' if cores != 1 else ''}")
+    return n, f"gearsim: note: --workers {requested} reduced to {n} ({why})"
+
+
+def lock_path(store: str | Path) -> Path:
+    """Lock file of ``store`` while a sweep writes it: ``STORE.lock`` (holds the pid).
+
+    Parameters
+    ----------
+    store : str or Path
+        The study store.
+
+    Returns
+    -------
+    Path
+    """
+    store = Path(store)
+    return store.with_name(store.name + ".lock")
+
+
+def _pid_alive(pid: int) -> bool:
+    if pid <= 0:
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # someone else's live process
+        return True
+    except OSError:
+        return False
+    return True
+
+
+@contextmanager
+def store_lock(store: str | Path) -> Iterator[Path]:
+    """Hold ``STORE.lock`` (created with ``O_CREAT | O_EXCL``) while writing ``store``.
+
+    The lock file holds the pid of its owner and is removed on exit. A lock whose pid no
+    longer runs (a killed sweep) is taken over.
+
+    Parameters
+    ----------
+    store : str or Path
+        The study store.
+
+    Yields
+    ------
+    Path
+        The lock file.
+
+    Raises
+    ------
+    InputError
+        Another live process holds the lock.
+    """
+    lock = lock_path(store)
+    lock.parent.mkdir(parents=True, exist_ok=True)
+    for _attempt in range(3):
+        try:
+            fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+        except FileExistsError:
+            try:
+                text = lock.read_text().strip()
+                age = time.time() - lock.stat().st_mtime
+            except FileNotFoundError:
+                continue  # released meanwhile: try again
+            pid = int(text) if text.isdigit() else 0
+            if _pid_alive(pid) or (not text and age < 10.0):  # empty: being written now
+                raise InputError("--out", str(store), f"is being written by another sweep "
+                                 f"(pid {pid or '?'}; lock file {lock})") from None
+            lock.unlink(missing_ok=True)  # stale: its sweep was killed
+            continue
+        with os.fdopen(fd, "w") as f:
+            f.write(f"{os.getpid()}\n")
+        break
+    else:
+        raise InputError("--out", str(store), f"cannot take the lock file {lock}")
+    try:
+        yield lock
+    finally:
+        try:
+            if lock.read_text().strip() == str(os.getpid()):
+                lock.unlink()
+        except OSError:
+            pass
+
+
+@contextmanager
+def _quiet_distributed() -> Iterator[None]:
+    """Silence distributed's loggers (shutdown chatter, interrupted comms)."""
+    names = ["distributed", *(n for n in logging.root.manager.loggerDict
+                              if n.startswith("distributed."))]
+    saved = {n: logging.getLogger(n).level for n in names}
+    for n in names:
+        logging.getLogger(n).setLevel(logging.CRITICAL + 1)
+    try:
+        yield
+    finally:
+        for n, level in saved.items():
+            logging.getLogger(n).setLevel(level)
+
+
+def _shutdown(client, cluster) -> None:
+    """Close the client and the local cluster quietly (also after Ctrl-C)."""
+    with _quiet_distributed(), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for thing in (client, cluster):
+            if thing is None:
+                continue
+            try:
+                thing.close()
+            except Exception:  # noqa: BLE001  (best effort; the run's outcome is decided)
+                pass
+
+
+def _start_local(workers: int, cluster_kwargs: dict | None, live: dict) -> None:
+    """A LocalCluster whose worker processes ignore Ctrl-C (only the client handles it).
+
+    A Ctrl-C in a terminal reaches every process of its process group, the workers too,
+    which would die with tracebacks of their own. The cluster starts without workers;
+    SIGINT is ignored only while the worker processes are spawned (an ignored signal
+    stays ignored across exec, so the workers keep ignoring it), then restored: the
+    client is interrupted, and shuts the cluster down. The cluster and client go into
+    ``live`` as soon as they exist, so the caller shuts them down wherever an interrupt
+    lands.
+    """
+    from distributed import Client, LocalCluster
+
+    # silence_logs: the level of distributed's loggers here and in the workers; their
+    # messages at shutdown (tasks cancelled, heartbeats to a closed scheduler) are no news
+    # to the user, and a task's own failure reaches the client as its exception
+    kw = {"threads_per_worker": 1, "processes": True, "dashboard_address": None,
+          "silence_logs": logging.CRITICAL, **(cluster_kwargs or {}), "n_workers": 0}
+    with _quiet_distributed():
+        live["cluster"] = cluster = LocalCluster(**kw)
+        live["client"] = client = Client(cluster)
+    main = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    try:
+        cluster.scale(workers)
+        deadline = time.monotonic() + SPAWN_WAIT
+        while time.monotonic() < deadline:  # until every worker process exists
+            nannies = list(cluster.workers.values())
+            if len(nannies) >= workers and all(getattr(n, "pid", None) for n in nannies):
+                break
+            time.sleep(0.005)
+    finally:
+        if main:
+            signal.signal(signal.SIGINT, previous if previous is not None
+                          else signal.default_int_handler)
+    try:
+        client.wait_for_workers(workers, timeout=WORKER_START_TIMEOUT)
+    except TimeoutError:
+        raise SimulationError(f"sweep: the local cluster did not start {workers} worker"
+                              f"{'s' if workers != 1 else ''} within "
+                              f"{WORKER_START_TIMEOUT:g} s") from None
+
+
+def _connect(address: str, live: dict) -> None:
+    from distributed import Client
+
+    try:
+        with _quiet_distributed():
+            live["client"] = Client(address, timeout=CONNECT_TIMEOUT)
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise InputError("--scheduler", address,
+                         f"cannot connect within {CONNECT_TIMEOUT}: {_first_line(exc)}") from None
+
+
+def _first_line(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()
+    return text[0] if text else type(exc).__name__
+
+
 def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
               workers: int = 2, progress: bool = True, hook: Callable | None = None,
-              cluster_kwargs: dict | None = None) -> SweepResult:
+              cluster_kwargs: dict | None = None,
+              note: Callable[[str], None] | None = None) -> SweepResult:
     """Run a study on Dask and write its store; resume from ``STORE.parts`` if present.
+
+    Checks come first (the study's settings were checked when it was read,
+    :func:`gearsim.studies.sweep.check_study`): ``workers``, the scheduler address, the
+    store path; then the store's lock (``STORE.lock``: a second sweep on the same store
+    is refused). The local cluster has at most one worker per group to compute and per
+    CPU core. On Ctrl-C (``KeyboardInterrupt``) the client and cluster are shut down
+    quietly and the finished parts are kept: the next run resumes from them.
 
     Parameters
     ----------
@@ -277,82 +540,90 @@ def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
         Address of a running Dask scheduler (``tcp://host:8786``); ``None``: start a
         ``LocalCluster`` of ``workers`` processes with one thread each.
     workers : int
-        Number of local worker processes (>= 1).
+        Number of local worker processes (>= 1; reduced to the groups to compute and
+        the CPU cores, see :func:`plan_workers`).
     progress : bool
         Show a progress bar on standard error.
     hook : callable, optional
         Passed to :func:`run_group` (fault injection in tests).
     cluster_kwargs : dict, optional
         Extra keyword arguments of ``LocalCluster``.
+    note : callable, optional
+        Called with a one-line note (e.g. fewer workers than asked); default: none.
 
     Returns
     -------
     SweepResult
+
+    Raises
+    ------
+    InputError
+        Bad ``workers``, scheduler address or store path; a store being written by
+        another sweep; a scheduler that cannot be reached.
+    SimulationError
+        A group failed after its retries.
     """
     import dask
-    from distributed import Client, LocalCluster, as_completed
+    from distributed import as_completed
 
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise InputError("--workers", workers, "must be an integer >= 1")
-    store = Path(store)
-    if store.suffix != ".nc":
-        raise InputError("--out", str(store), "must end in .nc (NetCDF store)")
-    pdir = parts_dir(store)
-    pdir.mkdir(parents=True, exist_ok=True)
+    plan_workers(workers, 1)  # the type and sign of workers, before anything else
+    if scheduler is not None:
+        scheduler = check_scheduler(scheduler)
+    store = check_output_file(store, "--out", (".nc",))
     cases = expand(study)
     grouped = groups(study, cases)
-    done: dict[str, object] = {}
-    for key in grouped:
-        path = pdir / f"{key}.nc"
-        if path.exists():
-            part = _read_part(path)
-            if part is not None and part.sizes.get("case") == len(grouped[key]):
-                done[key] = part
-    todo = [k for k in grouped if k not in done]
-    skipped = sum(len(grouped[k]) for k in done)
-    computed = 0
-    if todo:
-        bar = _progress(len(cases), skipped, progress)
-        cluster = None
-        with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES}):
-            try:
-                if scheduler is None:
-                    kw = {"n_workers": workers, "threads_per_worker": 1, "processes": True,
-                          "dashboard_address": None, **(cluster_kwargs or {})}
-                    cluster = LocalCluster(**kw)
-                    client = Client(cluster)
-                else:
-                    try:
-                        client = Client(scheduler, timeout="20s")
-                    except (OSError, TimeoutError) as exc:
-                        raise InputError("--scheduler", scheduler,
-                                         f"cannot connect: {exc}") from None
-                with client:
-                    futures = {client.submit(part_bytes, study, grouped[k], hook, key=f"case-{k}",
-                                             pure=False, retries=RETRIES): k for k in todo}
+    with store_lock(store):
+        pdir = parts_dir(store)  # created with the first part (atomic_write)
+        done: dict[str, object] = {}
+        for key in grouped:
+            path = pdir / f"{key}.nc"
+            if path.exists():
+                part = _read_part(path)
+                if part is not None and part.sizes.get("case") == len(grouped[key]):
+                    done[key] = part
+        todo = [k for k in grouped if k not in done]
+        skipped = sum(len(grouped[k]) for k in done)
+        computed = 0
+        if todo:
+            n_workers, msg = plan_workers(workers, len(todo))
+            if msg is not None and scheduler is None and note is not None:
+                note(msg)
+            bar = None
+            live: dict = {}
+            with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES}):
+                try:
+                    if scheduler is None:
+                        _start_local(n_workers, cluster_kwargs, live)
+                    else:
+                        _connect(scheduler, live)
+                    client = live["client"]
+                    bar = _progress(len(cases), skipped, progress)
+                    futures = {client.submit(part_bytes, study, grouped[k], hook,
+                                             key=f"case-{k}", pure=False, retries=RETRIES): k
+                               for k in todo}
                     for fut in as_completed(futures):
                         key = futures[fut]
                         try:
                             data = fut.result()
                         except Exception as exc:
-                            raise SimulationError(f"sweep: cases {[c.index for c in grouped[key]]}"
-                                                  f" failed after retries: {exc}") from exc
+                            raise SimulationError(
+                                f"sweep: cases {[c.index for c in grouped[key]]} failed after"
+                                f" retries: {_first_line(exc)}") from exc
                         atomic_write(pdir / f"{key}.nc", lambda p, d=data: p.write_bytes(d))
                         fut.release()
                         computed += len(grouped[key])
                         if bar is not None:
                             bar[0].advance(bar[1], len(grouped[key]))
-            finally:
-                if cluster is not None:
-                    cluster.close()
-                if bar is not None:
-                    bar[0].stop()
-    for key in todo:  # read after the cluster is gone (no GIL contention with it)
-        done[key] = _read_part(pdir / f"{key}.nc")
-        if done[key] is None:
-            raise SimulationError(f"sweep: part {pdir / key}.nc cannot be read")
-    ds = combine(study, [done[k] for k in grouped])
-    _write_nc(ds, store)
+                finally:
+                    if bar is not None:
+                        bar[0].stop()
+                    _shutdown(live.get("client"), live.get("cluster"))
+        for key in todo:  # read after the cluster is gone (no GIL contention with it)
+            done[key] = _read_part(pdir / f"{key}.nc")
+            if done[key] is None:
+                raise SimulationError(f"sweep: part {pdir / key}.nc cannot be read")
+        ds = combine(study, [done[k] for k in grouped])
+        _write_nc(ds, store)
     failed = int(ds.attrs["n_failed"])
     return SweepResult(store=store, n_cases=len(cases), computed=computed, skipped=skipped,
                        failed=failed)

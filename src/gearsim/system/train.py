@@ -11,6 +11,7 @@ flank (reversed bending).
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 
@@ -57,6 +58,12 @@ def tooth_compliance(source: str) -> ToothCompliance:
     raise InputError("stiffness.source", source, 'must be "pe" or "fe"')
 
 
+#: Ceilings of the operating point: about 955 000 rpm, 1e9 N m (the largest gearboxes
+#: carry ~1e7 N m); beyond them the value is a unit mistake.
+MAX_SPEED = 1e5  # rad/s
+MAX_TORQUE = 1e9  # N m
+
+
 @dataclass(frozen=True)
 class Operating:
     """Operating point of the input gear.
@@ -64,17 +71,34 @@ class Operating:
     Parameters
     ----------
     speed
-        Input speed [rad/s] (> 0).
+        Input speed [rad/s] (finite, in (0, 1e5]). In a config file a speed needs a
+        unit (``"1900 rpm"``): a bare number would be ambiguous.
     torque
-        Input torque [N m] (> 0).
+        Input torque [N m] (finite, in (0, 1e9]).
+
+    Raises
+    ------
+    InputError
+        If the speed or the torque is not a finite number > 0 or above its ceiling.
     """
 
     speed: float = 1900 * 2 * math.pi / 60
     torque: float = 4876.0
 
     def __post_init__(self) -> None:
-        require(self.speed > 0, "operating.speed", self.speed, "must be > 0 rad/s")
-        require(self.torque > 0, "operating.torque", self.torque, "must be > 0 N*m")
+        require(_positive(self.speed), "operating.speed", self.speed,
+                "must be a finite number > 0 rad/s")
+        require(self.speed <= MAX_SPEED, "operating.speed", self.speed,
+                f"must be <= {MAX_SPEED:g} rad/s ({MAX_SPEED * 30 / math.pi:.0f} rpm)")
+        require(_positive(self.torque), "operating.torque", self.torque,
+                "must be a finite number > 0 N*m")
+        require(self.torque <= MAX_TORQUE, "operating.torque", self.torque,
+                f"must be <= {MAX_TORQUE:g} N*m")
+
+
+def _positive(v: object) -> bool:
+    return (isinstance(v, numbers.Real) and not isinstance(v, bool) and math.isfinite(v)
+            and v > 0)
 
 
 @dataclass(frozen=True)

@@ -26,12 +26,13 @@ import matplotlib
 
 from gearsim.errors import InputError
 from gearsim.io.atomic import atomic_write
+from gearsim.io.targets import check_output_file
 from gearsim.viz.style import DPI, STYLE
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
-__all__ = ["DPI", "FORMATS", "STYLE", "save", "save_all"]
+__all__ = ["DPI", "FORMATS", "STYLE", "check_plot_file", "save", "save_all"]
 
 #: File formats :func:`save` writes, by suffix (without the dot).
 FORMATS = ("png", "pdf", "svg")
@@ -42,6 +43,34 @@ def _format(path: Path, parameter: str) -> str:
     if fmt not in FORMATS:
         raise InputError(parameter, str(path), "must end in .png, .pdf or .svg")
     return fmt
+
+
+def check_plot_file(path: str | Path, parameter: str = "path") -> Path:
+    """Check, before any work, that :func:`save` can write a figure to ``path``.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file ending in ``.png``, ``.pdf`` or ``.svg``.
+    parameter : str
+        Name of the option that gave ``path``, for the message (e.g. ``"--plot"``).
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    gearsim.errors.InputError
+        An empty path, an existing folder, another suffix, or a folder that cannot be
+        written (nothing is created).
+
+    Examples
+    --------
+    >>> check_plot_file("fig.svg", "--plot").name
+    'fig.svg'
+    """
+    return check_output_file(path, parameter, tuple(f".{f}" for f in FORMATS))
 
 
 def save(fig: Figure, path: str | Path, *, dpi: float = DPI, parameter: str = "path") -> Path:
@@ -67,9 +96,10 @@ def save(fig: Figure, path: str | Path, *, dpi: float = DPI, parameter: str = "p
     Raises
     ------
     gearsim.errors.InputError
-        If the suffix is not one of :data:`FORMATS` (nothing is written).
+        If the suffix is not one of :data:`FORMATS`, or the path is a folder or cannot
+        be written (:func:`check_plot_file`; nothing is written).
     """
-    path = Path(path)
+    path = check_plot_file(path, parameter)
     fmt = _format(path, parameter)
 
     def write(tmp: Path) -> None:

@@ -1,0 +1,349 @@
+"""Bad input to ``gearsim sweep`` and ``gearsim sweep-report`` is refused with one line
+before any work (no store, no parts folder); Ctrl-C during a sweep exits 130 quietly and
+the next run resumes from the finished parts; one sweep at a time writes a store."""
+
+from __future__ import annotations
+
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from gearsim import cli
+from gearsim.errors import InputError
+from gearsim.studies.sweep import Case, case_count, expand, loads_study
+from gearsim.studies.sweep_case import run_group
+from gearsim.studies.sweep_run import lock_path, parts_dir, plan_workers, store_lock
+
+GEARSIM = [sys.executable, "-m", "gearsim.cli"]
+
+#: Six cases of 0.3 s: 3 flanks x 2 torques, one simulation each.
+SMALL = """
+[study]
+name = "small"
+config = "idler-table1"
+seed = 1
+shafts = "reference"
+[study.dynamics]
+duration = "0.3 s"
+fs = "20 kHz"
+transient = "0.02 s"
+[parameters]
+flank = ["none", "working", "non-working"]
+crack_depth = ["2 mm"]
+torque = ["2000 N*m", "4876 N*m"]
+noise = [0.0]
+"""
+
+
+def _cli(capsys, *args):
+    code = cli.run([str(a) for a in args])
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def _refused(capsys, tmp_path, text, *extra, out="S.nc"):
+    """Run ``gearsim sweep`` on ``text``: exit 2, one line, nothing written."""
+    study = tmp_path / "study.toml"
+    study.write_text(text)
+    store = tmp_path / out
+    code, stdout, err = _cli(capsys, "sweep", study, "--out", store, "--no-progress", *extra)
+    lines = err.strip().splitlines()
+    assert code == 2, err
+    assert len(lines) == 1 and lines[0].startswith("gearsim: error: "), err
+    assert "Traceback" not in err and stdout == ""
+    assert not store.exists() and not parts_dir(store).exists()
+    assert not lock_path(store).exists()
+    return lines[0]
+
+
+@pytest.mark.parametrize("edit,expected", [
+    (('duration = "0.3 s"', 'duration = "-1 s"'), "study.dynamics.duration = -1"),
+    (('fs = "20 kHz"', 'fs = "0 Hz"'), "study.dynamics.fs = 0"),
+    (('seed = 1', 'seed = 1\nsignal = "warp_drive"'), "study.signal = warp_drive: not a "
+     "variable of the simulation"),
+    (('seed = 1', 'seed = 1\nsignal = "acceleration[input,q]"'), "study.signal"),
+    (('noise = [0.0]', 'noise = [nan]'), "parameters.noise[0] = nan"),
+    (('noise = [0.0]', 'noise = [-0.5]'), "parameters.noise[0] = -0.5: must be >= 0"),
+    (('noise = [0.0]', 'noise = [0.0]\nspeed = ["0 rpm"]'), "parameters.speed[0] = 0 rpm"),
+    (('noise = [0.0]', 'noise = [0.0]\nspeed = ["10 rpm"]'),
+     "study.dynamics.duration = 0.3 s: must be >= 19.2308 s"),
+    (('noise = [0.0]', 'noise = [0.0]\nbearing_stiffness = ["0 N/m"]'),
+     "parameters.bearing_stiffness[0] = 0 N/m"),
+    (('torque = ["2000 N*m", "4876 N*m"]', 'torque = ["2000 N*m", "-1 N*m"]'),
+     "parameters.torque[1] = -1 N*m: must be > 0"),
+    (('crack_depth = ["2 mm"]', 'crack_depth = ["2 mm", "30 mm"]'),
+     "parameters.crack_depth[1] = 30 mm: crack is deeper than the tooth"),
+    (('seed = 1', 'seed = 1\nreplicates = 1e9'), "study.replicates = 1000000000.0"),
+    (('seed = 1', 'seed = 1\nreplicates = 1000000000'),
+     "study = 6000000000 cases (product of the parameter list lengths x replicates): at "
+     "most 100000 cases; set study.max_cases to allow more"),
+    (('seed = 1', 'seed = 1\nmax_cases = 5'), "study = 6 cases"),
+])
+def test_study_wide_bad_setting_refused_before_any_case(edit, expected, capsys, tmp_path):
+    text = SMALL.replace(*edit)
+    assert text != SMALL
+    assert expected in _refused(capsys, tmp_path, text)
+
+
+@pytest.mark.parametrize("text", ["", "# nothing here\n", '[study]\nname = "x"\n',
+                                  "[study]\nreplicates = 3\n[parameters]\n"])
+def test_empty_study_refused_nothing_to_vary(text, capsys, tmp_path):
+    assert "parameters = none: nothing to vary" in _refused(capsys, tmp_path, text)
+
+
+def test_max_cases_allows_a_larger_study():
+    text = SMALL.replace("seed = 1", "seed = 1\nreplicates = 20000\nmax_cases = 120000")
+    assert case_count(loads_study(text)) == 120_000
+    with pytest.raises(InputError, match="at most 100000 cases"):
+        loads_study(text.replace("max_cases = 120000\n", ""))
+
+
+@pytest.mark.parametrize("args,expected", [
+    (["--workers", "0"], "--workers = 0: must be an integer >= 1"),
+    (["--scheduler", "not a url"], "--scheduler = not a url: must be a scheduler address"),
+    (["--scheduler", "tcp://host"], "--scheduler = tcp://host"),
+    (["--scheduler", "localhost:99999"], "port must be in 1-65535"),
+])
+def test_bad_workers_or_scheduler_refused(args, expected, capsys, tmp_path):
+    assert expected in _refused(capsys, tmp_path, SMALL, *args)
+
+
+@pytest.mark.parametrize("out,expected", [
+    ("S.txt", "--out = {}: must end in .nc"),
+    ("folder.nc", "--out = {}: is a folder"),
+])
+def test_bad_out_refused(out, expected, capsys, tmp_path):
+    if out == "folder.nc":
+        (tmp_path / out).mkdir()
+        study = tmp_path / "study.toml"
+        study.write_text(SMALL)
+        code, _, err = _cli(capsys, "sweep", study, "--out", tmp_path / out)
+        assert code == 2 and expected.format(tmp_path / out) in err
+        assert len(err.strip().splitlines()) == 1
+        return
+    line = _refused(capsys, tmp_path, SMALL, out=out)
+    assert expected.format(tmp_path / out) in line
+
+
+def test_report_of_a_one_flank_study_refused_before_work(capsys, tmp_path):
+    text = SMALL.replace('flank = ["none", "working", "non-working"]', 'flank = ["working"]')
+    line = _refused(capsys, tmp_path, text, "--report", tmp_path / "rep")
+    assert "--report" in line and "1 flank class (working)" in line
+    assert not (tmp_path / "rep").exists()
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def test_unreachable_scheduler_one_line(capsys, tmp_path, monkeypatch):
+    monkeypatch.setattr("gearsim.studies.sweep_run.CONNECT_TIMEOUT", "1s")
+    address = f"tcp://127.0.0.1:{_free_port()}"
+    line = _refused(capsys, tmp_path, SMALL, "--scheduler", address)
+    assert line.startswith(f"gearsim: error: --scheduler = {address}: cannot connect")
+
+
+def test_second_sweep_on_the_same_store_refused(capsys, tmp_path):
+    """A live sweep holds STORE.lock (its pid): a second one is refused, nothing changes."""
+    holder = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    try:
+        store = tmp_path / "S.nc"
+        lock_path(store).write_text(f"{holder.pid}\n")
+        study = tmp_path / "study.toml"
+        study.write_text(SMALL)
+        code, _, err = _cli(capsys, "sweep", study, "--out", store, "--no-progress")
+        assert code == 2
+        assert err.strip().splitlines() == [
+            f"gearsim: error: --out = {store}: is being written by another sweep (pid "
+            f"{holder.pid}; lock file {lock_path(store)})"]
+        assert lock_path(store).read_text() == f"{holder.pid}\n"
+        assert not store.exists() and not parts_dir(store).exists()
+    finally:
+        holder.kill()
+        holder.wait()
+
+
+def test_stale_lock_of_a_dead_sweep_is_taken_over(tmp_path):
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    store = tmp_path / "S.nc"
+    lock_path(store).write_text(f"{dead.pid}\n")
+    with store_lock(store) as lock:
+        assert lock.read_text() == f"{os.getpid()}\n"
+        with pytest.raises(InputError, match="being written by another sweep"):
+            with store_lock(store):
+                pass
+    assert not lock.exists()
+
+
+def test_workers_clamped_to_cores_and_groups():
+    cores = os.cpu_count() or 1
+    n, note = plan_workers(104, 1000)
+    assert n == min(104, cores) and (note is None) == (cores >= 104)
+    assert note is None or note.startswith(f"gearsim: note: --workers 104 reduced to {n}")
+    n, note = plan_workers(4, 1)
+    assert n == 1 and "1 simulation group to compute" in note
+    assert plan_workers(1, 5) == (1, None)
+    with pytest.raises(InputError, match="--workers"):
+        plan_workers(0, 5)
+
+
+def test_case_failing_at_run_time_is_recorded():
+    """A case whose crack does not fit is recorded as failed, not raised (the study
+    check refuses such depths up front; this case is made by hand)."""
+    st = loads_study(SMALL)
+    case = next(c for c in expand(st) if c.flank == "working")
+    bad = Case(**{**case.params(), "index": 0, "crack_depth": 0.03})
+    ds = run_group(st, [bad])
+    assert ds["status"].values.tolist() == ["failed"]
+    assert "crack.depth = 30 mm" in ds["error"].values[0]
+
+
+# -- sweep-report ------------------------------------------------------------------------
+
+def _store(path: Path, flanks=("none", "working", "non-working"), n=12) -> Path:
+    """A synthetic sweep store: one feature that separates the flanks."""
+    rng = np.random.default_rng(0)
+    flank = np.repeat(np.array(flanks), n)
+    centre = {"none": 0.0, "working": 5.0, "non-working": -5.0}
+    x = np.array([centre[f] for f in flank]) + rng.normal(size=flank.size)
+    ds = xr.Dataset({"status": ("case", ["ok"] * flank.size),
+                     "error": ("case", [""] * flank.size),
+                     "td_rms": ("case", x + 10.0),
+                     "td_kurtosis": ("case", rng.normal(size=flank.size))},
+                    coords={"case": np.arange(flank.size), "flank": ("case", flank),
+                            "noise": ("case", np.zeros(flank.size)),
+                            "crack_depth": ("case", np.full(flank.size, 1e-3))},
+                    attrs={"title": "synthetic", "study": "[parameters]",
+                           "n_cases": flank.size})
+    ds.to_netcdf(path, engine="h5netcdf")
+    return path
+
+
+def _report_refused(capsys, store, out, expected):
+    code, stdout, err = _cli(capsys, "sweep-report", store, "--out", out)
+    assert code == 2, err
+    assert err.strip().splitlines() == [f"gearsim: error: {expected}"]
+    assert stdout == ""
+
+
+def test_sweep_report_single_class_store_refused(capsys, tmp_path):
+    store = _store(tmp_path / "one.nc", flanks=("none",))
+    _report_refused(capsys, store, tmp_path / "rep",
+                    f"store = {store}: has 1 flank class among its successful cases (none); "
+                    "the report compares at least two of none, working, non-working")
+    assert not (tmp_path / "rep").exists()
+
+
+def test_sweep_report_not_a_store_refused(capsys, tmp_path):
+    text = tmp_path / "notes.nc"
+    text.write_text("not NetCDF at all\n")
+    code, _, err = _cli(capsys, "sweep-report", text, "--out", tmp_path / "rep")
+    assert code == 2 and "Traceback" not in err
+    assert err.startswith(f"gearsim: error: store = {text}: is not a sweep store (cannot be "
+                          "read as NetCDF") and len(err.strip().splitlines()) == 1
+    other = tmp_path / "run.nc"
+    xr.Dataset({"x": ("time", np.zeros(3))}).to_netcdf(other, engine="h5netcdf")
+    _report_refused(capsys, other, tmp_path / "rep",
+                    f"store = {other}: is not a sweep store written by gearsim sweep (missing"
+                    " case, status, flank, noise, crack_depth, attribute study, attribute "
+                    "n_cases)")
+    _report_refused(capsys, tmp_path / "none.nc", tmp_path / "rep",
+                    f"store = {tmp_path / 'none.nc'}: file not found (run gearsim sweep first)")
+    assert not (tmp_path / "rep").exists()
+
+
+def test_sweep_report_out_checked_first(capsys, tmp_path):
+    (tmp_path / "rep").write_text("a file")
+    _report_refused(capsys, tmp_path / "none.nc", tmp_path / "rep",
+                    f"--out = {tmp_path / 'rep'}: must be a folder (a file of that name "
+                    "exists)")
+
+
+def test_sweep_report_interrupted_leaves_the_old_folder_whole(capsys, tmp_path, monkeypatch):
+    store = _store(tmp_path / "s.nc")
+    rep = tmp_path / "rep"
+    code, stdout, _ = _cli(capsys, "sweep-report", store, "--out", rep)
+    assert code == 0 and "separability.png" in stdout
+    before = {p.name: p.read_bytes() for p in rep.iterdir()}
+    assert set(before) == {"separability.csv", "separability.json", "separability.png"}
+
+    def killed(fig, path, **kw):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr("gearsim.studies.diagnostic.save", killed)
+    code, _, err = _cli(capsys, "sweep-report", store, "--out", rep)
+    assert code == 130 and err.strip() == "gearsim: interrupted"
+    assert {p.name: p.read_bytes() for p in rep.iterdir()} == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["rep", "s.nc"]  # no temp folder
+
+
+# -- Ctrl-C during a sweep -------------------------------------------------------------
+
+def test_sigint_during_sweep_exit_130_then_resume(tmp_path):
+    """Ctrl-C (SIGINT to the process group) after the first part: exit 130, no worker
+    traceback, parts kept; the rerun (asking for too many workers) resumes from them."""
+    study = tmp_path / "small.toml"
+    study.write_text(SMALL)
+    store = tmp_path / "S.nc"
+    parts = parts_dir(store)
+    proc = subprocess.Popen([*GEARSIM, "sweep", study, "--out", store, "--workers", "2",
+                             "--no-progress"], start_new_session=True,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 120
+        while not list(parts.glob("*.nc")) and time.monotonic() < deadline:
+            assert proc.poll() is None, proc.communicate()
+            time.sleep(0.02)
+        os.killpg(proc.pid, signal.SIGINT)
+        out, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+    assert proc.returncode == 130, err
+    assert err.strip().splitlines() == ["gearsim: interrupted"], err
+    assert out == ""
+    finished = {p: p.stat().st_mtime_ns for p in parts.glob("*.nc")}
+    assert 1 <= len(finished) < 6
+    assert not store.exists() and not lock_path(store).exists()
+    assert not [p for p in tmp_path.rglob(".*.tmp")]  # no half-written part
+
+    res = subprocess.run([*GEARSIM, "sweep", study, "--out", store, "--workers", "104",
+                          "--no-progress"], capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
+    cores = os.cpu_count() or 1
+    n = min(cores, 6 - len(finished))
+    if n < 104:
+        assert f"gearsim: note: --workers 104 reduced to {n}" in res.stderr
+    assert "Traceback" not in res.stderr
+    k = len(finished)
+    assert f"6 cases ({6 - k} computed, {k} resumed, 0 failed)" in res.stdout
+    assert {p: p.stat().st_mtime_ns for p in finished} == finished  # not recomputed
+    ds = xr.load_dataset(store, engine="h5netcdf")
+    assert ds.sizes["case"] == 6 and (ds["status"].values == "ok").all()
+    assert len(list(parts.glob("*.nc"))) == 6 and not lock_path(store).exists()
+
+
+def test_aliasing_at_the_highest_speed_is_refused_before_any_case(tmp_path):
+    """4 f_m at 3000 rpm is 7.8 kHz: fs = 15 kHz would alias it (Nyquist 7.5 kHz), while
+    the study's first speed (1900 rpm, 4 f_m = 4.94 kHz) alone would be fine."""
+    study = tmp_path / "alias.toml"
+    study.write_text('[study]\nconfig = "idler-table1"\n[study.dynamics]\n'
+                     'duration = "0.2 s"\nfs = "15 kHz"\n[parameters]\n'
+                     'flank = ["none", "working"]\nspeed = ["1900 rpm", "3000 rpm"]\n')
+    out = tmp_path / "s.nc"
+    assert cli.run(["sweep", str(study), "--out", str(out), "--no-progress"]) == 2
+    assert not out.exists() and not parts_dir(out).exists()
+    with pytest.raises(InputError, match=r"study.dynamics.fs .*3000 rpm"):
+        loads_study(study.read_text())

@@ -133,6 +133,31 @@ def test_interrupt_in_a_verb_exit_130(exc, capsys, monkeypatch):
     assert _one_line(err) == "gearsim: interrupted"
 
 
+def test_interrupt_inside_a_compiled_kernel_exit_130(capsys, monkeypatch):
+    """Ctrl-C inside a numba function surfaces as SystemError('... returned a result with
+    an exception set') with the KeyboardInterrupt as its context: still an interrupt."""
+    def interrupted(name):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt:
+            raise SystemError("CPUDispatcher(<function kernel>) returned a result with an "
+                              "exception set") from None
+
+    def interrupted_with_context(name):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt:
+            raise SystemError("CPUDispatcher(<function kernel>) returned a result with an "
+                              "exception set")  # noqa: B904 (the context is the point)
+
+    monkeypatch.setattr("gearsim.commands.basic.example_text", interrupted_with_context)
+    code, _, err = _run(capsys, "example", "idler-table1")
+    assert code == 130 and _one_line(err) == "gearsim: interrupted"
+    monkeypatch.setattr("gearsim.commands.basic.example_text", interrupted)
+    code, _, err = _run(capsys, "example", "idler-table1")  # context suppressed: a bug
+    assert code == 1 and "internal error: SystemError" in err
+
+
 def test_usage_error_of_the_click_package_exit_2(capsys, monkeypatch):
     """A usage error raised with the click package itself (not typer's copy)."""
     def bad(name):

@@ -143,11 +143,28 @@ def _exit_code(code: object) -> int:
     return 1
 
 
+def _interrupt_inside(exc: BaseException) -> bool:
+    """A Ctrl-C that surfaced as another exception.
+
+    A ``KeyboardInterrupt`` raised while a compiled (numba) function runs comes back as
+    ``SystemError: ... returned a result with an exception set`` whose context is the
+    interrupt; the chain of causes and contexts is searched for it.
+    """
+    seen: set[int] = set()
+    e: BaseException | None = exc
+    while e is not None and id(e) not in seen:
+        if isinstance(e, KeyboardInterrupt):
+            return True
+        seen.add(id(e))
+        e = e.__cause__ or (None if e.__suppress_context__ else e.__context__)
+    return False
+
+
 def _finish(exc: BaseException, debug: bool, args: list[str]) -> int:
     """Print the one line for ``exc`` (with the traceback if ``debug``); the exit status."""
     if debug and not isinstance(exc, SystemExit) and not _is_a(exc, "Exit"):
         traceback.print_exception(exc, file=sys.stderr)
-    if isinstance(exc, KeyboardInterrupt) or _is_a(exc, "Abort"):
+    if isinstance(exc, KeyboardInterrupt) or _is_a(exc, "Abort") or _interrupt_inside(exc):
         return _interrupted()
     if isinstance(exc, InputError):
         _say(f"gearsim: error: {_one_line(exc)}")

@@ -143,12 +143,12 @@ def test_interrupt_inside_a_compiled_kernel_exit_130(capsys, monkeypatch):
             raise SystemError("CPUDispatcher(<function kernel>) returned a result with an "
                               "exception set") from None
 
-    def interrupted_with_context(name):
+    def interrupted_with_context(name):  # as CPython does: the interrupt is the cause
         try:
             raise KeyboardInterrupt
-        except KeyboardInterrupt:
+        except KeyboardInterrupt as exc:
             raise SystemError("CPUDispatcher(<function kernel>) returned a result with an "
-                              "exception set")  # noqa: B904 (the context is the point)
+                              "exception set") from exc
 
     monkeypatch.setattr("gearsim.commands.basic.example_text", interrupted_with_context)
     code, _, err = _run(capsys, "example", "idler-table1")

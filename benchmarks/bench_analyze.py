@@ -1,4 +1,4 @@
-"""Benchmark of ``gearsim.signals.analyze`` on 10 s of a 50 kHz synthetic gear signal.
+"""Benchmark of ``gearsim.signals.analysis`` on 10 s of a 50 kHz synthetic gear signal.
 
 Run: ``.venv/bin/python benchmarks/bench_analyze.py [--emd-seconds S]``
 

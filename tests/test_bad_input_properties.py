@@ -767,12 +767,16 @@ class Blob(bytes):
 @st.composite
 def _bad_records(draw) -> tuple[str, bytes, str]:
     """(file name, content, description) of a measured file that cannot be analysed."""
+    # (a two-sample record is analysable since the tiers: its statistics are computed and
+    # the tiers it is too short for are skipped with the reason, tests/signals)
     kind = draw(st.sampled_from(["bad-cell", "empty", "header-only", "one-sample",
-                                 "two-samples", "binary", "garbage-other", "ragged",
-                                 "all-nan", "bom-text"]))
+                                 "binary", "garbage-other", "ragged", "all-nan",
+                                 "bom-text"]))
     if kind == "bad-cell":
         cell = draw(st.sampled_from(["inf", "nan", "-inf", "abc", "1e400", "", "1,5"]))
-        i = draw(st.integers(0, N - 1))
+        # an empty first cell of a one-column file is a blank line before the data, which
+        # the reader skips as layout: only an empty cell between samples is a lost sample
+        i = draw(st.integers(1 if cell == "" else 0, N - 1))
         vals: list[Any] = list(BASE_SAMPLES)
         vals[i] = cell
         return "rec.csv", _csv(vals).encode(), f"CSV with cell {i} = {cell!r}"
@@ -782,8 +786,6 @@ def _bad_records(draw) -> tuple[str, bytes, str]:
         return "rec.csv", b"acc\n", "header-only CSV"
     if kind == "one-sample":
         return "rec.csv", _csv([0.5]).encode(), "CSV with one sample"
-    if kind == "two-samples":
-        return "rec.csv", _csv([0.5, -0.5]).encode(), "CSV with two samples"
     if kind == "binary":
         blob = draw(st.binary(min_size=16, max_size=256))
         return "rec.csv", b"\x00\xff\xfe" + blob, "binary garbage with a .csv extension"

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import hashlib
 import importlib
+import math
 import os
 import signal
 import subprocess
@@ -155,7 +156,10 @@ def test_existing_file_or_foreign_folder_for_a_folder_target_is_refused(here, ca
     (here / "figs").write_text("a file")
     (here / "mixed").mkdir()
     (here / "mixed" / "notes.txt").write_text("not gearsim's")
-    for args in (("analyze", "rec.nc", "--shaft-rpm", 1900, "--teeth", 39),
+    # a readable record, so that the output target is the only problem of the call
+    (here / "rec.csv").write_text("# fs = 1000\nacc\n"
+                                  + "".join(f"{math.sin(0.3 * i):.6f}\n" for i in range(2000)))
+    for args in (("analyze", "rec.csv", "--shaft-rpm", 1900, "--teeth", 39),
                  ("fe-check", "spur-19-48")):
         _refused(capsys, monkeypatch, here, *args, "--plot", "figs", parameter="--plot")
         line = _refused(capsys, monkeypatch, here, *args, "--plot", "mixed",

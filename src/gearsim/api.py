@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 from gearsim.dynamics.simulate import simulate as _simulate
 from gearsim.io.measured import MeasuredSignal, read_signal
 from gearsim.model import Gearbox, load
-from gearsim.signals.analyze import Analysis, analyze
+from gearsim.signals.analysis import Analysis, analyze
 from gearsim.studies.reproduce import ReproduceOptions, Reproduction, run_reproduction
 from gearsim.studies.sweep import load_study
 from gearsim.studies.sweep_run import SweepResult, run_study

@@ -26,6 +26,7 @@ class name along the exception's MRO, so those of either click package are caugh
 
 from __future__ import annotations
 
+import importlib
 import os
 import re
 import sys
@@ -53,20 +54,45 @@ def _global_options(
     """Mesh stiffness, tooth-root cracks and vibration of spur and helical gear trains."""
 
 
+#: Verb -> the module of gearsim.commands that defines it. A call imports only its verb's
+#: module (a small call starts fast); help and unknown verbs build the whole app.
+VERB_MODULES = {
+    "example": "basic", "stiffness": "basic", "analyze": "analysis", "compare": "analysis",
+    "simulate": "dynamics", "fe-check": "fem", "reproduce": "studies", "sweep": "sweep",
+    "sweep-report": "sweep",
+}
+
+
+def _new_app() -> typer.Typer:
+    new = typer.Typer(name="gearsim", help=HELP, no_args_is_help=True,
+                      add_completion=False, pretty_exceptions_enable=False)
+    new.callback()(_global_options)
+    return new
+
+
 def _build_app() -> typer.Typer:
     """The typer application with every verb (imported here, on first use)."""
     global _APP
     if _APP is None:
         from gearsim.commands import analysis, basic, dynamics, fem, studies, sweep
 
-        new = typer.Typer(name="gearsim", help=HELP, no_args_is_help=True,
-                          add_completion=False, pretty_exceptions_enable=False)
-        new.callback()(_global_options)
+        new = _new_app()
         # One module per verb group; each defines register(app).
         for verbs in (basic, analysis, dynamics, fem, studies, sweep):
             verbs.register(new)
         _APP = new
     return _APP
+
+
+def _app_for(args: list[str]) -> typer.Typer:
+    """The app for this call: only the verb's own module when the verb is known."""
+    verb = next((a for a in args if not a.startswith("-")), None)
+    name = VERB_MODULES.get(verb or "")
+    if name is None or _APP is not None:
+        return _build_app()
+    new = _new_app()
+    importlib.import_module(f"gearsim.commands.{name}").register(new)
+    return new
 
 
 def __getattr__(name: str) -> Any:
@@ -220,7 +246,7 @@ def run(argv: list[str] | None = None) -> int:
     debug = debug or os.environ.get(DEBUG_ENV, "").strip().lower() not in ("", "0", "false",
                                                                            "no")
     try:
-        rv = _build_app()(args=args, prog_name="gearsim", standalone_mode=False)
+        rv = _app_for(args)(args=args, prog_name="gearsim", standalone_mode=False)
     except BaseException as exc:  # noqa: BLE001  (the one error path of the CLI)
         return _finish(exc, debug, args)
     # non-standalone typer returns the code of typer.Exit, and 130 for a Ctrl-C it caught

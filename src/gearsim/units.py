@@ -20,9 +20,25 @@ import pint
 
 from gearsim.errors import InputError
 
-__all__ = ["DIMENSIONS", "EXAMPLES", "UNIT_REQUIRED", "plain_numbers_are_si", "to_si", "ureg"]
+__all__ = ["DIMENSIONS", "EXAMPLES", "UNIT_REQUIRED", "plain_numbers_are_si", "registry", "to_si"]
 
-ureg = pint.UnitRegistry()
+
+
+@cache
+def registry() -> pint.UnitRegistry:
+    """The unit registry, made on first use (building it takes about 0.2 s).
+
+    Returns
+    -------
+    pint.UnitRegistry
+    """
+    return pint.UnitRegistry()
+
+
+def __getattr__(name: str) -> Any:
+    if name == "ureg":  # the registry under its usual name, made on first access
+        return registry()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 # name of a quantity kind -> (SI unit string, pint dimensionality)
 DIMENSIONS: dict[str, str] = {
@@ -80,7 +96,7 @@ def plain_numbers_are_si() -> Iterator[None]:
 
 @cache
 def _si_unit(kind: str) -> pint.Unit:
-    return ureg.Unit(DIMENSIONS[kind])
+    return registry().Unit(DIMENSIONS[kind])
 
 
 def _finite(si: float, value: Any, kind: str, parameter: str) -> float:
@@ -148,7 +164,7 @@ def to_si(value: Any, kind: str, parameter: str) -> float:
     if not isinstance(value, str):
         raise InputError(parameter, value, f"must be a number or a quantity in {DIMENSIONS[kind]}")
     try:
-        q = ureg.Quantity(value)
+        q = registry().Quantity(value)
     except Exception:  # pint raises several parse error types
         raise InputError(parameter, value, "is not a quantity pint can parse") from None
     if not isinstance(q, pint.Quantity):  # a bare number in a string (older pint)
@@ -157,7 +173,7 @@ def to_si(value: Any, kind: str, parameter: str) -> float:
         magnitude = float(q.magnitude)
     except (TypeError, ValueError):
         raise InputError(parameter, value, "must be one number with a unit") from None
-    if q.units == ureg.dimensionless:  # "0.3", "nan", "inf": a number in a string
+    if q.units == registry().dimensionless:  # "0.3", "nan", "inf": a number in a string
         # (pint calls "80 %" unitless too: it falls through to the conversion below)
         _finite(magnitude, value, kind, parameter)
         if kind == "angle":  # radians are dimensionless in pint

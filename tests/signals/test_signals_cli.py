@@ -48,9 +48,10 @@ def test_analyze_json_and_plots(tmp_path, monkeypatch, capsys):
                           "--shaft-rpm", RPM, "--teeth", 39, "--teeth", 59, "--max-order", 2,
                           "--plot", tmp_path / "figs", "--json", "--baseline", p)
     assert code == 0, err
-    d = json.loads(out)
+    (rec,) = json.loads(out)["records"]  # by design: one entry per file x channel, by tier
+    d = rec["tiers"]["gear"]["analysis"]
     assert abs(d["impacts"]["period_ratio_to_T1"] - 1.0) < 0.01
-    assert d["source"]["units"] == "N"
+    assert rec["units"] == "N"
     assert d["ratios_to_baseline"]["rms"] == pytest.approx(1.0)
     assert len(list((tmp_path / "figs").glob("*.png"))) == 5
 
@@ -98,17 +99,21 @@ def test_cli_nonfinite_sample(tmp_path, monkeypatch, capsys):
 
 
 def test_cli_nyquist(tmp_path, monkeypatch, capsys):
+    """By design: harmonics above Nyquist skip the gear tier (with the reason), not the run."""
     p = _write_nc(tmp_path / "slow.nc", fs=8000.0)
-    code, _, err = _run(monkeypatch, capsys, "analyze", p, "--channel", "mesh_force_1",
-                        "--shaft-rpm", RPM, "--teeth", 39, "--max-order", 4)
-    _assert_one_line_exit_2(code, err, "fs = 8000 Hz: must exceed")
+    code, out, err = _run(monkeypatch, capsys, "analyze", p, "--channel", "mesh_force_1",
+                          "--shaft-rpm", RPM, "--teeth", 39, "--max-order", 4)
+    assert code == 0, err
+    assert "skipped gear: fs = 8000 Hz: must exceed" in out
 
 
 def test_cli_record_too_short(tmp_path, monkeypatch, capsys):
+    """By design: a record too short for the gear tier skips it; statistics still come."""
     p = _write_nc(tmp_path / "short.nc", duration=0.1)
-    code, _, err = _run(monkeypatch, capsys, "analyze", p, "--channel", "mesh_force_1",
-                        "--shaft-rpm", RPM, "--teeth", 39, "--teeth", 125, "--max-order", 1)
-    _assert_one_line_exit_2(code, err, "record duration = 0.1 s: must be >=")
+    code, out, err = _run(monkeypatch, capsys, "analyze", p, "--channel", "mesh_force_1",
+                          "--shaft-rpm", RPM, "--teeth", 39, "--teeth", 125, "--max-order", 1)
+    assert code == 0, err
+    assert "statistics" in out and "skipped gear: record duration = 0.1 s: must be >=" in out
 
 
 def test_cli_missing_channel(tmp_path, monkeypatch, capsys):
@@ -127,16 +132,41 @@ def test_cli_truncated_file(tmp_path, monkeypatch, capsys):
 
 
 def test_cli_speed_options(tmp_path, monkeypatch, capsys):
+    """By design: no speed skips the shaft and gear tiers; two speed sources are refused."""
     p = _write_nc(tmp_path / "sim.nc")
+    code, out, err = _run(monkeypatch, capsys, "analyze", p, "--channel", "mesh_force_1",
+                          "--teeth", 39)
+    assert code == 0, err
+    assert "skipped shaft: needs a shaft speed" in out
     code, _, err = _run(monkeypatch, capsys, "analyze", p, "--channel", "mesh_force_1",
-                        "--teeth", 39)
-    _assert_one_line_exit_2(code, err, "give exactly one")
+                        "--teeth", 39, "--shaft-rpm", RPM, "--tacho", "tacho")
+    _assert_one_line_exit_2(code, err, "give at most one speed source")
+
+
+def test_cli_repeated_channel_gives_both(tmp_path, monkeypatch, capsys):
+    p = _write_nc(tmp_path / "sim.nc")
+    code, out, err = _run(monkeypatch, capsys, "analyze", p, "--channel", "mesh_force_1",
+                          "--channel", "tacho", "--json")
+    assert code == 0, err
+    assert [r["source"]["channel"] for r in json.loads(out)["records"]] == [
+        "mesh_force_1", "tacho"]
+
+
+def test_cli_teeth_as_several_values(tmp_path, monkeypatch, capsys):
+    p = _write_nc(tmp_path / "sim.nc")
+    for teeth in (["39", "59"], ["39,59"]):
+        code, out, err = _run(monkeypatch, capsys, "analyze", p, "--channel", "mesh_force_1",
+                              "--shaft-rpm", RPM, "--teeth", *teeth, "--max-order", 2,
+                              "--json")
+        assert code == 0, err
+        assert json.loads(out)["records"][0]["teeth"] == [39, 59]
 
 
 def test_entry_point_subprocess(tmp_path):
     """The installed script path: exit status 2, one line, no traceback."""
-    p = tmp_path / "rec.wav"
+    p = tmp_path / "rec.wav"  # by design a short record is analysed; a missing file is not
     wavfile.write(p, 8000, np.zeros(80, dtype=np.int16))
+    p = tmp_path / "missing.wav"
     r = subprocess.run([sys.executable, "-m", "gearsim.cli", "analyze", str(p),
                         "--shaft-rpm", "1900", "--teeth", "39"],
                        capture_output=True, text=True, timeout=120)

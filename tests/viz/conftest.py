@@ -41,7 +41,7 @@ def _signal(*, impacts: bool, sideband: float, seed: int) -> np.ndarray:
 
 
 def _analyze(x: np.ndarray):
-    from gearsim.signals.analyze import analyze
+    from gearsim.signals.analysis import analyze
 
     return analyze(x, FS, teeth=(TEETH, 59), shaft_frequency=F_R)
 
@@ -158,3 +158,32 @@ def reproduction():
         t1=t1, f_m=f_m, contact_ratio=1.6, runs=runs, metrics=metrics, stiffness=stiffness,
         fe_checks={"none": check(1.0), "working": check(0.8)}, sensitivity=sensitivity,
         claims=[], findings={}, timings={}, seed=seed)
+
+
+@pytest.fixture(scope="session")
+def envelope_result():
+    """Squared-envelope spectrum of impulses repeating at 37 Hz (the toolbox plots)."""
+    from gearsim.signals.envelope import envelope_spectrum
+
+    fs = 10_000.0
+    t = np.arange(int(fs)) / fs
+    x = np.random.default_rng(1).normal(0.0, 0.1, t.size)
+    for k in range(37):
+        i = int(k * fs / 37)
+        n = np.arange(t.size - i)
+        x[i:] += np.exp(-n / 50.0) * np.sin(2 * np.pi * 2000.0 * n / fs)
+    return envelope_spectrum(x, fs, band=(1500.0, 2500.0))
+
+
+@pytest.fixture(scope="session")
+def kurtogram_result():
+    """Fast kurtogram of the same kind of signal."""
+    from gearsim.signals.kurtogram import fast_kurtogram
+
+    fs = 10_000.0
+    n = 2 ** 14
+    x = np.random.default_rng(2).normal(0.0, 0.1, n)
+    for i in range(0, n, 271):
+        m = np.arange(n - i)
+        x[i:] += np.exp(-m / 40.0) * np.sin(2 * np.pi * 2000.0 * m / fs)
+    return fast_kurtogram(x, fs)

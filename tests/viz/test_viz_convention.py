@@ -22,7 +22,7 @@ import gearsim
 from gearsim.errors import InputError
 from gearsim.viz import DPI, STYLE, save, save_all
 
-VIZ_MODULES = ("dynamics", "fem", "reproduce", "signals", "stiffness", "sweep")
+VIZ_MODULES = ("dynamics", "fem", "reproduce", "signals", "stiffness", "sweep", "toolbox")
 VIZ_DIR = Path(gearsim.__file__).parent / "viz"
 
 # name -> (fixture, extra kwargs, "ax" or "fig": the keyword of the target)
@@ -44,9 +44,12 @@ CALLS: dict[str, tuple[str, dict, str]] = {
     "stiffness.plot_train_stiffness": ("spur_stiffness", {}, "fig"),
     "stiffness.plot_mesh_tvms": ("spur_stiffness", {}, "ax"),
     "sweep.plot_separability": ("separability_rows", {"title": "test"}, "fig"),
+    "toolbox.plot_envelope_spectrum": ("envelope_result", {}, "ax"),
+    "toolbox.plot_kurtogram": ("kurtogram_result", {}, "ax"),
 }
 # Tested by hand below (not one result object in, or a collection of figures out).
-OTHER = {"fem.plot_mesh", "stiffness.plot_healthy_vs_cracked", "reproduce.plot_all"}
+OTHER = {"fem.plot_mesh", "stiffness.plot_healthy_vs_cracked", "reproduce.plot_all",
+         "toolbox.plot_cepstrum"}
 
 
 def _function(name: str):
@@ -97,7 +100,7 @@ def test_returns_figure_keyword_target_and_no_global_state(name, request, tmp_pa
     ax = fig.axes[0]
     assert {t.get_fontsize() for t in ax.yaxis.get_ticklabels()} == {STYLE["ytick.labelsize"]}
     assert ax.yaxis.label.get_fontsize() == STYLE["axes.labelsize"]
-    if not name.endswith(("plot_stft", "plot_mesh")):  # images switch the grid off
+    if not name.endswith(("plot_stft", "plot_mesh", "plot_kurtogram")):  # images: no grid
         assert any(line.get_visible() for line in ax.get_xgridlines())
     assert dict(matplotlib.rcParams) == before
 
@@ -109,7 +112,9 @@ def test_draws_into_the_callers_axes_or_figure(name, request):
     if kind == "ax":
         ax = target.add_subplot(2, 1, 2)
         fig = _call(name, request, ax=ax)
-        assert fig is target and len(target.axes) == 1 and ax.lines
+        image = name.endswith("plot_kurtogram")  # an image map with its colour bar axes
+        assert fig is target and len(target.axes) == (2 if image else 1)
+        assert ax.collections if image else ax.lines
     else:
         fig = _call(name, request, fig=target)
         assert fig is target and len(target.axes) >= 2

@@ -1,7 +1,15 @@
 """CLI verbs ``analyze`` and ``compare``: signal analysis of measured or simulated records.
 
+``analyze`` takes any number of files and glob patterns, analyses every channel (or the
+``--channel`` ones) tier by tier (:mod:`gearsim.signals.tiers`: statistics need nothing,
+the spectrum a sampling rate, shaft orders a speed, gear quantities tooth counts), and
+prints what each value rests on; ``--out`` writes the table (rows = file x channel) and
+labels (``--labels``, ``--label-pattern``) add a separability report
+(:mod:`gearsim.studies.batch`). Every problem of one call is reported in one message.
+
 Units are converted here, once: shaft speed in rpm on the command line becomes Hz for the
-API (:mod:`gearsim.signals`), which works in SI throughout.
+API (:mod:`gearsim.signals`), which works in SI throughout. Heavy modules (scipy,
+xarray, matplotlib, dask, scikit-learn) are imported only where a run needs them.
 """
 
 from __future__ import annotations
@@ -13,31 +21,61 @@ import typer
 
 from gearsim.commands._options import as_options
 from gearsim.errors import InputError
-from gearsim.io.jsonout import strict_json
-from gearsim.io.measured import read_signal
-from gearsim.io.targets import atomic_folder, check_output_folder
-from gearsim.signals._checks import check_speed_source, check_teeth
-from gearsim.signals.analyze import analyze as run
-from gearsim.signals.compare import compare_sidebands
-from gearsim.viz import check_plot_file, save, save_all
-from gearsim.viz.signals import KINDS, plot_comparison
 
 __all__ = ["register"]
 
-#: Files ``analyze --plot DIR`` writes; an existing DIR may hold only these (it is
-#: replaced as a whole).
-FIGURE_FILES = frozenset(f"{stem}.png" for _, stem, _ in KINDS.values())
+#: Files ``analyze --report DIR`` writes; an existing DIR may hold only these.
+REPORT_FILES = frozenset({"separability.json", "separability.csv"})
+
+
+def _figure_files() -> frozenset[str]:
+    """Files ``analyze --plot DIR`` writes; an existing DIR may hold only these."""
+    from gearsim.viz.signals import KINDS
+
+    return frozenset(f"{stem}.png" for _, stem, _ in KINDS.values())
 
 
 def _speed(shaft_rpm: float | None, tacho: str | None) -> None:
+    from gearsim.signals._checks import check_speed_source
+
     check_speed_source(shaft_rpm, tacho, names=("--shaft-rpm", "--tacho"), unit="rpm")
 
 
-def _teeth(teeth: list[int] | None) -> list[int]:
-    if not teeth:
-        raise InputError("--teeth", None, "must be given (teeth of the gear on the measured "
-                                          "shaft first, then the other gears)")
-    return list(check_teeth(teeth, name="--teeth"))
+def _teeth(values: list[str] | None, extra: list[str], problems: list[str]) -> tuple[int, ...] | None:
+    """Tooth counts from ``--teeth`` values (each an integer or a comma list) and the bare
+    integers typer left among the files (``--teeth 32 80``)."""
+    if not values:
+        return None
+    items = [t.strip() for v in [*values, *extra] for t in str(v).split(",") if t.strip()]
+    if not items:
+        problems.append(f"--teeth = {' '.join(map(repr, values))}: must list at least one tooth "
+                        "count (e.g. --teeth 32 80 or --teeth 32,80)")
+        return None
+    try:
+        zs = tuple(int(t) for t in items)
+    except ValueError:
+        problems.append(f"--teeth = {' '.join(items)}: must be integers >= 1 (e.g. --teeth 32 "
+                        "80 or --teeth 32,80)")
+        return None
+    if any(z < 1 for z in zs):
+        problems.append(f"--teeth = {' '.join(items)}: must be integers >= 1")
+        return None
+    return zs
+
+
+def _speed_search(text: str | None, problems: list[str]) -> tuple[float, float] | None:
+    """``LO,HI`` in rpm to ``(lo, hi)`` in Hz."""
+    if text is None:
+        return None
+    try:
+        lo, hi = (float(v) for v in text.split(","))
+    except ValueError:
+        problems.append(f"--speed-search = {text}: must be LO,HI in rpm (e.g. 1500,2100)")
+        return None
+    if not 0 < lo < hi < float("inf"):
+        problems.append(f"--speed-search = {text}: must be 0 < LO < HI (rpm)")
+        return None
+    return lo / 60.0, hi / 60.0
 
 
 def _emd_threshold(method: str | None, threshold: str | None) -> float | str:
@@ -55,121 +93,287 @@ def _emd_threshold(method: str | None, threshold: str | None) -> float | str:
         raise InputError("--emd-threshold", threshold, 'must be a number or "ayenu-prah"') from None
 
 
-def _summary_text(d: dict[str, Any], units: str | None) -> str:
-    u = f" {units}" if units else ""
-    td = d["time_domain"]
-    im = d["impacts"]
-    lines = [
-        f"record: {d['n_samples']} samples at {d['fs_hz']:g} Hz ({d['duration_s']:.4g} s)",
-        f"mesh frequency {d['train']['mesh_frequency_hz']:.6g} Hz; shafts "
-        + ", ".join(f"{k} {v:.5g} Hz" for k, v in d["train"]["shaft_frequencies_hz"].items()),
-        f"RMS {td['rms']:.5g}{u}  peak {td['peak']:.5g}{u}  crest {td['crest_factor']:.4g}  "
-        f"kurtosis {td['kurtosis']:.4g}",
-    ]
-    period = im["period_s"]
-    lines.append(
-        f"impacts: {im['count']} above {im['threshold']:.4g}{u}; period "
-        + (f"{period * 1e3:.4f} ms ({im['period_ratio_to_T1']:.4f} x T1)" if period else "n/a")
-    )
-    if "ratios_to_baseline" in d:
-        r = d["ratios_to_baseline"]
-        lines.append("ratio to baseline: "
-                     + ", ".join(f"{k} {100 * v:.1f} %" for k, v in r.items()))
-    lines.append("mesh harmonics and sidebands (SER, CV, flatness):")
-    for h in d["mesh_harmonics"]:
-        fams = [f for f in d["sidebands"] if f["order"] == h["order"]]
-        lines.append(
-            f"  {h['order']} f_m = {h['frequency_hz']:.6g} Hz  A {h['amplitude']:.4g}{u}  "
-            + "  ".join(f"{f['shaft']}: {f['ser']:.3g}/{f['cv']:.3g}/{f['flatness']:.3g}"
-                        for f in fams)
-        )
-    tf = d["time_frequency"]
-    lines.append(f"STFT bands (frame {tf['nperseg']} samples): order, width spectrum/STFT [Hz], "
-                 "modulation at f_r1")
-    for b in tf["bands"]:
-        ws, wt, m = b["width_spectrum_hz"], b["width_stft_hz"], b["modulation_at_fr1"]
-        lines.append(f"  {b['order']}: {ws if ws is None else f'{ws:.4g}'} / "
-                     f"{wt if wt is None else f'{wt:.4g}'}  {m if m is None else f'{m:.3g}'}")
-    t = d["tsa"]
-    lines.append(
-        f"TSA ({t['n_averages']} revs, M {t['samples_per_rev']}): FM0 {t['fm0']:.4g}  "
-        f"FM4 {t['fm4']:.4g}  NA4 {t['na4']:.4g}  M6A {t['m6a']:.4g}  M8A {t['m8a']:.4g}"
-    )
-    if "emd" in d:
-        e = d["emd"]
-        lines.append(f"EMD: {e['n_imfs']} IMFs, selected {e['selected']} by {e['method']} "
-                     f">= {e['threshold']:.3g}")
-    lines.append(f"time {d['timings_s']['total']:.3g} s")
+def _collect(problems: list[str], fn, *args, **kwargs):
+    """``fn(*args, **kwargs)``, or None with its :class:`InputError` added to ``problems``."""
+    try:
+        return fn(*args, **kwargs)
+    except InputError as exc:
+        problems.append(str(exc))
+        return None
+
+
+def _separability_text(rep: dict) -> str:
+    c = rep["classifier"]
+    lines = ["separability of " + ", ".join(f"{k} ({n})" for k, n in rep["counts"].items())
+             + (f"; AUC of {rep['positive']} against the rest" if rep["positive"] else "")]
+    for r in rep["indicators"][:10]:
+        lines.append(f"  {r['indicator']:<28} AUC {r['auc']:.3f}  {r['class']} {r['direction']}")
+    acc, auc = c["accuracy"], c["auc"]
+    lines.append(f"  classifier ({c['n_features']} indicators, {c['folds']}-fold CV): "
+                 + ("n/a (too few rows per class)" if acc != acc else
+                    f"accuracy {acc:.3f}, AUC {auc:.3f}"))
     return "\n".join(lines)
 
 
+def _write_report(rep: dict, folder: Path) -> None:
+    import csv
+    import io
+
+    from gearsim.io.jsonout import strict_json
+    from gearsim.io.targets import atomic_folder
+
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["indicator", "class", "auc", "direction", "n"])
+    for r in rep["indicators"]:
+        w.writerow([r["indicator"], r["class"], f"{r['auc']:.6g}", r["direction"], r["n"]])
+    with atomic_folder(folder) as tmp:
+        (tmp / "separability.csv").write_text(buf.getvalue())
+        (tmp / "separability.json").write_text(strict_json(rep, indent=1))
+
+
 def analyze(
-    file: Annotated[Path, typer.Argument(help="CSV, WAV, MAT, TDMS, UFF or NetCDF record")],
-    channel: Annotated[str | None, typer.Option(help="channel name (required if several)")] = None,
-    fs: Annotated[float | None, typer.Option(help="sampling rate [Hz] if not in the file")] = None,
+    files: Annotated[list[str], typer.Argument(
+        help="record files or glob patterns (CSV/TXT, WAV, MAT, TDMS, UFF, NetCDF; "
+             "quote globs)", show_default=False)],
+    channel: Annotated[list[str] | None, typer.Option(
+        help="channel to analyse (repeat for several); default: every channel but the "
+             "tacho")] = None,
+    fs: Annotated[float | None, typer.Option(help="sampling rate [Hz] if not in the file; "
+                                             "without one, frequencies are in "
+                                             "cycles/sample")] = None,
+    format_: Annotated[str | None, typer.Option(
+        "--format", help="file format (csv, wav, mat, tdms, uff, netcdf) instead of the "
+                         "extension")] = None,
     shaft_rpm: Annotated[float | None, typer.Option(help="speed of the measured shaft [rpm]")]
     = None,
-    teeth: Annotated[list[int] | None, typer.Option(
-        help="teeth of the gear on the measured shaft, then of the other gears (repeat)")] = None,
-    tacho: Annotated[str | None, typer.Option(help="tacho channel of the measured shaft")] = None,
-    pulses_per_rev: Annotated[int, typer.Option(help="tacho pulses per revolution")] = 1,
-    baseline: Annotated[Path | None, typer.Option(help="healthy record, same channel")] = None,
-    plot: Annotated[str | None, typer.Option(
-        help="folder for the figures (replaced as a whole)")] = None,
+    tacho: Annotated[str | None, typer.Option(help="tacho channel of the measured shaft "
+                                              "(speed read from the file)")] = None,
+    pulses_per_rev: Annotated[int, typer.Option(help="tacho pulses per revolution [-]")] = 1,
+    speed_search: Annotated[str | None, typer.Option(
+        help="estimate the shaft speed from the signal within LO,HI [rpm] (labelled "
+             "estimate)")] = None,
+    teeth: Annotated[list[str] | None, typer.Option(
+        help="tooth counts [-], gear on the measured shaft first: --teeth 32 80, "
+             "--teeth 32,80 or --teeth 32 --teeth 80")] = None,
+    labels: Annotated[Path | None, typer.Option(
+        help="CSV with columns file,label or file,channel,label: adds a separability "
+             "report")] = None,
+    label_pattern: Annotated[str | None, typer.Option(
+        help="regular expression with one group giving the label from each file name, "
+             "e.g. '^(healthy|faulty)_'")] = None,
+    out: Annotated[str | None, typer.Option(
+        help="table of indicators, rows file x channel, units in the header: .csv or "
+             ".nc")] = None,
+    report: Annotated[str | None, typer.Option(
+        help="folder for separability.csv/.json (needs labels; replaced as a whole)")] = None,
     json_: Annotated[bool, typer.Option("--json", help="print the JSON summary")] = False,
-    max_order: Annotated[int, typer.Option(help="mesh harmonics 1..N")] = 4,
-    sidebands: Annotated[int, typer.Option(help="sidebands per side (SER uses 6)")] = 6,
+    workers: Annotated[int, typer.Option(help="local Dask worker processes [-]; 1 = serial "
+                                         "in this process")] = 1,
+    scheduler: Annotated[str | None, typer.Option(
+        help="address of a running Dask scheduler (tcp://host:8786)")] = None,
+    drop_nonfinite: Annotated[bool, typer.Option(
+        help="drop NaN/inf samples instead of refusing the file")] = False,
+    baseline: Annotated[Path | None, typer.Option(
+        help="healthy record, same channel (one record only)")] = None,
+    plot: Annotated[str | None, typer.Option(
+        help="folder for the gear-tier figures (one record only; replaced as a whole)")]
+    = None,
+    max_order: Annotated[int, typer.Option(help="mesh harmonics 1..N [-]")] = 4,
+    sidebands: Annotated[int, typer.Option(help="sidebands per side [-] (SER uses 6)")] = 6,
     window: Annotated[str, typer.Option(help="hann, flattop or boxcar")] = "hann",
     emd: Annotated[str | None, typer.Option(
         help="decompose by EMD first and keep IMFs by 'correlation' or 'kurtosis'")] = None,
     emd_threshold: Annotated[str | None, typer.Option(
-        help="IMF threshold: number, or 'ayenu-prah' (correlation default); kurtosis "
+        help="IMF threshold [-]: number, or 'ayenu-prah' (correlation default); kurtosis "
              "default 3.0")] = None,
 ) -> None:
-    """Time, frequency, time-frequency and TSA analysis of one vibration record."""
-    if plot is not None:  # every output target is checked before any work
-        plot = check_output_folder(plot, "--plot", owned=FIGURE_FILES.__contains__)
-    _speed(shaft_rpm, tacho)
-    zs = _teeth(teeth)
+    """Tiered analysis of records: statistics always; spectrum in Hz with a sampling rate
+    (else cycles/sample); shaft orders with a speed (--shaft-rpm, --tacho or
+    --speed-search); gear quantities with --teeth. Rows = file x channel."""
+    problems: list[str] = []
+    # every output target is checked before any work
+    out_path = report_path = plot_path = None
+    if out is not None:
+        from gearsim.io.targets import check_output_file
+
+        out_path = _collect(problems, check_output_file, out, "--out", (".csv", ".nc"))
+    if report is not None:
+        from gearsim.io.targets import check_output_folder
+
+        report_path = _collect(problems, check_output_folder, report, "--report",
+                               owned=REPORT_FILES.__contains__)
+        if labels is None and label_pattern is None:
+            problems.append(f"--report = {report}: needs --labels or --label-pattern")
+    if plot is not None:
+        from gearsim.io.targets import check_output_folder
+
+        plot_path = _collect(problems, check_output_folder, plot, "--plot",
+                             owned=_figure_files().__contains__)
+    if labels is not None and label_pattern is not None:
+        problems.append("--labels/--label-pattern = both: give at most one")
+    n_speed = sum(v is not None for v in (shaft_rpm, tacho, speed_search))
+    if n_speed > 1:
+        problems.append("--shaft-rpm/--tacho/--speed-search = several: give at most one "
+                        "speed source")
+    elif shaft_rpm is not None:
+        _collect(problems, _speed, shaft_rpm, None)
+    if fs is not None and not (0 < fs < float("inf")):
+        problems.append(f"--fs = {fs:g}: must be a finite rate > 0 Hz")
+    if workers < 1:
+        problems.append(f"--workers = {workers}: must be an integer >= 1")
+    if scheduler is not None:
+        from gearsim.studies.sweep_run import check_scheduler
+
+        _collect(problems, check_scheduler, scheduler)
     if max_order < 1:
-        raise InputError("--max-order", max_order, "must be >= 1")
-    threshold = _emd_threshold(emd, emd_threshold)
-    with as_options({"channel": "--channel", "fs": "--fs"}):
-        sig = read_signal(file, channel=channel, fs=fs)
-    tach = None
-    if tacho is not None:
-        with as_options({"channel": "--tacho", "fs": "--fs"}):
-            tach = read_signal(file, channel=tacho, fs=fs).data
-    base = base_tach = None
-    if baseline is not None:
-        b = read_signal(baseline, channel=sig.channel, fs=fs)
-        if abs(b.fs - sig.fs) > 1e-9 * sig.fs:
-            raise InputError("--baseline fs", b.fs, f"must equal the record's {sig.fs:g} Hz")
-        base = b.data
-        if tacho is not None:
-            base_tach = read_signal(baseline, channel=tacho, fs=fs).data
-    result = run(
-        sig.data, sig.fs, teeth=zs,
-        shaft_frequency=None if shaft_rpm is None else shaft_rpm / 60.0,
-        tacho=tach, pulses_per_rev=pulses_per_rev, baseline=base, baseline_tacho=base_tach,
-        orders=tuple(range(1, max_order + 1)), n_sidebands=sidebands, window=window,
-        emd_method=emd, emd_threshold=threshold,
-    )
-    d = result.to_dict()
-    d["source"] = {"file": sig.path, "channel": sig.channel, "format": sig.fmt,
-                   "fs_source": sig.fs_source, "units": sig.units,
-                   "baseline": str(baseline) if baseline is not None else None,
-                   "shaft_rpm": shaft_rpm}
-    if plot is not None:  # written into a temporary folder, then swapped in
-        with atomic_folder(plot) as tmp:
-            written = save_all(result.figures(units=sig.units), tmp)
-        d["figures"] = [str(plot / p.name) for p in written]
-    if json_:
-        typer.echo(strict_json(d, indent=1))
+        problems.append(f"--max-order = {max_order}: must be >= 1")
+    # typer gives "--teeth 32 80" the 80 as a file: bare integers that are not files
+    ints = [f for f in files if f.strip().isdigit() and not Path(f).exists()] if teeth else []
+    files = [f for f in files if f not in ints]
+    zs = _teeth(teeth, ints, problems)
+    search = _speed_search(speed_search, problems)
+    threshold = _collect(problems, _emd_threshold, emd, emd_threshold)
+    settings = None
+    if max_order >= 1 and threshold is not None:
+        from gearsim.signals.settings import AnalysisSettings
+
+        settings = _collect(problems, AnalysisSettings, orders=tuple(range(1, max_order + 1)),
+                            n_sidebands=sidebands, window=window, emd_method=emd,
+                            emd_threshold=threshold, pulses_per_rev=pulses_per_rev)
+    from gearsim.studies import batch as bt
+
+    n_options = len(problems)  # problems of the options: stop before reading any file
+    names, more = bt.expand_inputs(files)
+    problems += more
+    lab = None
+    if label_pattern is not None:
+        lab, more = _collect(problems, bt.labels_from_pattern, names, label_pattern) or ({}, [])
+        problems += more
+    elif labels is not None:
+        lab = _collect(problems, bt.labels_from_csv, labels)
+    single = len(names) == 1 and (channel is None or len(channel) == 1)
+    if (baseline is not None or plot is not None) and len(names) > 1:
+        problems.append(f"--baseline/--plot: need exactly one record; {len(names)} files "
+                        "given")
+    if problems and (n_options or not names):
+        raise bt.problems_error(problems)
+
+    speed = None if shaft_rpm is None else shaft_rpm / 60.0
+    options: dict[str, Any] = {"channels": channel, "fs": fs, "fmt": format_, "speed": speed,
+                               "tacho": tacho, "pulses_per_rev": pulses_per_rev,
+                               "speed_search": search, "teeth": zs, "settings": settings,
+                               "drop_nonfinite": drop_nonfinite}
+    if single and (baseline is not None or plot is not None):
+        res = _one_with_baseline(names[0], baseline, options)
     else:
-        typer.echo(_summary_text(d, sig.units))
-        if plot is not None:
-            typer.echo(f"figures: {', '.join(d['figures'])}")
+        res = bt.collect(names, labels=lab, workers=workers, scheduler=scheduler,
+                         keep_analysis=workers == 1 and scheduler is None, **options)
+    res.problems[:0] = problems  # the option problems first, then those of the files
+    if (baseline is not None or plot is not None) and len(res.records) > 1:
+        res.problems.append(f"--baseline/--plot: need exactly one record; "
+                            f"{len(res.records)} channels analysed (give --channel)")
+    rep = None
+    if lab is not None and not res.problems:
+        rep = _collect(res.problems, bt.separability, res.records, res.labels)
+    res.raise_problems()
+
+    if out_path is not None:
+        bt.write_table(res.records, res.labels if lab is not None else None, out_path)
+    if report_path is not None and rep is not None:
+        _write_report(rep, report_path)
+    figures = None
+    if plot_path is not None:
+        rec = res.records[0]
+        if getattr(rec, "analysis", None) is not None:
+            from gearsim.io.targets import atomic_folder
+            from gearsim.viz import save_all
+
+            with atomic_folder(plot_path) as tmp:
+                written = save_all(rec.analysis.figures(units=rec.units), tmp)
+            figures = [str(plot_path / p.name) for p in written]
+    if json_:
+        from gearsim.io.jsonout import strict_json
+
+        doc: dict[str, Any] = {
+            "records": [(r.to_dict() if hasattr(r, "to_dict") else r["record"])
+                        for r in res.records],
+            "labels": res.labels if lab is not None else None, "mode": res.mode,
+        }
+        if rep is not None:
+            doc["separability"] = rep
+        if out_path is not None:
+            doc["table"] = str(out_path)
+        if figures is not None:
+            doc["figures"] = figures
+        typer.echo(strict_json(doc, indent=1))
+        return
+    from gearsim.signals.tiers import RecordAnalysis
+
+    for r in res.records:
+        typer.echo(r.text() if isinstance(r, RecordAnalysis) else _text_of(r["record"]))
+    if rep is not None:
+        typer.echo(_separability_text(rep))
+    if out_path is not None:
+        typer.echo(f"table: {out_path} ({len(res.records)} rows; {res.mode})")
+    if report_path is not None and rep is not None:
+        typer.echo(f"report: {report_path}")
+    if plot_path is not None:
+        typer.echo("figures: " + (", ".join(figures) if figures else
+                                  "none (the gear tier was skipped)"))
+
+
+def _text_of(d: dict) -> str:
+    """Text of a record dict (records from Dask workers come back as dicts)."""
+    from gearsim.signals.tiers import RecordAnalysis
+
+    r = RecordAnalysis(n_samples=d["n_samples"], fs=d["fs_hz"],
+                       fs_provenance=d["fs_provenance"], speed=d["speed_hz"],
+                       speed_provenance=d["speed_provenance"],
+                       teeth=tuple(d["teeth"]) if d["teeth"] else None,
+                       teeth_provenance=d["teeth_provenance"], tiers=d["tiers"],
+                       skipped=d["skipped"], source=d["source"], units=d["units"])
+    return r.text()
+
+
+def _one_with_baseline(path: str, baseline: Path | None, options: dict):
+    """One record with a baseline (and arrays kept for --plot)."""
+    from gearsim.io.measured import read_signal
+    from gearsim.signals.tiers import analyze_record
+    from gearsim.studies.batch import Batch, analyze_file
+
+    if baseline is None:
+        recs, probs = analyze_file(path, keep_analysis=True, **options)
+        return Batch(records=recs, labels=[None] * len(recs), problems=probs)
+    ch = options["channels"][0] if options["channels"] else None
+    problems: list[str] = []
+    with as_options({"channel": "--channel", "fs": "--fs"}):
+        sig = _collect(problems, read_signal, path, channel=ch, fs=options["fs"],
+                       fmt=options["fmt"])
+    tach = b = bt = None
+    if sig is not None and options["tacho"]:
+        tach = _collect(problems, read_signal, path, channel=options["tacho"], fs=sig.fs).data
+    if sig is not None:
+        bs = _collect(problems, read_signal, baseline, channel=sig.channel, fs=sig.fs)
+        if bs is not None:
+            b = bs.data
+            if abs(bs.fs - sig.fs) > 1e-9 * sig.fs:
+                problems.append(f"--baseline fs = {bs.fs:g}: must equal the record's "
+                                f"{sig.fs:g} Hz")
+            if options["tacho"]:
+                bt = _collect(problems, read_signal, baseline, channel=options["tacho"],
+                              fs=sig.fs)
+                bt = bt.data if bt is not None else None
+    if problems:
+        return Batch(problems=problems)
+    rec = analyze_record(sig.data, sig.fs, speed=options["speed"], tacho=tach,
+                         pulses_per_rev=options["pulses_per_rev"],
+                         speed_search=options["speed_search"], teeth=options["teeth"],
+                         settings=options["settings"], baseline=b, baseline_tacho=bt,
+                         fs_provenance="file" if sig.fs_source == "file" else "given",
+                         source={"file": sig.path, "channel": sig.channel,
+                                 "baseline": str(baseline)}, units=sig.units)
+    return Batch(records=[rec], labels=[None])
 
 
 def compare(
@@ -192,6 +396,12 @@ def compare(
     json_: Annotated[bool, typer.Option("--json", help="print the JSON table")] = False,
 ) -> None:
     """Sideband amplitudes near n f_m, simulated versus measured, with % errors (seed Table 2)."""
+    from gearsim.io.jsonout import strict_json
+    from gearsim.io.measured import read_signal
+    from gearsim.signals.compare import compare_sidebands
+    from gearsim.viz import check_plot_file, save
+    from gearsim.viz.signals import plot_comparison
+
     if plot is not None:  # every output target is checked before any work
         plot = check_plot_file(plot, "--plot")
     _speed(shaft_rpm, None)

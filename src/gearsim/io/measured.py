@@ -1,32 +1,60 @@
 """Readers for measured (and simulated) vibration records.
 
-Formats, chosen by file extension unless ``fmt`` is given:
+Formats, chosen by file extension unless ``fmt`` is given (an unknown extension falls
+back to the file's magic bytes for the binary formats):
 
 =========  ==============  ==========================================================
 format     extensions      channels / sampling rate
 =========  ==============  ==========================================================
 csv        .csv, .txt      columns (header row names them, else ``"0", "1", ...``);
-                           fs from a time column (``time``, ``t``, ``time_s``) or a
-                           comment line ``# fs = 50000``
+                           fs from a time column (``time``, ``t``, ``time_s``,
+                           ``time [ms]``) or a comment line ``# fs = 50000`` /
+                           ``# fs: 25.6 kHz``; see :mod:`gearsim.io.csvtext` for the
+                           delimiters, decimal comma, header and metadata comments
 wav        .wav            ``"0", "1", ...``; fs from the header; integer PCM scaled
                            to full scale 1.0
 mat        .mat            numeric vectors (``"name"``) and matrix columns
                            (``"name:j"``); fs from a scalar ``fs``/``Fs``/``FS``/
                            ``sampling_rate`` or a time vector ``t``/``time``
-tdms       .tdms           ``"group/channel"`` or ``"channel"`` if unique; fs from the
-                           ``wf_increment`` property
-uff        .uff, .unv      type-58 data sets by ``id1`` (or index ``"0", "1", ...``);
-                           fs from ``abscissa_inc``
+tdms       .tdms           ``"channel"`` when unique (alias ``"group/channel"``), else
+                           ``"group/channel"``; fs from the ``wf_increment`` property
+uff        .uff, .unv      type-58 data sets by ``id1`` when unique (alias: index
+                           ``"0", "1", ...``); fs from ``abscissa_inc``
 netcdf     .nc, .h5, .nc4  data variables along ``time`` (``"name"``; with more
                            dimensions ``"name[gear=G1,axis=x]"``); fs from attribute
                            ``fs`` or the ``time`` coordinate (s), e.g. gearsim
                            simulator output
 =========  ==============  ==========================================================
 
-A sampling rate given by the user is used when the file holds none; when both exist they
-must agree within :data:`FS_MATCH_RTOL`. Every problem (missing or unreadable file,
-truncated data, missing channel, non-uniform time axis, non-finite samples) raises
-:class:`gearsim.errors.InputError` with one line naming the file, the value and the limit.
+**Compressed files.** Every format is also read gzip-, bz2-, xz-compressed or as the
+single member of a zip archive, recognised from the first bytes (not the name), see
+:mod:`gearsim.io.compression`: ``rec.csv.gz``, ``rec.uff.xz``, ``rec.zip`` holding
+``rec.csv``, and a gzip stream named ``rec.csv`` all read. The inner format comes from
+the name without the compression suffix (or the member's name); ``fmt`` overrides it.
+Text is parsed in memory; a binary format (or UFF, whose library reads only files) is
+written to a private temporary file that is removed at once.
+
+**All channels.** :func:`read_record` returns every channel (or the chosen ones) with
+the sampling rate, its source, per-channel units and the file's metadata;
+:func:`read_signal` returns one channel. A sampling rate given by the user is used when
+the file holds none; when both exist they must agree within :data:`FS_MATCH_RTOL`.
+
+**Problems.** A missing or unreadable file raises :class:`gearsim.errors.InputError` at
+once. Otherwise every problem of the call (each missing channel, a missing or
+disagreeing fs, a channel of zero samples, non-finite samples, ...) is collected and
+raised together as one :class:`ReadProblems` (an ``InputError``) whose one-line message
+lists them separated by ``"; "``; a single problem is raised as a plain ``InputError``.
+A record of one sample reads: whether it is long enough is for the analysis to decide.
+
+**Non-finite samples** (NaN, inf, empty CSV fields, a row cut short) are refused, naming
+the channel and the first index. With ``drop_nonfinite=True`` the leading and trailing
+runs of non-finite samples are dropped and reported (:class:`DroppedSamples`); the
+channels of one length (one time base) are cut to the same rows, so they stay aligned
+and sample ``i`` of the result is sample ``kept[0] + i`` of the file. Interior non-finite
+samples are still refused: dropping them would close a gap and break uniform sampling
+(every rate, order tracking and TSA result would silently shift), and interpolating
+would invent data exactly where fault indicators (kurtosis, crest factor) look for
+impulses.
 """
 
 from __future__ import annotations
@@ -35,22 +63,30 @@ import itertools
 import logging
 import math
 import re
+import tempfile
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from gearsim.errors import InputError
+from gearsim.io.compression import SUFFIXES, decompress, sniff_compression
+from gearsim.io.csvtext import decode_text, parse_table
+from gearsim.io.record import DroppedSamples, MeasuredSignal, ReadProblems, Record, raise_all
 
 __all__ = [
     "FORMATS",
     "FS_MATCH_RTOL",
     "TIME_JITTER_RTOL",
+    "DroppedSamples",
     "MeasuredSignal",
-    "read_signal",
+    "ReadProblems",
+    "Record",
     "list_channels",
+    "read_record",
+    "read_signal",
 ]
 
 #: Relative agreement required between a user-given fs and the file's. UFF stores the
@@ -73,46 +109,13 @@ FORMATS: dict[str, tuple[str, ...]] = {
 }
 
 _TIME_NAMES = ("time", "t", "time_s", "times", "time [s]", "time(s)")
+_TIME_UNITS = {"s": 1.0, "sec": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "μs": 1e-6}
 _FS_NAMES = ("fs", "Fs", "FS", "sampling_rate", "samplerate", "sample_rate")
-
-
-@dataclass(frozen=True)
-class MeasuredSignal:
-    """One channel read from a file (returned by :func:`read_signal`).
-
-    Parameters
-    ----------
-    data : ndarray
-        Samples (float64, units of the file).
-    fs : float
-        Sampling rate [Hz].
-    channel : str
-        Channel name as used to select it.
-    path : str
-        File path.
-    fmt : str
-        Format key of :data:`FORMATS`.
-    fs_source : str
-        ``"file"`` or ``"user"``.
-    channels : tuple of str, optional
-        All channels in the file.
-    units : str or None, optional
-        Units stored with the channel, if any.
-    """
-
-    data: np.ndarray
-    fs: float
-    channel: str
-    path: str
-    fmt: str
-    fs_source: str
-    channels: tuple[str, ...] = field(default=())
-    units: str | None = None
-
-    @property
-    def duration(self) -> float:
-        """Record length, samples / fs [s]."""
-        return self.data.size / self.fs
+#: Leading bytes of the binary formats, used when the extension is unknown.
+_FORMAT_MAGIC = (
+    (b"RIFF", "wav"), (b"RIFX", "wav"), (b"MATLAB 5.0 MAT-file", "mat"),
+    (b"MATLAB 7.3 MAT-file", "mat"), (b"TDSm", "tdms"), (b"\x89HDF\r\n\x1a\n", "netcdf"),
+)
 
 
 @dataclass
@@ -121,6 +124,10 @@ class _Raw:
     fs: float | None
     units: dict[str, str] = field(default_factory=dict)
     fs_per_channel: dict[str, float] = field(default_factory=dict)
+    aliases: set[str] = field(default_factory=set)  # names that repeat another channel
+    metadata: dict = field(default_factory=dict)
+    text_rows: bool = False  # samples are rows of a text table (messages name the row)
+    problems: list[InputError] = field(default_factory=list)
 
 
 def _fail(path: Path, fmt: str, reason: object) -> InputError:
@@ -147,77 +154,41 @@ def _fs_from_time(path: Path, t: np.ndarray) -> float:
     return 1.0 / mean
 
 
-def _read_csv(path: Path) -> _Raw:
-    import pandas as pd
+def _time_scale(name: str, units: dict[str, str]) -> float | None:
+    """Seconds per unit of a time column, or None when ``name`` is not a time column."""
+    low = name.strip().lower()
+    if low in _TIME_NAMES:
+        return 1.0
+    m = re.match(r"^(time|t|zeit)[ _]?\[?\(?\s*(s|sec|ms|us|µs|μs)\s*\]?\)?$", low)
+    if m:
+        return _TIME_UNITS[m.group(2)]
+    if name in units and re.sub(r"\s*[\[(].*$", "", low) in ("time", "t", "zeit"):
+        return _TIME_UNITS.get(units[name].strip().lower())
+    return None
 
-    fs = None
-    header = None
-    with open(path, encoding="utf-8", errors="replace") as fh:
-        lines = enumerate(fh, start=1)
-        for _, line in lines:
-            s = line.strip()
-            if not s:
-                continue
-            if s.startswith("#"):
-                m = re.match(r"#\s*(fs|sampling_rate|sample_rate)\s*[:=]\s*([0-9.eE+-]+)", s)
-                if m:
-                    fs = float(m.group(2))
-                continue
-            first = [c.strip() for c in s.split(",")]
-            try:
-                [float(c) for c in first]
-                header = None
-            except ValueError:
-                header = 0
-            break
-        # a blank line between data rows is a missing sample (pandas would skip it)
-        blank = None
-        for number, line in lines:
-            s = line.strip()
-            if not s:
-                blank = blank or number
-            elif not s.startswith("#") and blank is not None:
-                raise InputError(f"{path.name}: line {blank}", "empty",
-                                 "every row must hold a finite number (a blank line inside "
-                                 "the data is a missing sample)")
-    try:
-        df = pd.read_csv(path, comment="#", header=header, skip_blank_lines=True)
-    except Exception as exc:  # pandas raises many types for malformed text
-        raise _fail(path, "csv", exc) from None
-    if df.shape[0] < 2 or df.shape[1] < 1:
-        raise _fail(path, "csv", f"holds {df.shape[0]} rows x {df.shape[1]} columns")
-    cols = [str(c).strip() for c in df.columns]
-    df.columns = cols
-    channels: dict[str, np.ndarray] = {}
-    for c in cols:
-        try:
-            v = pd.to_numeric(df[c], errors="raise").to_numpy(dtype=np.float64)
-        except (ValueError, TypeError) as exc:
-            raise _fail(path, "csv", f"column {c!r} is not numeric ({exc})") from None
-        bad = ~np.isfinite(v)
-        if bad.any():
-            row = int(np.flatnonzero(bad)[0])
-            if np.isnan(v[row]):
-                shown, why = "missing/NaN", "truncated or damaged file?"
-            else:
-                shown, why = f"{v[row]:g}", "an overflowed or saturated value?"
-            raise InputError(
-                f"{path.name}: column {c!r} data row {row + 1}", shown,
-                f"every row must hold a finite number ({int(bad.sum())} non-finite in this "
-                f"column; {why})",
-            )
-        channels[c] = v
-    time_col = next((c for c in cols if c.lower() in _TIME_NAMES), None)
+
+def _read_csv(text: str, shown: Path) -> _Raw:
+    table = parse_table(text, shown.name)
+    channels = {n: np.ascontiguousarray(table.columns[:, j])
+                for j, n in enumerate(table.names)}
+    fs = table.fs
+    problems: list[InputError] = []
+    time_col = next((n for n in table.names if _time_scale(n, table.units) is not None), None)
     if time_col is not None:
-        fs_t = _fs_from_time(path, channels.pop(time_col))
-        if fs is not None and abs(fs_t - fs) > FS_MATCH_RTOL * fs:
-            raise InputError(f"{path.name}: fs comment", fs,
-                             f"disagrees with the time column ({fs_t:g} Hz)")
-        fs = fs_t
-    return _Raw(channels=channels, fs=fs)
+        scale = _time_scale(time_col, table.units)
+        t = channels.pop(time_col) * scale
+        if t.size >= 2:  # one row gives no rate: the comment or the user must
+            fs_t = _fs_from_time(shown, t)
+            if fs is not None and abs(fs_t - fs) > FS_MATCH_RTOL * fs:
+                problems.append(InputError(f"{shown.name}: fs comment", fs,
+                                           f"disagrees with the time column ({fs_t:g} Hz)"))
+            fs = fs_t
+    units = {n: u for n, u in table.units.items() if n in channels}
+    return _Raw(channels=channels, fs=fs, units=units, metadata=dict(table.metadata),
+                text_rows=True, problems=problems)
 
 
-def _read_wav(path: Path) -> _Raw:
+def _read_wav(path: Path, shown: Path) -> _Raw:
     from scipy.io import wavfile
 
     try:
@@ -225,7 +196,7 @@ def _read_wav(path: Path) -> _Raw:
             warnings.simplefilter("error", wavfile.WavFileWarning)
             rate, data = wavfile.read(path)
     except Exception as exc:
-        raise _fail(path, "wav", exc) from None
+        raise _fail(shown, "wav", exc) from None
     if np.issubdtype(data.dtype, np.integer):
         info = np.iinfo(data.dtype)
         if data.dtype == np.uint8:  # 8-bit PCM is offset binary
@@ -238,30 +209,30 @@ def _read_wav(path: Path) -> _Raw:
     return _Raw(channels={str(j): data[:, j] for j in range(data.shape[1])}, fs=float(rate))
 
 
-def _read_mat(path: Path) -> _Raw:
+def _read_mat(path: Path, shown: Path) -> _Raw:
     from scipy.io import loadmat
 
     try:
         content = loadmat(path, squeeze_me=False)
     except NotImplementedError:
-        return _read_mat73(path)
+        return _read_mat73(path, shown)
     except Exception as exc:
-        raise _fail(path, "mat", exc) from None
-    return _mat_channels(path, {k: v for k, v in content.items() if not k.startswith("__")})
+        raise _fail(shown, "mat", exc) from None
+    return _mat_channels(shown, {k: v for k, v in content.items() if not k.startswith("__")})
 
 
-def _read_mat73(path: Path) -> _Raw:
+def _read_mat73(path: Path, shown: Path) -> _Raw:
     import h5py
 
     try:
         with h5py.File(path, "r") as f:
             content = {k: np.asarray(f[k]).T for k in f if isinstance(f[k], h5py.Dataset)}
     except Exception as exc:
-        raise _fail(path, "mat", exc) from None
-    return _mat_channels(path, content)
+        raise _fail(shown, "mat", exc) from None
+    return _mat_channels(shown, content)
 
 
-def _mat_channels(path: Path, content: dict) -> _Raw:
+def _mat_channels(shown: Path, content: dict) -> _Raw:
     fs = None
     time = None
     channels: dict[str, np.ndarray] = {}
@@ -286,10 +257,10 @@ def _mat_channels(path: Path, content: dict) -> _Raw:
             for j in range(cols.shape[1]):
                 channels[f"{name}:{j}"] = cols[:, j].astype(np.float64)
     if time is not None:
-        fs_t = _fs_from_time(path, time)
+        fs_t = _fs_from_time(shown, time)
         if fs is not None and abs(fs_t - fs) > FS_MATCH_RTOL * fs:
             raise InputError(
-                f"{path.name}: fs", fs, f"disagrees with the time vector ({fs_t:g} Hz)"
+                f"{shown.name}: fs", fs, f"disagrees with the time vector ({fs_t:g} Hz)"
             )
         fs = fs_t
     return _Raw(channels=channels, fs=fs)
@@ -304,7 +275,7 @@ class _LogCatcher(logging.Handler):
         self.messages.append(record.getMessage())
 
 
-def _read_tdms(path: Path) -> _Raw:
+def _read_tdms(path: Path, shown: Path) -> _Raw:
     from nptdms import TdmsFile
 
     catcher = _LogCatcher()
@@ -315,19 +286,23 @@ def _read_tdms(path: Path) -> _Raw:
         groups = [(g.name, [(c.name, c[:], dict(c.properties)) for c in g.channels()])
                   for g in f.groups()]
     except Exception as exc:
-        raise _fail(path, "tdms", exc) from None
+        raise _fail(shown, "tdms", exc) from None
     finally:
         logger.removeHandler(catcher)
     trunc = [m for m in catcher.messages if "less data than expected" in m or "not a multiple" in m]
     if trunc:
-        raise _fail(path, "tdms", f"truncated ({trunc[0]})")
+        raise _fail(shown, "tdms", f"truncated ({trunc[0]})")
     names = [c for _, chans in groups for c, _, _ in chans]
     channels: dict[str, np.ndarray] = {}
     units: dict[str, str] = {}
     incs: dict[str, float] = {}
+    aliases: set[str] = set()
     for gname, chans in groups:
         for cname, data, props in chans:
-            keys = [f"{gname}/{cname}"] + ([cname] if names.count(cname) == 1 else [])
+            keys = [f"{gname}/{cname}"]
+            if names.count(cname) == 1:  # the short name first; "group/channel" an alias
+                keys.insert(0, cname)
+                aliases.add(keys[1])
             for key in keys:
                 channels[key] = np.asarray(data, dtype=np.float64)
                 if "unit_string" in props:
@@ -335,10 +310,11 @@ def _read_tdms(path: Path) -> _Raw:
                 if "wf_increment" in props:
                     incs[key] = float(props["wf_increment"])
     fs_per = {k: 1.0 / v for k, v in incs.items() if v > 0}
-    return _Raw(channels=channels, fs=None, units=units, fs_per_channel=fs_per)
+    return _Raw(channels=channels, fs=None, units=units, fs_per_channel=fs_per,
+                aliases=aliases)
 
 
-def _read_uff(path: Path) -> _Raw:
+def _read_uff(path: Path, shown: Path) -> _Raw:
     import pyuff
 
     try:
@@ -346,24 +322,28 @@ def _read_uff(path: Path) -> _Raw:
         types = list(uff.get_set_types())
         sets = [uff.read_sets(i) for i, t in enumerate(types) if int(t) == 58]
     except Exception as exc:
-        raise _fail(path, "uff", exc) from None
+        raise _fail(shown, "uff", exc) from None
     if not sets:
-        raise _fail(path, "uff", "no type-58 (function at nodal DOF) data set found")
+        raise _fail(shown, "uff", "no type-58 (function at nodal DOF) data set found")
     channels: dict[str, np.ndarray] = {}
     units: dict[str, str] = {}
     fs_per: dict[str, float] = {}
+    aliases: set[str] = set()
     ids = [str(s.get("id1", "")).strip() for s in sets]
     for j, s in enumerate(sets):
         data = np.asarray(s["data"])
         if np.iscomplexobj(data):
-            raise _fail(path, "uff", f"data set {j} is complex (a spectrum, not a time record)")
-        keys = [str(j)] + ([ids[j]] if ids[j] and ids.count(ids[j]) == 1 else [])
+            raise _fail(shown, "uff", f"data set {j} is complex (a spectrum, not a time record)")
+        keys = [str(j)]
+        if ids[j] and ids.count(ids[j]) == 1 and ids[j] != str(j):  # id1 first, index alias
+            keys.insert(0, ids[j])
+            aliases.add(str(j))
         inc = float(s.get("abscissa_inc", 0.0) or 0.0)
         if not inc > 0 and "x" in s:
-            inc = 1.0 / _fs_from_time(path, s["x"])
+            inc = 1.0 / _fs_from_time(shown, s["x"])
         n_exp = int(s.get("num_pts", data.size) or data.size)
         if data.size != n_exp:
-            raise _fail(path, "uff", f"data set {j} holds {data.size} of {n_exp} points")
+            raise _fail(shown, "uff", f"data set {j} holds {data.size} of {n_exp} points")
         for key in keys:
             channels[key] = data.astype(np.float64)
             if inc > 0:
@@ -371,20 +351,21 @@ def _read_uff(path: Path) -> _Raw:
             lab = str(s.get("ordinate_axis_units_lab", "")).strip()
             if lab and lab != "NONE":
                 units[key] = lab
-    return _Raw(channels=channels, fs=None, units=units, fs_per_channel=fs_per)
+    return _Raw(channels=channels, fs=None, units=units, fs_per_channel=fs_per,
+                aliases=aliases)
 
 
-def _read_netcdf(path: Path) -> _Raw:
+def _read_netcdf(path: Path, shown: Path) -> _Raw:
     import xarray as xr
 
     try:
         with xr.open_dataset(path, engine="h5netcdf") as ds:
             ds = ds.load()
     except Exception as exc:
-        raise _fail(path, "netcdf", exc) from None
+        raise _fail(shown, "netcdf", exc) from None
     if "time" not in ds.coords and "time" not in ds.dims:
         raise InputError(
-            f"{path.name}: time", "absent", "a NetCDF record needs a 'time' coordinate (s)"
+            f"{shown.name}: time", "absent", "a NetCDF record needs a 'time' coordinate (s)"
         )
     fs = None
     if "fs" in ds.attrs:
@@ -393,11 +374,12 @@ def _read_netcdf(path: Path) -> _Raw:
         tvals = ds["time"].values
         if np.issubdtype(tvals.dtype, np.datetime64) or np.issubdtype(tvals.dtype, np.timedelta64):
             tvals = (tvals - tvals[0]) / np.timedelta64(1, "s")
-        fs_t = _fs_from_time(path, tvals)
-        if fs is not None and abs(fs_t - fs) > FS_MATCH_RTOL * fs:
-            raise InputError(f"{path.name}: attrs['fs']", fs,
-                             f"disagrees with the time coordinate ({fs_t:g} Hz)")
-        fs = fs_t
+        if tvals.size >= 2 or fs is None:  # one time gives no rate; attrs['fs'] may
+            fs_t = _fs_from_time(shown, tvals)
+            if fs is not None and abs(fs_t - fs) > FS_MATCH_RTOL * fs:
+                raise InputError(f"{shown.name}: attrs['fs']", fs,
+                                 f"disagrees with the time coordinate ({fs_t:g} Hz)")
+            fs = fs_t
     channels: dict[str, np.ndarray] = {}
     units: dict[str, str] = {}
     for name, var in ds.data_vars.items():
@@ -423,8 +405,7 @@ def _read_netcdf(path: Path) -> _Raw:
     return _Raw(channels=channels, fs=fs, units=units)
 
 
-_READERS: dict[str, Callable[[Path], _Raw]] = {
-    "csv": _read_csv,
+_READERS: dict[str, Callable[[Path, Path], _Raw]] = {
     "wav": _read_wav,
     "mat": _read_mat,
     "tdms": _read_tdms,
@@ -433,30 +414,54 @@ _READERS: dict[str, Callable[[Path], _Raw]] = {
 }
 
 
-def _format_of(path: Path, fmt: str | None) -> str:
+def _format_of(name: str, fmt: str | None, head: bytes, shown: Path,
+               compression: str | None) -> str:
     if fmt is not None:
-        if fmt not in FORMATS:
-            raise InputError("fmt", fmt, f"must be one of {sorted(FORMATS)}")
         return fmt
-    ext = path.suffix.lower()
+    ext = Path(name).suffix.lower()
     for key, exts in FORMATS.items():
         if ext in exts:
             return key
+    for magic, key in _FORMAT_MAGIC:
+        if head.startswith(magic):
+            return key
     known = sorted(e for exts in FORMATS.values() for e in exts)
-    raise InputError("file", str(path), f"extension {ext or '(none)'!r} not one of {known}")
+    inner = f" (inside the {compression} stream: {name!r})" if compression else ""
+    raise InputError("file", str(shown), f"extension {ext or '(none)'!r}{inner} not one of "
+                     f"{known} (or give fmt)")
 
 
-def _load(path: str | Path, fmt: str | None) -> tuple[Path, str, _Raw]:
+def _load(path: str | Path, fmt: str | None) -> tuple[Path, str, _Raw, str | None]:
     p = Path(path)
     if not p.is_file():
         raise InputError("file", str(p), "does not exist or is not a regular file")
     if p.stat().st_size == 0:
         raise InputError("file", str(p), "is empty")
-    kind = _format_of(p, fmt)
-    raw = _READERS[kind](p)
+    compression = sniff_compression(p)
+    if compression is None:
+        content, name = None, p.name
+        with open(p, "rb") as fh:
+            head = fh.read(32)
+    else:
+        dec = decompress(p, compression)
+        content, name = dec.data, dec.inner_name
+        if not content:
+            raise InputError("file", str(p), f"is empty once decompressed ({compression})")
+        head = content[:32]
+    kind = _format_of(name, fmt, head, p, compression)
+    if kind == "csv":
+        raw = _read_csv(decode_text(p.read_bytes() if content is None else content), p)
+    elif content is None:
+        raw = _READERS[kind](p, p)
+    else:  # the libraries read files: a private temporary copy, removed at once
+        suffix = Path(name).suffix if Path(name).suffix.lower() not in SUFFIXES else ""
+        with tempfile.TemporaryDirectory(prefix="gearsim-record-") as tmp:
+            inner = Path(tmp) / f"record{suffix or FORMATS[kind][0]}"
+            inner.write_bytes(content)
+            raw = _READERS[kind](inner, p)
     if not raw.channels:
         raise _fail(p, kind, "holds no numeric 1-D channel")
-    return p, kind, raw
+    return p, kind, raw, compression
 
 
 def list_channels(path: str | Path, *, fmt: str | None = None) -> tuple[str, ...]:
@@ -465,14 +470,15 @@ def list_channels(path: str | Path, *, fmt: str | None = None) -> tuple[str, ...
     Parameters
     ----------
     path : str or Path
-        File to read.
+        File to read (plain or compressed).
     fmt : str, optional
         Format key of :data:`FORMATS`; by default from the extension.
 
     Returns
     -------
     tuple of str
-        Channel names, in file order, as accepted by :func:`read_signal`.
+        Channel names, in file order, as accepted by :func:`read_signal` and
+        :func:`read_record` (aliases included).
 
     Raises
     ------
@@ -480,8 +486,231 @@ def list_channels(path: str | Path, *, fmt: str | None = None) -> tuple[str, ...
         Missing, empty or unreadable file, unknown format or extension, no numeric
         channel.
     """
-    _, _, raw = _load(path, fmt)
+    if fmt is not None and fmt not in FORMATS:
+        raise InputError("fmt", fmt, f"must be one of {sorted(FORMATS)}")
+    _, _, raw, _ = _load(path, fmt)
     return tuple(raw.channels)
+
+
+def _nonfinite_problem(shown: Path, raw: _Raw, channel: str, data: np.ndarray, i: int,
+                       count: int, interior: bool) -> InputError:
+    if raw.text_rows:
+        param = f"{shown.name}: column {channel!r} data row {i + 1}"
+        if np.isnan(data[i]):
+            value, why = "missing/NaN", "truncated or damaged file?"
+        else:
+            value, why = f"{data[i]:g}", "an overflowed or saturated value?"
+        where = "in this column"
+    else:
+        param, value, why = f"{shown.name}: {channel}[{i}]", float(data[i]), ""
+        where = "samples"
+    if interior:
+        return InputError(param, value, f"must be finite: drop_nonfinite drops only leading "
+                          f"and trailing runs ({count} non-finite inside the record would "
+                          "break uniform sampling)")
+    if raw.text_rows:
+        return InputError(param, value, f"every row must hold a finite number ({count} "
+                          f"non-finite {where}; {why})")
+    return InputError(param, value, f"must be finite ({count} non-finite {where})")
+
+
+def _finite_span(data: np.ndarray) -> tuple[int, int]:
+    good = np.flatnonzero(np.isfinite(data))
+    return (int(good[0]), int(good[-1]) + 1) if good.size else (0, 0)
+
+
+def _drop(shown: Path, raw: _Raw, data: dict[str, np.ndarray], problems: list[InputError]
+          ) -> tuple[dict[str, np.ndarray], dict[str, DroppedSamples]]:
+    """Cut leading/trailing non-finite runs, alike for the channels of one length."""
+    spans = {c: _finite_span(v) for c, v in data.items()}
+    common: dict[int, tuple[int, int]] = {}
+    for c, v in data.items():
+        lo, hi = spans[c]
+        a, b = common.get(v.size, (0, v.size))
+        common[v.size] = (max(a, lo), min(b, hi))
+    out: dict[str, np.ndarray] = {}
+    dropped: dict[str, DroppedSamples] = {}
+    for c, v in data.items():
+        start, stop = common[v.size]
+        if stop <= start:
+            problems.append(InputError(f"{shown.name}: {c}", f"{v.size} samples",
+                                       "no finite sample left once the leading and trailing "
+                                       "non-finite runs (of this or an aligned channel) are "
+                                       "dropped"))
+            continue
+        kept = v[start:stop]
+        bad = np.flatnonzero(~np.isfinite(kept))
+        if bad.size:
+            problems.append(_nonfinite_problem(shown, raw, c, v, start + int(bad[0]),
+                                               int(bad.size), interior=True))
+            continue
+        out[c] = kept
+        if start > 0 or stop < v.size:
+            removed = np.r_[np.arange(start), np.arange(stop, v.size)]
+            dropped[c] = DroppedSamples(
+                count=int(removed.size), nonfinite=int(np.sum(~np.isfinite(v[removed]))),
+                first=int(removed[0]), last=int(removed[-1]), kept=(start, stop))
+    return out, dropped
+
+
+def _read(path: str | Path, channels: Sequence[str] | None, fs: float | None,
+          fmt: str | None, drop_nonfinite: bool, single: bool) -> Record:
+    problems: list[InputError] = []
+    fs_user = None
+    if fs is not None:
+        try:
+            fs_user = float(fs)
+        except (TypeError, ValueError):
+            fs_user = math.nan
+        if isinstance(fs, bool) or not (math.isfinite(fs_user) and fs_user > 0):
+            problems.append(InputError("fs", fs, "must be a finite number > 0 (Hz)"))
+            fs_user = None
+    if fmt is not None and fmt not in FORMATS:
+        problems.append(InputError("fmt", fmt, f"must be one of {sorted(FORMATS)}"))
+    wanted: list[str] | None = None
+    if channels is not None:
+        wanted = [channels] if isinstance(channels, str) else list(dict.fromkeys(channels))
+        if not wanted:
+            problems.append(InputError("channels", [], "must name at least one channel "
+                                       "(or be None for all)"))
+        elif not all(isinstance(c, str) for c in wanted):
+            problems.append(InputError("channels", wanted, "must be channel names (str)"))
+            wanted = [c for c in wanted if isinstance(c, str)]
+    try:
+        p, kind, raw, compression = _load(path, None if any(
+            q.parameter == "fmt" for q in problems) else fmt)
+    except InputError as exc:
+        raise_all([*problems, exc])
+        raise
+    problems.extend(raw.problems)
+    primary = [c for c in raw.channels if c not in raw.aliases]
+    if wanted is None:
+        if single and len(primary) != 1:
+            problems.append(InputError("channel", None,
+                                       f"must be given: {p.name} has channels {primary}"))
+        selected = primary if not single else primary if len(primary) == 1 else []
+    else:
+        missing = [c for c in wanted if c not in raw.channels]
+        for j, c in enumerate(missing):
+            if len(missing) == 1:
+                limit = f"not in {p.name}; available: {primary}"
+            else:
+                limit = f"not in {p.name}" + (f" (available: {primary})"
+                                              if j == len(missing) - 1 else "")
+            problems.append(InputError("channel", c, limit))
+        selected = [c for c in wanted if c in raw.channels]
+    # sampling rate: the file's (one for all selected channels), else the user's
+    # (with no channel selected, the file's channels tell whether it stores a rate at all)
+    rates: dict[str, float] = {}
+    for c in selected or primary:
+        r = raw.fs_per_channel.get(c, raw.fs)
+        if r is None:
+            continue
+        if not (math.isfinite(r) and r > 0):
+            problems.append(_fail(p, kind, f"stored sampling rate {r!r} of {c!r} is not a "
+                                  "positive number"))
+        else:
+            rates[c] = r
+    fs_file = next(iter(rates.values()), None)
+    if selected and rates and any(abs(r - fs_file) > FS_MATCH_RTOL * fs_file
+                                  for r in rates.values()):
+        shown = ", ".join(f"{c} {r:g} Hz" for c, r in rates.items())
+        problems.append(InputError("channels", list(rates), f"have different sampling rates "
+                                   f"({shown}): choose channels of one rate"))
+    elif selected and rates and len(rates) < len(selected):
+        bare = [c for c in selected if c not in rates]
+        problems.append(InputError("channels", bare, f"store no sampling rate while "
+                                   f"{list(rates)} store {fs_file:g} Hz: choose channels of "
+                                   "one rate"))
+    rate, source = fs_file, "file"
+    if fs_user is not None:
+        one_rate = all(abs(r - fs_file) <= FS_MATCH_RTOL * fs_file for r in rates.values())
+        if fs_file is not None and (selected or one_rate) and \
+                abs(fs_user - fs_file) > FS_MATCH_RTOL * fs_file:
+            problems.append(InputError("fs", fs_user,
+                                       f"disagrees with the {fs_file:g} Hz stored in {p.name}"))
+        if fs_file is None:
+            rate, source = fs_user, "user"
+    elif fs_file is None and fs is None:
+        problems.append(InputError("fs", None, f"must be given: {p.name} stores no "
+                                   "sampling rate"))
+    # samples
+    data: dict[str, np.ndarray] = {}
+    for c in selected:
+        v = np.ascontiguousarray(raw.channels[c], dtype=np.float64).ravel()
+        if v.size == 0:
+            problems.append(InputError(f"{p.name}: {c}", "0 samples", "must hold >= 1 sample"))
+            continue
+        data[c] = v
+    dropped: dict[str, DroppedSamples] = {}
+    if drop_nonfinite:
+        data, dropped = _drop(p, raw, data, problems)
+    else:
+        for c, v in data.items():
+            bad = np.flatnonzero(~np.isfinite(v))
+            if bad.size:
+                problems.append(_nonfinite_problem(p, raw, c, v, int(bad[0]), int(bad.size),
+                                                   interior=False))
+    raise_all(problems)
+    units = {c: raw.units.get(c) for c in data}
+    return Record(data=data, fs=float(rate), path=str(p), fmt=kind, fs_source=source,
+                  units=units, metadata=dict(raw.metadata), available=tuple(raw.channels),
+                  compression=compression, dropped=dropped)
+
+
+def read_record(
+    path: str | Path,
+    *,
+    channels: Sequence[str] | None = None,
+    fs: float | None = None,
+    fmt: str | None = None,
+    drop_nonfinite: bool = False,
+) -> Record:
+    """Read every channel (or the chosen ones) of a measured or simulated record.
+
+    Parameters
+    ----------
+    path : str or Path
+        File to read; plain, or gzip/bz2/xz/single-member zip compressed (recognised
+        from the content, see the module notes).
+    channels : sequence of str, optional
+        Channels to read, in this order (a single name is accepted); by default every
+        channel of the file, in file order, without aliases (e.g. the TDMS
+        ``"group/channel"`` of a unique ``"channel"``).
+    fs : float, optional
+        Sampling rate (Hz); required when the file stores none, checked against the file
+        (:data:`FS_MATCH_RTOL`) when it does.
+    fmt : str, optional
+        Format key of :data:`FORMATS`; by default from the extension of the (inner)
+        file name.
+    drop_nonfinite : bool, optional
+        Drop leading and trailing runs of non-finite samples and report them in
+        :attr:`Record.dropped` instead of refusing the record (interior ones are still
+        refused; see the module notes).
+
+    Returns
+    -------
+    Record
+
+    Raises
+    ------
+    InputError
+        Missing, empty, corrupt or unreadable file; a zip of several members; unknown
+        format. :class:`ReadProblems` (an ``InputError``) when several of these are
+        found together: missing channels, no or a disagreeing sampling rate, channels of
+        different rates, a channel of zero samples, non-finite samples.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (d / "rec.csv").write_text("# fs: 25.6 kHz\\n# rpm = 1480\\nacc;tacho\\n"
+    ...                                "0,5;1\\n-0,25;0\\n")
+    >>> r = read_record(d / "rec.csv")
+    >>> r.channels, r.fs, r.metadata["rpm"], r.data["acc"].tolist()
+    (('acc', 'tacho'), 25600.0, 1480.0, [0.5, -0.25])
+    """
+    return _read(path, channels, fs, fmt, drop_nonfinite, single=False)
 
 
 def read_signal(
@@ -490,13 +719,14 @@ def read_signal(
     channel: str | None = None,
     fs: float | None = None,
     fmt: str | None = None,
+    drop_nonfinite: bool = False,
 ) -> MeasuredSignal:
     """Read one channel and its sampling rate from a measured or simulated record.
 
     Parameters
     ----------
     path : str or Path
-        File to read.
+        File to read (plain or compressed, see :func:`read_record`).
     channel : str, optional
         Channel name; may be omitted only when the file holds exactly one channel.
     fs : float, optional
@@ -504,6 +734,8 @@ def read_signal(
         (:data:`FS_MATCH_RTOL`) when it does.
     fmt : str, optional
         Format key of :data:`FORMATS`; by default from the extension.
+    drop_nonfinite : bool, optional
+        Drop leading and trailing non-finite runs (see :func:`read_record`).
 
     Returns
     -------
@@ -513,41 +745,10 @@ def read_signal(
     ------
     InputError
         Missing, empty or unreadable file; unknown format; channel missing or not
-        named when the file has several; fewer than 2 or non-finite samples; no
-        sampling rate, or a given ``fs`` that disagrees with the file's.
+        named when the file has several; no or non-finite samples; no sampling rate, or
+        a given ``fs`` that disagrees with the file's. Several problems are reported
+        together (:class:`ReadProblems`).
     """
-    p, kind, raw = _load(path, fmt)
-    names = tuple(raw.channels)
-    if channel is None:
-        if len(names) != 1:
-            raise InputError("channel", None, f"must be given: {p.name} has channels {list(names)}")
-        channel = names[0]
-    if channel not in raw.channels:
-        raise InputError("channel", channel, f"not in {p.name}; available: {list(names)}")
-    data = raw.channels[channel]
-    if data.ndim != 1 or data.size < 2:
-        raise _fail(p, kind, f"channel {channel!r} holds {data.size} samples (need >= 2)")
-    bad = ~np.isfinite(data)
-    if bad.any():
-        i = int(np.flatnonzero(bad)[0])
-        raise InputError(f"{p.name}: {channel}[{i}]", float(data[i]),
-                         f"must be finite ({int(bad.sum())} non-finite samples)")
-    fs_file = raw.fs_per_channel.get(channel, raw.fs)
-    if fs_file is not None and not (math.isfinite(fs_file) and fs_file > 0):
-        raise _fail(p, kind, f"stored sampling rate {fs_file!r} is not a positive number")
-    if fs is not None:
-        fs_user = float(fs)
-        if not (math.isfinite(fs_user) and fs_user > 0):
-            raise InputError("fs", fs, "must be a finite number > 0 (Hz)")
-        if fs_file is not None and abs(fs_user - fs_file) > FS_MATCH_RTOL * fs_file:
-            raise InputError("fs", fs_user,
-                             f"disagrees with the {fs_file:g} Hz stored in {p.name}")
-        rate, source = (fs_file, "file") if fs_file is not None else (fs_user, "user")
-    elif fs_file is not None:
-        rate, source = fs_file, "file"
-    else:
-        raise InputError("fs", None, f"must be given: {p.name} stores no sampling rate")
-    return MeasuredSignal(
-        data=np.ascontiguousarray(data, dtype=np.float64), fs=float(rate), channel=channel,
-        path=str(p), fmt=kind, fs_source=source, channels=names, units=raw.units.get(channel),
-    )
+    rec = _read(path, None if channel is None else [channel], fs, fmt, drop_nonfinite,
+                single=True)
+    return rec.signal(rec.channels[0])

@@ -13,10 +13,23 @@ Modules, one concept each:
 * :mod:`~gearsim.signals.emd` -- empirical mode decomposition and IMF selection;
 * :mod:`~gearsim.signals.compare` -- simulated-versus-measured sidebands (seed Table 2);
 * :mod:`~gearsim.signals.settings` -- the options of :func:`analyze`;
-* :mod:`~gearsim.signals.analyze` -- everything above on one record.
+* :mod:`~gearsim.signals.speed` -- speed from a tacho or from the signal (tacholess);
+* :mod:`~gearsim.signals.ordertrack` -- computed order tracking, order spectrum, TSA on
+  the tracked angle with its quality figure;
+* :mod:`~gearsim.signals.envelope` -- squared-envelope spectrum;
+* :mod:`~gearsim.signals.kurtogram` -- spectral kurtosis and the fast kurtogram;
+* :mod:`~gearsim.signals.cepstrum` -- real cepstrum and cepstral pre-whitening;
+* :mod:`~gearsim.signals.demodulation` -- narrow-band amplitude and phase demodulation;
+* :mod:`~gearsim.signals.indicators` -- NB4, energy ratio, sideband index and level factor;
+* :mod:`~gearsim.signals.periodicity` -- periodicity verdict for impacts;
+* :mod:`~gearsim.signals.estimate` -- estimates of fs and tooth counts (labelled as such);
+* :mod:`~gearsim.signals.analysis` -- the full gear analysis of one record;
+* :mod:`~gearsim.signals.tiers` -- every tier a record's inputs allow, and what was skipped.
 
-The package exports :func:`analyze` (the function, which shadows the module of the same
-name: import module constants with ``from gearsim.signals.analyze import IMPACT_FACTOR``).
+Names are imported on first use (PEP 562), so ``import gearsim.signals`` does not load
+scipy.signal until a function needs it. ``gearsim.signals.analyze`` is the function; its
+module is :mod:`gearsim.signals.analysis` (import module constants with
+``from gearsim.signals.analysis import IMPACT_FACTOR``).
 The functions ``tsa.tsa`` and ``emd.emd`` are not re-exported, so that
 ``gearsim.signals.tsa`` and ``gearsim.signals.emd`` stay the modules.
 
@@ -24,94 +37,186 @@ Readers of measured files are in :mod:`gearsim.io.measured`, figures in
 :mod:`gearsim.viz.signals`. Equations and sources: ``docs/signals.md``.
 """
 
-from gearsim.signals.analyze import Analysis, Kinematics, analyze, kinematics
-from gearsim.signals.compare import SidebandComparison, compare_sidebands, percentage_error
-from gearsim.signals.emd import Decomposition, Selection, select_imfs
-from gearsim.signals.residual import mesh_residual
-from gearsim.signals.settings import AnalysisSettings
-from gearsim.signals.sidebands import (
-    SidebandFamily,
-    mesh_harmonics,
-    off_tone_fraction,
-    sideband_families,
-    sideband_spacing,
-)
-from gearsim.signals.spectrum import Spectrum, Tone, amplitude_spectrum, tone, zoom
-from gearsim.signals.timedomain import (
-    Impacts,
-    TimeStats,
-    crest_factor,
-    detect_impacts,
-    impact_threshold,
-    kurtosis,
-    peak,
-    ratios_to_baseline,
-    rms,
-    time_stats,
-    window_peak,
-)
-from gearsim.signals.timefreq import Spectrogram, band_energy, band_width, spectrogram
-from gearsim.signals.tsa import (
-    TSA,
-    Indicators,
-    condition_indicators,
-    difference_signal,
-    fm0,
-    fm4,
-    m6a,
-    m8a,
-    na4,
-    pulse_times,
-    residual_signal,
-)
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+#: Public name -> module that defines it (imported on first access).
+_LAZY: dict[str, str] = {
+    "amplitude_spectrum": "gearsim.signals.spectrum",
+    "Analysis": "gearsim.signals.analysis",
+    "AnalysisSettings": "gearsim.signals.settings",
+    "analyze": "gearsim.signals.analysis",
+    "analyze_record": "gearsim.signals.tiers",
+    "band_energy": "gearsim.signals.timefreq",
+    "band_width": "gearsim.signals.timefreq",
+    "cepstral_peak": "gearsim.signals.cepstrum",
+    "check_given_speed": "gearsim.signals.speed",
+    "clearance_factor": "gearsim.signals.timedomain",
+    "compare_sidebands": "gearsim.signals.compare",
+    "condition_indicators": "gearsim.signals.tsa",
+    "crest_factor": "gearsim.signals.timedomain",
+    "Decomposition": "gearsim.signals.emd",
+    "demodulate": "gearsim.signals.demodulation",
+    "demodulate_tsa": "gearsim.signals.demodulation",
+    "Demodulation": "gearsim.signals.demodulation",
+    "detect_impacts": "gearsim.signals.timedomain",
+    "difference_signal": "gearsim.signals.tsa",
+    "energy_ratio": "gearsim.signals.indicators",
+    "envelope_spectrum": "gearsim.signals.envelope",
+    "EnvelopeSpectrum": "gearsim.signals.envelope",
+    "estimate_fs": "gearsim.signals.estimate",
+    "estimate_speed": "gearsim.signals.speed",
+    "estimate_teeth": "gearsim.signals.estimate",
+    "fast_kurtogram": "gearsim.signals.kurtogram",
+    "fm0": "gearsim.signals.tsa",
+    "fm4": "gearsim.signals.tsa",
+    "impact_periodicity": "gearsim.signals.periodicity",
+    "impact_threshold": "gearsim.signals.timedomain",
+    "Impacts": "gearsim.signals.timedomain",
+    "impulse_factor": "gearsim.signals.timedomain",
+    "Indicators": "gearsim.signals.tsa",
+    "Kinematics": "gearsim.signals.analysis",
+    "kinematics": "gearsim.signals.analysis",
+    "Kurtogram": "gearsim.signals.kurtogram",
+    "kurtosis": "gearsim.signals.timedomain",
+    "m6a": "gearsim.signals.tsa",
+    "m8a": "gearsim.signals.tsa",
+    "mesh_harmonics": "gearsim.signals.sidebands",
+    "mesh_residual": "gearsim.signals.residual",
+    "na4": "gearsim.signals.tsa",
+    "nb4": "gearsim.signals.indicators",
+    "off_tone_fraction": "gearsim.signals.sidebands",
+    "order_spectrum": "gearsim.signals.ordertrack",
+    "order_track": "gearsim.signals.ordertrack",
+    "peak": "gearsim.signals.timedomain",
+    "percentage_error": "gearsim.signals.compare",
+    "Periodicity": "gearsim.signals.periodicity",
+    "prewhiten": "gearsim.signals.cepstrum",
+    "pulse_times": "gearsim.signals.tsa",
+    "ratios_to_baseline": "gearsim.signals.timedomain",
+    "real_cepstrum": "gearsim.signals.cepstrum",
+    "RecordAnalysis": "gearsim.signals.tiers",
+    "residual_signal": "gearsim.signals.tsa",
+    "rms": "gearsim.signals.timedomain",
+    "select_imfs": "gearsim.signals.emd",
+    "Selection": "gearsim.signals.emd",
+    "shape_factor": "gearsim.signals.timedomain",
+    "sideband_families": "gearsim.signals.sidebands",
+    "sideband_index": "gearsim.signals.indicators",
+    "sideband_level_factor": "gearsim.signals.indicators",
+    "sideband_spacing": "gearsim.signals.sidebands",
+    "SidebandComparison": "gearsim.signals.compare",
+    "SidebandFamily": "gearsim.signals.sidebands",
+    "skewness": "gearsim.signals.timedomain",
+    "spectral_kurtosis": "gearsim.signals.kurtogram",
+    "Spectrogram": "gearsim.signals.timefreq",
+    "spectrogram": "gearsim.signals.timefreq",
+    "Spectrum": "gearsim.signals.spectrum",
+    "speed_from_tacho": "gearsim.signals.speed",
+    "SpeedProfile": "gearsim.signals.speed",
+    "time_stats": "gearsim.signals.timedomain",
+    "TimeStats": "gearsim.signals.timedomain",
+    "Tone": "gearsim.signals.spectrum",
+    "tone": "gearsim.signals.spectrum",
+    "tracked_tsa": "gearsim.signals.ordertrack",
+    "TSA": "gearsim.signals.tsa",
+    "window_peak": "gearsim.signals.timedomain",
+    "zoom": "gearsim.signals.spectrum",
+}
 
 __all__ = [
-    "TSA",
+    "amplitude_spectrum",
     "Analysis",
     "AnalysisSettings",
-    "Decomposition",
-    "Impacts",
-    "Indicators",
-    "Kinematics",
-    "Selection",
-    "SidebandComparison",
-    "SidebandFamily",
-    "Spectrogram",
-    "Spectrum",
-    "TimeStats",
-    "Tone",
-    "amplitude_spectrum",
     "analyze",
+    "analyze_record",
     "band_energy",
     "band_width",
+    "cepstral_peak",
+    "check_given_speed",
+    "clearance_factor",
     "compare_sidebands",
     "condition_indicators",
     "crest_factor",
+    "Decomposition",
+    "demodulate",
+    "demodulate_tsa",
+    "Demodulation",
     "detect_impacts",
     "difference_signal",
+    "energy_ratio",
+    "envelope_spectrum",
+    "EnvelopeSpectrum",
+    "estimate_fs",
+    "estimate_speed",
+    "estimate_teeth",
+    "fast_kurtogram",
     "fm0",
     "fm4",
+    "impact_periodicity",
     "impact_threshold",
+    "Impacts",
+    "impulse_factor",
+    "Indicators",
+    "Kinematics",
     "kinematics",
+    "Kurtogram",
     "kurtosis",
     "m6a",
     "m8a",
     "mesh_harmonics",
     "mesh_residual",
     "na4",
+    "nb4",
     "off_tone_fraction",
+    "order_spectrum",
+    "order_track",
     "peak",
     "percentage_error",
+    "Periodicity",
+    "prewhiten",
     "pulse_times",
     "ratios_to_baseline",
+    "real_cepstrum",
+    "RecordAnalysis",
     "residual_signal",
     "rms",
     "select_imfs",
+    "Selection",
+    "shape_factor",
     "sideband_families",
+    "sideband_index",
+    "sideband_level_factor",
     "sideband_spacing",
+    "SidebandComparison",
+    "SidebandFamily",
+    "skewness",
+    "spectral_kurtosis",
+    "Spectrogram",
     "spectrogram",
+    "Spectrum",
+    "speed_from_tacho",
+    "SpeedProfile",
     "time_stats",
+    "TimeStats",
+    "Tone",
     "tone",
+    "tracked_tsa",
+    "TSA",
     "window_peak",
     "zoom",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        value = getattr(importlib.import_module(_LAZY[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'gearsim.signals' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

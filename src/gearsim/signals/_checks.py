@@ -13,6 +13,11 @@ import numpy as np
 
 from gearsim.errors import InputError
 
+#: Supported windows and the half width of their main lobe in bins (first zero of the
+#: window transform): a line is resolved from its neighbour when they are at least
+#: twice this many bins apart.
+WINDOWS: dict[str, int] = {"boxcar": 1, "hann": 2, "flattop": 5}
+
 __all__ = [
     "MAX_MAGNITUDE",
     "as_signal",
@@ -139,7 +144,7 @@ def check_int(name: str, value: object, *, minimum: int, allow: tuple[int, ...] 
 def check_teeth(teeth: object, *, name: str = "teeth") -> tuple[int, ...]:
     """Return the tooth counts as a tuple of ints after checking that each is >= 1.
 
-    ``teeth`` is a sequence (reference gear first, see :mod:`gearsim.signals.analyze`);
+    ``teeth`` is a sequence (reference gear first, see :mod:`gearsim.signals.analysis`);
     an empty sequence is refused.
     """
     try:

@@ -1,4 +1,4 @@
-"""Options of :func:`gearsim.signals.analyze` (the ``[analysis]`` config section).
+"""Options of :func:`gearsim.signals.analysis` (the ``[analysis]`` config section).
 
 Every option is checked once, here, when the settings are built; :func:`analyze` and the
 configuration reader share the defaults and the limits.
@@ -29,8 +29,7 @@ from typing import Any
 
 from gearsim.errors import InputError
 from gearsim.sections import convert
-from gearsim.signals._checks import check_int
-from gearsim.signals.spectrum import WINDOWS
+from gearsim.signals._checks import WINDOWS, check_int
 
 __all__ = [
     "BAND_FRACTION",
@@ -78,7 +77,7 @@ LIST_KEYS = ("orders",)
 
 @dataclass(frozen=True)
 class AnalysisSettings:
-    """Options of :func:`gearsim.signals.analyze`, validated on construction.
+    """Options of :func:`gearsim.signals.analysis`, validated on construction.
 
     Parameters
     ----------

@@ -23,7 +23,7 @@ import scipy.fft
 from scipy.signal import get_window
 
 from gearsim.errors import InputError
-from gearsim.signals._checks import as_signal, check_fs, check_positive
+from gearsim.signals._checks import WINDOWS, as_signal, check_fs, check_positive
 
 __all__ = [
     "WINDOWS",
@@ -34,10 +34,6 @@ __all__ = [
     "zoom",
 ]
 
-#: Supported windows and the half width of their main lobe in bins (first zero of the
-#: window transform): a line is resolved from its neighbour when they are at least
-#: twice this many bins apart.
-WINDOWS: dict[str, int] = {"boxcar": 1, "hann": 2, "flattop": 5}
 
 
 @dataclass(frozen=True)

@@ -17,7 +17,7 @@ bands. The paper does not define its measures, so this module writes ours down:
   part of the healthy run (a lightly damped low mode). Impacts are the peaks of ``|e|``
   above half its maximum, at least ``T1/2`` apart
   (:func:`gearsim.signals.detect_impacts`); their period is compared with
-  ``T1 = 1/f_r1``. The default detector of :func:`gearsim.signals.analyze` (a peak of
+  ``T1 = 1/f_r1``. The default detector of :func:`gearsim.signals.analysis` (a peak of
   ``|d|`` above 1.5 times the median per-mesh-period peak, usable on measurements) is
   reported beside it.
 * **Impact amplitude** (seed: 209.8 % working, 203.1 % non-working): mean over the
@@ -114,7 +114,7 @@ class CaseMetrics:
     impact_times : ndarray
         Impact times [s].
     default_detector_count : int
-        Impacts found by :func:`gearsim.signals.analyze`'s detector on the raw load.
+        Impacts found by :func:`gearsim.signals.analysis`'s detector on the raw load.
     impact_ratio, far_field_ratio : float
         Mean window-peak ratio at the impacts and half a revolution later [-].
     rms_ratio, peak_ratio : float
@@ -205,7 +205,7 @@ def case_metrics(label: str, x: np.ndarray, a: Analysis, x_healthy: np.ndarray,
         Dynamic mesh force of the cracked and of the healthy run [N], same sampling and
         same time base (same simulation settings).
     a, a_healthy : Analysis
-        :func:`gearsim.signals.analyze` of ``x`` and ``x_healthy``.
+        :func:`gearsim.signals.analysis` of ``x`` and ``x_healthy``.
     contact_ratio : float
         Total contact ratio ``eps_gamma`` of the cracked mesh; sets the impact window.
 

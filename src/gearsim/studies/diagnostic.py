@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -33,8 +33,9 @@ from gearsim.studies.sweep_case import FEATURE_GROUPS
 from gearsim.viz import save
 from gearsim.viz.sweep import plot_separability
 
-__all__ = ["CLASSES", "FOLDS", "STORE_ATTRS", "STORE_VARIABLES", "diagnostic_report",
-           "feature_matrix", "open_store", "separability", "separability_table"]
+__all__ = ["CLASSES", "FOLDS", "STORE_ATTRS", "STORE_VARIABLES", "columns_matrix",
+           "diagnostic_report", "feature_matrix", "indicator_auc", "open_store",
+           "separability", "separability_report", "separability_table"]
 
 #: Class labels: the ``flank`` coordinate of the store.
 CLASSES = ("none", "working", "non-working")
@@ -71,16 +72,154 @@ def feature_matrix(ds, group: str) -> tuple[np.ndarray, list[str]]:
     names = [v for v in ds.data_vars if ds[v].dims == ("case",) and ds[v].dtype.kind == "f"
              and any(v.startswith(p) and (group == "all" or g == group)
                      for p, g in FEATURE_GROUPS.items())]
+    x, kept = columns_matrix({v: ds[v].values for v in names})
+    if not kept:
+        return np.empty((ds.sizes["case"], 0)), []
+    return x, kept
+
+
+def columns_matrix(columns: Mapping[str, Sequence[float]]) -> tuple[np.ndarray, list[str]]:
+    """Feature columns of any table as a matrix for :func:`separability`.
+
+    Columns with a NaN (or None) or without variance are dropped; a column whose values
+    are all > 0 is replaced by its logarithm (amplitudes, energies and moment ratios span
+    decades; the log makes their spread closer to normal for the logistic model).
+
+    Parameters
+    ----------
+    columns : mapping of str to sequence of float
+        Column name to values (one per row, all of the same length).
+
+    Returns
+    -------
+    x : ndarray, shape (n_rows, n_kept)
+        Feature matrix (empty second axis when no column is kept).
+    names : list of str
+        Names of the kept columns, sorted.
+    """
+    n = len(next(iter(columns.values()))) if columns else 0
     cols, kept = [], []
-    for v in sorted(names):
-        x = np.asarray(ds[v].values, dtype=float)
-        if not np.all(np.isfinite(x)) or np.ptp(x) == 0:
+    for v in sorted(columns):
+        x = np.asarray([np.nan if c is None else c for c in columns[v]], dtype=float)
+        if x.size == 0 or not np.all(np.isfinite(x)) or np.ptp(x) == 0:
             continue
         cols.append(np.log(x) if np.all(x > 0) else x)
         kept.append(v)
     if not cols:
-        return np.empty((ds.sizes["case"], 0)), []
+        return np.empty((n, 0)), []
     return np.column_stack(cols), kept
+
+
+def indicator_auc(x: np.ndarray, positive: np.ndarray) -> dict[str, float | str | None]:
+    """ROC AUC of one indicator for one class against the rest, and its direction.
+
+    Parameters
+    ----------
+    x : ndarray, shape (n,)
+        Indicator values (finite).
+    positive : ndarray of bool, shape (n,)
+        Members of the class.
+
+    Returns
+    -------
+    dict
+        ``auc`` = max(A, 1 - A) with A the AUC of "larger value means the class"
+        (0.5 chance, 1 perfect separation), ``direction`` ``"higher"`` or ``"lower"``
+        (the class has the higher or lower values), ``raw_auc`` = A; None values when
+        one side is empty.
+
+    References
+    ----------
+    Fawcett (2006): the AUC is the probability that a random member of the class has a
+    larger value than a random non-member (ties count half).
+    """
+    x = np.asarray(x, dtype=float)
+    pos = np.asarray(positive, dtype=bool)
+    n1, n0 = int(pos.sum()), int((~pos).sum())
+    if n1 == 0 or n0 == 0:
+        return {"auc": None, "direction": None, "raw_auc": None}
+    order = np.argsort(x, kind="mergesort")
+    ranks = np.empty(x.size)
+    xs = x[order]
+    # mid-ranks of ties (Mann-Whitney U)
+    i = 0
+    while i < xs.size:
+        j = i
+        while j + 1 < xs.size and xs[j + 1] == xs[i]:
+            j += 1
+        ranks[order[i:j + 1]] = 0.5 * (i + j) + 1.0
+        i = j + 1
+    a = float((ranks[pos].sum() - n1 * (n1 + 1) / 2.0) / (n1 * n0))
+    return {"auc": max(a, 1.0 - a), "direction": "higher" if a >= 0.5 else "lower",
+            "raw_auc": a}
+
+
+def separability_report(columns: Mapping[str, Sequence[float]], labels: Sequence[str], *,
+                        folds: int = FOLDS, seed: int = 0) -> dict:
+    """Separability of labelled rows of any feature table: per indicator and all together.
+
+    Parameters
+    ----------
+    columns : mapping of str to sequence of float
+        Indicator name to values, one per row (None or NaN where missing).
+    labels : sequence of str
+        Class of each row.
+    folds : int
+        Stratified folds of the cross-validated classifier (:func:`separability`).
+    seed : int
+        Seed of the fold shuffle.
+
+    Returns
+    -------
+    dict
+        ``classes`` (sorted), ``counts``, ``positive`` (the class scored against the rest
+        with two classes: the second in sorted order), ``indicators``: rows ``{indicator,
+        class, auc, direction, n}`` sorted by decreasing AUC (with three or more classes,
+        one row per class against the rest), ``classifier``: ``{accuracy, auc, n,
+        n_features, features, folds, method}`` of a logistic regression on every
+        complete indicator together.
+
+    Raises
+    ------
+    InputError
+        Fewer than two classes, or labels of another length than the columns.
+    """
+    y = np.asarray([str(v) for v in labels])
+    classes, counts = np.unique(y, return_counts=True)
+    if classes.size < 2:
+        raise InputError("labels", ", ".join(classes) or "none",
+                         "need at least two classes to score separability")
+    for k, v in columns.items():
+        if len(v) != y.size:
+            raise InputError(f"column {k}", f"{len(v)} values", f"must have {y.size} (one "
+                             "per label)")
+    targets = [classes[1]] if classes.size == 2 else list(classes)
+    rows = []
+    for name in sorted(columns):
+        x = np.asarray([np.nan if c is None else c for c in columns[name]], dtype=float)
+        ok = np.isfinite(x)
+        if ok.sum() < 2:
+            continue
+        for cls in targets:
+            r = indicator_auc(x[ok], y[ok] == cls)
+            if r["auc"] is None:
+                continue
+            rows.append({"indicator": name, "class": str(cls), "auc": r["auc"],
+                         "direction": r["direction"], "n": int(ok.sum())})
+    rows.sort(key=lambda r: (-r["auc"], r["indicator"], r["class"]))
+    x, names = columns_matrix(columns)
+    cv = separability(x, y, folds=folds, seed=seed)
+    return {
+        "classes": [str(c) for c in classes],
+        "counts": {str(c): int(n) for c, n in zip(classes, counts, strict=True)},
+        "positive": str(classes[1]) if classes.size == 2 else None,
+        "indicators": rows,
+        "classifier": {**cv, "n_features": len(names), "features": names,
+                       "folds": min(folds, int(counts.min())),
+                       "method": f"StandardScaler + LogisticRegression, stratified {folds}-"
+                                 "fold CV (fewer if a class is smaller); accuracy and ROC "
+                                 "AUC of out-of-fold predictions"},
+    }
 
 
 def separability(x: np.ndarray, y: np.ndarray, *, folds: int = FOLDS,

@@ -255,7 +255,7 @@ def compute_reproduction(options: ReproduceOptions | None = None, *,
                          f"gives {opt.revolutions * t1:.4g} s per case; the duration {exc.limit}"
                          ) from None
     # The sideband analysis of every shaft needs 4 Hann bins per spacing of the slowest
-    # shaft (gearsim.signals.analyze): refuse too short a record before any work.
+    # shaft (gearsim.signals.analysis): refuse too short a record before any work.
     f_slow = min(base.shaft_frequency(i) for i in range(len(base.gears)))
     need = math.ceil(4.0 / f_slow * f_r1)
     require(opt.revolutions >= need, "revolutions", opt.revolutions,

@@ -12,7 +12,7 @@ import numpy as np
 from gearsim._version import __version__
 from gearsim.dynamics.settings import MODELS
 from gearsim.errors import require
-from gearsim.signals.analyze import Analysis
+from gearsim.signals.analysis import Analysis
 from gearsim.studies.claims import SEED
 from gearsim.system import GearTrain
 from gearsim.viz.reproduce import plot_all
@@ -90,7 +90,7 @@ class CaseRun:
     fs : float
         Sampling rate [Hz].
     analysis : Analysis
-        :func:`gearsim.signals.analyze` of ``force``.
+        :func:`gearsim.signals.analysis` of ``force``.
     """
 
     route: str

@@ -2,7 +2,7 @@
 
 A *simulation group* is the set of cases that differ only in measurement noise and
 replicate: the train is simulated once and each case adds its own seeded noise to the
-analysed record before :func:`gearsim.signals.analyze`. :func:`run_group` returns an
+analysed record before :func:`gearsim.signals.analysis`. :func:`run_group` returns an
 ``xarray.Dataset`` with dimension ``case`` (one row per case): the parameters as
 coordinates, ``status`` (``"ok"``, ``"failed"`` for refused input or a failed
 simulation, ``"error"`` for any other exception) and ``error`` (message) and one
@@ -129,7 +129,7 @@ def _num(v: Any) -> float:
 
 
 def features(summary: dict) -> dict[str, float]:
-    """Flat feature dict from :meth:`gearsim.signals.analyze.Analysis.to_dict`.
+    """Flat feature dict from :meth:`gearsim.signals.analysis.Analysis.to_dict`.
 
     Names: ``td_*`` time-domain statistics (RMS, peak, crest factor, kurtosis) and impact
     count; ``sb_{ser,cv,flatness}_o{n}_{shaft}`` sideband energy ratio and uniformity of

@@ -1,6 +1,6 @@
 """Figures of the signal analysis: time trace, spectrum, zooms around n f_m, spectrogram.
 
-Each function draws one figure of an :class:`gearsim.signals.analyze.Analysis` (or a
+Each function draws one figure of an :class:`gearsim.signals.analysis.Analysis` (or a
 :class:`gearsim.signals.compare.SidebandComparison`) in the house style and returns it;
 :func:`figures` returns the standard set by name, :func:`plot` one of them by kind. The
 core calls them through ``Analysis.plot`` and ``Analysis.figures``; files are written
@@ -20,7 +20,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from gearsim.signals.analyze import Analysis
+    from gearsim.signals.analysis import Analysis
     from gearsim.signals.compare import SidebandComparison
 
 __all__ = [
@@ -61,8 +61,8 @@ def plot_time(a: Analysis, *, units: str | None = None, revolutions: float = 4.0
 
     Parameters
     ----------
-    a : gearsim.signals.analyze.Analysis
-        Result of :func:`gearsim.signals.analyze.analyze`.
+    a : gearsim.signals.analysis.Analysis
+        Result of :func:`gearsim.signals.analysis.analyze`.
     units : str, optional
         Units of the signal, shown on the axes.
     revolutions : float
@@ -118,8 +118,8 @@ def plot_spectrum(a: Analysis, *, units: str | None = None, ax: Axes | None = No
 
     Parameters
     ----------
-    a : gearsim.signals.analyze.Analysis
-        Result of :func:`gearsim.signals.analyze.analyze`.
+    a : gearsim.signals.analysis.Analysis
+        Result of :func:`gearsim.signals.analysis.analyze`.
     units : str, optional
         Units of the signal, shown on the axes.
     ax : matplotlib.axes.Axes, optional
@@ -167,8 +167,8 @@ def plot_zooms(a: Analysis, *, units: str | None = None, fig: Figure | None = No
 
     Parameters
     ----------
-    a : gearsim.signals.analyze.Analysis
-        Result of :func:`gearsim.signals.analyze.analyze`.
+    a : gearsim.signals.analysis.Analysis
+        Result of :func:`gearsim.signals.analysis.analyze`.
     units : str, optional
         Units of the signal, shown on the axes.
     fig : matplotlib.figure.Figure, optional
@@ -226,8 +226,8 @@ def plot_spectrogram(
 
     Parameters
     ----------
-    a : gearsim.signals.analyze.Analysis
-        Result of :func:`gearsim.signals.analyze.analyze`.
+    a : gearsim.signals.analysis.Analysis
+        Result of :func:`gearsim.signals.analysis.analyze`.
     units : str, optional
         Units of the signal, shown on the axes.
     revolutions : float or None
@@ -282,8 +282,8 @@ def plot_tsa(a: Analysis, *, units: str | None = None, fig: Figure | None = None
 
     Parameters
     ----------
-    a : gearsim.signals.analyze.Analysis
-        Result of :func:`gearsim.signals.analyze.analyze`.
+    a : gearsim.signals.analysis.Analysis
+        Result of :func:`gearsim.signals.analysis.analyze`.
     units : str, optional
         Units of the signal, shown on the axes.
     fig : matplotlib.figure.Figure, optional
@@ -361,8 +361,8 @@ def plot(a: Analysis, kind: str = "spectrum", *, ax: Axes | None = None,
 
     Parameters
     ----------
-    a : gearsim.signals.analyze.Analysis
-        Result of :func:`gearsim.signals.analyze.analyze`.
+    a : gearsim.signals.analysis.Analysis
+        Result of :func:`gearsim.signals.analysis.analyze`.
     kind : {"time", "spectrum", "zooms", "spectrogram", "tsa"}
         Which figure.
     ax : matplotlib.axes.Axes, optional
@@ -399,8 +399,8 @@ def figures(a: Analysis, *, units: str | None = None) -> dict[str, Figure]:
 
     Parameters
     ----------
-    a : gearsim.signals.analyze.Analysis
-        Result of :func:`gearsim.signals.analyze.analyze`.
+    a : gearsim.signals.analysis.Analysis
+        Result of :func:`gearsim.signals.analysis.analyze`.
     units : str, optional
         Units of the signal, shown on the axes.
 

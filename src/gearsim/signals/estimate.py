@@ -1,0 +1,390 @@
+r"""Estimates of a record's missing metadata: sampling rate and tooth count.
+
+When a file has lost its sampling rate or the gear's tooth count, the periodicities of the
+signal still carry them, given the shaft speed. Both functions return dataclasses with
+``estimate=True`` and the evidence (the line used, its significance, how well it matches)
+so that a report can never show the result as a measured value.
+
+**The line series rule.** Gear signals are harmonic series (the mesh harmonics
+:math:`n Z f_r`; the shaft harmonics :math:`h f_r` of the squared envelope). The strongest
+line of a series need not be its fundamental. The strongest line (frequency
+:math:`\nu_0`) is taken as harmonic ``d`` of the series, and the largest ``d`` in
+``1..harmonics`` whose candidate fundamental :math:`\nu_0 / d` is itself a significant
+line (:func:`~gearsim.signals.periodicity.line_significance`, p-value below ``alpha``;
+for ``d > 2`` the line at :math:`2\nu_0/d` must be significant too, so that one noise
+bin cannot pass) is kept: the lowest member of the series present in the spectrum. The frequency of the
+strongest line is refined by the two-bin interpolation of Grandke (1983)
+(:func:`~gearsim.signals.spectrum.tone`) and divided by ``d``.
+
+References
+----------
+.. [G83] T. Grandke, "Interpolation algorithms for discrete Fourier transforms of weighted
+   signals", *IEEE Trans. Instrum. Meas.* 32 (1983) 350-355.
+.. [R11] R. B. Randall, *Vibration-based Condition Monitoring*, Wiley, 2011, sec. 2.2
+   (gear mesh harmonics) and 5.5 (envelope analysis).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from gearsim.errors import InputError
+from gearsim.signals._checks import as_signal, check_fs, check_int, check_positive
+from gearsim.signals.periodicity import line_significance, periodogram, squared_envelope
+from gearsim.signals.spectrum import amplitude_spectrum, tone
+
+__all__ = ["FsEstimate", "TeethEstimate", "estimate_fs", "estimate_teeth"]
+
+#: Bins excluded at the bottom of a periodogram (the Hann window's leakage of the mean).
+_LOW_BINS = 3
+
+
+@dataclass(frozen=True)
+class FsEstimate:
+    """Estimated sampling rate and the evidence for it (built by :func:`estimate_fs`).
+
+    Parameters
+    ----------
+    fs : float
+        Estimated sampling rate (Hz).
+    method : str
+        ``"mesh"`` (mesh line of the spectrum, ``teeth`` given), ``"envelope"`` (shaft
+        line of the squared envelope) or ``"envelope+order"`` (shaft line, then refined by
+        the record's strongest line at integer shaft order ``order``).
+    cycles_per_sample : float
+        Frequency of the line that gave ``fs``, in cycles per sample.
+    order : int
+        Shaft order of that line: ``teeth`` (mesh), 1 (envelope) or the integer order of
+        the record's strongest line (envelope+order).
+    divisor : int
+        ``d``: the strongest line of the searched spectrum was harmonic ``d`` of the
+        fundamental (mesh, or shaft in the envelope).
+    snr : float
+        Line-to-floor power ratio of that fundamental (linear).
+    p_value : float
+        False-alarm probability of that fundamental line.
+    relative_resolution : float
+        Half a bin relative to the measured line, ``1 / (2 N nu_0)``: a bound on the
+        relative error without interpolation (the interpolated error is usually well
+        below it).
+    shaft_frequency : float
+        The known shaft frequency used (Hz).
+    estimate : bool
+        Always True: the value is inferred, not measured.
+    """
+
+    fs: float
+    method: str
+    cycles_per_sample: float
+    order: int
+    divisor: int
+    snr: float
+    p_value: float
+    relative_resolution: float
+    shaft_frequency: float
+    estimate: bool = field(default=True)
+
+    def to_dict(self) -> dict:
+        """JSON-serialisable dict.
+
+        Returns
+        -------
+        dict
+            Field name to value, for every field.
+        """
+        return dict(self.__dict__)
+
+
+@dataclass(frozen=True)
+class TeethEstimate:
+    """Estimated tooth count and the evidence for it (built by :func:`estimate_teeth`).
+
+    Parameters
+    ----------
+    teeth : int
+        Estimated tooth count ``Z``.
+    dominant_frequency : float
+        Interpolated frequency of the strongest line (Hz).
+    order : float
+        ``dominant_frequency / shaft_frequency`` (shaft orders).
+    harmonic : int
+        Mesh harmonic ``d`` the dominant line was taken for (``order ~ d Z``).
+    integrality : float
+        ``1 - 2 |order/d - Z|`` in [0, 1]: 1 when the order is exactly a multiple of
+        ``Z``, 0 half-way between two counts.
+    snr : float
+        Line-to-floor power ratio of the line at ``Z f_r`` (linear).
+    p_value : float
+        False-alarm probability of that line.
+    confidence : float
+        ``integrality * (1 - p_value)`` in [0, 1]; a figure of merit, not a probability.
+    alternatives : tuple of dict
+        Every harmonic hypothesis ``d = 1..harmonics`` tried: ``teeth``, ``harmonic``,
+        ``integrality``, ``snr``, ``p_value`` (hypotheses outside ``candidates`` omitted).
+    shaft_frequency : float
+        The known shaft frequency used (Hz).
+    estimate : bool
+        Always True: the value is inferred, not counted.
+    """
+
+    teeth: int
+    dominant_frequency: float
+    order: float
+    harmonic: int
+    integrality: float
+    snr: float
+    p_value: float
+    confidence: float
+    alternatives: tuple
+    shaft_frequency: float
+    estimate: bool = field(default=True)
+
+    def to_dict(self) -> dict:
+        """JSON-serialisable dict.
+
+        Returns
+        -------
+        dict
+            Field name to value, ``alternatives`` as a list of dicts.
+        """
+        d = dict(self.__dict__)
+        d["alternatives"] = [dict(a) for a in self.alternatives]
+        return d
+
+
+def _check_alpha(alpha: float) -> float:
+    alpha = check_positive("alpha", alpha)
+    if alpha >= 1.0:
+        raise InputError("alpha", alpha, "must lie in (0, 1)")
+    return alpha
+
+
+def _lowest_member(power: np.ndarray, k0: float, harmonics: int, alpha: float):
+    """Largest divisor d whose lines at k0/d (and 2 k0/d when d > 2) are significant."""
+    best = (1, line_significance(power, k0, search_bins=1))
+    for d in range(2, harmonics + 1):
+        pos = k0 / d
+        if pos < _LOW_BINS + 4:
+            break
+        try:
+            tests = [line_significance(power, j * pos, search_bins=1,
+                                       max_half_width=max(12, int(pos // 2)))
+                     for j in ((1, 2) if d > 2 else (1,))]
+        except InputError:
+            continue
+        if all(t.p_value < alpha for t in tests):
+            best = (d, tests[0])
+    return best
+
+
+def estimate_fs(
+    x: np.ndarray,
+    *,
+    shaft_frequency: float,
+    teeth: int | None = None,
+    harmonics: int = 10,
+    fs_range: tuple[float, float] | None = None,
+    alpha: float = 1e-3,
+) -> FsEstimate:
+    r"""Estimate the sampling rate from a known shaft speed and the record's periodicity.
+
+    With ``teeth`` ("mesh"): the strongest line of the spectrum is a mesh harmonic; its
+    series' fundamental :math:`\nu_m` (cycles per sample) is :math:`Z f_r / f_s`, so
+    :math:`\hat f_s = Z f_r / \nu_m`. Without ("envelope"): the strongest line of the
+    squared envelope below half the frequency of the record's strongest line is a shaft
+    harmonic; its fundamental :math:`\nu_r = f_r / f_s` gives :math:`\hat f_s = f_r /
+    \nu_r`; the record's strongest line, synchronous with the shaft, then lies at an
+    integer order :math:`q \approx \nu_0/\nu_r` and, when the rounding is unambiguous,
+    :math:`\hat f_s = \mathrm{round}(q) f_r / \nu_0` is ``q`` times more precise
+    ("envelope+order"). The series rule is in the module docstring. With ``fs_range``
+    the fundamental is the strongest line in the matching band of :math:`\nu` (no
+    series rule).
+
+    Parameters
+    ----------
+    x : array_like
+        Record (any units), at least 64 samples; it must hold many revolutions (the
+        relative resolution is ``1 / (2 N nu)``).
+    shaft_frequency : float
+        Known shaft frequency ``f_r`` (Hz) of the gear of ``teeth`` teeth.
+    teeth : int, optional
+        Tooth count ``Z`` of that gear; enables the (more precise) mesh method.
+    harmonics : int, default 10
+        Largest harmonic number the strongest line may be taken for, >= 1 (impacts put
+        a comb of shaft harmonics of similar height in the envelope).
+    fs_range : tuple of float, optional
+        ``(low, high)`` bounds (Hz) on the sampling rate, if known.
+    alpha : float, default 1e-3
+        Significance level for a candidate fundamental line.
+
+    Returns
+    -------
+    FsEstimate
+        ``fs`` (Hz) with ``estimate=True``, the line used and its significance.
+
+    Raises
+    ------
+    InputError
+        If an argument is out of range, ``fs_range`` selects no bin, or the record is too
+        short for a noise floor beside the line.
+
+    References
+    ----------
+    Grandke (1983) for the line frequency; Randall (2011), sec. 2.2 and 5.5.
+    """
+    a = as_signal(x, min_length=64)
+    f_r = check_positive("shaft_frequency", shaft_frequency)
+    harmonics = check_int("harmonics", harmonics, minimum=1)
+    alpha = _check_alpha(alpha)
+    n = a.size
+    if teeth is None:
+        order, method = 1, "envelope"
+        sig = squared_envelope(a, 1.0)
+    else:
+        order, method = check_int("teeth", teeth, minimum=1), "mesh"
+        sig = a
+    power = periodogram(sig)
+    raw_power = power if teeth is not None else periodogram(a)
+    raw_peak = int(np.argmax(raw_power[_LOW_BINS:])) + _LOW_BINS
+    top = power.size - 1 - _LOW_BINS
+    if fs_range is not None:
+        try:
+            lo_fs, hi_fs = (check_positive("fs_range", v) for v in fs_range)
+        except TypeError:
+            raise InputError("fs_range", fs_range, "must be a pair (low, high) in Hz") from None
+        if lo_fs >= hi_fs:
+            raise InputError("fs_range", fs_range, "must satisfy low < high")
+        k_lo = max(_LOW_BINS, int(np.floor(n * order * f_r / hi_fs)))
+        k_hi = min(top, int(np.ceil(n * order * f_r / lo_fs)))
+        harmonics = 1
+    else:
+        k_lo, k_hi = _LOW_BINS, top
+        if teeth is None:
+            # Products of mesh harmonics put lines at multiples of the mesh fundamental,
+            # itself >= (strongest raw line) / harmonics: search below half of that.
+            k_hi = min(top, int(raw_peak // (2 * harmonics)))
+    if k_hi <= k_lo:
+        raise InputError("fs_range" if fs_range is not None else "record length",
+                         f"bins {k_lo}..{k_hi}", "selects no periodogram bin to search")
+    k0 = k_lo + int(np.argmax(power[k_lo : k_hi + 1]))
+    nu0 = tone(amplitude_spectrum(sig, 1.0, window="hann"), k0 / n, search=1.0 / n).frequency
+    d, test = _lowest_member(power, nu0 * n, harmonics, alpha)
+    nu = nu0 / d
+    resolution = 0.5 / (n * nu0)
+    if teeth is None:
+        # Refine by the strongest line of the record: synchronous with the shaft, it lies
+        # at an integer order q; usable when the rounding of q is unambiguous.
+        nu_raw = tone(amplitude_spectrum(a, 1.0, window="hann"), raw_peak / n,
+                      search=1.0 / n).frequency
+        q = nu_raw / nu
+        q_int = int(round(q))
+        if q_int >= 2 and q * resolution < 0.5:
+            method, order, nu = "envelope+order", q_int, nu_raw
+            resolution = 0.5 / (n * nu_raw)
+    return FsEstimate(
+        fs=float(order * f_r / nu), method=method, cycles_per_sample=float(nu), order=order,
+        divisor=d, snr=test.snr, p_value=test.p_value,
+        relative_resolution=float(resolution), shaft_frequency=f_r,
+    )
+
+
+def estimate_teeth(
+    x: np.ndarray,
+    fs: float,
+    *,
+    shaft_frequency: float,
+    candidates: Iterable[int] = range(10, 200),
+    harmonics: int = 3,
+    alpha: float = 1e-3,
+) -> TeethEstimate:
+    r"""Estimate a gear's tooth count from the dominant tone and the known shaft speed.
+
+    The strongest line at or above ``(min(candidates) - 1/2) f_r`` is taken for mesh
+    harmonic ``d`` of :math:`Z f_r`; ``q = f_0 / f_r`` (interpolated) and :math:`Z =
+    \mathrm{round}(q/d)`. Among the hypotheses ``d = 1..harmonics`` whose ``Z`` is a
+    candidate, lies within a quarter order of ``q/d`` and has a significant line at
+    :math:`Z f_r` (p < ``alpha``), the smallest ``Z`` (largest ``d``) is kept (the series
+    rule of the module docstring); if none, ``d = 1``.
+
+    Parameters
+    ----------
+    x : array_like
+        Record (any units), at least 4 revolutions long.
+    fs : float
+        Sampling rate (Hz).
+    shaft_frequency : float
+        Shaft frequency ``f_r`` (Hz) of the gear whose teeth are counted.
+    candidates : iterable of int, default range(10, 200)
+        Admissible tooth counts.
+    harmonics : int, default 3
+        Largest mesh harmonic the dominant line may be, >= 1.
+    alpha : float, default 1e-3
+        Significance level for the line at ``Z f_r``.
+
+    Returns
+    -------
+    TeethEstimate
+        ``teeth`` with ``estimate=True``, the dominant line, ``confidence`` =
+        integrality x (1 - p) and the alternatives tried.
+
+    Raises
+    ------
+    InputError
+        If an argument is out of range, the record holds fewer than 4 revolutions,
+        ``min(candidates) f_r`` is not below Nyquist, or no hypothesis gives a candidate.
+
+    References
+    ----------
+    Grandke (1983); Randall (2011), sec. 2.2.
+    """
+    a = as_signal(x, min_length=64)
+    fs = check_fs(fs)
+    f_r = check_positive("shaft_frequency", shaft_frequency)
+    harmonics = check_int("harmonics", harmonics, minimum=1)
+    alpha = _check_alpha(alpha)
+    cands = sorted({check_int("candidates[]", c, minimum=1) for c in candidates})
+    if not cands:
+        raise InputError("candidates", "[]", "must hold at least one tooth count")
+    n = a.size
+    revs = n * f_r / fs
+    if revs < 4:
+        raise InputError("record length", f"{revs:.3g} revolutions",
+                         "must hold >= 4 revolutions to resolve shaft orders to 1/4")
+    df = fs / n
+    power = periodogram(a)
+    k_lo = max(_LOW_BINS, int(np.floor((cands[0] - 0.5) * f_r / df)))
+    k_hi = power.size - 1 - _LOW_BINS
+    if k_lo >= k_hi:
+        raise InputError("candidates", cands[0],
+                         f"the lowest mesh frequency {cands[0] * f_r:g} Hz must lie below "
+                         f"Nyquist {0.5 * fs:g} Hz")
+    k0 = k_lo + int(np.argmax(power[k_lo : k_hi + 1]))
+    f0 = tone(amplitude_spectrum(a, fs, window="hann"), k0 * df, search=df).frequency
+    q = f0 / f_r
+    tried = []
+    for d in range(1, harmonics + 1):
+        z = int(round(q / d))
+        if z not in cands:
+            continue
+        integ = max(0.0, 1.0 - 2.0 * abs(q / d - z))
+        try:
+            test = line_significance(power, z * f_r / df, search_bins=1)
+        except InputError:
+            continue
+        tried.append({"teeth": z, "harmonic": d, "integrality": float(integ),
+                      "snr": test.snr, "p_value": test.p_value})
+    if not tried:
+        raise InputError("candidates", f"{cands[0]}..{cands[-1]}",
+                         f"no candidate explains the dominant line at {f0:g} Hz "
+                         f"(order {q:.3f}) as a mesh harmonic 1..{harmonics}")
+    good = [t for t in tried if t["p_value"] < alpha and t["integrality"] >= 0.5]
+    pick = max(good, key=lambda t: t["harmonic"]) if good else tried[0]
+    return TeethEstimate(
+        teeth=pick["teeth"], dominant_frequency=float(f0), order=float(q),
+        harmonic=pick["harmonic"], integrality=pick["integrality"], snr=pick["snr"],
+        p_value=pick["p_value"], confidence=float(pick["integrality"] * (1 - pick["p_value"])),
+        alternatives=tuple(tried), shaft_frequency=f_r,
+    )

@@ -1,0 +1,878 @@
+"""Tiered analysis of one record: every quantity its inputs allow, and why not the others.
+
+What a value needs decides the tier it belongs to:
+
+==========  =====================================  ===========================================
+tier        needs                                  gives
+==========  =====================================  ===========================================
+statistics  nothing                                RMS, peak, crest factor, kurtosis, skewness,
+                                                   impulse, shape and clearance factors
+spectrum    nothing (a sampling rate for Hz;       largest spectral lines, centroid, kurtogram
+            without one, cycles per sample)        best band
+shaft       a sampling rate and a shaft speed      shaft frequency, shaft-order amplitudes,
+            (given, from a tacho channel, or       envelope spectrum at the shaft orders,
+            estimated from the signal in a         cepstral shaft period, impact periodicity
+            search range)
+gear        sampling rate, speed and tooth counts  full gear analysis (:func:`~gearsim.signals.
+                                                   analyze.analyze`: mesh harmonics, sidebands,
+                                                   STFT bands, TSA indicators), TSA of every
+                                                   gear, gear indicators, demodulation
+==========  =====================================  ===========================================
+
+:func:`analyze_record` computes every tier its inputs allow and lists the others in
+``skipped`` with the reason (a missing input, a record too short for the tier, a toolbox
+module not installed). Nothing is an error that only prevents a tier: the call fails only
+for an unusable signal (not 1-D, fewer than 2 samples, non-finite samples) or an invalid
+option.
+
+Provenance. The sampling rate, the speed and the tooth counts each carry a provenance:
+``"file"`` (read from the record or its tacho channel), ``"given"`` (typed by the user)
+or ``"estimate"`` (estimated from the signal); every tier records the provenance of what
+it rests on (``rests_on``) and the text summary says it next to each tier.
+
+Units: frequencies in Hz when the sampling rate is known, else in cycles per sample
+(keys and the ``frequency_unit`` of the spectrum tier say which); speed in Hz (and rpm in
+the text); amplitudes in the units of the signal.
+
+Heavy imports (scipy, the toolbox modules) happen inside the tier that uses them, so a
+statistics-only call costs numpy only.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from gearsim.errors import InputError
+from gearsim.signals._checks import as_signal
+
+__all__ = [
+    "MIN_REVOLUTIONS",
+    "MIN_SPECTRUM_SAMPLES",
+    "PROVENANCES",
+    "TIERS",
+    "RecordAnalysis",
+    "analyze_record",
+    "statistics",
+]
+
+#: Tiers in the order they build on each other.
+TIERS = ("statistics", "spectrum", "shaft", "gear")
+#: Where a sampling rate, speed or tooth count came from.
+PROVENANCES = ("file", "given", "estimate")
+#: Shortest record for the spectrum tier [samples].
+MIN_SPECTRUM_SAMPLES = 16
+#: Revolutions of the measured shaft the shaft tier needs (shaft orders resolved, TSA).
+MIN_REVOLUTIONS = 2.0
+#: Spectral lines reported by the spectrum tier.
+N_LINES = 5
+#: Shaft orders reported by the shaft tier.
+SHAFT_ORDERS = (1, 2, 3)
+
+CPS = "cycles/sample"
+
+
+def _optional(module: str, name: str):
+    """``gearsim.signals.<module>.<name>`` or None when the module or name is absent."""
+    try:
+        mod = importlib.import_module(f"gearsim.signals.{module}")
+    except ImportError:
+        return None
+    return getattr(mod, name, None)
+
+
+def _f(v: Any) -> float | None:
+    """A finite float or None."""
+    try:
+        v = float(v)
+    except (TypeError, ValueError):
+        return None
+    return v if math.isfinite(v) else None
+
+
+def _fmt(v: Any, spec: str = ".4g") -> str:
+    """``v`` formatted, or ``n/a`` for None."""
+    return "n/a" if v is None else format(v, spec)
+
+
+def _first_line(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()
+    return text[0] if text else type(exc).__name__
+
+
+def statistics(x: np.ndarray, *, remove_mean: bool = True) -> dict[str, float | None]:
+    r"""Statistics that need nothing but the samples.
+
+    With :math:`d = x - \bar x` (or :math:`d = x` if not ``remove_mean``) and moments
+    :math:`m_k = \overline{(x - \bar x)^k}`: RMS :math:`\sqrt{\overline{d^2}}`, peak
+    :math:`\max |d|`, crest factor peak/RMS, kurtosis :math:`m_4/m_2^2` (Pearson, 3 for
+    Gaussian noise), skewness :math:`m_3/m_2^{3/2}`, impulse factor
+    :math:`\max|d| / \overline{|d|}`, shape factor :math:`\mathrm{RMS} / \overline{|d|}`,
+    clearance factor :math:`\max|d| / \overline{\sqrt{|d|}}^{\,2}` (Randall 2011, sec. 5.2;
+    Lei et al. 2008). A ratio whose denominator is 0 (constant signal) is None.
+
+    Parameters
+    ----------
+    x : array_like
+        Signal (any units), 1-D, finite, at least 2 samples.
+    remove_mean : bool
+        RMS, peak and the factors of the signal minus its mean (the dynamic part).
+
+    Returns
+    -------
+    dict
+        ``n_samples``, ``mean``, ``std``, ``rms``, ``peak``, ``crest_factor``,
+        ``kurtosis``, ``skewness``, ``impulse_factor``, ``shape_factor``,
+        ``clearance_factor`` (amplitudes in signal units, factors dimensionless).
+
+    Raises
+    ------
+    InputError
+        If ``x`` is not a valid signal.
+    """
+    a = as_signal(x)
+    mu = float(a.mean())
+    c = a - mu
+    d = c if remove_mean else a
+    m2 = float(np.mean(c * c))
+    rms = math.sqrt(float(np.mean(d * d)))
+    pk = float(np.max(np.abs(d)))
+    mabs = float(np.mean(np.abs(d)))
+    msqrt = float(np.mean(np.sqrt(np.abs(d))))
+
+    def ratio(num: float, den: float) -> float | None:
+        return num / den if den > 0 else None
+
+    return {
+        "n_samples": int(a.size), "mean": mu, "std": math.sqrt(m2), "rms": rms, "peak": pk,
+        "crest_factor": ratio(pk, rms),
+        "kurtosis": ratio(float(np.mean(c**4)), m2 * m2),
+        "skewness": ratio(float(np.mean(c**3)), m2**1.5),
+        "impulse_factor": ratio(pk, mabs), "shape_factor": ratio(rms, mabs),
+        "clearance_factor": ratio(pk, msqrt * msqrt),
+    }
+
+
+@dataclass
+class RecordAnalysis:
+    """Everything :func:`analyze_record` computed on one record, tier by tier.
+
+    Parameters
+    ----------
+    n_samples : int
+        Length of the record.
+    fs : float or None
+        Sampling rate [Hz], None when unknown (frequencies in cycles per sample).
+    fs_provenance : str or None
+        ``"file"``, ``"given"`` or ``"estimate"``; None without a rate.
+    speed : float or None
+        Speed of the measured shaft [Hz] used by the shaft and gear tiers.
+    speed_provenance : str or None
+        ``"file"`` (tacho), ``"given"`` or ``"estimate"``.
+    teeth : tuple of int or None
+        Tooth counts, gear on the measured shaft first.
+    teeth_provenance : str or None
+        ``"given"``, ``"file"`` or ``"estimate"``.
+    tiers : dict
+        Tier name to its results (a dict with ``rests_on`` and the values).
+    skipped : list of dict
+        ``{"tier": ..., "reason": ...}`` for every tier (or part of one) not computed.
+    source : dict
+        Where the record came from (``file``, ``channel``, ``units``, ...), as given.
+    units : str or None
+        Units of the signal.
+    analysis : object or None
+        The :class:`~gearsim.signals.analysis.Analysis` of the gear tier (arrays for the
+        figures), if computed.
+    timings : dict
+        Wall-clock time per tier [s].
+    """
+
+    n_samples: int
+    fs: float | None
+    fs_provenance: str | None
+    speed: float | None
+    speed_provenance: str | None
+    teeth: tuple[int, ...] | None
+    teeth_provenance: str | None
+    tiers: dict[str, dict] = field(default_factory=dict)
+    skipped: list[dict] = field(default_factory=list)
+    source: dict = field(default_factory=dict)
+    units: str | None = None
+    analysis: Any = None
+    timings: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def frequency_unit(self) -> str:
+        """``"Hz"`` with a sampling rate, else ``"cycles/sample"``."""
+        return "Hz" if self.fs is not None else CPS
+
+    def features(self) -> dict[str, tuple[float | str | None, str]]:
+        """Flat indicators of the record: name to ``(value, unit)``, for tables.
+
+        Amplitudes are in ``signal`` units (the ``units`` of the record); frequencies in
+        Hz, or in cycles per sample when the name ends in ``_cps``.
+
+        Returns
+        -------
+        dict of str to tuple
+            Indicator name to (value or None, unit).
+        """
+        out: dict[str, tuple[Any, str]] = {}
+        st = self.tiers.get("statistics", {})
+        for k, u in (("rms", "signal"), ("peak", "signal"), ("crest_factor", "1"),
+                     ("kurtosis", "1"), ("skewness", "1"), ("impulse_factor", "1"),
+                     ("shape_factor", "1"), ("clearance_factor", "1")):
+            if k in st:
+                out[k] = (st[k], u)
+        sp = self.tiers.get("spectrum")
+        if sp:
+            sfx, fu = ("hz", "Hz") if sp["frequency_unit"] == "Hz" else ("cps", CPS)
+            if sp["lines"]:
+                out[f"spectrum_peak_frequency_{sfx}"] = (sp["lines"][0]["frequency"], fu)
+                out["spectrum_peak_amplitude"] = (sp["lines"][0]["amplitude"], "signal")
+            out[f"spectral_centroid_{sfx}"] = (sp["centroid"], fu)
+            kg = sp.get("kurtogram")
+            if kg:
+                out[f"kurtogram_center_{sfx}"] = (kg.get("center"), fu)
+                out[f"kurtogram_bandwidth_{sfx}"] = (kg.get("bandwidth"), fu)
+                out["kurtogram_kurtosis"] = (kg.get("kurtosis"), "1")
+        sh = self.tiers.get("shaft")
+        if sh:
+            out["shaft_frequency_hz"] = (sh["shaft_frequency_hz"], "Hz")
+            for row in sh["orders"]:
+                out[f"shaft_order{row['order']}_amplitude"] = (row["amplitude"], "signal")
+            for row in sh.get("envelope", {}).get("orders", []):
+                out[f"envelope_order{row['order']}_amplitude"] = (row["amplitude"], "signal")
+            cep = sh.get("cepstrum")
+            if cep:
+                out["cepstrum_period_ratio"] = (cep.get("period_ratio_to_T1"), "1")
+            per = sh.get("periodicity")
+            if per and "verdict" in per:
+                out["periodicity_verdict"] = (per["verdict"], "")
+        g = self.tiers.get("gear")
+        if g:
+            full = g["analysis"]
+            out["mesh_frequency_hz"] = (full["train"]["mesh_frequency_hz"], "Hz")
+            for h in full["mesh_harmonics"]:
+                out[f"mesh{h['order']}_amplitude"] = (h["amplitude"], "signal")
+            for fam in full["sidebands"]:
+                out[f"ser_mesh{fam['order']}_{fam['shaft']}"] = (fam.get("ser"), "1")
+            for k in ("fm0", "fm4", "na4", "m6a", "m8a"):
+                out[k] = (full["tsa"].get(k), "1")
+            out["impact_period_ratio"] = (full["impacts"].get("period_ratio_to_T1"), "1")
+            for gear in g.get("gears", []):
+                for k in ("fm0", "fm4", "m6a", "m8a"):
+                    if gear.get(k) is not None:
+                        out[f"{gear['shaft']}_{k}"] = (gear[k], "1")
+            for k, v in (g.get("indicators") or {}).items():
+                if isinstance(v, (int, float)) and not isinstance(v, bool):
+                    out[k] = (v, "1")
+            for k, v in (g.get("demodulation") or {}).items():
+                if isinstance(v, (int, float)) and not isinstance(v, bool):
+                    out[f"demodulation_{k}"] = (v, "1")
+        return {k: (_f(v) if not isinstance(v, str) else v, u) for k, (v, u) in out.items()}
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-serialisable summary.
+
+        Returns
+        -------
+        dict
+            ``source``, ``n_samples``, ``fs_hz`` and its provenance, ``speed_hz``,
+            ``speed_rpm`` and provenance, ``teeth`` and provenance, ``frequency_unit``,
+            ``tiers``, ``skipped``, ``timings_s``.
+        """
+        return {
+            "source": dict(self.source), "units": self.units, "n_samples": self.n_samples,
+            "fs_hz": self.fs, "fs_provenance": self.fs_provenance,
+            "duration_s": self.n_samples / self.fs if self.fs else None,
+            "speed_hz": self.speed,
+            "speed_rpm": 60.0 * self.speed if self.speed is not None else None,
+            "speed_provenance": self.speed_provenance,
+            "teeth": list(self.teeth) if self.teeth else None,
+            "teeth_provenance": self.teeth_provenance,
+            "frequency_unit": self.frequency_unit,
+            "tiers": self.tiers, "skipped": list(self.skipped),
+            "timings_s": dict(self.timings),
+        }
+
+    def text(self) -> str:
+        """Text summary: what each value rests on, the values, and what was skipped.
+
+        Returns
+        -------
+        str
+            Several lines.
+        """
+        u = f" {self.units}" if self.units else ""
+        src = self.source
+        head = " ".join(str(src[k]) for k in ("file", "channel") if src.get(k) is not None)
+        lines = [f"{head or 'record'}: {self.n_samples} samples"
+                 + (f" ({self.n_samples / self.fs:.4g} s)" if self.fs else "")]
+        rests = [f"fs {self.fs:g} Hz ({self.fs_provenance})" if self.fs
+                 else "fs unknown (frequencies in cycles/sample)"]
+        if self.speed is not None:
+            rests.append(f"speed {60 * self.speed:.6g} rpm = {self.speed:.6g} Hz "
+                         f"({self.speed_provenance})")
+        if self.teeth:
+            rests.append(f"teeth {', '.join(map(str, self.teeth))} ({self.teeth_provenance})")
+        lines.append("  rests on: " + "; ".join(rests))
+        st = self.tiers.get("statistics")
+        if st:
+            def g(k: str, fmt: str = ".4g") -> str:
+                return "n/a" if st.get(k) is None else format(st[k], fmt)
+            lines.append(f"  statistics (need nothing): RMS {g('rms', '.5g')}{u}  peak "
+                         f"{g('peak', '.5g')}{u}  crest {g('crest_factor')}  kurtosis "
+                         f"{g('kurtosis')}  skewness {g('skewness')}  impulse "
+                         f"{g('impulse_factor')}  shape {g('shape_factor')}  clearance "
+                         f"{g('clearance_factor')}")
+        sp = self.tiers.get("spectrum")
+        if sp:
+            fu = sp["frequency_unit"]
+            lines.append(f"  spectrum [{fu}; fs {sp['rests_on']['fs']}]: lines "
+                         + ", ".join(f"{r['frequency']:.5g} ({r['amplitude']:.3g}{u})"
+                                     for r in sp["lines"])
+                         + f"; centroid {_fmt(sp['centroid'], '.5g')} {fu}")
+            kg = sp.get("kurtogram")
+            if kg:
+                lines.append(f"    kurtogram best band: centre {_fmt(kg['center'], '.5g')} {fu}, "
+                             f"width {_fmt(kg['bandwidth'])} {fu}, kurtosis "
+                             f"{_fmt(kg['kurtosis'])}")
+        sh = self.tiers.get("shaft")
+        if sh:
+            r = sh["rests_on"]
+            lines.append(f"  shaft [speed {r['speed']}, fs {r['fs']}]: f_r "
+                         f"{sh['shaft_frequency_hz']:.6g} Hz; orders "
+                         + ", ".join(f"{o['order']}x {o['amplitude']:.4g}{u}"
+                                     for o in sh["orders"]))
+            env = sh.get("envelope")
+            if env:
+                lines.append("    envelope at shaft orders: " + ", ".join(
+                    f"{o['order']}x {o['amplitude']:.4g}{u}" for o in env["orders"]))
+            cep = sh.get("cepstrum")
+            if cep and cep.get("period_s") is not None:
+                lines.append(f"    cepstral shaft period {1e3 * cep['period_s']:.4g} ms "
+                             f"({cep['period_ratio_to_T1']:.4f} x T1)")
+            per = sh.get("periodicity")
+            if per and "verdict" in per:
+                lines.append(f"    impact periodicity: {per['verdict']}")
+        g_ = self.tiers.get("gear")
+        if g_:
+            r = g_["rests_on"]
+            full = g_["analysis"]
+            lines.append(f"  gear [teeth {r['teeth']}, speed {r['speed']}, fs {r['fs']}]: "
+                         f"f_m {full['train']['mesh_frequency_hz']:.6g} Hz")
+            for h in full["mesh_harmonics"]:
+                fams = [f for f in full["sidebands"] if f["order"] == h["order"]]
+                lines.append(f"    {h['order']} f_m {h['frequency_hz']:.6g} Hz  A "
+                             f"{h['amplitude']:.4g}{u}  SER " + "  ".join(
+                                 f"{f['shaft']} {f['ser']:.3g}" for f in fams))
+            t = full["tsa"]
+            lines.append(f"    TSA ({t['n_averages']} revs): FM0 {t['fm0']:.4g}  FM4 "
+                         f"{t['fm4']:.4g}  NA4 {t['na4']:.4g}  M6A {t['m6a']:.4g}  M8A "
+                         f"{t['m8a']:.4g}")
+            im = full["impacts"]
+            lines.append(f"    impacts: {im['count']}; period "
+                         + (f"{im['period_ratio_to_T1']:.4f} x T1"
+                            if im.get("period_ratio_to_T1") is not None else "n/a"))
+            if "ratios_to_baseline" in full:
+                lines.append("    ratio to baseline: " + ", ".join(
+                    f"{k} {100 * v:.1f} %" for k, v in full["ratios_to_baseline"].items()))
+            for gear in g_.get("gears", []):
+                if gear.get("fm4") is not None:
+                    lines.append(f"    TSA {gear['shaft']} (Z {gear['teeth']}, "
+                                 f"{gear['n_averages']} revs): FM0 {gear['fm0']:.4g}  "
+                                 f"FM4 {gear['fm4']:.4g}")
+            for name in ("indicators", "demodulation"):
+                vals = {k: v for k, v in (g_.get(name) or {}).items()
+                        if isinstance(v, float)}
+                if vals:
+                    lines.append(f"    {name}: " + "  ".join(f"{k} {v:.4g}"
+                                                            for k, v in vals.items()))
+        for s in self.skipped:
+            lines.append(f"  skipped {s['tier']}: {s['reason']}")
+        return "\n".join(lines)
+
+
+def _spectrum_tier(a: np.ndarray, fs: float | None) -> dict[str, Any]:
+    """Amplitude spectrum (periodic Hann, mean removed) by numpy; lines and centroid."""
+    n = a.size
+    rate = fs if fs is not None else 1.0
+    w = 0.5 - 0.5 * np.cos(2.0 * np.pi * np.arange(n) / n)
+    amp = np.abs(np.fft.rfft((a - a.mean()) * w)) * (2.0 / w.sum())
+    amp[0] *= 0.5
+    if n % 2 == 0:
+        amp[-1] *= 0.5
+    freq = np.arange(amp.size) * (rate / n)
+    inner = amp[1:-1]
+    k = np.flatnonzero((inner > amp[:-2]) & (inner >= amp[2:])) + 1
+    top = k[np.argsort(amp[k])[::-1][:N_LINES]]
+    power = amp * amp
+    centroid = float(np.sum(freq * power) / np.sum(power)) if power.sum() > 0 else math.nan
+    return {
+        "frequency_unit": "Hz" if fs is not None else CPS,
+        "resolution": rate / n, "window": "hann (mean removed)",
+        "lines": [{"frequency": float(freq[i]), "amplitude": float(amp[i])} for i in top],
+        "centroid": _f(centroid),
+    }
+
+
+def _kurtogram(a: np.ndarray, fs: float | None, skipped: list) -> dict | None:
+    fk = _optional("kurtogram", "fast_kurtogram")
+    if fk is None:
+        skipped.append({"tier": "spectrum.kurtogram",
+                        "reason": "gearsim.signals.kurtogram is not available"})
+        return None
+    try:
+        res = fk(a, fs if fs is not None else 1.0)
+    except InputError as exc:
+        skipped.append({"tier": "spectrum.kurtogram", "reason": _first_line(exc)})
+        return None
+    best = res.best
+    return {"center": _f(best.center), "bandwidth": _f(best.bandwidth),
+            "kurtosis": _f(best.kurtosis), "level": _f(best.level)}
+
+
+def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov):
+    """(speed Hz, provenance, pulses or None) or (None, None, None) with a skip reason."""
+    if speed is not None:
+        check = _optional("speed", "check_given_speed")
+        if check is not None:
+            try:
+                warn = check(a, fs, float(speed), order=order)
+            except InputError as exc:
+                warn = f"not checked: {_first_line(exc)}"
+            if warn:
+                skipped.append({"tier": "shaft.speed_check", "reason": str(warn)})
+        return float(speed), prov or "given", None
+    if tacho is not None:
+        tach = as_signal(tacho, name="tacho")
+        if tach.size != a.size:
+            raise InputError("tacho.length", tach.size, f"must equal the signal length {a.size}")
+        sft = _optional("speed", "speed_from_tacho")
+        try:
+            if sft is not None:
+                prof = sft(tach, fs, pulses_per_rev=ppr)
+                f = _mean_speed(prof)
+                pulses = prof
+            else:
+                from gearsim.signals.tsa import pulse_times
+
+                pulses = pulse_times(tach, fs)
+                n_rev = (pulses.size - 1) // ppr
+                if n_rev < 1:
+                    raise InputError("tacho", f"{pulses.size} pulses",
+                                     f"must hold at least {ppr + 1} pulses (one revolution)")
+                f = n_rev / (pulses[n_rev * ppr] - pulses[0])
+        except InputError as exc:
+            skipped.append({"tier": "shaft", "reason": f"tacho unusable: {_first_line(exc)}"})
+            return None, None, None
+        return f, "file", pulses
+    if search is not None:
+        est = _optional("speed", "estimate_speed")
+        if est is None:
+            skipped.append({"tier": "shaft", "reason": "speed search asked, but "
+                            "gearsim.signals.speed (estimate_speed) is not available"})
+            return None, None, None
+        lo, hi = search
+        try:
+            prof = est(a, fs, order=order, search=(lo, hi))
+        except InputError as exc:
+            skipped.append({"tier": "shaft", "reason": f"speed estimate failed: "
+                            f"{_first_line(exc)}"})
+            return None, None, None
+        return _mean_speed(prof), "estimate", prof
+    skipped.append({"tier": "shaft", "reason": "needs a shaft speed: give one (--shaft-rpm), "
+                    "a tacho channel (--tacho) or a search range to estimate it "
+                    "(--speed-search)"})
+    return None, None, None
+
+
+def _mean_speed(prof: Any) -> float:
+    for k in ("mean_frequency", "mean", "shaft_frequency", "frequency"):
+        v = getattr(prof, k, None)
+        if v is None and isinstance(prof, dict):
+            v = prof.get(k)
+        if v is not None:
+            v = np.asarray(v, dtype=float)
+            return float(v.mean()) if v.ndim else float(v)
+    return float(prof)
+
+
+def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None) -> dict[str, Any]:
+    out: dict[str, Any] = {"rests_on": rests, "shaft_frequency_hz": f_r,
+                           "shaft_rpm": 60.0 * f_r}
+    if profile is not None and hasattr(profile, "frequency"):
+        fr = np.asarray(profile.frequency, dtype=float)
+        out["speed_range_hz"] = [float(fr.min()), float(fr.max())]
+        tt = _optional("ordertrack", "tracked_tsa")
+        if tt is not None:
+            try:
+                t, q = tt(a, fs, profile, teeth=int(teeth[0]) if teeth else 1)
+                out["tracked_tsa"] = {"n_averages": int(t.n_averages),
+                                      "samples_per_rev": int(t.samples_per_rev),
+                                      "quality": _f(q)}
+            except InputError as exc:
+                skipped.append({"tier": "shaft.tracked_tsa", "reason": _first_line(exc)})
+    n = a.size
+    w = 0.5 - 0.5 * np.cos(2.0 * np.pi * np.arange(n) / n)
+    amp = np.abs(np.fft.rfft((a - a.mean()) * w)) * (2.0 / w.sum())
+    df = fs / n
+    rows = []
+    for k in SHAFT_ORDERS:
+        f = k * f_r
+        if f >= 0.5 * fs:
+            break
+        lo, hi = max(1, int((f - 0.25 * f_r) / df)), min(amp.size - 1, int((f + 0.25 * f_r) / df))
+        i = lo + int(np.argmax(amp[lo:hi + 1])) if hi >= lo else int(round(f / df))
+        rows.append({"order": k, "frequency_hz": float(i * df), "amplitude": float(amp[i])})
+    out["orders"] = rows
+    env = _optional("envelope", "envelope_spectrum")
+    if env is None:
+        skipped.append({"tier": "shaft.envelope",
+                        "reason": "gearsim.signals.envelope is not available"})
+    else:
+        try:
+            es = env(a, fs)
+            ef = np.asarray(es.frequency, dtype=float)
+            ea = np.asarray(es.amplitude, dtype=float)
+            erows = []
+            for k in SHAFT_ORDERS:
+                sel = np.abs(ef - k * f_r) <= 0.25 * f_r
+                if sel.any():
+                    j = np.flatnonzero(sel)[np.argmax(ea[sel])]
+                    erows.append({"order": k, "frequency_hz": float(ef[j]),
+                                  "amplitude": float(ea[j])})
+            out["envelope"] = {"orders": erows}
+        except (InputError, AttributeError, TypeError) as exc:
+            skipped.append({"tier": "shaft.envelope", "reason": _first_line(exc)})
+    cep = _optional("cepstrum", "real_cepstrum")
+    if cep is None:
+        skipped.append({"tier": "shaft.cepstrum",
+                        "reason": "gearsim.signals.cepstrum is not available"})
+    else:
+        try:
+            c = cep(a, fs)
+            q = np.asarray(getattr(c, "quefrency", None) if not isinstance(c, tuple)
+                           else c[0], dtype=float)
+            v = np.asarray(getattr(c, "cepstrum", None) if not isinstance(c, tuple)
+                           else c[1], dtype=float)
+            t1 = 1.0 / f_r
+            sel = (q >= 0.8 * t1) & (q <= 1.2 * t1)
+            if sel.any():
+                j = np.flatnonzero(sel)[np.argmax(v[sel])]
+                out["cepstrum"] = {"period_s": float(q[j]), "value": float(v[j]),
+                                   "period_ratio_to_T1": float(q[j] / t1)}
+            else:
+                skipped.append({"tier": "shaft.cepstrum",
+                                "reason": "record shorter than 1.2 shaft periods"})
+        except (InputError, TypeError, ValueError) as exc:
+            skipped.append({"tier": "shaft.cepstrum", "reason": _first_line(exc)})
+    per = _optional("periodicity", "impact_periodicity")
+    if per is None:
+        skipped.append({"tier": "shaft.periodicity",
+                        "reason": "gearsim.signals.periodicity is not available"})
+    else:
+        try:
+            res = per(a, fs, frequency=f_r)
+            out["periodicity"] = {"verdict": str(res.verdict), "p_value": _f(res.p_value),
+                                  "alpha": _f(res.alpha), "frequency_hz": _f(res.frequency)}
+        except (InputError, TypeError) as exc:
+            skipped.append({"tier": "shaft.periodicity", "reason": _first_line(exc)})
+    return out
+
+
+def _gear_tier(a, fs, f_r, teeth, pulses_tacho, settings, rests, skipped,
+               baseline, baseline_tacho) -> tuple[dict | None, Any]:
+    from gearsim.signals.analysis import analyze
+
+    kw: dict[str, Any] = {"settings": settings}
+    if pulses_tacho is not None:
+        kw["tacho"] = pulses_tacho
+        if baseline is not None:
+            kw["baseline_tacho"] = baseline_tacho
+    else:
+        kw["shaft_frequency"] = f_r
+    try:
+        full = analyze(a, fs, teeth=teeth, baseline=baseline, **kw)
+    except InputError as exc:
+        if exc.parameter.startswith(("analysis.", "settings")):
+            raise
+        skipped.append({"tier": "gear", "reason": _first_line(exc)})
+        return None, None
+    out: dict[str, Any] = {"rests_on": rests, "analysis": full.to_dict()}
+    # TSA of every other gear, at its own shaft frequency
+    from gearsim.signals.analysis import _samples_per_rev
+    from gearsim.signals.tsa import condition_indicators, tsa
+
+    gears = []
+    kin = full.kinematics
+    for j, z in enumerate(teeth[1:], start=2):
+        f_j = kin.shafts[f"shaft{j}"]
+        row: dict[str, Any] = {"shaft": f"shaft{j}", "teeth": int(z),
+                               "shaft_frequency_hz": f_j}
+        if a.size / fs < MIN_REVOLUTIONS / f_j:
+            skipped.append({"tier": f"gear.tsa.shaft{j}", "reason": f"record "
+                            f"{a.size / fs:.4g} s shorter than {MIN_REVOLUTIONS:g} "
+                            f"revolutions of shaft{j} ({MIN_REVOLUTIONS / f_j:.4g} s)"})
+            continue
+        try:
+            t = tsa(a, fs, samples_per_rev=_samples_per_rev(fs, f_j), shaft_frequency=f_j)
+            ind, _, _ = condition_indicators(t, teeth=int(z),
+                                             shaft_harmonics=full.options["shaft_harmonics"],
+                                             sideband_orders=full.options["sideband_orders"])
+        except InputError as exc:
+            skipped.append({"tier": f"gear.tsa.shaft{j}", "reason": _first_line(exc)})
+            continue
+        row |= {"n_averages": ind.n_averages, "fm0": _f(ind.fm0), "fm4": _f(ind.fm4),
+                "m6a": _f(ind.m6a), "m8a": _f(ind.m8a)}
+        gears.append(row)
+    out["gears"] = gears
+    out["indicators"] = _gear_indicators(full, teeth, skipped)
+    out["demodulation"] = _demodulation(a, fs, full, skipped)
+    return out, full
+
+
+def _call_dict(fn, *args, **kwargs) -> dict:
+    res = fn(*args, **kwargs)
+    if hasattr(res, "to_dict"):
+        res = res.to_dict()
+    if isinstance(res, dict):
+        return {k: (_f(v) if isinstance(v, (int, float, np.floating)) and not isinstance(v, bool)
+                    else v) for k, v in res.items()}
+    return {"value": _f(res)}
+
+
+def _gear_indicators(full, teeth, skipped) -> dict | None:
+    try:
+        ind = importlib.import_module("gearsim.signals.indicators")
+    except ImportError:
+        skipped.append({"tier": "gear.indicators",
+                        "reason": "gearsim.signals.indicators is not available (NB4, energy "
+                                  "ratio, sideband index, sideband level factor)"})
+        return None
+    t, z, o = full.tsa, int(teeth[0]), full.options
+    out: dict[str, Any] = {}
+    for name, call in (
+        ("energy_ratio", lambda: ind.energy_ratio(t, teeth=z, shaft_harmonics=o[
+            "shaft_harmonics"], sideband_orders=o["sideband_orders"])),
+        ("sideband_index", lambda: ind.sideband_index(t, teeth=z)),
+        ("sideband_level_factor", lambda: ind.sideband_level_factor(t, teeth=z)),
+    ):
+        try:
+            out[name] = _f(call())
+        except InputError as exc:
+            skipped.append({"tier": f"gear.indicators.{name}", "reason": _first_line(exc)})
+    skipped.append({"tier": "gear.indicators.nb4", "reason": "NB4 needs the envelopes of a "
+                    "run history (several records of one gear), not one record"})
+    return out
+
+
+def _demodulation(a, fs, full, skipped) -> dict | None:
+    dem = _optional("demodulation", "demodulate_tsa")
+    if dem is None:
+        skipped.append({"tier": "gear.demodulation",
+                        "reason": "gearsim.signals.demodulation is not available"})
+        return None
+    try:
+        d = dem(full.tsa, teeth=full.kinematics.teeth[0], harmonic=1,
+                sidebands=max(1, full.options["sideband_orders"]))
+    except InputError as exc:
+        skipped.append({"tier": "gear.demodulation", "reason": _first_line(exc)})
+        return None
+
+    def kurt(v) -> float | None:
+        v = np.asarray(v, dtype=float)
+        c = v - v.mean()
+        m2 = float(np.mean(c * c))
+        return float(np.mean(c**4) / m2**2) if m2 > 0 else None
+
+    phase = np.asarray(d.phase, dtype=float)
+    return {"amplitude_kurtosis": kurt(d.amplitude), "phase_kurtosis": kurt(phase),
+            "carrier_frequency": _f(d.carrier_frequency)}
+
+
+def _provenance(name: str, value: str | None) -> str | None:
+    if value is not None and value not in PROVENANCES:
+        raise InputError(f"{name}_provenance", value, f"must be one of {list(PROVENANCES)}")
+    return value
+
+
+def analyze_record(
+    x: np.ndarray,
+    fs: float | None = None,
+    *,
+    speed: float | None = None,
+    tacho: np.ndarray | None = None,
+    pulses_per_rev: int = 1,
+    speed_search: tuple[float, float] | None = None,
+    teeth: Sequence[int] | None = None,
+    settings: Any = None,
+    baseline: np.ndarray | None = None,
+    baseline_tacho: np.ndarray | None = None,
+    fs_provenance: str | None = None,
+    speed_provenance: str | None = None,
+    teeth_provenance: str | None = None,
+    source: dict | None = None,
+    units: str | None = None,
+) -> RecordAnalysis:
+    """Every tier of analysis the inputs allow, with what was skipped and why.
+
+    Parameters
+    ----------
+    x : array_like
+        Signal (any units), 1-D, finite.
+    fs : float, optional
+        Sampling rate [Hz]; without it the spectrum is in cycles per sample and the
+        shaft and gear tiers are skipped.
+    speed : float, optional
+        Speed of the measured shaft [Hz] (not rpm). At most one of ``speed``,
+        ``tacho`` and ``speed_search``.
+    tacho : array_like, optional
+        Tacho of the measured shaft, same sampling and length as ``x``.
+    pulses_per_rev : int
+        Tacho pulses per revolution (>= 1).
+    speed_search : tuple of float, optional
+        ``(low, high)`` [Hz]: estimate the shaft speed from the signal in this range
+        (:func:`gearsim.signals.speed.estimate_speed`); provenance ``"estimate"``.
+    teeth : sequence of int, optional
+        Tooth counts, gear on the measured shaft first; enables the gear tier.
+    settings : AnalysisSettings, optional
+        Options of the gear tier (:class:`gearsim.signals.settings.AnalysisSettings`);
+        ``remove_mean`` also applies to the statistics.
+    baseline : array_like, optional
+        Healthy record for the gear tier's ratios and NA4.
+    baseline_tacho : array_like, optional
+        Tacho of ``baseline``.
+    fs_provenance, speed_provenance, teeth_provenance : str, optional
+        ``"file"``, ``"given"`` or ``"estimate"`` (default ``"given"`` when the value is
+        given; a tacho speed is ``"file"``, a searched speed ``"estimate"``).
+    source : dict, optional
+        Where the record came from (``file``, ``channel``, ...), copied to the output.
+    units : str, optional
+        Units of the signal.
+
+    Returns
+    -------
+    RecordAnalysis
+        Tier results, ``skipped`` list, provenance; ``.to_dict()``, ``.text()``,
+        ``.features()``.
+
+    Raises
+    ------
+    InputError
+        An unusable signal (fewer than 2 samples, non-finite), an invalid ``fs``,
+        ``speed``, ``teeth``, ``pulses_per_rev``, ``speed_search`` or provenance, more
+        than one speed source, a tacho of another length, or invalid settings.
+    """
+    from gearsim.signals._checks import check_fs, check_int, check_positive, check_teeth
+
+    t_start = time.perf_counter()
+    a = as_signal(x)
+    fs = check_fs(fs) if fs is not None else None
+    given = [n for n, v in (("speed", speed), ("tacho", tacho), ("speed_search", speed_search))
+             if v is not None]
+    if len(given) > 1:
+        raise InputError("/".join(given), "several", "give at most one speed source")
+    if speed is not None:
+        speed = check_positive("speed", speed)
+    ppr = check_int("pulses_per_rev", pulses_per_rev, minimum=1)
+    if speed_search is not None:
+        try:
+            lo, hi = (float(v) for v in speed_search)
+        except (TypeError, ValueError):
+            raise InputError("speed_search", speed_search, "must be (low, high) in Hz") from None
+        if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
+            raise InputError("speed_search", speed_search, "must be 0 < low < high (Hz)")
+        speed_search = (lo, hi)
+    zs = check_teeth(teeth) if teeth is not None else None
+    if settings is not None:
+        from gearsim.signals.settings import AnalysisSettings
+
+        if not isinstance(settings, AnalysisSettings):
+            raise InputError("settings", type(settings).__name__, "must be an AnalysisSettings")
+    remove_mean = getattr(settings, "remove_mean", True)
+    prov_fs = _provenance("fs", fs_provenance) or ("given" if fs is not None else None)
+    prov_teeth = _provenance("teeth", teeth_provenance) or ("given" if zs else None)
+    _provenance("speed", speed_provenance)
+
+    rec = RecordAnalysis(n_samples=int(a.size), fs=fs, fs_provenance=prov_fs if fs else None,
+                         speed=None, speed_provenance=None, teeth=zs,
+                         teeth_provenance=prov_teeth, source=dict(source or {}), units=units)
+    skipped = rec.skipped
+    t0 = time.perf_counter()
+    rec.tiers["statistics"] = {"rests_on": {}, "remove_mean": bool(remove_mean),
+                               **statistics(a, remove_mean=remove_mean)}
+    rec.timings["statistics"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    if a.size < MIN_SPECTRUM_SAMPLES:
+        skipped.append({"tier": "spectrum", "reason": f"record of {a.size} samples is shorter "
+                        f"than {MIN_SPECTRUM_SAMPLES}"})
+    else:
+        sp = _spectrum_tier(a, fs)
+        sp["rests_on"] = {"fs": prov_fs or "none (cycles/sample)"}
+        if fs is None:
+            skipped.append({"tier": "spectrum.Hz", "reason": "no sampling rate: frequencies "
+                            "are in cycles/sample (give --fs)"})
+        sp["kurtogram"] = _kurtogram(a, fs, skipped)
+        rec.tiers["spectrum"] = sp
+    rec.timings["spectrum"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    f_r = None
+    pulses_tacho = None
+    if fs is None:
+        for tier in ("shaft", "gear"):
+            skipped.append({"tier": tier, "reason": "needs a sampling rate (give --fs, or a "
+                            "file that stores it)"})
+    else:
+        order = zs[0] if zs else 1
+        f_r, prov_speed, profile = _resolve_speed(a, fs, speed, tacho, ppr, speed_search, order,
+                                            skipped, speed_provenance)
+        if f_r is not None:
+            rec.speed, rec.speed_provenance = f_r, prov_speed
+            if tacho is not None:
+                pulses_tacho = tacho
+            rests = {"fs": prov_fs, "speed": prov_speed}
+            if a.size / fs < MIN_REVOLUTIONS / f_r:
+                reason = (f"record {a.size / fs:.4g} s is shorter than {MIN_REVOLUTIONS:g} "
+                          f"revolutions of the measured shaft ({MIN_REVOLUTIONS / f_r:.4g} s)")
+                skipped.append({"tier": "shaft", "reason": reason})
+                skipped.append({"tier": "gear", "reason": reason})
+                f_r = None
+            else:
+                rec.tiers["shaft"] = _shaft_tier(a, fs, f_r, rests, skipped, profile, zs)
+        else:
+            skipped.append({"tier": "gear", "reason": "needs a shaft speed (see shaft)"})
+    rec.timings["shaft"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    if f_r is not None:
+        if not zs:
+            skipped.append({"tier": "gear", "reason": "needs tooth counts (give --teeth)"})
+        else:
+            rests = {"fs": prov_fs, "speed": rec.speed_provenance, "teeth": prov_teeth}
+            if ppr != 1 and settings is None:
+                from gearsim.signals.settings import AnalysisSettings
+
+                settings = AnalysisSettings(pulses_per_rev=ppr)
+            elif ppr != 1:
+                import dataclasses
+
+                settings = dataclasses.replace(settings, pulses_per_rev=ppr)
+            g, full = _gear_tier(a, fs, f_r, zs, pulses_tacho, settings, rests, skipped,
+                                 baseline, baseline_tacho)
+            if g is not None:
+                rec.tiers["gear"] = g
+                rec.analysis = full
+    rec.timings["gear"] = time.perf_counter() - t0
+    rec.timings["total"] = time.perf_counter() - t_start
+    return rec

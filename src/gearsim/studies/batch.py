@@ -1,0 +1,656 @@
+"""Batches of measured records: one row per file and channel, indicators as columns.
+
+:func:`run_batch` reads every file (all channels by default), runs the tiered analysis
+(:func:`gearsim.signals.tiers.analyze_record`) on each channel, and returns the table as
+an :class:`xarray.Dataset` along ``record`` (coordinates ``file``, ``channel``, ``label``;
+one variable per indicator, its unit in ``attrs["units"]``). Problems of every file are
+collected and raised together in one :class:`~gearsim.errors.InputError`.
+
+With labels (a CSV ``file,channel,label`` or ``file,label``, or a regular expression with
+one group applied to the file names) :func:`separability` scores each indicator alone
+(ROC AUC and its direction) and all together (cross-validated logistic regression,
+:func:`gearsim.studies.diagnostic.separability`).
+
+Parallel runs: ``workers > 1`` or a ``scheduler`` address runs one task per file on Dask
+(a ``LocalCluster`` as in :mod:`gearsim.studies.sweep_run`); results are not kept in
+parts between runs (no resume), a batch is recomputed whole.
+"""
+
+from __future__ import annotations
+
+import csv
+import glob
+import io
+import math
+import re
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from gearsim.errors import InputError
+
+__all__ = [
+    "problems_error",
+    "Batch",
+    "analyze_file",
+    "expand_inputs",
+    "labels_from_csv",
+    "labels_from_pattern",
+    "records_table",
+    "run_batch",
+    "separability",
+    "table_csv",
+    "write_table",
+]
+
+#: Columns of the table that are not indicators.
+KEY_COLUMNS = ("file", "channel", "label", "units", "fs_provenance", "speed_provenance",
+               "teeth_provenance")
+
+
+def expand_inputs(items: Sequence[str | Path]) -> tuple[list[str], list[str]]:
+    """Files named by paths and glob patterns, in order, without duplicates.
+
+    Parameters
+    ----------
+    items : sequence of str or Path
+        File paths or glob patterns (``*``, ``?``, ``[...]``, ``**``).
+
+    Returns
+    -------
+    files : list of str
+        Matching files, each once.
+    problems : list of str
+        One line per pattern matching nothing or path that is not a file.
+    """
+    files: list[str] = []
+    problems: list[str] = []
+    seen: set[str] = set()
+    for item in items:
+        text = str(item)
+        if any(c in text for c in "*?["):
+            hits = sorted(p for p in glob.glob(text, recursive=True) if Path(p).is_file())
+            if not hits:
+                problems.append(f"{text}: the pattern matches no file")
+        elif Path(text).is_file():
+            hits = [text]
+        else:
+            problems.append(f"{text}: does not exist or is not a regular file")
+            hits = []
+        for h in hits:
+            if h not in seen:
+                seen.add(h)
+                files.append(h)
+    return files, problems
+
+
+def labels_from_csv(path: str | Path) -> dict[tuple[str, str | None], str]:
+    """Read labels: a CSV with a header ``file,label`` or ``file,channel,label``.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file; ``file`` may be a path or a bare file name.
+
+    Returns
+    -------
+    dict
+        ``(file, channel or None)`` to label.
+
+    Raises
+    ------
+    InputError
+        A missing file, a header without ``file`` and ``label``, or an empty label.
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise InputError("--labels", str(p), "does not exist or is not a regular file")
+    rows = list(csv.DictReader(io.StringIO(p.read_text(encoding="utf-8-sig"))))
+    if not rows or not {"file", "label"} <= set(rows[0]):
+        raise InputError("--labels", str(p), "must be a CSV with a header file,label or "
+                         "file,channel,label and at least one row")
+    out: dict[tuple[str, str | None], str] = {}
+    for i, r in enumerate(rows, start=2):
+        f, lab = (r.get("file") or "").strip(), (r.get("label") or "").strip()
+        if not f or not lab:
+            raise InputError(f"--labels line {i}", str(r), "needs a file and a label")
+        ch = (r.get("channel") or "").strip() or None
+        out[(f, ch)] = lab
+    return out
+
+
+def labels_from_pattern(files: Sequence[str], pattern: str) -> tuple[dict[str, str], list[str]]:
+    """Labels from the file names by a regular expression with one group.
+
+    Parameters
+    ----------
+    files : sequence of str
+        File paths; the pattern is searched in the file name (without folder).
+    pattern : str
+        Regular expression with exactly one capturing group, e.g. ``"^(healthy|faulty)_"``.
+
+    Returns
+    -------
+    labels : dict
+        File to label.
+    problems : list of str
+        One line per file the pattern does not match.
+
+    Raises
+    ------
+    InputError
+        An invalid expression or one without exactly one group.
+    """
+    try:
+        rx = re.compile(pattern)
+    except re.error as exc:
+        raise InputError("--label-pattern", pattern, f"is not a regular expression: {exc}") \
+            from None
+    if rx.groups != 1:
+        raise InputError("--label-pattern", pattern, f"must have exactly one group "
+                         f"(it has {rx.groups})")
+    labels: dict[str, str] = {}
+    problems = []
+    for f in files:
+        m = rx.search(Path(f).name)
+        if m is None or not m.group(1):
+            problems.append(f"{f}: --label-pattern {pattern} does not match its name")
+        else:
+            labels[f] = m.group(1)
+    return labels, problems
+
+
+def _label_of(labels: Mapping | None, file: str, channel: str) -> str | None:
+    if not labels:
+        return None
+    name = Path(file).name
+    for key in ((file, channel), (name, channel), (file, None), (name, None), file, name):
+        if key in labels:
+            return labels[key]
+    return None
+
+
+def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho) -> list[dict]:
+    """Channels of one file: ``{"channel", "data", "fs", "fs_source", "units", "tacho"}``."""
+    from gearsim.io import measured
+
+    if hasattr(measured, "read_record"):
+        want = None if channels is None else list(dict.fromkeys(
+            [*channels, *([tacho] if tacho else [])]))
+        rec = measured.read_record(path, channels=want, fs=fs, fmt=fmt,
+                                   drop_nonfinite=drop_nonfinite)  # one message for all
+        return _from_record(rec, channels, tacho)
+    names = measured.list_channels(path, fmt=fmt)
+    chosen = list(channels) if channels is not None else [n for n in names if n != tacho]
+    missing = [c for c in [*chosen, *([tacho] if tacho else [])] if c not in names]
+    if missing:
+        raise InputError("channel", ", ".join(missing),
+                         f"not in {Path(path).name}; available: {list(names)}")
+    out = []
+    tach = measured.read_signal(path, channel=tacho, fs=fs, fmt=fmt).data if tacho else None
+    for c in chosen:
+        s = measured.read_signal(path, channel=c, fs=fs, fmt=fmt)
+        out.append({"channel": c, "data": s.data, "fs": s.fs,
+                    "fs_source": "file" if s.fs_source == "file" else "given",
+                    "units": s.units, "tacho": tach})
+    return out
+
+
+def _from_record(rec, channels, tacho) -> list[dict]:
+    """Channels of a :class:`gearsim.io.measured.Record` (``read_record``)."""
+    data = rec.data
+    units = rec.units or {}
+    meta = getattr(rec, "metadata", None) or {}
+    rpm = meta.get("rpm")
+    chosen = list(channels) if channels is not None else [n for n in data if n != tacho]
+    tach = data.get(tacho) if tacho else None
+    src = "file" if rec.fs_source == "file" else "given"
+    dropped = getattr(rec, "dropped", None) or {}
+    return [{"channel": c, "data": data[c], "fs": rec.fs, "fs_source": src,
+             "units": units.get(c), "tacho": tach,
+             "rpm": float(rpm) if isinstance(rpm, (int, float)) and rpm > 0 else None,
+             "dropped": str(dropped[c]) if c in dropped else None} for c in chosen]
+
+
+def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float | None = None,
+                 fmt: str | None = None, speed: float | None = None, tacho: str | None = None,
+                 pulses_per_rev: int = 1, speed_search: tuple[float, float] | None = None,
+                 teeth: Sequence[int] | None = None, settings: Any = None,
+                 drop_nonfinite: bool = False, keep_analysis: bool = False,
+                 ) -> tuple[list[Any], list[str]]:
+    """Read one file and analyse each of its channels (a Dask task of :func:`run_batch`).
+
+    Parameters
+    ----------
+    path : str
+        The record file.
+    channels : sequence of str, optional
+        Channels to analyse; default all but the tacho.
+    fs : float, optional
+        Sampling rate [Hz] when the file stores none (checked against it otherwise).
+    fmt : str, optional
+        Format key of :data:`gearsim.io.measured.FORMATS`.
+    speed : float, optional
+        Measured-shaft speed [Hz].
+    tacho : str, optional
+        Tacho channel of the measured shaft.
+    pulses_per_rev : int
+        Tacho pulses per revolution.
+    speed_search : tuple of float, optional
+        ``(low, high)`` [Hz] to estimate the speed from each channel.
+    teeth : sequence of int, optional
+        Tooth counts, gear on the measured shaft first.
+    settings : AnalysisSettings, optional
+        Options of the gear tier.
+    drop_nonfinite : bool
+        Drop non-finite samples instead of refusing the file (if the reader supports it).
+    keep_analysis : bool
+        Return :class:`~gearsim.signals.tiers.RecordAnalysis` objects (with arrays) rather
+        than their dicts.
+
+    Returns
+    -------
+    results : list
+        Per channel: ``RecordAnalysis`` (``keep_analysis``) or a dict with
+        ``record`` (``to_dict()``) and ``features``.
+    problems : list of str
+        One line per problem (the file is then left out).
+    """
+    from gearsim.signals.tiers import analyze_record
+
+    try:
+        chans = _read_channels(path, channels, fs, fmt, drop_nonfinite, tacho)
+    except InputError as exc:
+        return [], [_problem(path, exc)]
+    out, problems = [], []
+    for ch in chans:
+        file_rpm = ch.get("rpm") if speed is None and tacho is None and speed_search is None \
+            else None
+        src = {"file": path, "channel": ch["channel"]}
+        if ch.get("dropped"):
+            src["dropped"] = ch["dropped"]
+        try:
+            rec = analyze_record(
+                ch["data"], ch["fs"], speed=file_rpm / 60.0 if file_rpm else speed,
+                speed_provenance="file" if file_rpm else None, tacho=ch["tacho"],
+                pulses_per_rev=pulses_per_rev, speed_search=speed_search, teeth=teeth,
+                settings=settings, fs_provenance=ch["fs_source"] if ch["fs"] else None,
+                source=src, units=ch["units"],
+            )
+        except InputError as exc:
+            problems.append(_problem(f"{path} [{ch['channel']}]", exc))
+            continue
+        if not keep_analysis:
+            rec = {"record": rec.to_dict(), "features": rec.features()}
+        out.append(rec)
+    return out, problems
+
+
+#: Reader parameters -> the options of ``gearsim analyze`` that set them: a problem found
+#: while reading a file names the option the user typed.
+READER_OPTIONS = {"channel": "--channel", "fs": "--fs", "fmt": "--format"}
+
+
+def _problem(where: str, exc: InputError) -> str:
+    parts = getattr(exc, "problems", None) or (exc,)
+    text = "; ".join(str(InputError(READER_OPTIONS.get(p.parameter, p.parameter), p.value,
+                                    p.limit)) for p in parts)
+    return text if where in text or Path(where).name in text else f"{where}: {text}"
+
+
+@dataclass
+class Batch:
+    """Records of a batch and the problems met (from :func:`collect`).
+
+    Parameters
+    ----------
+    records : list
+        ``RecordAnalysis`` objects or their dicts (``record``, ``features``).
+    labels : list of str or None
+        Label of each record (None when unlabelled).
+    problems : list of str
+        Problems of every file, one line each.
+    mode : str
+        How the batch ran (``"serial"``, ``"dask local N workers"``, ``"dask scheduler"``).
+    """
+
+    records: list = field(default_factory=list)
+    labels: list = field(default_factory=list)
+    problems: list[str] = field(default_factory=list)
+    mode: str = "serial"
+
+    def raise_problems(self) -> None:
+        """Raise one :class:`InputError` listing every problem, if there is any.
+
+        Raises
+        ------
+        InputError
+            ``input = N problems: first; second; ...``.
+        """
+        if self.problems:
+            raise problems_error(self.problems)
+
+
+def problems_error(problems: Sequence[str]) -> InputError:
+    """One :class:`InputError` for every problem of a call.
+
+    Parameters
+    ----------
+    problems : sequence of str
+        Lines ``PARAMETER = VALUE: LIMIT`` (or free text).
+
+    Returns
+    -------
+    InputError
+        A single problem as itself (``--plot = figs: ...``); several as
+        ``input = N problems: first; second; ...``.
+    """
+    if len(problems) == 1:
+        m = re.fullmatch(r"(.+?) = (.*?): (.+)", problems[0])
+        if m:
+            return InputError(m.group(1), m.group(2), m.group(3))
+    n = len(problems)
+    return InputError("input", f"{n} problem{'s' if n != 1 else ''}", "; ".join(problems))
+
+
+def _as_dict(r) -> dict:
+    return r if isinstance(r, dict) else {"record": r.to_dict(), "features": r.features()}
+
+
+def collect(files: Sequence[str], *, labels: Mapping | None = None, workers: int = 1,
+            scheduler: str | None = None, keep_analysis: bool = False,
+            **options: Any) -> Batch:
+    """Analyse every file; gather records, labels and problems (never raises for a file).
+
+    Parameters
+    ----------
+    files : sequence of str
+        Record files.
+    labels : mapping, optional
+        Labels by file, file name, ``(file, channel)`` or ``(file name, channel)``.
+    workers : int
+        Local Dask worker processes; 1 runs serially in this process.
+    scheduler : str, optional
+        Address of a running Dask scheduler.
+    keep_analysis : bool
+        Keep the :class:`~gearsim.signals.tiers.RecordAnalysis` objects (serial only).
+    **options
+        Keyword arguments of :func:`analyze_file`.
+
+    Returns
+    -------
+    Batch
+        Records (file order, then channel order), labels, problems, run mode.
+    """
+    batch = Batch()
+    if workers == 1 and scheduler is None:
+        results = [analyze_file(f, keep_analysis=keep_analysis, **options) for f in files]
+    else:
+        results, batch.mode = _run_dask(files, workers, scheduler, options)
+    for recs, probs in results:
+        batch.problems.extend(probs)
+        for r in recs:
+            d = _as_dict(r)
+            src = d["record"]["source"]
+            lab = _label_of(labels, src["file"], src["channel"])
+            if labels and lab is None:
+                batch.problems.append(f"{src['file']} [{src['channel']}]: no label")
+            batch.records.append(r)
+            batch.labels.append(lab)
+    return batch
+
+
+def _run_dask(files, workers, scheduler, options) -> tuple[list, str]:
+    from gearsim.studies.sweep_run import (
+        _connect,
+        _shutdown,
+        _start_local,
+        check_scheduler,
+        plan_workers,
+    )
+
+    live: dict = {}
+    try:
+        if scheduler is not None:
+            _connect(check_scheduler(scheduler), live)
+            mode = f"dask scheduler {scheduler}"
+        else:
+            n, _ = plan_workers(workers, len(files))
+            _start_local(n, None, live)
+            mode = f"dask local {n} workers"
+        client = live["client"]
+        futures = [client.submit(analyze_file, f, pure=False, **options) for f in files]
+        return client.gather(futures), mode
+    finally:
+        _shutdown(live.get("client"), live.get("cluster"))
+
+
+def records_table(records: Sequence, labels: Sequence | None = None):
+    """The batch table: rows = file x channel, one variable per indicator.
+
+    Parameters
+    ----------
+    records : sequence
+        ``RecordAnalysis`` objects or dicts with ``record`` and ``features``.
+    labels : sequence of str, optional
+        Label per record.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimension ``record``; coordinates ``file``, ``channel``, ``label``; variables
+        ``units``, provenance columns and every indicator (float, NaN where not computed;
+        ``periodicity_verdict`` as text), each with ``attrs["units"]``.
+    """
+    import numpy as np
+    import xarray as xr
+
+    names, cols, units = _columns(records, labels)
+    n = len(records)
+    ds = xr.Dataset(coords={"record": np.arange(n)})
+    for k in ("file", "channel", "label"):
+        ds = ds.assign_coords({k: ("record", np.asarray(cols[k], dtype=str))})
+    for k in names:
+        if k in ("file", "channel", "label"):
+            continue
+        vals = cols[k]
+        if k in KEY_COLUMNS or any(isinstance(v, str) for v in vals):
+            arr = np.asarray(["" if v is None else str(v) for v in vals], dtype=str)
+        else:
+            arr = np.asarray([math.nan if v is None else v for v in vals], dtype=float)
+        ds[k] = ("record", arr, {"units": units.get(k, "")} if units.get(k) else {})
+    ds.attrs["title"] = "gearsim analyze batch"
+    ds.attrs["amplitude_units"] = "signal units: see the units variable of each record"
+    return ds
+
+
+def _columns(records, labels) -> tuple[list[str], dict[str, list], dict[str, str]]:
+    dicts = [_as_dict(r) for r in records]
+    labels = list(labels) if labels is not None else [None] * len(dicts)
+    names = list(KEY_COLUMNS)
+    units: dict[str, str] = {}
+    for d in dicts:
+        for k, (_, u) in d["features"].items():
+            if k not in units:
+                units[k] = u
+                names.append(k)
+    cols: dict[str, list] = {k: [] for k in names}
+    for d, lab in zip(dicts, labels, strict=True):
+        rec = d["record"]
+        key = {"file": rec["source"]["file"], "channel": rec["source"]["channel"],
+               "label": lab or "", "units": rec.get("units") or "",
+               "fs_provenance": rec.get("fs_provenance") or "",
+               "speed_provenance": rec.get("speed_provenance") or "",
+               "teeth_provenance": rec.get("teeth_provenance") or ""}
+        for k in names:
+            cols[k].append(key[k] if k in key else d["features"].get(k, (None, ""))[0])
+    return names, cols, units
+
+
+def table_csv(records: Sequence, labels: Sequence | None = None) -> str:
+    """The batch table as CSV text; indicator headers carry their unit, ``rms [signal]``.
+
+    Parameters
+    ----------
+    records : sequence
+        ``RecordAnalysis`` objects or dicts with ``record`` and ``features``.
+    labels : sequence of str, optional
+        Label per record.
+
+    Returns
+    -------
+    str
+        Header and one line per record; empty cells where a tier was skipped.
+    """
+    names, cols, units = _columns(records, labels)
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow([f"{k} [{units[k]}]" if units.get(k) else k for k in names])
+    for i in range(len(records)):
+        row = []
+        for k in names:
+            v = cols[k][i]
+            row.append("" if v is None else (f"{v:.10g}" if isinstance(v, float) else v))
+        w.writerow(row)
+    return buf.getvalue()
+
+
+def write_table(records: Sequence, labels: Sequence | None, path: str | Path) -> Path:
+    """Write the table atomically as CSV (``.csv``) or NetCDF (``.nc``).
+
+    Parameters
+    ----------
+    records : sequence
+        ``RecordAnalysis`` objects or dicts with ``record`` and ``features``.
+    labels : sequence of str or None
+        Label per record.
+    path : str or Path
+        Target, checked beforehand with :func:`gearsim.io.targets.check_output_file`.
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
+    from gearsim.io.atomic import atomic_write
+
+    p = Path(path)
+    if p.suffix.lower() == ".nc":
+        ds = records_table(records, labels)
+        return atomic_write(p, lambda t: ds.to_netcdf(t, engine="h5netcdf"))
+    text = table_csv(records, labels)
+    return atomic_write(p, lambda t: t.write_text(text))
+
+
+def separability(records: Sequence, labels: Sequence[str], *, folds: int | None = None,
+                 seed: int = 0) -> dict[str, Any]:
+    """How well the indicators separate the labelled classes.
+
+    Parameters
+    ----------
+    records : sequence
+        ``RecordAnalysis`` objects or dicts with ``record`` and ``features``.
+    labels : sequence of str
+        Class of each record (at least two classes).
+    folds : int, optional
+        Folds of the stratified cross-validation (default
+        :data:`gearsim.studies.diagnostic.FOLDS`).
+    seed : int
+        Seed of the fold shuffle.
+
+    Returns
+    -------
+    dict
+        See :func:`gearsim.studies.diagnostic.separability_report`.
+
+    Raises
+    ------
+    InputError
+        Fewer than two classes.
+    """
+    from gearsim.studies.diagnostic import FOLDS, separability_report
+
+    names, cols, _ = _columns(records, labels)
+    feats = {k: cols[k] for k in names if k not in KEY_COLUMNS
+             and not any(isinstance(v, str) for v in cols[k])}
+    return separability_report(feats, list(labels), folds=folds or FOLDS, seed=seed)
+
+
+def run_batch(files: Sequence[str | Path], *, channels: Sequence[str] | None = None,
+              fs: float | None = None, fmt: str | None = None, speed: float | None = None,
+              tacho: str | None = None, pulses_per_rev: int = 1,
+              speed_search: tuple[float, float] | None = None,
+              teeth: Sequence[int] | None = None, settings: Any = None,
+              drop_nonfinite: bool = False, labels: Mapping | str | Path | None = None,
+              label_pattern: str | None = None, workers: int = 1,
+              scheduler: str | None = None,
+              progress: Callable[[str], None] | None = None):
+    """Analyse many records; the table of indicators (rows = file x channel).
+
+    Parameters
+    ----------
+    files : sequence of str or Path
+        Files or glob patterns.
+    channels : sequence of str, optional
+        Channels to analyse in every file; default all (but the tacho).
+    fs : float, optional
+        Sampling rate [Hz] for files that store none.
+    fmt : str, optional
+        Format key, default from each extension.
+    speed : float, optional
+        Speed of the measured shaft [Hz].
+    tacho : str, optional
+        Tacho channel name.
+    pulses_per_rev : int
+        Tacho pulses per revolution.
+    speed_search : tuple of float, optional
+        ``(low, high)`` [Hz]: estimate the speed from each record.
+    teeth : sequence of int, optional
+        Tooth counts, gear on the measured shaft first.
+    settings : AnalysisSettings, optional
+        Options of the gear tier.
+    drop_nonfinite : bool
+        Drop non-finite samples instead of refusing the file.
+    labels : mapping or path, optional
+        Labels (mapping, or CSV path for :func:`labels_from_csv`).
+    label_pattern : str, optional
+        Regular expression with one group on the file names (instead of ``labels``).
+    workers : int
+        Local Dask workers; 1 runs serially in this process.
+    scheduler : str, optional
+        Address of a Dask scheduler.
+    progress : callable, optional
+        Unused hook for messages (kept for the CLI).
+
+    Returns
+    -------
+    xarray.Dataset
+        :func:`records_table` of the batch; ``attrs["separability"]`` holds the JSON of
+        :func:`separability` when labels were given.
+
+    Raises
+    ------
+    InputError
+        Every problem of every file (and of the labels), in one message.
+    """
+    import json
+
+    names, problems = expand_inputs(files)
+    lab: Mapping | None = None
+    if label_pattern is not None:
+        lab, more = labels_from_pattern(names, label_pattern)
+        problems += more
+    elif labels is not None:
+        lab = labels if isinstance(labels, Mapping) else labels_from_csv(labels)
+    batch = collect(names, labels=lab, workers=workers, scheduler=scheduler,
+                    channels=channels, fs=fs, fmt=fmt, speed=speed, tacho=tacho,
+                    pulses_per_rev=pulses_per_rev, speed_search=speed_search, teeth=teeth,
+                    settings=settings, drop_nonfinite=drop_nonfinite)
+    batch.problems[:0] = problems
+    batch.raise_problems()
+    ds = records_table(batch.records, batch.labels if lab else None)
+    ds.attrs["mode"] = batch.mode
+    if lab:
+        ds.attrs["separability"] = json.dumps(separability(batch.records, batch.labels))
+    return ds

@@ -1,0 +1,90 @@
+"""Tiered analysis of one record: what needs nothing never asks for more; skips say why."""
+
+import numpy as np
+import pytest
+import scipy.stats
+
+from gearsim.signals import timedomain
+from gearsim.signals.synthetic import ImpactSpec, gear_signal
+from gearsim.signals.tiers import analyze_record
+
+FS = 20_000.0
+F_R = 1900.0 / 60.0
+
+
+def _gear(duration=2.0, seed=2):
+    return gear_signal(fs=FS, duration=duration, shaft_frequency=F_R, teeth=39,
+                       mesh_amplitudes={1: 1.0, 2: 0.5}, sidebands={(1, -1): 0.05, (1, 1): 0.05},
+                       impacts=ImpactSpec(4.0, 3e-4, 4000.0, 0.01), noise=0.01, seed=seed)
+
+
+def test_statistics_match_numpy_scipy_without_rate_speed_or_teeth():
+    x = np.random.default_rng(1).standard_normal(5000) ** 3 + 0.5
+    r = analyze_record(x)
+    st = r.tiers["statistics"]
+    d = x - x.mean()
+    rms = np.sqrt(np.mean(d**2))
+    assert st["rms"] == pytest.approx(rms, rel=1e-12)
+    assert st["peak"] == pytest.approx(np.max(np.abs(d)), rel=1e-12)
+    assert st["crest_factor"] == pytest.approx(np.max(np.abs(d)) / rms, rel=1e-12)
+    assert st["kurtosis"] == pytest.approx(scipy.stats.kurtosis(x, fisher=False), rel=1e-10)
+    assert st["skewness"] == pytest.approx(scipy.stats.skew(x), rel=1e-10)
+    assert st["impulse_factor"] == pytest.approx(np.max(np.abs(d)) / np.mean(np.abs(d)))
+    assert st["shape_factor"] == pytest.approx(rms / np.mean(np.abs(d)))
+    assert st["clearance_factor"] == pytest.approx(np.max(np.abs(d))
+                                                   / np.mean(np.sqrt(np.abs(d))) ** 2)
+    # the same definitions as gearsim.signals.timedomain
+    assert st["skewness"] == pytest.approx(timedomain.skewness(x), rel=1e-10)
+    assert st["impulse_factor"] == pytest.approx(timedomain.impulse_factor(d), rel=1e-10)
+    assert st["shape_factor"] == pytest.approx(timedomain.shape_factor(d), rel=1e-10)
+    assert st["clearance_factor"] == pytest.approx(timedomain.clearance_factor(d), rel=1e-10)
+    reasons = {s["tier"]: s["reason"] for s in r.skipped}
+    assert "sampling rate" in reasons["shaft"] and "sampling rate" in reasons["gear"]
+    assert "cycles/sample" in reasons["spectrum.Hz"]
+    assert set(r.tiers) == {"statistics", "spectrum"}
+
+
+def test_spectrum_without_fs_is_in_cycles_per_sample_and_labelled():
+    n = 4096
+    x = np.cos(2 * np.pi * 0.125 * np.arange(n))
+    r = analyze_record(x)
+    sp = r.tiers["spectrum"]
+    assert sp["frequency_unit"] == "cycles/sample"
+    assert sp["lines"][0]["frequency"] == pytest.approx(0.125)
+    assert sp["lines"][0]["amplitude"] == pytest.approx(1.0, rel=1e-6)
+    assert "spectrum_peak_frequency_cps" in r.features()
+    assert "cycles/sample" in r.text() and r.to_dict()["frequency_unit"] == "cycles/sample"
+    r2 = analyze_record(x, 1000.0)
+    assert r2.tiers["spectrum"]["lines"][0]["frequency"] == pytest.approx(125.0)
+    assert "spectrum_peak_frequency_hz" in r2.features()
+
+
+def test_every_tier_with_speed_and_teeth_and_provenance():
+    r = analyze_record(_gear(), FS, speed=F_R, teeth=(39, 59), fs_provenance="file")
+    assert set(r.tiers) == {"statistics", "spectrum", "shaft", "gear"}
+    g = r.tiers["gear"]
+    assert g["rests_on"] == {"fs": "file", "speed": "given", "teeth": "given"}
+    assert abs(g["analysis"]["impacts"]["period_ratio_to_T1"] - 1.0) < 0.01
+    assert r.features()["mesh_frequency_hz"][0] == pytest.approx(39 * F_R)
+    assert "(given)" in r.text() and "(file)" in r.text()
+
+
+def test_no_teeth_skips_gear_and_short_record_skips_not_fails():
+    r = analyze_record(_gear(), FS, speed=F_R)
+    assert "shaft" in r.tiers and "gear" not in r.tiers
+    assert any(s["tier"] == "gear" and "teeth" in s["reason"] for s in r.skipped)
+    short = analyze_record(_gear(duration=0.04), FS, speed=F_R, teeth=(39,))
+    assert "shaft" not in short.tiers and "gear" not in short.tiers
+    assert any("shorter than 2 revolutions" in s["reason"] for s in short.skipped)
+    tiny = analyze_record(np.arange(8.0))
+    assert any(s["tier"] == "spectrum" for s in tiny.skipped)
+
+
+def test_speed_estimate_is_labelled_estimate():
+    r = analyze_record(_gear(), FS, speed_search=(25.0, 40.0), teeth=(39,))
+    if "shaft" in r.tiers:
+        assert r.speed_provenance == "estimate"
+        assert r.speed == pytest.approx(F_R, rel=0.02)
+        assert "(estimate)" in r.text()
+    else:  # the estimator refused: skipped with its reason, never an error
+        assert any(s["tier"] == "shaft" for s in r.skipped)

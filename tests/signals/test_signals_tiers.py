@@ -70,7 +70,11 @@ def test_every_tier_with_speed_and_teeth_and_provenance():
 
 
 def test_no_teeth_skips_gear_and_short_record_skips_not_fails():
+    # a clear mesh tone: the tooth count is estimated (and labelled); noise: no estimate
     r = analyze_record(_gear(), FS, speed=F_R)
+    assert r.teeth == (39,) and r.teeth_provenance == "estimate" and "gear" in r.tiers
+    noise = np.random.default_rng(3).normal(size=_gear().size)
+    r = analyze_record(noise, FS, speed=F_R)
     assert "shaft" in r.tiers and "gear" not in r.tiers
     assert any(s["tier"] == "gear" and "teeth" in s["reason"] for s in r.skipped)
     short = analyze_record(_gear(duration=0.04), FS, speed=F_R, teeth=(39,))
@@ -88,3 +92,22 @@ def test_speed_estimate_is_labelled_estimate():
         assert "(estimate)" in r.text()
     else:  # the estimator refused: skipped with its reason, never an error
         assert any(s["tier"] == "shaft" for s in r.skipped)
+
+
+def test_estimates_fill_a_missing_rate_or_tooth_count_and_are_labelled():
+    """fs from the known shaft speed and the mesh line; teeth from the dominant tone; both
+    labelled "estimate" (fs 12345 Hz, f_r 17 Hz, Z 29: values recovered within the
+    estimator's resolution, 1e-5 relative for fs)."""
+    fs, f_r, z = 12345.0, 17.0, 29
+    t = np.arange(int(4 * fs)) / fs
+    x = (np.cos(2 * np.pi * z * f_r * t) + 0.4 * np.cos(4 * np.pi * z * f_r * t)
+         + 0.3 * np.random.default_rng(0).normal(size=t.size))
+    d = analyze_record(x, None, speed=f_r, teeth=[z]).to_dict()
+    assert d["fs_provenance"] == "estimate"
+    assert d["fs_hz"] == pytest.approx(fs, rel=1e-5)
+    assert d["tiers"]["estimates"]["fs"]["estimate"] is True
+    assert "gear" in d["tiers"]
+    d = analyze_record(x, fs, speed=f_r).to_dict()
+    assert d["teeth"] == [z] and d["teeth_provenance"] == "estimate"
+    assert "gear" in d["tiers"]
+    assert not any(s["tier"] == "shaft.speed_check" for s in d["skipped"])

@@ -162,8 +162,26 @@ def _check_alpha(alpha: float) -> float:
     return alpha
 
 
+#: Smallest power of a candidate fundamental relative to the dominant line (amplitude
+#: 10 %). A mesh fundamental 20 dB or more below its own harmonic is not what gears
+#: produce, while impacts and modulation put significant lines at every shaft order
+#: (e.g. order 13 of a 39-tooth gear with once-per-revolution impacts, 39 dB below the
+#: mesh tone): without this bound such a line would be taken for the fundamental.
+MIN_FUNDAMENTAL_POWER = 0.01
+
+
+def _strong_enough(power: np.ndarray, k: float, k0: float) -> bool:
+    """Whether the line near bin ``k`` has at least MIN_FUNDAMENTAL_POWER of bin ``k0``'s."""
+    i = int(round(k))
+    lo, hi = max(0, i - 1), min(power.size, i + 2)
+    j0 = int(round(k0))
+    top = float(power[max(0, j0 - 1):min(power.size, j0 + 2)].max())
+    return lo < hi and float(power[lo:hi].max()) >= MIN_FUNDAMENTAL_POWER * top
+
+
 def _lowest_member(power: np.ndarray, k0: float, harmonics: int, alpha: float):
-    """Largest divisor d whose lines at k0/d (and 2 k0/d when d > 2) are significant."""
+    """Largest divisor d whose lines at k0/d (and 2 k0/d when d > 2) are significant and
+    at least :data:`MIN_FUNDAMENTAL_POWER` of the dominant line."""
     best = (1, line_significance(power, k0, search_bins=1))
     for d in range(2, harmonics + 1):
         pos = k0 / d
@@ -175,7 +193,7 @@ def _lowest_member(power: np.ndarray, k0: float, harmonics: int, alpha: float):
                      for j in ((1, 2) if d > 2 else (1,))]
         except InputError:
             continue
-        if all(t.p_value < alpha for t in tests):
+        if all(t.p_value < alpha for t in tests) and _strong_enough(power, pos, k0):
             best = (d, tests[0])
     return best
 
@@ -375,12 +393,14 @@ def estimate_teeth(
         except InputError:
             continue
         tried.append({"teeth": z, "harmonic": d, "integrality": float(integ),
-                      "snr": test.snr, "p_value": test.p_value})
+                      "snr": test.snr, "p_value": test.p_value,
+                      "strong": d == 1 or _strong_enough(power, z * f_r / df, k0)})
     if not tried:
         raise InputError("candidates", f"{cands[0]}..{cands[-1]}",
                          f"no candidate explains the dominant line at {f0:g} Hz "
                          f"(order {q:.3f}) as a mesh harmonic 1..{harmonics}")
-    good = [t for t in tried if t["p_value"] < alpha and t["integrality"] >= 0.5]
+    good = [t for t in tried if t["p_value"] < alpha and t["integrality"] >= 0.5
+            and t["strong"]]
     pick = max(good, key=lambda t: t["harmonic"]) if good else tried[0]
     return TeethEstimate(
         teeth=pick["teeth"], dominant_frequency=float(f0), order=float(q),

@@ -443,7 +443,9 @@ def _kurtogram(a: np.ndarray, fs: float | None, skipped: list) -> dict | None:
 def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov):
     """(speed Hz, provenance, pulses or None) or (None, None, None) with a skip reason."""
     if speed is not None:
-        check = _optional("speed", "check_given_speed")
+        # checked against the mesh order only: with no tooth count the shaft line (order 1)
+        # may be absent from a healthy gear signal, and a missing line is no disagreement
+        check = _optional("speed", "check_given_speed") if order > 1 else None
         if check is not None:
             try:
                 warn = check(a, fs, float(speed), order=order)
@@ -705,6 +707,11 @@ def _provenance(name: str, value: str | None) -> str | None:
     return value
 
 
+#: Confidence an estimated tooth count needs before the gear tier uses it (the share of
+#: the dominant line's evidence that points to one integer count, signals.estimate).
+TEETH_CONFIDENCE = 0.9
+
+
 def analyze_record(
     x: np.ndarray,
     fs: float | None = None,
@@ -802,11 +809,29 @@ def analyze_record(
     prov_fs = _provenance("fs", fs_provenance) or ("given" if fs is not None else None)
     prov_teeth = _provenance("teeth", teeth_provenance) or ("given" if zs else None)
     _provenance("speed", speed_provenance)
+    estimates: dict[str, Any] = {}
+    early_skips: list[dict[str, str]] = []
+    if fs is None and speed is not None and a.size >= MIN_SPECTRUM_SAMPLES:
+        # the sampling rate from the known shaft speed and the record's dominant
+        # periodicity (signals.estimate), labelled as an estimate everywhere
+        from gearsim.signals.estimate import estimate_fs
+
+        try:
+            est = estimate_fs(a, shaft_frequency=float(speed), teeth=zs[0] if zs else None)
+        except InputError as exc:
+            early_skips.append({"tier": "estimate.fs", "reason": str(exc)})
+        else:
+            fs, prov_fs = float(est.fs), "estimate"
+            estimates["fs"] = {"value_hz": est.fs, "method": est.method, "snr": est.snr,
+                               "p_value": est.p_value, "estimate": True}
 
     rec = RecordAnalysis(n_samples=int(a.size), fs=fs, fs_provenance=prov_fs if fs else None,
                          speed=None, speed_provenance=None, teeth=zs,
                          teeth_provenance=prov_teeth, source=dict(source or {}), units=units)
     skipped = rec.skipped
+    skipped.extend(early_skips)
+    if estimates:
+        rec.tiers["estimates"] = estimates
     t0 = time.perf_counter()
     rec.tiers["statistics"] = {"rests_on": {}, "remove_mean": bool(remove_mean),
                                **statistics(a, remove_mean=remove_mean)}
@@ -855,6 +880,25 @@ def analyze_record(
     rec.timings["shaft"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
+    if f_r is not None and not zs and fs is not None:
+        # tooth count of the measured shaft's gear from the dominant tone (signals.estimate);
+        # used only when the evidence is clear, and labelled as an estimate
+        from gearsim.signals.estimate import estimate_teeth
+
+        try:
+            est_z = estimate_teeth(a, fs, shaft_frequency=f_r)
+        except InputError as exc:
+            skipped.append({"tier": "estimate.teeth", "reason": str(exc)})
+        else:
+            info = {"value": int(est_z.teeth), "confidence": est_z.confidence,
+                    "snr": est_z.snr, "p_value": est_z.p_value, "estimate": True}
+            rec.tiers.setdefault("estimates", {})["teeth"] = info
+            if est_z.confidence >= TEETH_CONFIDENCE:
+                zs, prov_teeth = (int(est_z.teeth),), "estimate"
+                rec.teeth, rec.teeth_provenance = zs, prov_teeth
+            else:
+                skipped.append({"tier": "estimate.teeth", "reason": f"confidence "
+                                f"{est_z.confidence:.2f} < {TEETH_CONFIDENCE} (give --teeth)"})
     if f_r is not None:
         if not zs:
             skipped.append({"tier": "gear", "reason": "needs tooth counts (give --teeth)"})

@@ -2,6 +2,7 @@
 
 import gzip
 import json
+import os
 import subprocess
 import sys
 
@@ -122,3 +123,133 @@ def test_cli_startup_and_run_time(tmp_path):
                         "25600"], capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     assert "statistics" in r.stdout
+
+
+# -- resumable batches (OUT.parts) -------------------------------------------------------
+
+def _counting(monkeypatch, fail_at=None):
+    """Count the calls of ``analyze_file``; the call number ``fail_at`` is a Ctrl-C."""
+    from gearsim.studies import batch
+
+    calls = []
+    real = batch.analyze_file
+
+    def counted(path, **kw):
+        calls.append(path)
+        if len(calls) == fail_at:
+            raise KeyboardInterrupt
+        return real(path, **kw)
+
+    monkeypatch.setattr(batch, "analyze_file", counted)
+    return calls
+
+
+def _mtimes(folder):
+    return {p.name: p.stat().st_mtime_ns for p in folder.glob("*.json")}
+
+
+def test_cli_interrupted_serial_batch_resumes_to_the_same_table(tmp_path, monkeypatch, capsys):
+    """Ctrl-C in the 4th of 8 files: exit 130, one line, 3 parts kept, no table, no lock;
+    the rerun analyses only the 5 others (parts untouched) and writes the table of an
+    uninterrupted run, byte for byte."""
+    from gearsim.studies.sweep_run import lock_path, parts_dir
+
+    data = tmp_path / "data"
+    data.mkdir()
+    _write(data, n_files=8, channels=1, gz_every=0)
+    ref = tmp_path / "ref.csv"
+    code, _, err = _run(monkeypatch, capsys, "analyze", data / "*.csv", "--out", ref)
+    assert code == 0, err
+
+    out = tmp_path / "t.csv"
+    parts = parts_dir(out)
+    calls = _counting(monkeypatch, fail_at=4)
+    code, stdout, err = _run(monkeypatch, capsys, "analyze", data / "*.csv", "--out", out)
+    assert code == 130 and err.strip().splitlines() == ["gearsim: interrupted"]
+    assert stdout == "" and not out.exists() and not lock_path(out).exists()
+    finished = _mtimes(parts)
+    assert len(finished) == 3 and not list(tmp_path.rglob(".*.tmp"))
+
+    calls = _counting(monkeypatch)
+    code, stdout, err = _run(monkeypatch, capsys, "analyze", data / "*.csv", "--out", out)
+    assert code == 0, err
+    assert len(calls) == 5 and "(8 rows; serial; 3 files resumed from t.csv.parts)" in stdout
+    assert {k: v for k, v in _mtimes(parts).items() if k in finished} == finished
+    assert len(_mtimes(parts)) == 8 and not lock_path(out).exists()
+    assert out.read_text() == ref.read_text()
+
+
+def test_dask_batch_interrupted_resumes_serially_identical_netcdf(tmp_path):
+    """A Ctrl-C on the client after the first part of a 2-worker batch keeps the parts;
+    a serial rerun (same keys) computes only the rest; the NetCDF table equals a fresh
+    serial one."""
+    from gearsim.studies.sweep_run import lock_path, parts_dir
+
+    _write(tmp_path, n_files=8, channels=1, gz_every=0)
+    files = [str(tmp_path / "*.csv")]
+    ref = run_batch(files, out=tmp_path / "ref.nc")
+    assert ref.attrs["resumed"] == 0 and ref.sizes["record"] == 8
+
+    out = tmp_path / "t.nc"
+    written = []
+
+    def interrupt(file, part):
+        written.append(part)
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_batch(files, out=out, workers=2, hook=interrupt)
+    parts = parts_dir(out)
+    finished = _mtimes(parts)
+    assert len(finished) == 1 and written[0].name in finished
+    assert not out.exists() and not lock_path(out).exists()
+
+    ds = run_batch(files, out=out, hook=lambda f, p: written.append(p))
+    assert ds.attrs["resumed"] == 1 and len(written) == 1 + 7
+    assert {k: v for k, v in _mtimes(parts).items() if k in finished} == finished
+    a = xr.load_dataset(out, engine="h5netcdf")
+    b = xr.load_dataset(tmp_path / "ref.nc", engine="h5netcdf")
+    xr.testing.assert_identical(a, b)
+
+
+def test_changed_file_is_recomputed_others_resumed(tmp_path, monkeypatch):
+    paths = _write(tmp_path, n_files=4, channels=1, gz_every=0)
+    out = tmp_path / "out" / "t.csv"
+    run_batch([str(tmp_path / "*.csv")], out=out)
+    parts = _mtimes(out.parent / "t.csv.parts")
+    calls = _counting(monkeypatch)
+    st = paths[1].stat()
+    os.utime(paths[1], ns=(st.st_atime_ns, st.st_mtime_ns + 10**9))  # touched, same size
+    ds = run_batch([str(tmp_path / "*.csv")], out=out)
+    assert calls == [str(paths[1])] and ds.attrs["resumed"] == 3
+    st = paths[2].stat()  # new content of another size, the old mtime
+    paths[2].write_text(paths[2].read_text().replace("# fs = 5000", "# fs = 2500.0"))
+    os.utime(paths[2], ns=(st.st_atime_ns, st.st_mtime_ns))
+    ds = run_batch([str(tmp_path / "*.csv")], out=out)
+    assert calls[1:] == [str(paths[2])] and ds.attrs["resumed"] == 3
+    peak = ds["spectrum_peak_frequency_hz"].values[list(ds["file"].values).index(
+        str(paths[2]))]
+    assert peak == pytest.approx(150, rel=0.02)  # the 300 Hz tone read at half the rate
+    now = _mtimes(out.parent / "t.csv.parts")
+    assert len(now) == 6 and all(now[k] == v for k, v in parts.items())  # stale ones kept
+    calls.clear()  # other options: every file again
+    run_batch([str(tmp_path / "*.csv")], out=out, speed=25.0)
+    assert len(calls) == 4
+
+
+def test_lock_refuses_a_second_batch_on_the_same_out(tmp_path, monkeypatch, capsys):
+    from gearsim.studies.sweep_run import lock_path, parts_dir, store_lock
+
+    _write(tmp_path, n_files=2, channels=1, gz_every=0)
+    out = tmp_path / "t.csv"
+    with store_lock(out, owner="batch"):
+        code, _, err = _run(monkeypatch, capsys, "analyze", tmp_path / "*.csv", "--out", out)
+        assert code == 2
+        assert err.strip().splitlines() == [
+            f"gearsim: error: --out = {out}: is being written by another batch (pid "
+            f"{os.getpid()}; lock file {lock_path(out)})"]
+        with pytest.raises(InputError, match="another batch"):
+            run_batch([str(tmp_path / "*.csv")], out=out)
+    assert not out.exists() and not parts_dir(out).exists()
+    code, _, err = _run(monkeypatch, capsys, "analyze", tmp_path / "*.csv", "--out", out)
+    assert code == 0, err

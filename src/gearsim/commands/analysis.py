@@ -14,6 +14,7 @@ xarray, matplotlib, dask, scikit-learn) are imported only where a run needs them
 
 from __future__ import annotations
 
+from contextlib import ExitStack
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -164,7 +165,8 @@ def analyze(
              "e.g. '^(healthy|faulty)_'")] = None,
     out: Annotated[str | None, typer.Option(
         help="table of indicators, rows file x channel, units in the header: .csv or "
-             ".nc")] = None,
+             ".nc; finished files are kept in OUT.parts/ and skipped when an interrupted "
+             "batch is run again")] = None,
     report: Annotated[str | None, typer.Option(
         help="folder for separability.csv/.json (needs labels; replaced as a whole)")] = None,
     json_: Annotated[bool, typer.Option("--json", help="print the JSON summary")] = False,
@@ -264,22 +266,29 @@ def analyze(
                                "tacho": tacho, "pulses_per_rev": pulses_per_rev,
                                "speed_search": search, "teeth": zs, "settings": settings,
                                "drop_nonfinite": drop_nonfinite}
-    if single and (baseline is not None or plot is not None):
-        res = _one_with_baseline(names[0], baseline, options)
-    else:
-        res = bt.collect(names, labels=lab, workers=workers, scheduler=scheduler,
-                         keep_analysis=workers == 1 and scheduler is None, **options)
-    res.problems[:0] = problems  # the option problems first, then those of the files
-    if (baseline is not None or plot is not None) and len(res.records) > 1:
-        res.problems.append(f"--baseline/--plot: need exactly one record; "
-                            f"{len(res.records)} channels analysed (give --channel)")
-    rep = None
-    if lab is not None and not res.problems:
-        rep = _collect(res.problems, bt.separability, res.records, res.labels)
-    res.raise_problems()
+    with ExitStack() as stack:  # OUT's lock, from the first part to the table
+        if out_path is not None:
+            from gearsim.studies.sweep_run import store_lock
 
-    if out_path is not None:
-        bt.write_table(res.records, res.labels if lab is not None else None, out_path)
+            stack.enter_context(store_lock(out_path, owner="batch"))
+        if single and (baseline is not None or plot is not None):
+            res = _one_with_baseline(names[0], baseline, options)
+        else:  # with --out: resumable, a part per finished file in OUT.parts/
+            res = bt.collect(names, labels=lab, workers=workers, scheduler=scheduler,
+                             keep_analysis=workers == 1 and scheduler is None,
+                             out=out_path, note=lambda line: typer.echo(line, err=True),
+                             **options)
+        res.problems[:0] = problems  # the option problems first, then those of the files
+        if (baseline is not None or plot is not None) and len(res.records) > 1:
+            res.problems.append(f"--baseline/--plot: need exactly one record; "
+                                f"{len(res.records)} channels analysed (give --channel)")
+        rep = None
+        if lab is not None and not res.problems:
+            rep = _collect(res.problems, bt.separability, res.records, res.labels)
+        res.raise_problems()
+
+        if out_path is not None:
+            bt.write_table(res.records, res.labels if lab is not None else None, out_path)
     if report_path is not None and rep is not None:
         _write_report(rep, report_path)
     figures = None
@@ -299,6 +308,7 @@ def analyze(
             "records": [(r.to_dict() if hasattr(r, "to_dict") else r["record"])
                         for r in res.records],
             "labels": res.labels if lab is not None else None, "mode": res.mode,
+            "resumed": res.resumed,
         }
         if rep is not None:
             doc["separability"] = rep
@@ -315,7 +325,9 @@ def analyze(
     if rep is not None:
         typer.echo(_separability_text(rep))
     if out_path is not None:
-        typer.echo(f"table: {out_path} ({len(res.records)} rows; {res.mode})")
+        resumed = f"; {res.resumed} file{'s' if res.resumed != 1 else ''} resumed from " \
+            f"{out_path.name}.parts" if res.resumed else ""
+        typer.echo(f"table: {out_path} ({len(res.records)} rows; {res.mode}{resumed})")
     if report_path is not None and rep is not None:
         typer.echo(f"report: {report_path}")
     if plot_path is not None:

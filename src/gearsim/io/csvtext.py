@@ -185,7 +185,15 @@ def parse_table(text: str, shown: str) -> TextTable:
     content: list[tuple[int, str, bool]] = []  # (line number, text, blank line before it)
     comment_header = None
     blank = None
-    for number, line in enumerate(text.splitlines(), start=1):
+    lines = text.splitlines()
+    tail: str | None = None  # the data rows after the sampled lines, when plain
+    for number, line in enumerate(lines, start=1):
+        if len(content) > _SAMPLE_LINES and blank is None:
+            # every line sampled: a plain rest is data rows only, one per line
+            rest = "\n".join(lines[number - 1:])
+            if _plain(rest):
+                tail = rest
+                break
         s = line.strip()
         if not s:
             if content and blank is None:
@@ -233,7 +241,12 @@ def parse_table(text: str, shown: str) -> TextTable:
             raise InputError(f"{shown}: line {gap}", "empty",
                              "every row must hold a finite number (a blank line inside the "
                              "data is a missing sample)")
-    columns = _numbers(content, sep, decimal, shown, header or [])
+    columns = _fast_numbers(content, tail, sep, decimal)
+    if columns is None:
+        if tail is not None:
+            start = content[-1][0] + 1
+            content += [(start + k, t, None) for k, t in enumerate(tail.split("\n"))]
+        columns = _numbers(content, sep, decimal, shown, header or [])
     names = [str(j) for j in range(columns.shape[1])] if header is None else \
         [n.strip().strip("\"'") for n in header]
     # a delimiter at the end of every row makes an empty, unnamed last column
@@ -272,6 +285,36 @@ def _unique(names: list[str]) -> list[str]:
         out.append(n if k == 0 else f"{n}.{k}")
         seen[n] = k + 1
     return out
+
+
+_NOT_PLAIN = ("#", "%", "/", '"', "'", "_", "\n\n", " \n", "\t\n", "\n ", "\n\t")
+
+
+def _plain(rest: str) -> bool:
+    """Whether ``rest`` (lines joined by newlines) is data rows only: no comment, quote,
+    blank line or space around a line, ASCII (numpy reads it as pandas would)."""
+    return (rest.isascii() and not rest[:1].isspace() and not rest[-1:].isspace()
+            and not any(p in rest for p in _NOT_PLAIN))
+
+
+def _fast_numbers(content: list[tuple[int, str, object]], tail: str | None, sep: str,
+                  decimal: str) -> np.ndarray | None:
+    """The table by :func:`numpy.loadtxt` for plain rows of one delimiter, else None.
+
+    The fast path of a long record (no pandas import, no row-by-row Python): only when
+    every row after the sampled lines is plain (:func:`_plain`), with a dot decimal and a
+    tab, semicolon or comma delimiter. Anything numpy refuses (missing fields, ``NA``,
+    rows of other lengths, ...) goes to :func:`_numbers`, which names the line.
+    """
+    if tail is None or decimal != "." or sep not in ("\t", ";", ","):
+        return None
+    body = "\n".join([s for _, s, _ in content] + [tail])
+    try:
+        out = np.loadtxt(io.StringIO(body), delimiter=sep, dtype=np.float64, ndmin=2,
+                         comments=None, quotechar=None)
+    except ValueError:
+        return None
+    return out if out.shape[0] == len(content) + tail.count("\n") + 1 else None
 
 
 def _numbers(content: list[tuple[int, str, object]], sep: str, decimal: str, shown: str,

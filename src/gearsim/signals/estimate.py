@@ -33,7 +33,8 @@ import numpy as np
 
 from gearsim.errors import InputError
 from gearsim.signals._checks import as_signal, check_fs, check_int, check_positive
-from gearsim.signals.periodicity import line_significance, periodogram, squared_envelope
+from gearsim.signals.envelope import squared_envelope
+from gearsim.signals.periodicity import line_significance, periodogram
 from gearsim.signals.spectrum import amplitude_spectrum, tone
 
 __all__ = ["FsEstimate", "TeethEstimate", "estimate_fs", "estimate_teeth"]
@@ -260,7 +261,7 @@ def estimate_fs(
     n = a.size
     if teeth is None:
         order, method = 1, "envelope"
-        sig = squared_envelope(a, 1.0)
+        sig = squared_envelope(a - a.mean(), 1.0)
     else:
         order, method = check_int("teeth", teeth, minimum=1), "mesh"
         sig = a

@@ -321,23 +321,27 @@ _BANK2 = _bank(2)
 _BANK3 = _bank(3)
 
 
-def _split(c: np.ndarray, bank: list[np.ndarray]) -> list[np.ndarray]:
-    """Filter ``c`` by each filter of ``bank`` and decimate by ``len(bank)``.
+def _split(c: np.ndarray, bank: list[np.ndarray]) -> np.ndarray:
+    """Filter every row of ``c`` by each filter of ``bank`` and decimate by ``len(bank)``.
 
-    Only output samples of the *valid* convolution are kept (no edge transients). Odd
-    children, whose band lands on ``[-fs'/2, 0]`` after decimation, are shifted by
-    ``fs'/2`` (times ``(-1)^n``) so that every child occupies ``[0, fs'/2]``.
+    ``c`` holds the band signals of one level, one per row (all of one length); the
+    children come out one per row, those of row ``r`` at rows ``r d ... r d + d - 1``
+    (``d = len(bank)``). Only output samples of the *valid* convolution are kept (no
+    edge transients). Odd children, whose band lands on ``[-fs'/2, 0]`` after
+    decimation, are shifted by ``fs'/2`` (times ``(-1)^n``) so that every child occupies
+    ``[0, fs'/2]``. One filter call per filter and level (not per band): the rows are
+    filtered independently, so the values are those of filtering each band alone.
     """
     d = len(bank)
     first = -(-(FILTER_TAPS - 1) // d)  # ceil((taps-1)/d): first valid output sample
-    last = (c.size - 1) // d
-    out = []
+    last = (c.shape[-1] - 1) // d
+    out = np.empty((c.shape[0], d, last + 1 - first), dtype=complex)
     for i, h in enumerate(bank):
-        y = upfirdn(h, c, down=d)[first : last + 1]
+        y = upfirdn(h, c, down=d, axis=-1)[:, first : last + 1]
         if i % 2 == 1:
             y = y * (1.0 - 2.0 * (np.arange(first, last + 1) % 2))
-        out.append(y)
-    return out
+        out[:, i] = y
+    return out.reshape(-1, out.shape[-1])
 
 
 def _lengths(n: int, levels: int) -> int:
@@ -465,12 +469,12 @@ def fast_kurtogram(x: np.ndarray, fs: float, *, levels: int | None = None) -> Ku
     rows: list[tuple[float, np.ndarray]] = []
     z = hilbert(a - a.mean())
     rows.append((0.0, np.array([_complex_kurtosis(z)])))
-    nodes = [z]
+    nodes = z[np.newaxis, :]  # the band signals of a level, one per row
     for k in range(n_levels):
         if k <= n_levels - 2:
-            thirds = [child for node in nodes for child in _split(node, _BANK3)]
+            thirds = _split(nodes, _BANK3)
             third_row = (k + _LOG2_3, np.array([_complex_kurtosis(c) for c in thirds]))
-        nodes = [child for node in nodes for child in _split(node, _BANK2)]
+        nodes = _split(nodes, _BANK2)
         rows.append((float(k + 1), np.array([_complex_kurtosis(c) for c in nodes])))
         if k <= n_levels - 2:
             rows.append(third_row)

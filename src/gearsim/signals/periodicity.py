@@ -80,13 +80,13 @@ import scipy.stats
 
 from gearsim.errors import InputError
 from gearsim.signals._checks import as_signal, check_fs, check_int, check_positive
+from gearsim.signals.envelope import squared_envelope
 
 __all__ = [
     "LineTest",
     "Periodicity",
     "periodogram",
     "line_significance",
-    "squared_envelope",
     "impact_periodicity",
 ]
 
@@ -355,65 +355,6 @@ def _check_band(band: tuple[float, float], fs: float) -> tuple[float, float]:
     return lo, hi
 
 
-def squared_envelope(
-    x: np.ndarray, fs: float, *, band: tuple[float, float] | None = None
-) -> np.ndarray:
-    r"""Squared envelope :math:`|x_a(t)|^2` of the record, optionally band-passed first.
-
-    The band-pass is an ideal filter (DFT bins outside ``[low, high]`` set to zero, so it
-    is circular: the first and last few periods of the lowest band frequency are
-    affected); the analytic signal is ``scipy.signal.hilbert`` of the (band-passed)
-    record minus its mean.
-
-    Parameters
-    ----------
-    x : array_like
-        Signal (any units).
-    fs : float
-        Sampling rate (Hz).
-    band : tuple of float, optional
-        ``(low, high)`` pass band (Hz), ``0 <= low < high <= fs/2``; None for the whole
-        record.
-
-    Returns
-    -------
-    ndarray
-        Squared envelope (units of ``x`` squared), same length as ``x``.
-
-    Raises
-    ------
-    InputError
-        If ``x`` or ``fs`` is invalid or the band is not inside ``[0, fs/2]``.
-
-    References
-    ----------
-    Ho & Randall (2000); Randall (2011), sec. 5.5.
-
-    Examples
-    --------
-    An amplitude-modulated tone :math:`(1 + 0.5\cos\Omega t)\cos\omega t` has the squared
-    envelope :math:`(1 + 0.5\cos\Omega t)^2`, between 0.25 and 2.25:
-
-    >>> import numpy as np
-    >>> t = np.arange(1000) / 1000.0
-    >>> x = (1 + 0.5 * np.cos(2 * np.pi * 5 * t)) * np.cos(2 * np.pi * 100 * t)
-    >>> se = squared_envelope(x, 1000.0)
-    >>> round(float(se.min()), 6), round(float(se.max()), 6)
-    (0.25, 2.25)
-    """
-    a = as_signal(x)
-    fs = check_fs(fs)
-    a = a - a.mean()
-    if band is not None:
-        lo, hi = _check_band(band, fs)
-        spec = scipy.fft.rfft(a)
-        f = np.arange(spec.size) * (fs / a.size)
-        spec[(f < lo) | (f > hi)] = 0.0
-        a = scipy.fft.irfft(spec, n=a.size)
-    z = scipy.signal.hilbert(a)
-    return z.real**2 + z.imag**2
-
-
 def impact_periodicity(
     x: np.ndarray,
     fs: float,
@@ -492,7 +433,7 @@ def impact_periodicity(
             f"harmonic {harmonics} x {f:g} Hz must lie below the envelope bandwidth "
             f"{width:g} Hz",
         )
-    se = squared_envelope(a, fs, band=band)
+    se = squared_envelope(a - a.mean(), fs, band=band)
     p = periodogram(se)
     df = fs / a.size
     spacing = f / df

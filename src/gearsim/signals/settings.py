@@ -28,7 +28,6 @@ from dataclasses import dataclass, fields
 from typing import Any
 
 from gearsim.errors import InputError
-from gearsim.sections import convert
 from gearsim.signals._checks import WINDOWS, check_int
 
 __all__ = [
@@ -213,6 +212,8 @@ def parse_analysis(table: Any, section: str = "analysis") -> AnalysisSettings:
     InputError
         Unknown key, bad value or a value out of range.
     """
+    from gearsim.sections import convert  # pint (units): loaded only for a config table
+
     if isinstance(table, dict) and table.get("emd_threshold") == AYENU_PRAH:
         rest = {k: v for k, v in table.items() if k != "emd_threshold"}
         return AnalysisSettings(**convert(rest, KEYS, section, list_keys=LIST_KEYS),

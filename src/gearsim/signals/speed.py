@@ -81,6 +81,7 @@ from gearsim.signals._checks import (
     check_int,
     check_positive,
 )
+from gearsim.signals._stft import stft as _stft
 from gearsim.signals.tsa import pulse_times
 
 __all__ = [
@@ -477,7 +478,7 @@ def _ridge(a: np.ndarray, fs: float, f_lo: float, f_hi: float,
     hi_i = min(int(band[-1]) + 1, f.size - 1)
     # only the rows of the band are kept, computed in blocks of frames (memory)
     blocks = [
-        np.abs(stft.stft(a, p0=int(b0), p1=int(min(b0 + _BLOCK, p_in[-1] + 1))))[lo_i:hi_i + 1]
+        np.abs(_stft(stft, a, int(b0), int(min(b0 + _BLOCK, p_in[-1] + 1))))[lo_i:hi_i + 1]
         for b0 in range(int(p_in[0]), int(p_in[-1]) + 1, _BLOCK)
     ]
     mag = np.concatenate(blocks, axis=1)

@@ -401,12 +401,22 @@ class RecordAnalysis:
         return "\n".join(lines)
 
 
-def _spectrum_tier(a: np.ndarray, fs: float | None) -> dict[str, Any]:
+def _hann_amplitude(a: np.ndarray) -> np.ndarray:
+    """One-sided amplitude spectrum (periodic Hann, mean removed), DC and Nyquist unhalved.
+
+    Computed once per record and shared by the spectrum and shaft tiers.
+    """
+    n = a.size
+    w = 0.5 - 0.5 * np.cos(2.0 * np.pi * np.arange(n) / n)
+    return np.abs(np.fft.rfft((a - a.mean()) * w)) * (2.0 / w.sum())
+
+
+def _spectrum_tier(a: np.ndarray, fs: float | None,
+                   amp: np.ndarray | None = None) -> dict[str, Any]:
     """Amplitude spectrum (periodic Hann, mean removed) by numpy; lines and centroid."""
     n = a.size
     rate = fs if fs is not None else 1.0
-    w = 0.5 - 0.5 * np.cos(2.0 * np.pi * np.arange(n) / n)
-    amp = np.abs(np.fft.rfft((a - a.mean()) * w)) * (2.0 / w.sum())
+    amp = (_hann_amplitude(a) if amp is None else amp).copy()
     amp[0] *= 0.5
     if n % 2 == 0:
         amp[-1] *= 0.5
@@ -508,7 +518,8 @@ def _mean_speed(prof: Any) -> float:
     return float(prof)
 
 
-def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None) -> dict[str, Any]:
+def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
+                amp=None) -> dict[str, Any]:
     out: dict[str, Any] = {"rests_on": rests, "shaft_frequency_hz": f_r,
                            "shaft_rpm": 60.0 * f_r}
     if profile is not None and hasattr(profile, "frequency"):
@@ -524,8 +535,8 @@ def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None) -> dict[st
             except InputError as exc:
                 skipped.append({"tier": "shaft.tracked_tsa", "reason": _first_line(exc)})
     n = a.size
-    w = 0.5 - 0.5 * np.cos(2.0 * np.pi * np.arange(n) / n)
-    amp = np.abs(np.fft.rfft((a - a.mean()) * w)) * (2.0 / w.sum())
+    if amp is None:
+        amp = _hann_amplitude(a)
     df = fs / n
     rows = []
     for k in SHAFT_ORDERS:
@@ -838,11 +849,13 @@ def analyze_record(
     rec.timings["statistics"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
+    amp = None  # the record's amplitude spectrum, shared by the spectrum and shaft tiers
     if a.size < MIN_SPECTRUM_SAMPLES:
         skipped.append({"tier": "spectrum", "reason": f"record of {a.size} samples is shorter "
                         f"than {MIN_SPECTRUM_SAMPLES}"})
     else:
-        sp = _spectrum_tier(a, fs)
+        amp = _hann_amplitude(a)
+        sp = _spectrum_tier(a, fs, amp)
         sp["rests_on"] = {"fs": prov_fs or "none (cycles/sample)"}
         if fs is None:
             skipped.append({"tier": "spectrum.Hz", "reason": "no sampling rate: frequencies "
@@ -874,7 +887,8 @@ def analyze_record(
                 skipped.append({"tier": "gear", "reason": reason})
                 f_r = None
             else:
-                rec.tiers["shaft"] = _shaft_tier(a, fs, f_r, rests, skipped, profile, zs)
+                rec.tiers["shaft"] = _shaft_tier(a, fs, f_r, rests, skipped, profile, zs,
+                                                   amp)
         else:
             skipped.append({"tier": "gear", "reason": "needs a shaft speed (see shaft)"})
     rec.timings["shaft"] = time.perf_counter() - t0

@@ -21,6 +21,7 @@ from scipy.signal import ShortTimeFFT, get_window
 
 from gearsim.errors import InputError
 from gearsim.signals._checks import as_signal, check_fs, check_positive
+from gearsim.signals._stft import stft as _stft
 
 __all__ = ["Spectrogram", "spectrogram", "band_energy", "band_width", "modulation_index"]
 
@@ -111,7 +112,7 @@ def spectrogram(
     p1 = stft.upper_border_begin(a.size)[1]
     if p1 <= p0:
         raise InputError("nperseg", nperseg, f"leaves no full frame in {a.size} samples")
-    z = stft.stft(a, p0=p0, p1=p1)
+    z = _stft(stft, a, p0, p1)  # = stft.stft(a, p0=p0, p1=p1), all frames in one FFT call
     psd = z.real**2 + z.imag**2
     return Spectrogram(
         time=stft.t(a.size, p0=p0, p1=p1), frequency=stft.f, psd=psd, nperseg=nperseg,

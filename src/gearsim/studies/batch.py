@@ -12,16 +12,29 @@ one group applied to the file names) :func:`separability` scores each indicator 
 :func:`gearsim.studies.diagnostic.separability`).
 
 Parallel runs: ``workers > 1`` or a ``scheduler`` address runs one task per file on Dask
-(a ``LocalCluster`` as in :mod:`gearsim.studies.sweep_run`); results are not kept in
-parts between runs (no resume), a batch is recomputed whole.
+(a ``LocalCluster`` as in :mod:`gearsim.studies.sweep_run`: at most one worker per file
+to compute and per CPU core, workers that ignore Ctrl-C).
+
+Resume (``out`` given, as ``gearsim analyze --out`` does, serial or on Dask): the rows of
+every file analysed without a problem are written atomically to ``OUT.parts/<key>.json``
+as soon as the file is done; ``key`` (:func:`part_key`) hashes the file's absolute path,
+size and modification time, the analysis options and the gearsim version, so a rerun
+skips every finished file and recomputes a file that changed (or all of them under other
+options). A file with a problem gets no part. The table is built from the parts, so a
+resumed batch writes the same table as an uninterrupted one. ``OUT.lock``
+(:func:`gearsim.studies.sweep_run.store_lock`) refuses a second batch on the same
+``OUT``; the parts are kept (delete ``OUT.parts`` by hand).
 """
 
 from __future__ import annotations
 
 import csv
 import glob
+import hashlib
 import io
+import json
 import math
+import os
 import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -37,6 +50,7 @@ __all__ = [
     "expand_inputs",
     "labels_from_csv",
     "labels_from_pattern",
+    "part_key",
     "records_table",
     "run_batch",
     "separability",
@@ -313,12 +327,15 @@ class Batch:
         Problems of every file, one line each.
     mode : str
         How the batch ran (``"serial"``, ``"dask local N workers"``, ``"dask scheduler"``).
+    resumed : int
+        Files read back from finished parts (``OUT.parts``) rather than analysed.
     """
 
     records: list = field(default_factory=list)
     labels: list = field(default_factory=list)
     problems: list[str] = field(default_factory=list)
     mode: str = "serial"
+    resumed: int = 0
 
     def raise_problems(self) -> None:
         """Raise one :class:`InputError` listing every problem, if there is any.
@@ -360,8 +377,13 @@ def _as_dict(r) -> dict:
 
 def collect(files: Sequence[str], *, labels: Mapping | None = None, workers: int = 1,
             scheduler: str | None = None, keep_analysis: bool = False,
-            **options: Any) -> Batch:
+            out: str | Path | None = None, hook: Callable[[str, Path], None] | None = None,
+            note: Callable[[str], None] | None = None, **options: Any) -> Batch:
     """Analyse every file; gather records, labels and problems (never raises for a file).
+
+    With ``out`` the batch resumes from ``OUT.parts`` and writes a part per finished file
+    (see the module notes); the caller holds ``OUT``'s lock
+    (:func:`gearsim.studies.sweep_run.store_lock`) and writes the table.
 
     Parameters
     ----------
@@ -374,7 +396,14 @@ def collect(files: Sequence[str], *, labels: Mapping | None = None, workers: int
     scheduler : str, optional
         Address of a running Dask scheduler.
     keep_analysis : bool
-        Keep the :class:`~gearsim.signals.tiers.RecordAnalysis` objects (serial only).
+        Keep the :class:`~gearsim.signals.tiers.RecordAnalysis` objects (serial, no
+        ``out``).
+    out : str or Path, optional
+        The table to be written: parts go to ``OUT.parts/`` and records are dicts.
+    hook : callable, optional
+        Called as ``hook(file, part)`` after each part is written (tests interrupt here).
+    note : callable, optional
+        Called with a one-line note (fewer local workers than asked).
     **options
         Keyword arguments of :func:`analyze_file`.
 
@@ -384,10 +413,15 @@ def collect(files: Sequence[str], *, labels: Mapping | None = None, workers: int
         Records (file order, then channel order), labels, problems, run mode.
     """
     batch = Batch()
-    if workers == 1 and scheduler is None:
+    if out is not None:
+        results, batch.mode, batch.resumed = _run_parts(files, workers, scheduler, options,
+                                                        Path(out), hook, note)
+    elif workers == 1 and scheduler is None:
         results = [analyze_file(f, keep_analysis=keep_analysis, **options) for f in files]
     else:
-        results, batch.mode = _run_dask(files, workers, scheduler, options)
+        results: list = [None] * len(files)
+        batch.mode = _run_dask(files, list(range(len(files))), workers, scheduler, options,
+                               results.__setitem__, note)
     for recs, probs in results:
         batch.problems.extend(probs)
         for r in recs:
@@ -401,8 +435,17 @@ def collect(files: Sequence[str], *, labels: Mapping | None = None, workers: int
     return batch
 
 
-def _run_dask(files, workers, scheduler, options) -> tuple[list, str]:
+def _run_dask(files, todo, workers, scheduler, options, done, note=None) -> str:
+    """Analyse ``files[i]`` for ``i`` in ``todo`` on Dask; ``done(i, result)`` as each ends.
+
+    The cluster is shut down quietly however the run ends (Ctrl-C included); returns the
+    run mode.
+    """
+    import dask
+    from distributed import as_completed
+
     from gearsim.studies.sweep_run import (
+        ALLOWED_FAILURES,
         _connect,
         _shutdown,
         _start_local,
@@ -411,19 +454,148 @@ def _run_dask(files, workers, scheduler, options) -> tuple[list, str]:
     )
 
     live: dict = {}
+    with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES}):
+        try:
+            if scheduler is not None:
+                _connect(check_scheduler(scheduler), live)
+                mode = f"dask scheduler {scheduler}"
+            else:
+                n, msg = plan_workers(workers, len(todo), "file")
+                if msg is not None and note is not None:
+                    note(msg)
+                _start_local(n, None, live)
+                mode = f"dask local {n} worker{'s' if n != 1 else ''}"
+            client = live["client"]
+            futures = {client.submit(analyze_file, files[i], pure=False, **options): i
+                       for i in todo}
+            for fut in as_completed(futures):
+                done(futures[fut], fut.result())
+                fut.release()
+            return mode
+        finally:
+            _shutdown(live.get("client"), live.get("cluster"))
+
+
+#: Layout of the part files (part of every :func:`part_key`).
+PART_FORMAT = 1
+
+
+def _option_text(value: Any) -> str:
+    if isinstance(value, (list, tuple)):
+        return repr(tuple(value))
+    return repr(value)
+
+
+def part_key(path: str | Path, options: Mapping[str, Any]) -> str:
+    """Name of a file's part in ``OUT.parts``: a hash of what its rows depend on.
+
+    Parameters
+    ----------
+    path : str or Path
+        The record file (its absolute path, size and modification time enter the key).
+    options : mapping
+        Keyword arguments of :func:`analyze_file` (their ``repr``; lists as tuples).
+
+    Returns
+    -------
+    str
+        32 hexadecimal characters (SHA-256 prefix), also over the gearsim version and
+        :data:`PART_FORMAT`.
+
+    Raises
+    ------
+    OSError
+        The file cannot be examined (``os.stat``).
+    """
+    from gearsim._version import __version__
+
+    st = os.stat(path)
+    doc = {"file": os.path.abspath(path), "size": st.st_size, "mtime_ns": st.st_mtime_ns,
+           "options": {k: _option_text(v) for k, v in options.items()},
+           "gearsim": __version__, "format": PART_FORMAT}
+    return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()[:32]
+
+
+def _jsonable(v: Any) -> Any:
+    """``json.dumps`` default: numpy scalars and arrays as Python values (NaN kept)."""
+    import numpy as np
+
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    if isinstance(v, np.generic):
+        return v.item()
+    raise TypeError(f"{type(v).__name__} is not JSON serialisable")
+
+
+def _part_text(file: str, records: Sequence) -> str:
+    return json.dumps({"format": PART_FORMAT, "file": file,
+                       "records": [_as_dict(r) for r in records]}, default=_jsonable)
+
+
+def _part_records(text: str, file: str) -> list | None:
+    """Records of a part's text, their ``source.file`` set to ``file`` (None if invalid)."""
     try:
-        if scheduler is not None:
-            _connect(check_scheduler(scheduler), live)
-            mode = f"dask scheduler {scheduler}"
-        else:
-            n, _ = plan_workers(workers, len(files))
-            _start_local(n, None, live)
-            mode = f"dask local {n} workers"
-        client = live["client"]
-        futures = [client.submit(analyze_file, f, pure=False, **options) for f in files]
-        return client.gather(futures), mode
-    finally:
-        _shutdown(live.get("client"), live.get("cluster"))
+        doc = json.loads(text)
+        records = doc["records"]
+        if doc.get("format") != PART_FORMAT or not isinstance(records, list):
+            return None
+        for r in records:
+            r["record"]["source"]["file"] = file  # the path as given in this run
+    except (ValueError, KeyError, TypeError):
+        return None
+    return records
+
+
+def _run_parts(files, workers, scheduler, options, out: Path, hook, note
+               ) -> tuple[list, str, int]:
+    """Analyse the files not finished in ``OUT.parts``; each new part written as it ends.
+
+    Returns the ``(records, problems)`` of every file in order, the run mode and the
+    number of files resumed.
+    """
+    from gearsim.io.atomic import atomic_write
+    from gearsim.studies.sweep_run import parts_dir
+
+    pdir = parts_dir(out)
+    results: list = [None] * len(files)
+    keys: list = []
+    for i, f in enumerate(files):
+        try:
+            keys.append(part_key(f, options))
+        except OSError:  # vanished meanwhile: analyze_file reports it
+            keys.append(None)
+            continue
+        part = pdir / f"{keys[i]}.json"
+        if part.is_file():
+            try:
+                recs = _part_records(part.read_text(encoding="utf-8"), f)
+            except OSError:
+                recs = None
+            if recs is not None:
+                results[i] = (recs, [])
+    todo = [i for i, r in enumerate(results) if r is None]
+    resumed = len(files) - len(todo)
+
+    def done(i: int, result: tuple[list, list[str]]) -> None:
+        recs, probs = result
+        text = _part_text(files[i], recs)
+        # the records as read back from a part: a resumed table equals a fresh one
+        results[i] = (_part_records(text, files[i]), probs)
+        if not probs and keys[i] is not None:
+            part = atomic_write(pdir / f"{keys[i]}.json",
+                                lambda t: t.write_text(text, encoding="utf-8"))
+            if hook is not None:
+                hook(files[i], part)
+
+    mode = "serial"
+    if not todo:
+        mode = "resumed"
+    elif workers == 1 and scheduler is None:
+        for i in todo:
+            done(i, analyze_file(files[i], **options))
+    else:
+        mode = _run_dask(files, todo, workers, scheduler, options, done, note)
+    return results, mode, resumed
 
 
 def records_table(records: Sequence, labels: Sequence | None = None):
@@ -585,8 +757,12 @@ def run_batch(files: Sequence[str | Path], *, channels: Sequence[str] | None = N
               drop_nonfinite: bool = False, labels: Mapping | str | Path | None = None,
               label_pattern: str | None = None, workers: int = 1,
               scheduler: str | None = None,
-              progress: Callable[[str], None] | None = None):
+              progress: Callable[[str], None] | None = None, out: str | Path | None = None,
+              hook: Callable[[str, Path], None] | None = None):
     """Analyse many records; the table of indicators (rows = file x channel).
+
+    With ``out`` the batch is resumable (``OUT.parts``, see the module notes) and the
+    table is written to ``out`` under its lock.
 
     Parameters
     ----------
@@ -621,21 +797,33 @@ def run_batch(files: Sequence[str | Path], *, channels: Sequence[str] | None = N
     scheduler : str, optional
         Address of a Dask scheduler.
     progress : callable, optional
-        Unused hook for messages (kept for the CLI).
+        Called with one-line notes (fewer local workers than asked).
+    out : str or Path, optional
+        Table to write (``.csv`` or ``.nc``, :func:`write_table`); parts in
+        ``OUT.parts/``, lock ``OUT.lock``.
+    hook : callable, optional
+        ``hook(file, part)`` after each part is written (see :func:`collect`).
 
     Returns
     -------
     xarray.Dataset
         :func:`records_table` of the batch; ``attrs["separability"]`` holds the JSON of
-        :func:`separability` when labels were given.
+        :func:`separability` when labels were given; ``attrs["resumed"]`` the files read
+        back from parts.
 
     Raises
     ------
     InputError
-        Every problem of every file (and of the labels), in one message.
+        Every problem of every file (and of the labels), in one message; an ``out``
+        being written by another batch.
     """
-    import json
+    from contextlib import nullcontext
 
+    if out is not None:
+        from gearsim.io.targets import check_output_file
+        from gearsim.studies.sweep_run import store_lock
+
+        out = check_output_file(out, "--out", (".csv", ".nc"))
     names, problems = expand_inputs(files)
     lab: Mapping | None = None
     if label_pattern is not None:
@@ -643,14 +831,19 @@ def run_batch(files: Sequence[str | Path], *, channels: Sequence[str] | None = N
         problems += more
     elif labels is not None:
         lab = labels if isinstance(labels, Mapping) else labels_from_csv(labels)
-    batch = collect(names, labels=lab, workers=workers, scheduler=scheduler,
-                    channels=channels, fs=fs, fmt=fmt, speed=speed, tacho=tacho,
-                    pulses_per_rev=pulses_per_rev, speed_search=speed_search, teeth=teeth,
-                    settings=settings, drop_nonfinite=drop_nonfinite)
-    batch.problems[:0] = problems
-    batch.raise_problems()
-    ds = records_table(batch.records, batch.labels if lab else None)
-    ds.attrs["mode"] = batch.mode
-    if lab:
-        ds.attrs["separability"] = json.dumps(separability(batch.records, batch.labels))
+    with store_lock(out, owner="batch") if out is not None else nullcontext():
+        batch = collect(names, labels=lab, workers=workers, scheduler=scheduler, out=out,
+                        hook=hook, note=progress, channels=channels, fs=fs, fmt=fmt,
+                        speed=speed, tacho=tacho, pulses_per_rev=pulses_per_rev,
+                        speed_search=speed_search, teeth=teeth, settings=settings,
+                        drop_nonfinite=drop_nonfinite)
+        batch.problems[:0] = problems
+        batch.raise_problems()
+        ds = records_table(batch.records, batch.labels if lab else None)
+        ds.attrs["mode"] = batch.mode
+        ds.attrs["resumed"] = batch.resumed
+        if lab:
+            ds.attrs["separability"] = json.dumps(separability(batch.records, batch.labels))
+        if out is not None:
+            write_table(batch.records, batch.labels if lab else None, out)
     return ds

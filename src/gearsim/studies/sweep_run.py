@@ -34,6 +34,7 @@ from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -41,8 +42,9 @@ from gearsim._version import __version__
 from gearsim.errors import InputError, SimulationError
 from gearsim.io.atomic import atomic_write
 from gearsim.io.targets import check_output_file
-from gearsim.studies.sweep import Case, Study, expand
-from gearsim.studies.sweep_case import run_group
+
+if TYPE_CHECKING:  # the simulation modules load on first use (gearsim analyze needs none)
+    from gearsim.studies.sweep import Case, Study
 
 __all__ = ["ALLOWED_FAILURES", "CONNECT_TIMEOUT", "RETRIES", "SweepResult", "check_scheduler",
            "combine", "groups", "lock_path", "part_bytes", "parts_dir", "plan_workers",
@@ -101,6 +103,8 @@ def groups(study: Study, cases: Sequence[Case] | None = None) -> dict[str, list[
     dict of str to list of Case
         :meth:`Study.simulation_key` -> the cases that share that simulation.
     """
+    from gearsim.studies.sweep import expand
+
     out: dict[str, list[Case]] = {}
     for c in expand(study) if cases is None else cases:
         out.setdefault(study.simulation_key(c), []).append(c)
@@ -151,6 +155,8 @@ def part_bytes(study: Study, cases: Sequence[Case], hook: Callable | None = None
     bytes
         The group's table as an in-memory NetCDF-4 file.
     """
+    from gearsim.studies.sweep_case import run_group
+
     ds = run_group(study, cases, hook)
     names = [v for v in ds.data_vars if ds[v].dims == ("case",) and ds[v].dtype.kind == "f"]
     if names:
@@ -254,6 +260,8 @@ def run_serial(study: Study, *, hook: Callable | None = None):
     xarray.Dataset
         As :func:`combine`; not written to disk.
     """
+    from gearsim.studies.sweep_case import run_group
+
     return combine(study, [run_group(study, cs, hook) for cs in groups(study).values()])
 
 
@@ -313,7 +321,8 @@ def check_scheduler(address: str) -> str:
     return text
 
 
-def plan_workers(requested: int, tasks: int) -> tuple[int, str | None]:
+def plan_workers(requested: int, tasks: int, what: str = "simulation group",
+                 ) -> tuple[int, str | None]:
     """Local worker processes for ``tasks`` simulation groups: at most one per group or core.
 
     Parameters
@@ -321,7 +330,9 @@ def plan_workers(requested: int, tasks: int) -> tuple[int, str | None]:
     requested : int
         Workers asked for (``--workers``), >= 1.
     tasks : int
-        Simulation groups still to compute.
+        Simulation groups (or other tasks) still to compute.
+    what : str
+        Name of one task in the note, e.g. ``"file"`` for ``gearsim analyze``.
 
     Returns
     -------
@@ -341,7 +352,7 @@ def plan_workers(requested: int, tasks: int) -> tuple[int, str | None]:
     n = max(1, min(requested, tasks, cores))
     if n >= requested:
         return n, None
-    why = (f"{tasks} simulation group{'s' if tasks != 1 else ''} to compute"
+    why = (f"{tasks} {what}{'s' if tasks != 1 else ''} to compute"
            if n == max(1, tasks) and tasks < cores else f"{cores} CPU core{'s' if cores != 1 else ''}")
     return n, f"gearsim: note: --workers {requested} reduced to {n} ({why})"
 
@@ -377,7 +388,7 @@ def _pid_alive(pid: int) -> bool:
 
 
 @contextmanager
-def store_lock(store: str | Path) -> Iterator[Path]:
+def store_lock(store: str | Path, owner: str = "sweep") -> Iterator[Path]:
     """Hold ``STORE.lock`` (created with ``O_CREAT | O_EXCL``) while writing ``store``.
 
     The lock file holds the pid of its owner and is removed on exit. A lock whose pid no
@@ -386,7 +397,9 @@ def store_lock(store: str | Path) -> Iterator[Path]:
     Parameters
     ----------
     store : str or Path
-        The study store.
+        The study store (or any output file, e.g. the table of ``gearsim analyze``).
+    owner : str
+        What writes it, named in the refusal (``"sweep"``, ``"batch"``).
 
     Yields
     ------
@@ -411,7 +424,7 @@ def store_lock(store: str | Path) -> Iterator[Path]:
                 continue  # released meanwhile: try again
             pid = int(text) if text.isdigit() else 0
             if _pid_alive(pid) or (not text and age < 10.0):  # empty: being written now
-                raise InputError("--out", str(store), f"is being written by another sweep "
+                raise InputError("--out", str(store), f"is being written by another {owner} "
                                  f"(pid {pid or '?'}; lock file {lock})") from None
             lock.unlink(missing_ok=True)  # stale: its sweep was killed
             continue
@@ -565,6 +578,8 @@ def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
     """
     import dask
     from distributed import as_completed
+
+    from gearsim.studies.sweep import expand
 
     plan_workers(workers, 1)  # the type and sign of workers, before anything else
     if scheduler is not None:

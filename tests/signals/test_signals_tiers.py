@@ -111,3 +111,25 @@ def test_estimates_fill_a_missing_rate_or_tooth_count_and_are_labelled():
     assert d["teeth"] == [z] and d["teeth_provenance"] == "estimate"
     assert "gear" in d["tiers"]
     assert not any(s["tier"] == "shaft.speed_check" for s in d["skipped"])
+
+
+def test_mesh_frequency_above_nyquist_is_refused(tmp_path):
+    """80 teeth x 10 Hz = 800 Hz above the 500 Hz Nyquist frequency of fs = 1 kHz: the
+    inputs contradict each other, so the call is refused (exit 2, nothing written),
+    while 20 teeth (200 Hz) is not refused."""
+    from gearsim import cli
+    from gearsim.errors import InputError
+
+    x = np.sin(2 * np.pi * 37 * np.arange(20_000) / 1000.0)
+    with pytest.raises(InputError, match="Nyquist"):
+        analyze_record(x, 1000.0, speed=10.0, teeth=(80,))
+    # 20 teeth: the mesh tone is below Nyquist; the tier needing 4 harmonics and their
+    # sidebands is skipped with its reason, the call is not refused
+    r = analyze_record(x, 1000.0, speed=10.0, teeth=(20,))
+    assert "gear" in r.tiers or any(s["tier"] == "gear" for s in r.skipped)
+    rec = tmp_path / "rec.csv"
+    np.savetxt(rec, x, header="acc", comments="")
+    out = tmp_path / "t.csv"
+    assert cli.run(["analyze", str(rec), "--fs", "1000", "--shaft-rpm", "600", "--teeth", "80",
+                    "--out", str(out)]) == 2
+    assert not out.exists()

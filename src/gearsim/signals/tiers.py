@@ -917,6 +917,14 @@ def analyze_record(
         if not zs:
             skipped.append({"tier": "gear", "reason": "needs tooth counts (give --teeth)"})
         else:
+            f_m = zs[0] * f_r
+            if prov_teeth != "estimate" and f_m >= 0.5 * fs:
+                # not a tier to skip: the inputs contradict each other (a wrong tooth
+                # count, speed or rate), so the call is refused
+                raise InputError("teeth", zs[0], f"mesh frequency {f_m:g} Hz (teeth x shaft "
+                                 f"frequency {f_r:g} Hz) is at or above the Nyquist frequency "
+                                 f"{0.5 * fs:g} Hz of fs = {fs:g} Hz: check the tooth count, "
+                                 "the speed and the sampling rate")
             rests = {"fs": prov_fs, "speed": rec.speed_provenance, "teeth": prov_teeth}
             if ppr != 1 and settings is None:
                 from gearsim.signals.settings import AnalysisSettings

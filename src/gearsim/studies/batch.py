@@ -303,7 +303,7 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
 
 #: Reader parameters -> the options of ``gearsim analyze`` that set them: a problem found
 #: while reading a file names the option the user typed.
-READER_OPTIONS = {"channel": "--channel", "fs": "--fs", "fmt": "--format"}
+READER_OPTIONS = {"channel": "--channel", "fs": "--fs", "fmt": "--format", "teeth": "--teeth"}
 
 
 def _problem(where: str, exc: InputError) -> str:

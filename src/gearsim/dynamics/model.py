@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from gearsim.dynamics.tables import MeshTable
+from gearsim.errors import InputError
 
 __all__ = ["DynamicModel", "mean_stiffness_matrix"]
 
@@ -206,6 +207,8 @@ def mean_stiffness_matrix(model: DynamicModel, *, which: str = "mean") -> np.nda
     >>> round(float(mean_stiffness_matrix(pair, which="max")[0, 0]), 6)
     1200000.0
     """
+    if which not in ("mean", "max"):
+        raise InputError("which", which, 'must be "mean" or "max"')
     k = model.mean_stiffness() if which == "mean" else model.max_stiffness()
     K = np.diag(model.kb).astype(float)
     for i in range(model.n_mesh):

@@ -9,7 +9,6 @@ file. The complete effective input is stored in the file's ``config`` attribute
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 from gearsim.io.atomic import atomic_write
@@ -33,11 +32,8 @@ def write_results(ds, path: str | Path) -> Path:
     Path
         The written file.
     """
-    def write(tmp: Path) -> None:
+    def write(tmp: Path) -> None:  # atomic_write gives the file the umask's permissions
         ds.to_netcdf(tmp, engine="h5netcdf")
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the usual permissions
 
     return atomic_write(path, write)
 

@@ -28,6 +28,7 @@ lines, which names the shaft that modulates the mesh).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -167,9 +168,14 @@ def sideband_energy_ratio(mesh_amplitude: float, sideband_amplitudes: np.ndarray
     >>> sideband_energy_ratio(2.0, [0.1, 0.2, 0.3, 0.4])
     0.5
     """
-    if not mesh_amplitude > 0.0:
-        raise InputError("mesh_amplitude", mesh_amplitude, "must be > 0 to form the SER")
-    return float(np.sum(sideband_amplitudes) / mesh_amplitude)
+    if not (math.isfinite(mesh_amplitude) and mesh_amplitude > 0.0):
+        raise InputError("mesh_amplitude", mesh_amplitude, "must be a finite number > 0 "
+                         "to form the SER")
+    amps = np.asarray(sideband_amplitudes, dtype=float)
+    if amps.size and not (np.all(np.isfinite(amps)) and np.all(amps >= 0.0)):
+        raise InputError("sideband_amplitudes", amps.tolist(), "must be finite and >= 0 "
+                         "(amplitudes)")
+    return float(np.sum(amps) / mesh_amplitude)
 
 
 def coefficient_of_variation(amplitudes: np.ndarray) -> float:

@@ -67,7 +67,9 @@ def train_to_toml(train: GearTrain, dynamics: dict[str, Any] | None = None) -> s
         _table(lines, "[gears.material]", {
             "youngs_modulus": g.material.youngs_modulus,
             "poisson_ratio": g.material.poisson_ratio, "density": g.material.density})
-    _table(lines, "[operating]", {"speed": train.operating.speed,
+    # the speed with its unit: a bare number would be ambiguous (rpm or rad/s) and is
+    # refused when a configuration is read
+    _table(lines, "[operating]", {"speed": f"{train.operating.speed!r} rad/s",
                                   "torque": train.operating.torque})
     st = train.stiffness
     _table(lines, "[stiffness]", {"closure": st.closure, "slices": st.slices,

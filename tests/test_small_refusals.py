@@ -1,0 +1,44 @@
+"""Refusals found while documenting the API (each once returned nonsense or a raw error)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+import gearsim as gs
+from gearsim.dynamics import build_model
+from gearsim.dynamics.model import mean_stiffness_matrix
+from gearsim.errors import InputError
+from gearsim.signals.sidebands import sideband_energy_ratio
+from gearsim.system import train_to_toml
+
+
+@pytest.mark.parametrize("amps", [[math.nan, 0.1], [-1.0, 0.1], [math.inf]])
+def test_ser_refuses_non_physical_sideband_amplitudes(amps):
+    with pytest.raises(InputError, match="sideband_amplitudes"):
+        sideband_energy_ratio(1.0, amps)
+
+
+def test_ser_refuses_a_non_finite_mesh_amplitude():
+    with pytest.raises(InputError, match="mesh_amplitude"):
+        sideband_energy_ratio(math.inf, [0.1])
+
+
+def test_stiffness_matrix_refuses_an_unknown_choice():
+    """Any value other than "mean" used to mean "max" without a word."""
+    model = build_model(gs.example("spur-19-48").train)
+    assert mean_stiffness_matrix(model, which="max").shape == \
+        mean_stiffness_matrix(model).shape
+    with pytest.raises(InputError, match="which"):
+        mean_stiffness_matrix(model, which="min")
+
+
+def test_effective_configuration_states_the_speed_unit():
+    """The stored configuration reads back without the declared-SI header: the speed
+    carries its unit (a bare speed is refused on reading) and round-trips exactly."""
+    train = gs.example("idler-table1").train
+    body = "\n".join(line for line in train_to_toml(train).splitlines()
+                     if not line.startswith("#"))
+    assert 'speed = "' in body and 'rad/s"' in body
+    assert gs.loads(body).train.operating.speed == train.operating.speed

@@ -50,6 +50,7 @@ from typing import Any
 import numpy as np
 
 from gearsim.errors import InputError
+from gearsim.signals import timedomain as td
 from gearsim.signals._checks import as_signal
 
 __all__ = [
@@ -115,7 +116,8 @@ def statistics(x: np.ndarray, *, remove_mean: bool = True) -> dict[str, float | 
     Gaussian noise), skewness :math:`m_3/m_2^{3/2}`, impulse factor
     :math:`\max|d| / \overline{|d|}`, shape factor :math:`\mathrm{RMS} / \overline{|d|}`,
     clearance factor :math:`\max|d| / \overline{\sqrt{|d|}}^{\,2}` (Randall 2011, sec. 5.2;
-    Lei et al. 2008). A ratio whose denominator is 0 (constant signal) is None.
+    Lei et al. 2008), computed by :mod:`gearsim.signals.timedomain` (which loads no
+    scipy). A ratio whose denominator is 0 (constant signal) is None.
 
     Parameters
     ----------
@@ -138,24 +140,21 @@ def statistics(x: np.ndarray, *, remove_mean: bool = True) -> dict[str, float | 
     """
     a = as_signal(x)
     mu = float(a.mean())
-    c = a - mu
-    d = c if remove_mean else a
-    m2 = float(np.mean(c * c))
-    rms = math.sqrt(float(np.mean(d * d)))
-    pk = float(np.max(np.abs(d)))
-    mabs = float(np.mean(np.abs(d)))
-    msqrt = float(np.mean(np.sqrt(np.abs(d))))
+    d = a - mu if remove_mean else a
 
-    def ratio(num: float, den: float) -> float | None:
-        return num / den if den > 0 else None
+    def value(fn, signal: np.ndarray) -> float | None:
+        try:  # a ratio whose denominator is 0 (constant signal) is None
+            return fn(signal)
+        except InputError:
+            return None
 
     return {
-        "n_samples": int(a.size), "mean": mu, "std": math.sqrt(m2), "rms": rms, "peak": pk,
-        "crest_factor": ratio(pk, rms),
-        "kurtosis": ratio(float(np.mean(c**4)), m2 * m2),
-        "skewness": ratio(float(np.mean(c**3)), m2**1.5),
-        "impulse_factor": ratio(pk, mabs), "shape_factor": ratio(rms, mabs),
-        "clearance_factor": ratio(pk, msqrt * msqrt),
+        "n_samples": int(a.size), "mean": mu, "std": float(np.std(a)),
+        "rms": td.rms(d), "peak": td.peak(d), "crest_factor": value(td.crest_factor, d),
+        "kurtosis": value(td.kurtosis, a), "skewness": value(td.skewness, a),
+        "impulse_factor": value(td.impulse_factor, d),
+        "shape_factor": value(td.shape_factor, d),
+        "clearance_factor": value(td.clearance_factor, d),
     }
 
 

@@ -18,7 +18,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import find_peaks
 
 from gearsim.errors import InputError
 from gearsim.signals._checks import as_signal, check_fs, check_positive
@@ -383,6 +382,8 @@ def detect_impacts(
     threshold = check_positive("threshold", threshold)
     d = np.abs(a - a.mean())
     distance = max(1, int(round(min_separation * fs)))
+    from scipy.signal import find_peaks  # heavy: only the impact detector needs it
+
     idx, _ = find_peaks(d, height=threshold, distance=distance)
     # Parabolic refinement of the peak position (sub-sample timing).
     t = idx.astype(np.float64)

@@ -172,3 +172,23 @@ def test_entry_point_subprocess(tmp_path):
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 2, r.stderr
     assert len(r.stderr.strip().splitlines()) == 1 and "Traceback" not in r.stderr
+
+
+@pytest.mark.parametrize("args,option", [
+    (["--pulses-per-rev", "0"], "--pulses-per-rev"), (["--sidebands", "0"], "--sidebands"),
+    (["--window", "foo"], "--window"), (["--speed-search", "nan,inf"], "--speed-search"),
+    (["--fs", "inf"], "--fs"),
+])
+def test_analysis_options_refused_under_their_own_names(tmp_path, capsys, args, option):
+    """A bad analysis option is refused before any work, naming the option typed (not the
+    settings field behind it), and nothing is written."""
+    from gearsim import cli
+
+    rec = tmp_path / "rec.csv"
+    rec.write_text("# fs = 1000\nacc\n" + "".join(f"{np.sin(0.3 * i):.6f}\n"
+                                                  for i in range(4000)))
+    out = tmp_path / "t.csv"
+    assert cli.run(["analyze", str(rec), *args, "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"gearsim: error: {option} = ") and "\n" not in err
+    assert not out.exists()

@@ -94,13 +94,23 @@ def _emd_threshold(method: str | None, threshold: str | None) -> float | str:
         raise InputError("--emd-threshold", threshold, 'must be a number or "ayenu-prah"') from None
 
 
-def _collect(problems: list[str], fn, *args, **kwargs):
-    """``fn(*args, **kwargs)``, or None with its :class:`InputError` added to ``problems``."""
+def _collect(problems: list[str], fn, *args, options: dict[str, str] | None = None,
+             **kwargs):
+    """``fn(*args, **kwargs)``, or None with its :class:`InputError` added to ``problems``
+    (under the option the user typed when ``options`` maps the parameter to it)."""
     try:
         return fn(*args, **kwargs)
     except InputError as exc:
-        problems.append(str(exc))
+        name = (options or {}).get(exc.parameter, exc.parameter)
+        problems.append(str(InputError(name, exc.value, exc.limit)))
         return None
+
+
+#: Fields of AnalysisSettings -> the options of ``analyze`` that set them.
+SETTINGS_OPTIONS = {"analysis.orders": "--max-order", "analysis.n_sidebands": "--sidebands",
+                    "analysis.window": "--window", "analysis.emd_method": "--emd",
+                    "analysis.emd_threshold": "--emd-threshold",
+                    "analysis.pulses_per_rev": "--pulses-per-rev"}
 
 
 def _separability_text(rep: dict) -> str:
@@ -242,7 +252,8 @@ def analyze(
 
         settings = _collect(problems, AnalysisSettings, orders=tuple(range(1, max_order + 1)),
                             n_sidebands=sidebands, window=window, emd_method=emd,
-                            emd_threshold=threshold, pulses_per_rev=pulses_per_rev)
+                            emd_threshold=threshold, pulses_per_rev=pulses_per_rev,
+                            options=SETTINGS_OPTIONS)
     from gearsim.studies import batch as bt
 
     n_options = len(problems)  # problems of the options: stop before reading any file

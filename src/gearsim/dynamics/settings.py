@@ -124,6 +124,10 @@ class DynamicsSettings:
         Angle of each gear's eccentricity at t = 0 [rad], one value or one per gear.
     assembly_error
         Constant STE of each mesh [m], one value or one per mesh.
+    contact_mesh
+        Run every mesh as a mesh of contacts (:mod:`gearsim.stiffness.contacts`), also
+        those without faults or modifications; a mesh with faults, modifications or pitch
+        errors always runs so.
     """
 
     model: str = "lta"
@@ -145,6 +149,7 @@ class DynamicsSettings:
     runout: tuple[float, ...] = (0.0,)
     runout_phase: tuple[float, ...] = (0.0,)
     assembly_error: tuple[float, ...] = (0.0,)
+    contact_mesh: bool = False
 
     def __post_init__(self) -> None:
         for name in ("backlash", "idler_angle", "profile_modification", "crowning",
@@ -176,6 +181,8 @@ class DynamicsSettings:
                     and 0 <= self.bearing_damping <= MAX_BEARING_DAMPING),
                 f"{p}.bearing_damping", self.bearing_damping,
                 f"must be a finite number in [0, {MAX_BEARING_DAMPING:g}] N*s/m")
+        require(isinstance(self.contact_mesh, bool), f"{p}.contact_mesh", self.contact_mesh,
+                "must be true or false")
         require(isinstance(self.nonlinear, bool), f"{p}.nonlinear", self.nonlinear,
                 "must be true or false")
         require(_number(self.bearing_damping_ratio) and 0 <= self.bearing_damping_ratio < 1,
@@ -251,7 +258,7 @@ KEYS = {
     "bearing_damping_ratio": "dimensionless", "mesh_damping_ratio": "dimensionless",
     "backlash": "length", "nonlinear": "bool", "idler_angle": "angle",
     "profile_modification": "length", "crowning": "length", "runout": "length",
-    "runout_phase": "angle", "assembly_error": "length",
+    "runout_phase": "angle", "assembly_error": "length", "contact_mesh": "bool",
 }
 LIST_KEYS = ("backlash", "idler_angle", "profile_modification", "crowning", "runout",
              "runout_phase", "assembly_error")

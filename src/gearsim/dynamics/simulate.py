@@ -125,7 +125,7 @@ def build_model(train: GearTrain, settings: DynamicsSettings | None = None, *,
         overlap.
     """
     settings = settings_of(train, settings)
-    tables = tables or mesh_tables(train)
+    tables = tables or mesh_tables(train, contacts=settings.contact_mesh)
     if settings.model == "seed":
         return build_seed(train, settings, tables=tables)
     return build_lta(train, settings, tables=tables)
@@ -202,7 +202,30 @@ def _kernel_args(model: DynamicModel):
             model.phase.astype(float), model.e0.astype(float),
             np.ascontiguousarray(model.h_amp, dtype=float),
             np.ascontiguousarray(model.h_omega, dtype=float),
-            np.ascontiguousarray(model.h_phase, dtype=float))
+            np.ascontiguousarray(model.h_phase, dtype=float), *_contact_args(tabs))
+
+
+def _contact_args(tabs):
+    """Kernel arrays of the meshes of contacts: k_zero tables, on flags, CSR lists."""
+    tabz = np.concatenate([t.k_zero if t.has_contacts else t.k for t in tabs])
+    on = np.array([1 if t.has_contacts else 0 for t in tabs], dtype=np.int64)
+    ptrs, kxs, sxs, poff = [], [], [], []
+    n_ptr = 0
+    n_x = 0
+    for t in tabs:
+        poff.append(n_ptr)
+        if t.has_contacts:
+            ptrs.append(t.ptr + n_x)
+            kxs.append(t.kx)
+            sxs.append(t.sx)
+            n_ptr += t.ptr.size
+            n_x += t.kx.size
+    ptr = np.concatenate(ptrs).astype(np.int64) if ptrs else np.zeros(1, dtype=np.int64)
+    kx = np.concatenate(kxs) if kxs else np.zeros(1)
+    sx = np.concatenate(sxs) if sxs else np.zeros(1)
+    return (np.ascontiguousarray(tabz, dtype=float), on, ptr,
+            np.array(poff, dtype=np.int64), np.ascontiguousarray(kx, dtype=float),
+            np.ascontiguousarray(sx, dtype=float))
 
 
 def run_kernel(model: DynamicModel, *, dt: float, n_steps: int, rec_start: int = 0,
@@ -647,6 +670,8 @@ def reference_mesh_forces(model: DynamicModel, t: float, q: np.ndarray,
     arg = model.h_omega * t + model.h_phase
     e = model.e0 + np.sum(model.h_amp * np.sin(arg), axis=1)
     ed = np.sum(model.h_amp * model.h_omega * np.cos(arg), axis=1)
+    if any(tab.has_contacts for tab in model.tables):
+        return _reference_contact_forces(model, t, q, v, e, ed)
     k = np.array([model.kscale[i] * float(tab(model.mesh_frequency * t + model.phase[i]))
                   for i, tab in enumerate(model.tables)])
     x = model.V @ q - e
@@ -657,6 +682,50 @@ def reference_mesh_forces(model: DynamicModel, t: float, q: np.ndarray,
     back = np.minimum(k * (x + b2) + model.cm * xd, 0.0)
     f = np.where(x > 0, work, np.where(x <= -b2, back, 0.0))
     return model.kappa * np.where(np.isinf(b2), linear, f)
+
+
+def _reference_contact_forces(model: DynamicModel, t: float, q: np.ndarray, v: np.ndarray,
+                              e: np.ndarray, ed: np.ndarray) -> np.ndarray:
+    """Mesh forces with meshes of contacts, written from the force law of
+    docs/contacts.md: F = sum_j k_j max(0, x - s_j) over every contact of the two
+    samples around c (zero-separation contacts included), interpolated linearly."""
+    x_all = model.V @ q - e
+    xd_all = model.V @ v - ed
+    out = np.zeros(len(model.tables))
+    for i, tab in enumerate(model.tables):
+        ks = model.kscale[i]
+        x, xd, b2, cm = x_all[i], xd_all[i], model.clearance[i], model.cm[i]
+        c = model.mesh_frequency * t + model.phase[i]
+        pos = np.mod(c, tab.period) * tab.positions_per_cycle
+        i0 = int(np.floor(pos)) % tab.k.size
+        w = pos - np.floor(pos)
+        i1 = (i0 + 1) % tab.k.size
+        ka = ks * (tab.k[i0] * (1 - w) + tab.k[i1] * w)
+        if not tab.has_contacts:
+            lin = ka * x + cm * xd
+            f = lin if np.isinf(b2) else (max(lin, 0.0) if x > 0 else (
+                min(ka * (x + b2) + cm * xd, 0.0) if x <= -b2 else 0.0))
+            out[i] = model.kappa[i] * f
+            continue
+        force = closed = 0.0
+        for row, wt in ((i0, 1 - w), (i1, w)):
+            kk = np.concatenate([[tab.k_zero[row]], tab.kx[tab.ptr[row]:tab.ptr[row + 1]]])
+            ss = np.concatenate([[0.0], tab.sx[tab.ptr[row]:tab.ptr[row + 1]]])
+            gap = x - ss
+            bil = np.isinf(b2) & (ss == 0.0)  # linear mesh: zero-separation part bilateral
+            force += wt * ks * np.sum(np.where(bil | (gap > 0), kk * gap, 0.0))
+            closed += wt * ks * np.sum(np.where(bil | (gap > 0), kk, 0.0))
+        damp = cm * xd * closed / ka if ka > 0 else 0.0
+        if np.isinf(b2):
+            f = force + damp
+        elif closed > 0:
+            f = max(force + damp, 0.0)
+        elif x <= -b2:
+            f = min(ka * (x + b2) + cm * xd, 0.0)
+        else:
+            f = 0.0
+        out[i] = model.kappa[i] * f
+    return out
 
 
 def reference_rhs(model: DynamicModel):

@@ -11,6 +11,15 @@ For each mesh the table covers one period of its stiffness in mesh cycles:
 
 The kernel interpolates linearly and periodically in the cycle coordinate
 ``c = f_m t + phase``.
+
+A mesh whose contacts have separations (modifications, pitch errors, spalls, broken
+teeth, ...; :mod:`gearsim.stiffness.contacts`) carries its mesh of contacts instead: the
+table ``k`` is still the sum of every contact's stiffness; ``k_zero`` the sum over the
+contacts with zero separation, and the other contacts are listed per position (``ptr``,
+``kx``, ``sx``). The kernel evaluates F = k_zero max(0, delta) + sum_j k_j max(0, delta -
+s_j) at the two tabulated positions around c and interpolates the forces linearly
+(docs/contacts.md). Any crack combination on a contact mesh is exact (its period is
+lcm(z1, z2) when both gears differ).
 """
 
 from __future__ import annotations
@@ -22,7 +31,7 @@ import numpy as np
 
 from gearsim.system import GearTrain
 
-__all__ = ["MeshTable", "mesh_tables"]
+__all__ = ["MeshTable", "contact_table", "mesh_tables"]
 
 
 @dataclass(frozen=True)
@@ -40,11 +49,27 @@ class MeshTable:
         Samples per mesh cycle.
     period : int
         Table period [mesh cycles]: 1, the teeth z of the cracked gear, or lcm(z1, z2).
+    k_zero : ndarray, optional
+        Mesh of contacts only: summed stiffness of the contacts with zero separation at
+        each sample [N/m].
+    ptr : ndarray of int, optional
+        Mesh of contacts only: contacts of sample j are ``kx[ptr[j]:ptr[j + 1]]``.
+    kx, sx : ndarray, optional
+        Stiffness [N/m] and separation [m] of the listed contacts.
     """
 
     k: np.ndarray
     positions_per_cycle: int
     period: int
+    k_zero: np.ndarray | None = None
+    ptr: np.ndarray | None = None
+    kx: np.ndarray | None = None
+    sx: np.ndarray | None = None
+
+    @property
+    def has_contacts(self) -> bool:
+        """True when the mesh is a mesh of contacts with separations."""
+        return self.k_zero is not None
 
     @property
     def mean(self) -> float:
@@ -66,17 +91,52 @@ class MeshTable:
         return self.k[i] * (1.0 - w) + self.k[(i + 1) % n] * w
 
 
-def mesh_tables(train: GearTrain) -> tuple[MeshTable, ...]:
+def contact_table(grid) -> MeshTable:
+    """The kernel table of a mesh of contacts.
+
+    Parameters
+    ----------
+    grid : gearsim.stiffness.contacts.ContactGrid
+        Contacts of the mesh.
+
+    Returns
+    -------
+    MeshTable
+        ``k`` the summed stiffness, ``k_zero`` that of the zero-separation contacts,
+        the others listed per position.
+    """
+    n = grid.k.shape[0]
+    k = grid.k.reshape(n, -1)
+    s = grid.s.reshape(n, -1)
+    zero = (k > 0) & (s == 0)
+    listed = (k > 0) & (s != 0)
+    counts = listed.sum(axis=1)
+    ptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    return MeshTable(k=np.ascontiguousarray(k.sum(axis=1)),
+                     positions_per_cycle=grid.positions_per_cycle, period=grid.period,
+                     k_zero=np.ascontiguousarray(np.where(zero, k, 0.0).sum(axis=1)),
+                     ptr=ptr, kx=np.ascontiguousarray(k[listed]),
+                     sx=np.ascontiguousarray(s[listed]))
+
+
+def mesh_tables(train: GearTrain, *, contacts: bool = False) -> tuple[MeshTable, ...]:
     """Stiffness tables of every mesh of ``train`` (see the module docstring).
 
     Computed with :meth:`GearTrain.mesh_stiffness` (its stiffness options and cracks):
     one mesh cycle for a healthy mesh, one revolution of the cracked gear, or
     lcm(z1, z2) cycles built as k_1 + k_2 - k_healthy when both gears are cracked.
 
+    A mesh whose contacts are changed by faults, modifications or errors
+    (:meth:`GearTrain.has_contact_changes`), or every mesh with ``contacts=True``, gets
+    the table of its mesh of contacts (:func:`contact_table`).
+
     Parameters
     ----------
     train : GearTrain
         Gear chain with its cracks and stiffness options.
+    contacts : bool
+        Use the mesh of contacts for every mesh (with zero separations it gives the same
+        forces as the stiffness table).
 
     Returns
     -------
@@ -85,6 +145,9 @@ def mesh_tables(train: GearTrain) -> tuple[MeshTable, ...]:
     """
     out = []
     for i, pair in enumerate(train.pairs):
+        if contacts or train.has_contact_changes(i):
+            out.append(contact_table(train.mesh_contacts(i)))
+            continue
         cracks = train.mesh_cracks(i)
         on1 = any(c.gear == 1 for c in cracks)
         on2 = any(c.gear == 2 for c in cracks)

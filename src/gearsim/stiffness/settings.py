@@ -43,6 +43,11 @@ class StiffnessSettings:
         compliance of the finite-element model (:mod:`gearsim.fem.tables`), the
         counterpart of the seed's rigid-flexible coupling. The model is chosen one layer
         up, by :func:`gearsim.system.tooth_compliance`.
+    corner_contact
+        Add the tip-corner contacts of the tooth pairs just outside the path of contact
+        to the mesh of contacts (:mod:`gearsim.stiffness.contacts`): they close only when
+        contact is lost elsewhere (a broken tooth) or under overload. Default off: the
+        healthy mesh is then exactly the TVMS of the slicing model.
     """
 
     closure: str = "contact"
@@ -51,6 +56,7 @@ class StiffnessSettings:
     gauss_points: int = 16
     plane: str = "stress"
     source: str = "pe"
+    corner_contact: bool = False
 
     def __post_init__(self) -> None:
         require(self.closure in CLOSURES, "stiffness.closure", self.closure,
@@ -64,3 +70,5 @@ class StiffnessSettings:
                 'must be "stress" or "strain"')
         require(self.source in SOURCES, "stiffness.source", self.source,
                 'must be "pe" or "fe"')
+        require(isinstance(self.corner_contact, bool), "stiffness.corner_contact",
+                self.corner_contact, "must be true or false")

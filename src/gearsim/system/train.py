@@ -20,9 +20,13 @@ from gearsim.fem.tables import FiniteElementCompliance
 from gearsim.geometry.gear import Gear
 from gearsim.geometry.pair import GearPair
 from gearsim.geometry.profile import ToothProfile
+from gearsim.stiffness.contacts import ContactGrid, contact_grid
 from gearsim.stiffness.crack import FLANKS, Crack, crack_geometry
+from gearsim.stiffness.faults import Fault
 from gearsim.stiffness.mesh import MeshStiffness, StiffnessSettings, ToothCrack, mesh_stiffness
+from gearsim.stiffness.modifications import Modification
 from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance
+from gearsim.system.faults import check_faults, flank_side, mesh_flanks
 
 __all__ = ["CRACK_CHOICES", "DEFAULT_CRACK", "GearTrain", "Operating", "tooth_compliance"]
 
@@ -122,6 +126,13 @@ class GearTrain:
         Tooth-root cracks.
     name : str
         Name of the train.
+    faults : tuple of Fault
+        Spalls, pitting, chipped and broken teeth, wear
+        (:mod:`gearsim.stiffness.faults`); checked by
+        :func:`gearsim.system.faults.check_faults`.
+    modifications : tuple of Modification
+        Profile and lead modifications and pitch errors, at most one per gear
+        (:mod:`gearsim.stiffness.modifications`).
     """
 
     gears: tuple[Gear, ...]
@@ -129,6 +140,8 @@ class GearTrain:
     stiffness: StiffnessSettings = field(default_factory=StiffnessSettings)
     cracks: tuple[Crack, ...] = ()
     name: str = "gear train"
+    faults: tuple[Fault, ...] = ()
+    modifications: tuple[Modification, ...] = ()
 
     def __post_init__(self) -> None:
         require(len(self.gears) >= 2, "gears", len(self.gears), "need at least 2 gears")
@@ -141,6 +154,7 @@ class GearTrain:
         _ = self.pairs  # validates every mesh (interference, contact ratio)
         for c in self.cracks:  # every crack fits its tooth, checked once, here
             crack_geometry(ToothProfile(self.gear(c.gear)), c)
+        check_faults(self)
 
     def gear(self, name: str) -> Gear:
         """The gear called ``name``.
@@ -265,12 +279,7 @@ class GearTrain:
         -------
         int
         """
-        gi = self.gear_index(crack.gear)
-        first_mesh = 0 if gi == 0 else gi - 1
-        # working flank = loaded in the first mesh; an idler's other mesh loads the other
-        loaded_is_working = mesh == first_mesh
-        crack_on_working = crack.flank == "working"
-        return 1 if crack_on_working == loaded_is_working else -1
+        return flank_side(self, crack.gear, crack.flank, mesh)
 
     def mesh_cracks(self, mesh: int) -> tuple[ToothCrack, ...]:
         """The cracks of both gears of mesh ``mesh`` with their sides.
@@ -317,6 +326,66 @@ class GearTrain:
         return mesh_stiffness(self.pairs[mesh], cracks=self.mesh_cracks(mesh),
                               settings=settings, revolution_of=revolution_of,
                               compliance=tooth_compliance(settings.source))
+
+    def has_contact_changes(self, mesh: int) -> bool:
+        """True when faults, modifications or errors change the contacts of ``mesh``.
+
+        Parameters
+        ----------
+        mesh : int
+            Mesh index (0 = mesh I).
+
+        Returns
+        -------
+        bool
+        """
+        if self.stiffness.corner_contact:
+            return True
+        f1, f2 = mesh_flanks(self, mesh)
+        return not (f1.empty and f2.empty)
+
+    def mesh_contacts(self, mesh: int, *, period: int | None = None,
+                      settings: StiffnessSettings | None = None) -> ContactGrid:
+        """The mesh of contacts of mesh ``mesh``: stiffness and separation of each contact.
+
+        Parameters
+        ----------
+        mesh : int
+            Mesh index (0 = mesh I).
+        period : int, optional
+            Mesh cycles to cover (a multiple of the contacts' own period).
+        settings : StiffnessSettings, optional
+            Options; default the train's own.
+
+        Returns
+        -------
+        ContactGrid
+            See :func:`gearsim.stiffness.contacts.contact_grid`.
+        """
+        settings = settings or self.stiffness
+        f1, f2 = mesh_flanks(self, mesh)
+        return contact_grid(self.pairs[mesh], cracks=self.mesh_cracks(mesh), flank1=f1,
+                            flank2=f2, settings=settings, period=period,
+                            compliance=tooth_compliance(settings.source),
+                            corner=settings.corner_contact)
+
+    def with_faults(self, faults: tuple[Fault, ...] = (),
+                    modifications: tuple[Modification, ...] | None = None) -> GearTrain:
+        """A copy with other faults (and modifications), checked like the train's own.
+
+        Parameters
+        ----------
+        faults : tuple of Fault
+            The faults of the copy.
+        modifications : tuple of Modification, optional
+            Its modifications; default the train's own.
+
+        Returns
+        -------
+        GearTrain
+        """
+        mods = self.modifications if modifications is None else tuple(modifications)
+        return replace(self, faults=tuple(faults), modifications=mods)
 
     def with_cracks(self, cracks: tuple[Crack, ...]) -> GearTrain:
         """A copy with other cracks (checked like the train's own).

@@ -1,0 +1,480 @@
+"""A mesh made of contacts: one spring per tooth pair, face-width slice and surface layer.
+
+Each tooth pair in potential contact, and each transverse slice of it (helical gears;
+slicing as in :mod:`gearsim.stiffness.mesh`), is a spring j with its own stiffness k_j(c)
+and its own no-load separation s_j(c) along the transverse line of action, functions of
+the mesh-cycle coordinate c. The mesh force for a deflection delta (driver ahead of
+driven, along the transverse line of action) is
+
+    F(c, delta) = sum_j k_j(c) max(0, delta - s_j(c))                         [N]
+
+(docs/contacts.md). The stiffness of a slice is its carried face width times the
+series compliance of Hertz contact and both teeth per unit width (the potential-energy
+or FE tooth of :mod:`gearsim.stiffness.source`); its separation is the sum over both
+flanks of profile and lead modifications, pitch position deviations and wear
+(:mod:`gearsim.stiffness.modifications`, :mod:`gearsim.stiffness.faults`). A slice
+partly covered by a spall or pits is split into two springs, the intact part at s_j and
+the recessed part at s_j + depth ("layer" 1); the part of a slice over missing material
+(chipped corner, broken tooth) is dropped. With zero separations and no faults the sum
+of the k_j is exactly the TVMS of :func:`gearsim.stiffness.mesh.mesh_stiffness`.
+
+Optionally (``corner=True``) the pair that has not yet entered the path of contact and
+the pair that has just left it are springs too: out of the path, the driven tooth's tip
+corner (incoming pair) or the driver's tip corner (outgoing pair) touches the mating
+involute once the relative rotation, in line-of-action units, exceeds the corner
+separation of :func:`corner_separation`. They carry load only when contact is lost
+elsewhere (a broken tooth) or under overload: the "extended contact" of loaded gears.
+
+References
+----------
+.. [Velex1996] P. Velex, M. Maatar, J. Sound Vib. 191 (1996) 629-660 (mesh as a set of
+   contact springs with initial separations along the contact lines).
+.. [Chaari2008] F. Chaari et al., Eur. J. Mech. A/Solids 27 (2008) 691-705 (spall and
+   breakage as lost contact width).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from gearsim.errors import require
+from gearsim.geometry.pair import GearPair
+from gearsim.stiffness.faults import Patch
+from gearsim.stiffness.modifications import Modification
+from gearsim.stiffness.settings import StiffnessSettings
+from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance, ToothCrack
+from gearsim.stiffness.tooth import hertz_stiffness
+
+__all__ = ["MAX_GRID", "ContactGrid", "FlankState", "contact_grid", "corner_separation",
+           "grid_period"]
+
+#: Largest contact grid (positions x pairs x slices x layers) built in memory; a finer
+#: grid is refused naming slices and positions (about 160 MB per array at the limit).
+MAX_GRID = 20_000_000
+
+
+@dataclass(frozen=True)
+class FlankState:
+    """What one mesh sees of the loaded flanks of one of its gears.
+
+    Parameters
+    ----------
+    modification : Modification, optional
+        Profile and lead modifications and pitch errors of the gear.
+    positions : ndarray, optional
+        Pitch position deviation of each tooth along the line of action [m]
+        (:meth:`Modification.tooth_positions`); None: all zero.
+    patches : dict of int to tuple of Patch
+        Damaged patches of the loaded flank of each tooth (spall, pits, chip, broken).
+    wear : dict of int to (ndarray, ndarray)
+        Wear of the loaded flank: tooth -> (roll lengths [m], depths [m]); key -1 applies
+        to every tooth.
+    """
+
+    modification: Modification | None = None
+    positions: np.ndarray | None = None
+    patches: dict[int, tuple[Patch, ...]] = field(default_factory=dict)
+    wear: dict[int, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
+
+    @property
+    def varies(self) -> bool:
+        """True when its teeth differ (faults, tooth-specific wear or pitch errors)."""
+        pos = self.positions is not None and bool(np.any(self.positions != 0))
+        return bool(self.patches) or any(k >= 0 for k in self.wear) or pos
+
+    @property
+    def empty(self) -> bool:
+        """True when it adds nothing to the healthy, unmodified mesh."""
+        m = self.modification
+        mod = m is not None and any(getattr(m, a) != 0 for a in (
+            "tip_relief", "root_relief", "crowning", "helix_slope"))
+        return not (self.varies or mod or self.wear)
+
+    def position(self, tooth: np.ndarray) -> np.ndarray:
+        """Pitch position deviation of teeth ``tooth`` [m].
+
+        Parameters
+        ----------
+        tooth : ndarray of int
+            Tooth indices.
+
+        Returns
+        -------
+        ndarray
+        """
+        if self.positions is None:
+            return np.zeros(np.shape(tooth))
+        return self.positions[tooth]
+
+    def wear_depth(self, tooth: int, roll: np.ndarray) -> np.ndarray:
+        """Wear depth of tooth ``tooth`` at roll lengths ``roll`` [m].
+
+        Parameters
+        ----------
+        tooth : int
+            Tooth index.
+        roll : ndarray
+            Roll lengths [m].
+
+        Returns
+        -------
+        ndarray
+        """
+        out = np.zeros(np.shape(roll))
+        for key in (-1, tooth):
+            if key in self.wear:
+                r, d = self.wear[key]
+                out += np.interp(roll, r, d, left=0.0, right=0.0)
+        return out
+
+
+@dataclass
+class ContactGrid:
+    """Stiffness and separation of every contact of a mesh over ``period`` mesh cycles.
+
+    Parameters
+    ----------
+    name : str
+        Mesh name.
+    positions_per_cycle : int
+        Positions per mesh cycle.
+    period : int
+        Mesh cycles covered (the table repeats after it).
+    k : ndarray, shape (n_pos, n_pair, n_slice, n_layer)
+        Contact stiffness [N/m] (0: no contact).
+    s : ndarray, shape (n_pos, n_pair, n_slice, n_layer)
+        No-load separation [m] (meaningful where k > 0).
+    tooth1, tooth2 : ndarray of int, shape (n_pos, n_pair)
+        Driver and driven tooth of each pair.
+    l : ndarray, shape (n_pos, n_pair, n_slice)
+        Contact point on the transverse line of action, from T1 [m].
+    zfrac : ndarray, shape (n_slice,)
+        Slice centres / face width [-].
+    slice_width : float
+        Face width of one slice [m].
+    base_radius2 : float
+        Base radius of the driven gear [m] (transmission error as an angle).
+    attrs : dict
+        Settings it was computed with.
+    """
+
+    name: str
+    positions_per_cycle: int
+    period: int
+    k: np.ndarray
+    s: np.ndarray
+    tooth1: np.ndarray
+    tooth2: np.ndarray
+    l: np.ndarray
+    zfrac: np.ndarray
+    slice_width: float
+    base_radius2: float
+    attrs: dict = field(default_factory=dict)
+
+    @property
+    def cycles(self) -> np.ndarray:
+        """Mesh-cycle coordinate of each position [-]."""
+        return np.arange(self.k.shape[0]) / self.positions_per_cycle
+
+    @property
+    def k_total(self) -> np.ndarray:
+        """Sum of all contact stiffnesses at each position [N/m] (the TVMS when every
+        contact is closed)."""
+        return self.k.sum(axis=(1, 2, 3))
+
+    @property
+    def has_separations(self) -> bool:
+        """True when some contact has a non-zero separation."""
+        return bool(np.any((self.k > 0) & (self.s != 0)))
+
+
+def grid_period(pair: GearPair, varies1: bool, varies2: bool) -> int:
+    """Mesh cycles after which the contacts repeat [-].
+
+    1 when the teeth of both gears are alike, z1 (z2) when the driver's (driven gear's)
+    teeth differ, lcm(z1, z2) when both do.
+
+    Parameters
+    ----------
+    pair : GearPair
+        The mesh.
+    varies1, varies2 : bool
+        Whether the teeth of the driver / driven gear differ.
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> from gearsim.geometry.gear import Gear
+    >>> pair = GearPair(Gear(teeth=19, normal_module=3.2e-3), Gear(teeth=48, normal_module=3.2e-3))
+    >>> grid_period(pair, False, False), grid_period(pair, True, False), grid_period(pair, True, True)
+    (1, 19, 912)
+    """
+    z1, z2 = pair.driver.teeth, pair.driven.teeth
+    if varies1 and varies2:
+        return math.lcm(z1, z2)
+    if varies1:
+        return z1
+    if varies2:
+        return z2
+    return 1
+
+
+def _e(a):
+    return np.cos(a), np.sin(a)
+
+
+def corner_separation(pair: GearPair, l: np.ndarray) -> np.ndarray:
+    """Separation of a tooth pair outside the path of contact, at the tip corner [m].
+
+    Frame: driver centre O1 at the origin, driven centre O2 = (a_w, 0), driver turning
+    counter-clockwise; the transverse line of action runs from T1 = r_b1 e(-alpha_wt)
+    in the direction t = e(pi/2 - alpha_wt). A driver involute whose extension meets the
+    line of action at l has the points r_b1 e(g) + rho e(g + pi/2), g = l / r_b1 -
+    alpha_wt - rho / r_b1; a driven involute meeting it at l has O2 + r_b2 e(h) + rho
+    e(h + pi/2), h = pi - alpha_wt + (T1T2 - l - rho) / r_b2. Before the start of contact
+    A (l < l_A) the driven tip corner (rho = rho_a2) lies off the line; the driver must
+    turn by Delta = psi_C - phi_1(r_C) (polar angle of the corner minus that of the
+    driver involute at the corner's radius) to touch it: separation r_b1 Delta. After the
+    end of contact E (l > l_E) the driver's tip corner and the driven involute give
+    r_b2 Delta in the same way. Zero at A and E, growing quadratically away from them.
+
+    Parameters
+    ----------
+    pair : GearPair
+        The mesh.
+    l : ndarray
+        Positions on the (extended) line of action, from T1 [m]; outside [l_A, l_E].
+
+    Returns
+    -------
+    ndarray
+        Separation along the transverse line of action [m] (0 inside [l_A, l_E]).
+
+    References
+    ----------
+    Involute geometry: Litvin & Fuentes, Gear Geometry and Applied Theory (2004), ch. 10;
+    corner (extended) contact: Lin, Liou & Huston (1988) (contact outside the path under
+    load).
+    """
+    l = np.asarray(l, dtype=float)
+    g1, g2 = pair.driver, pair.driven
+    rb1, rb2 = g1.base_radius, g2.base_radius
+    alpha = pair.working_pressure_angle
+    a = pair.centre_distance
+    big_l = pair.line_length
+    la, le = pair.start_of_contact, pair.end_of_contact
+    out = np.zeros(l.shape)
+    # incoming pair: driven tip corner against the driver involute
+    ra2 = big_l - la  # roll length of the driven tip
+    h = math.pi - alpha + (big_l - l - ra2) / rb2
+    cx = a + rb2 * np.cos(h) + ra2 * np.cos(h + math.pi / 2)
+    cy = rb2 * np.sin(h) + ra2 * np.sin(h + math.pi / 2)
+    rc = np.hypot(cx, cy)
+    psi = np.arctan2(cy, cx)
+    rho = np.sqrt(np.maximum(rc * rc - rb1 * rb1, 0.0))
+    phi = l / rb1 - alpha - rho / rb1 + np.arctan2(rho, rb1)
+    inc = rb1 * (psi - phi)
+    # outgoing pair: driver tip corner against the driven involute
+    ra1 = le
+    g = l / rb1 - alpha - ra1 / rb1
+    dx = rb1 * np.cos(g) + ra1 * np.cos(g + math.pi / 2) - a
+    dy = rb1 * np.sin(g) + ra1 * np.sin(g + math.pi / 2)
+    rd = np.hypot(dx, dy)
+    psi2 = np.arctan2(dy, dx)
+    rho2 = np.sqrt(np.maximum(rd * rd - rb2 * rb2, 0.0))
+    hh = math.pi - alpha + (big_l - l - rho2) / rb2
+    phi2 = hh + np.arctan2(rho2, rb2)
+    out_ = rb2 * np.mod(psi2 - phi2 + math.pi, 2 * math.pi) - rb2 * math.pi
+    out = np.where(l < la, inc, out)
+    return np.where(l > le, out_, out)
+
+
+def _grid_geometry(pair: GearPair, settings: StiffnessSettings, corner: bool):
+    """Slice contact points, in-path fractions and raw slice-centre positions."""
+    tb = math.tan(pair.driver.base_helix_angle)
+    b = pair.face_width
+    ns = settings.slices if tb > 0 else 1
+    npc = settings.positions_per_cycle
+    pb = pair.base_pitch
+    la, le = pair.start_of_contact, pair.end_of_contact
+    eps = pair.transverse_contact_ratio + b * tb / pb
+    first = -1 if corner else 0
+    n_age = int(math.ceil(eps)) + 1 + (2 if corner else 0)
+    u = np.arange(npc) / npc
+    age = u[:, None] + (np.arange(n_age) + first)[None, :]
+    dz = b / ns
+    z0 = np.arange(ns) * dz
+    z1 = z0 + dz
+    base = la + age[:, :, None] * pb
+    hi = base - z0[None, None, :] * tb
+    lo = base - z1[None, None, :] * tb
+    centre = 0.5 * (hi + lo)
+    if tb > 0:
+        a = np.maximum(lo, la)
+        c = np.minimum(hi, le)
+        frac = np.clip((c - a) / (hi - lo), 0.0, 1.0)
+        lmid = 0.5 * (a + c)
+    else:
+        lmid = base
+        frac = ((base > la) & (base <= le)).astype(float)
+    lmid = np.where(frac > 0, lmid, la)
+    return lmid, frac, centre, dz, n_age, first, ns, z0, z1
+
+
+def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
+                 flank1: FlankState | None = None, flank2: FlankState | None = None,
+                 settings: StiffnessSettings | None = None,
+                 compliance: ToothCompliance | None = None, period: int | None = None,
+                 corner: bool = False) -> ContactGrid:
+    """Stiffness and no-load separation of every contact of ``pair``.
+
+    Parameters
+    ----------
+    pair : GearPair
+        The mesh (driver drives driven).
+    cracks : tuple of ToothCrack
+        Root cracks as seen by this mesh (their compliance enters the tooth terms).
+    flank1, flank2 : FlankState, optional
+        Modifications, errors and faults of the loaded flanks of driver and driven gear.
+    settings : StiffnessSettings, optional
+        Slices, positions per cycle, closure, plane, source.
+    compliance : ToothCompliance, optional
+        Tooth-compliance model (default the potential-energy model); must match
+        ``settings.source``.
+    period : int, optional
+        Mesh cycles to cover; default :func:`grid_period` of the faults, errors and
+        cracks (a multiple of it is allowed).
+    corner : bool
+        Add the tip-corner contacts of the pairs just outside the path of contact
+        (:func:`corner_separation`).
+
+    Returns
+    -------
+    ContactGrid
+
+    Raises
+    ------
+    InputError
+        If ``period`` is not a multiple of the natural period, the model does not match
+        ``settings.source``, or the grid would exceed :data:`MAX_GRID` entries.
+    """
+    settings = settings or StiffnessSettings()
+    flank1 = flank1 or FlankState()
+    flank2 = flank2 or FlankState()
+    model = compliance if compliance is not None else PotentialEnergyCompliance()
+    require(model.name == settings.source, "stiffness.source", settings.source,
+            f"the tooth-compliance model passed is {model.name!r}")
+    g1, g2 = pair.driver, pair.driven
+    z1, z2 = g1.teeth, g2.teeth
+    natural = grid_period(pair, flank1.varies or any(c.gear == 1 for c in cracks),
+                          flank2.varies or any(c.gear == 2 for c in cracks))
+    period = natural if period is None else period
+    require(isinstance(period, int) and period >= 1 and period % natural == 0, "period",
+            period, f"must be a multiple of {natural} mesh cycles (the contacts' period)")
+    lmid, frac, centre, dz, n_age, first, ns, z0, z1_ = _grid_geometry(pair, settings, corner)
+    npc = settings.positions_per_cycle
+    layers = 2
+    size = period * npc * n_age * ns * layers
+    require(size <= MAX_GRID, "stiffness.slices", settings.slices,
+            f"the contact grid would have {size:.3g} entries (> {MAX_GRID:.0e}): "
+            f"{period} mesh cycles x {npc} positions x {n_age} pairs x {ns} slices; use "
+            "fewer slices or positions_per_cycle")
+    big_l = pair.line_length
+    la, le = pair.start_of_contact, pair.end_of_contact
+    inside = frac > 0
+    r1 = np.where(inside, np.hypot(g1.base_radius, lmid), 0.0)
+    r2 = np.where(inside, np.hypot(g2.base_radius, big_l - lmid), 0.0)
+    zfrac = (z0 + 0.5 * dz) / pair.face_width
+
+    def table(gear, radii, tc):
+        return model.compliance(gear, radii, tc, zfrac, settings).sum(-1)
+
+    healthy1 = table(g1, r1, None)
+    healthy2 = table(g2, r2, None)
+    cr1 = {tc.crack.tooth: table(g1, r1, tc) for tc in cracks if tc.gear == 1}
+    cr2 = {tc.crack.tooth: table(g2, r2, tc) for tc in cracks if tc.gear == 2}
+    ch = 1.0 / hertz_stiffness(g1.material, g2.material, 1.0)
+    width = frac * dz
+    # corner contacts: outside the path, at the whole slice width, with the stiffness
+    # of the pair at the nearer end of the path
+    corner_mask = np.zeros(frac.shape, dtype=bool)
+    s_corner = np.zeros(frac.shape)
+    if corner:
+        pb = pair.base_pitch
+        corner_mask = (~inside) & (((centre <= la) & (centre > la - pb))
+                                   | ((centre > le) & (centre < le + pb)))
+        s_corner = np.where(corner_mask, corner_separation(pair, centre), 0.0)
+        lend = np.where(centre <= la, la + 1e-9 * pb, le - 1e-9 * pb)
+        rc1 = np.where(corner_mask, np.hypot(g1.base_radius, lend), 0.0)
+        rc2 = np.where(corner_mask, np.hypot(g2.base_radius, big_l - lend), 0.0)
+        cc1 = table(g1, rc1, None)
+        cc2 = table(g2, rc2, None)
+        kc_unit = np.where(corner_mask, 1.0 / (ch + cc1 + cc2), 0.0)
+    roll1 = np.where(corner_mask, np.clip(centre, la, le), lmid)
+    roll2 = big_l - roll1
+    s1 = roll1 ** 2 / (2 * g1.base_radius)
+    s2 = roll2 ** 2 / (2 * g2.base_radius)
+    lead = np.zeros(ns)
+    prof = np.zeros(frac.shape)
+    for fl, roll, tip, start in ((flank1, roll1, le, la), (flank2, roll2, big_l - la, big_l - le)):
+        m = fl.modification
+        if m is not None:
+            lead = lead + m.lead_separation(zfrac)
+            prof = prof + m.profile_separation(roll, tip, start)
+    base_sep = prof + lead[None, None, :] + s_corner
+    n_pos = period * npc
+    shape = (n_pos, n_age, ns, layers)
+    k = np.zeros(shape)
+    s = np.zeros(shape)
+    t1 = np.zeros((n_pos, n_age), dtype=np.int64)
+    t2 = np.zeros((n_pos, n_age), dtype=np.int64)
+    ages = np.arange(n_age) + first
+    for c in range(period):
+        sl = slice(c * npc, (c + 1) * npc)
+        i1 = (c - ages) % z1
+        i2 = (c - ages) % z2
+        t1[sl] = i1
+        t2[sl] = i2
+        comp = np.empty(frac.shape)
+        sep = base_sep.copy()
+        lost = np.zeros(frac.shape)
+        cover = np.zeros(frac.shape)
+        depth = np.full(frac.shape, np.inf)
+        for m in range(n_age):
+            comp[:, m] = (cr1.get(int(i1[m]), healthy1)[:, m]
+                          + cr2.get(int(i2[m]), healthy2)[:, m])
+            for fl, tooth, sarc, roll in ((flank1, int(i1[m]), s1, roll1),
+                                          (flank2, int(i2[m]), s2, roll2)):
+                sep[:, m] += fl.position(np.array(tooth)) + (
+                    fl.wear_depth(tooth, roll[:, m]) if fl.wear else 0.0)
+                for p in fl.patches.get(tooth, ()):
+                    f = p.covered(sarc[:, m], z0[None, :], z1_[None, :])
+                    if math.isinf(p.depth):
+                        lost[:, m] = 1.0 - (1.0 - lost[:, m]) * (1.0 - f)
+                    else:
+                        cover[:, m] = 1.0 - (1.0 - cover[:, m]) * (1.0 - f)
+                        depth[:, m] = np.where(f > 0, np.minimum(depth[:, m], p.depth),
+                                               depth[:, m])
+        with np.errstate(divide="ignore"):
+            kunit = np.where(inside, 1.0 / (ch + comp), 0.0)
+        kfull = kunit * width
+        if corner:
+            kfull = np.where(corner_mask, kc_unit * dz, kfull)
+        keep = 1.0 - lost
+        k[sl, ..., 0] = kfull * keep * (1.0 - cover)
+        k[sl, ..., 1] = kfull * keep * cover
+        s[sl, ..., 0] = sep
+        s[sl, ..., 1] = sep + np.where(np.isfinite(depth), depth, 0.0)
+    l_grid = np.where(corner_mask, centre, lmid)
+    return ContactGrid(
+        name=pair.name, positions_per_cycle=npc, period=period, k=k, s=s, tooth1=t1,
+        tooth2=t2, l=np.tile(l_grid, (period, 1, 1)), zfrac=zfrac, slice_width=dz,
+        base_radius2=g2.base_radius,
+        attrs={"closure": settings.closure, "slices": ns, "positions_per_cycle": npc,
+               "plane": settings.plane, "source": model.name, "corner_contact": int(corner)})

@@ -13,7 +13,9 @@ when the crack is on that flank); tips, tooth spaces and the bore are circular a
 gmsh meshes the region with linear triangles, sized by a distance field from the middle
 tooth; a crack is a straight segment embedded in the mesh, and the triangles on its two
 sides are then separated by duplicating the nodes of the segment except its tip
-(:func:`split_along_crack`). The solver uses quadratic (P2) displacement fields on that
+(:func:`split_along_crack`). A tooth may be given another outline (:class:`ToothShape`:
+splines, straight lines and tip arcs); :mod:`gearsim.fem.faults` uses this for a spall
+notch, a chipped tip and a broken tooth. The solver uses quadratic (P2) displacement fields on that
 straight-sided triangulation.
 
 References
@@ -44,6 +46,7 @@ __all__ = [
     "CrackLine",
     "SectorMesh",
     "SectorOptions",
+    "ToothShape",
     "crack_line",
     "element_size",
     "mesh_sector",
@@ -189,6 +192,108 @@ def crack_line(profile: ToothProfile, crack, depth: float, side: int) -> CrackLi
     return CrackLine(start=(s * geo.start[0], geo.start[1]), tip=(s * geo.tip[0], geo.tip[1]))
 
 
+PIECE_KINDS = ("spline", "line", "arc")
+
+
+@dataclass(frozen=True)
+class ToothShape:
+    """Outline of one tooth of the sector that replaces the generated outline.
+
+    Parameters
+    ----------
+    pieces
+        Curves ``(kind, points)`` that run from the ``+x`` root point of the generated
+        outline (``ToothProfile.outline(...)[0]``) over the tooth to the ``-x`` root
+        point (its mirror), in the tooth frame of :class:`ToothProfile` [m]; each
+        ``points`` is an (n, 2) array whose first point is the last point of the piece
+        before. ``kind``: ``"spline"`` (interpolating spline through the points),
+        ``"line"`` (straight, 2 points) or ``"arc"`` (circular arc about the gear centre
+        between 2 points at the same radius). Corners between pieces stay sharp.
+    flank
+        Indices of the pieces that form the loaded flank (the load patches of
+        :mod:`gearsim.fem.tooth` go there); used for the middle tooth only.
+    """
+
+    pieces: tuple[tuple[str, np.ndarray], ...]
+    flank: tuple[int, ...] = ()
+
+    def polygon(self, n_arc: int = 8) -> np.ndarray:
+        """The outline as one polyline (arcs sampled), root ``+x`` to root ``-x``.
+
+        Parameters
+        ----------
+        n_arc
+            Points per arc.
+
+        Returns
+        -------
+        ndarray, shape (m, 2)
+            Points [m], without repeated piece end points.
+        """
+        out = [np.asarray(self.pieces[0][1][:1], dtype=float)]
+        for kind, pts in self.pieces:
+            pts = np.asarray(pts, dtype=float)
+            if kind == "arc":
+                r = float(np.hypot(*pts[0]))
+                a0, a1 = (math.atan2(pts[i, 1], pts[i, 0]) for i in (0, -1))
+                a = np.linspace(a0, a1, n_arc)[1:]
+                out.append(r * np.column_stack([np.cos(a), np.sin(a)]))
+            else:
+                out.append(pts[1:])
+        return np.vstack(out)
+
+
+def _check_shapes(shapes: dict[int, ToothShape], half: np.ndarray, teeth: int,
+                  n_sector: int, crack: CrackLine | None, name: str) -> None:
+    """Refuse tooth shapes that do not join the rim or do not fit the sector."""
+    ks = (range(-(n_sector // 2), n_sector // 2 + 1) if n_sector < teeth
+          else range(teeth // 2 - teeth + 1, teeth // 2 + 1))
+    root_r = half[0]
+    root_l = half[0] * [-1.0, 1.0]
+    tol = 1e-9 * max(1.0, float(np.hypot(*half[-1])))
+    for k, shape in shapes.items():
+        if not (isinstance(k, int) and k in ks):
+            raise InputError(f"{name}.shapes", k, f"tooth index must be an integer in "
+                             f"[{ks[0]}, {ks[-1]}] (0 = the loaded tooth)")
+        if k == 0 and crack is not None:
+            raise InputError(f"{name}.shapes", 0, "a crack and another outline of the loaded "
+                             "tooth cannot be combined")
+        if not shape.pieces:
+            raise InputError(f"{name}.shapes[{k}]", "no pieces", "needs at least one curve")
+        prev = root_r
+        for j, (kind, pts) in enumerate(shape.pieces):
+            pts = np.asarray(pts, dtype=float)
+            if kind not in PIECE_KINDS or pts.ndim != 2 or pts.shape[1] != 2 \
+                    or pts.shape[0] < 2 or not np.all(np.isfinite(pts)) \
+                    or (kind != "spline" and pts.shape[0] != 2):
+                raise InputError(f"{name}.shapes[{k}].pieces[{j}]", kind,
+                                 'must be "spline" (n >= 2 points), "line" or "arc" '
+                                 "(2 points) with finite (n, 2) coordinates")
+            if math.dist(pts[0], prev) > tol:
+                raise InputError(f"{name}.shapes[{k}].pieces[{j}]", "start point",
+                                 "must continue the piece before (the first piece starts at "
+                                 "the +x root point of the generated outline)")
+            if kind == "arc" and abs(np.hypot(*pts[0]) - np.hypot(*pts[1])) > tol:
+                raise InputError(f"{name}.shapes[{k}].pieces[{j}]", "arc",
+                                 "an arc about the gear centre needs 2 points at one radius")
+            prev = pts[-1]
+        if math.dist(prev, root_l) > tol:
+            raise InputError(f"{name}.shapes[{k}]", "end point",
+                             "the last piece must end at the -x root point of the generated "
+                             "outline")
+
+
+def _shaped_outer(half: np.ndarray, teeth: int, n_sector: int,
+                  shapes: dict[int, ToothShape]) -> np.ndarray:
+    """The outer polygon of :func:`sector_outline_check` with the shaped teeth."""
+    pitch = 2.0 * math.pi / teeth
+    m = n_sector // 2
+    ks = range(m, -m - 1, -1) if n_sector < teeth else range(teeth // 2, teeth // 2 - teeth, -1)
+    tooth = np.vstack([half, (half[::-1] * [-1.0, 1.0])[1:]])
+    parts = [_rot(shapes[k].polygon() if k in shapes else tooth, -k * pitch) for k in ks]
+    return np.vstack(parts)
+
+
 @dataclass
 class SectorMesh:
     """Linear triangulation of the sector, after splitting along the crack.
@@ -202,7 +307,8 @@ class SectorMesh:
     bore, sides
         Node indices on the bore arc and on the two radial edges.
     flank
-        Node indices on the involute of the loaded (+x) flank of the middle tooth.
+        Node indices on the involute of the loaded (+x) flank of the middle tooth (on
+        the ``flank`` pieces of its :class:`ToothShape` when it has one).
     crack_pairs
         Shape (2, k): (node on the - side, duplicate on the + side) of the crack faces
         (the tip is not duplicated and not listed).
@@ -419,7 +525,8 @@ def _flank_pieces(half: np.ndarray, n_fillet: int, split: tuple[float, float] | 
 
 
 def mesh_sector(gear: Gear, *, crack: CrackLine | None = None,
-                options: SectorOptions | None = None) -> SectorMesh:
+                options: SectorOptions | None = None,
+                shapes: dict[int, ToothShape] | None = None) -> SectorMesh:
     """Mesh the gear sector with gmsh (linear triangles) and split it along the crack.
 
     Parameters
@@ -432,6 +539,12 @@ def mesh_sector(gear: Gear, *, crack: CrackLine | None = None,
         on ``+x`` for the loaded flank or ``-x`` for the unloaded one), or ``None``.
     options
         :class:`SectorOptions`.
+    shapes
+        Outlines that replace the generated one for some teeth, keyed by the tooth index
+        k relative to the middle tooth (0 = the loaded tooth; +1 = the neighbour on the
+        ``+x`` side, which the loaded flank faces; -1 = the one behind the unloaded
+        flank): :class:`ToothShape`. ``None`` (default): every tooth as generated. The
+        element sizes stay those of the healthy model (refined around the middle tooth).
 
     Returns
     -------
@@ -440,8 +553,9 @@ def mesh_sector(gear: Gear, *, crack: CrackLine | None = None,
     Raises
     ------
     InputError
-        Unmeshable geometry, a crack that cuts the tooth off, or elements too coarse for
-        the crack (size > depth / 2).
+        Unmeshable geometry, a crack that cuts the tooth off, elements too coarse for
+        the crack (size > depth / 2), or a tooth shape that does not join the rim, is
+        combined with a crack of the same tooth or makes the outline cross itself.
     """
     opt = options or SectorOptions()
     prof = ToothProfile(gear)
@@ -449,6 +563,15 @@ def mesh_sector(gear: Gear, *, crack: CrackLine | None = None,
     half = prof.outline(N_FILLET, N_INVOLUTE)
     bore = gear.bore_radius_value
     outer = sector_outline_check(half, z, opt.teeth_in(z), bore, name=gear.name)
+    shapes = dict(shapes or {})
+    if shapes:
+        _check_shapes(shapes, half, z, opt.teeth_in(z), crack, gear.name)
+        outer = _shaped_outer(half, z, opt.teeth_in(z), shapes)
+        closed = outer if opt.teeth_in(z) >= z else np.vstack([outer, [[0.0, 0.0]]])
+        if _polyline_self_intersects(closed):
+            raise InputError(f"{gear.name}.outline", "self-intersecting",
+                             "the changed tooth outline crosses itself or its neighbour: "
+                             "gmsh cannot mesh this sector")
     h = element_size(gear, opt.level)
     if crack is not None:
         _check_crack(outer, crack, half)
@@ -459,7 +582,7 @@ def mesh_sector(gear: Gear, *, crack: CrackLine | None = None,
                              f"crack depth / 2 = {0.5e3 * crack.depth:.4g} mm; use level >= "
                              f"{max(need, opt.level + 1)}")
     try:
-        return _mesh(gear, half, outer, crack, opt, h)
+        return _mesh(gear, half, outer, crack, opt, h, shapes)
     except InputError:
         raise
     except Exception as exc:  # gmsh raises plain Exception with its log message
@@ -468,7 +591,9 @@ def mesh_sector(gear: Gear, *, crack: CrackLine | None = None,
 
 
 def _mesh(gear: Gear, half: np.ndarray, outer: np.ndarray, crack: CrackLine | None,
-          opt: SectorOptions, h: float) -> SectorMesh:
+          opt: SectorOptions, h: float, shapes: dict[int, ToothShape] | None = None
+          ) -> SectorMesh:
+    shapes = shapes or {}
     z = gear.teeth
     pitch = 2.0 * math.pi / z
     n_sector = opt.teeth_in(z)
@@ -487,7 +612,7 @@ def _mesh(gear: Gear, half: np.ndarray, outer: np.ndarray, crack: CrackLine | No
 
         curves: list[int] = []
         middle: list[int] = []
-        flank_curve = -1
+        flank_curves: list[int] = []
         side_curves: list[int] = []
         full = n_sector == z
         if full:  # all teeth, no sector sides; the loop closes on the first tooth
@@ -509,6 +634,17 @@ def _mesh(gear: Gear, half: np.ndarray, outer: np.ndarray, crack: CrackLine | No
         first_root = -1
         for k in ks:
             rot = -k * pitch
+            if k in shapes:
+                start, first, tooth_curves = _shaped_tooth(geo, pt, centre, shapes[k], rot,
+                                                           prev, curves)
+                if prev < 0:
+                    first_root = start
+                if k == 0:
+                    flank_curves = [tooth_curves[j] for j in shapes[k].flank]
+                    middle = list(tooth_curves)
+                curves.extend(tooth_curves)
+                prev = first
+                continue
             split_p = split_m = None
             if k == 0 and crack is not None:
                 if crack.start[0] > 0:
@@ -532,7 +668,7 @@ def _mesh(gear: Gear, half: np.ndarray, outer: np.ndarray, crack: CrackLine | No
                 c = geo.addSpline([first, *inner, end])
                 tooth_curves.append(c)
                 if k == 0 and j == len(right) - 1:
-                    flank_curve = c
+                    flank_curves = [c]
                 first = end
             tip_l = pt(left[0][0])
             tooth_curves.append(geo.addCircleArc(first, centre, tip_l))
@@ -625,7 +761,7 @@ def _mesh(gear: Gear, half: np.ndarray, outer: np.ndarray, crack: CrackLine | No
 
         bore_nodes = nodes_on(1, bore_curves)
         side_nodes = nodes_on(1, side_curves)
-        flank_nodes = nodes_on(1, [flank_curve])
+        flank_nodes = nodes_on(1, flank_curves)
         crack_edges = np.zeros((0, 2), dtype=np.int64)
         if crack is not None:
             et, _, en = gmsh.model.mesh.getElements(1, crack_curve)
@@ -650,6 +786,33 @@ def _mesh(gear: Gear, half: np.ndarray, outer: np.ndarray, crack: CrackLine | No
         p2, t2, pairs, dup = split_along_crack(p, t, edges, crack)
         out.p, out.t, out.crack_pairs, out.crack_edges, out.crack_dup = p2, t2, pairs, edges, dup
     return out
+
+
+def _shaped_tooth(geo, pt, centre: int, shape: ToothShape, rot: float, prev: int,
+                  curves: list[int]) -> tuple[int, int, list[int]]:
+    """gmsh curves of a :class:`ToothShape` rotated by ``rot``.
+
+    Adds the root arc from ``prev`` (when >= 0) to ``curves``; returns the tags of the
+    first and last points and the tooth curves.
+    """
+    start = pt(_rot(np.asarray(shape.pieces[0][1][:1], dtype=float), rot)[0])
+    if prev >= 0:
+        curves.append(geo.addCircleArc(prev, centre, start))
+    first = start
+    out: list[int] = []
+    for kind, pts in shape.pieces:
+        pr = _rot(np.asarray(pts, dtype=float), rot)
+        end = pt(pr[-1])
+        if kind == "line":
+            c = geo.addLine(first, end)
+        elif kind == "arc":
+            c = geo.addCircleArc(first, centre, end)
+        else:
+            inner = [pt(xy) for xy in pr[1:-1]]
+            c = geo.addSpline([first, *inner, end])
+        out.append(c)
+        first = end
+    return start, first, out
 
 
 def _find_point(gmsh, xy: tuple[float, float]) -> int:

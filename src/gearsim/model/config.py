@@ -14,6 +14,8 @@ line says "SI units") reads plain numbers as SI throughout. Layout::
     [operating]           # speed and torque of the first gear
     [stiffness]           # closure, slices, positions_per_cycle, gauss_points, plane, source
     [[cracks]]            # gear, tooth, flank, depth, angle, extent, profile, start_radius
+    [[faults]]            # kind = spall | pitting | chip | broken | wear, gear, tooth, ...
+    [[modifications]]     # gear, tip/root relief, crowning, helix slope, pitch errors
     [dynamics]            # gearsim.dynamics.DynamicsSettings
     [analysis]            # gearsim.signals.AnalysisSettings
 
@@ -38,6 +40,8 @@ from gearsim.model.gearbox import Gearbox
 from gearsim.sections import as_written, convert
 from gearsim.signals.settings import parse_analysis
 from gearsim.stiffness.crack import Crack
+from gearsim.stiffness.faults import FAULT_KINDS, fault_from_kind
+from gearsim.stiffness.modifications import Modification
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.system.train import GearTrain, Operating
 from gearsim.units import plain_numbers_are_si
@@ -65,8 +69,30 @@ CRACK_KEYS = {"gear": "str", "tooth": "int", "flank": "str", "depth": "length",
               "angle": "angle", "extent": "dimensionless", "profile": "str",
               "start_radius": "length"}
 
+#: Keys of a ``[[faults]]`` table (``kind`` names the fault; the keys each kind takes
+#: are :data:`FAULT_FIELDS`).
+FAULT_KEYS = {"kind": "str", "gear": "str", "tooth": "int", "flank": "str",
+              "radius": "length", "length": "length", "width": "length", "depth": "length",
+              "z": "length", "shape": "str", "area_fraction": "dimensionless",
+              "radius_min": "length", "radius_max": "length", "pit_diameter": "length",
+              "seed": "int", "edge": "str", "break_radius": "length", "radii": "length",
+              "depths": "length", "coefficient": "wear_coefficient",
+              "cycles": "dimensionless"}
+FAULT_FIELDS = {
+    "spall": ("gear", "tooth", "flank", "radius", "length", "width", "depth", "z", "shape"),
+    "pitting": ("gear", "tooth", "flank", "area_fraction", "radius_min", "radius_max",
+                "pit_diameter", "depth", "seed"),
+    "chip": ("gear", "tooth", "flank", "length", "width", "edge"),
+    "broken": ("gear", "tooth", "width", "edge", "break_radius"),
+    "wear": ("gear", "tooth", "flank", "radii", "depths", "coefficient", "cycles"),
+}
+MODIFICATION_KEYS = {"gear": "str", "tip_relief": "length", "tip_relief_length": "length",
+                     "root_relief": "length", "root_relief_length": "length",
+                     "relief_shape": "str", "crowning": "length", "helix_slope": "length",
+                     "pitch_errors": "length", "pitch_grade": "int", "pitch_seed": "int"}
+
 TOP_KEYS = ("name", "material", "common", "gears", "operating", "stiffness", "cracks",
-            "dynamics", "analysis")
+            "faults", "modifications", "dynamics", "analysis")
 
 
 #: First line of the effective configuration written by
@@ -167,7 +193,9 @@ def parse(doc: dict[str, Any]) -> Gearbox:
     name = doc.get("name", "gear train")
     if not isinstance(name, str):
         raise InputError("name", name, "must be a string")
-    kw = {"gears": tuple(gears), "operating": operating, "stiffness": stiffness, "name": name}
+    kw = {"gears": tuple(gears), "operating": operating, "stiffness": stiffness, "name": name,
+          "faults": parse_faults(doc.get("faults", [])),
+          "modifications": parse_modifications(doc.get("modifications", []))}
     try:
         train = GearTrain(cracks=tuple(cracks), **kw)
     except InputError as exc:  # a crack that does not fit: name the [[cracks]] table
@@ -181,6 +209,83 @@ def parse(doc: dict[str, Any]) -> Gearbox:
     dynamics = parse_dynamics(doc.get("dynamics", {}), "dynamics")
     analysis = parse_analysis(doc.get("analysis", {}), "analysis")
     return Gearbox(train=train, dynamics=dynamics, analysis=analysis)
+
+
+def _array_of_tables(raw: Any, name: str) -> list:
+    if not isinstance(raw, list) or not all(isinstance(t, dict) for t in raw):
+        raise InputError(name, raw, f"must be an array of tables [[{name}]]")
+    return raw
+
+
+def parse_faults(raw: Any) -> tuple:
+    """Parse the ``[[faults]]`` tables into fault objects (:mod:`gearsim.stiffness.faults`).
+
+    Parameters
+    ----------
+    raw : list of dict
+        The TOML array of tables; each names its ``kind``.
+
+    Returns
+    -------
+    tuple of Fault
+
+    Raises
+    ------
+    InputError
+        Naming ``faults[i].<key>``: unknown kind or key, a key the kind does not take,
+        a bad value.
+    """
+    out = []
+    for i, table in enumerate(_array_of_tables(raw, "faults")):
+        name = f"faults[{i}]"
+        kw = convert(table, FAULT_KEYS, name, list_keys=("radii", "depths"))
+        kind = kw.pop("kind", None)
+        if kind not in FAULT_FIELDS:
+            raise InputError(f"{name}.kind", kind if kind is not None else "missing",
+                             "must be one of " + ", ".join(FAULT_KINDS))
+        for key in kw:
+            if key not in FAULT_FIELDS[kind]:
+                raise InputError(f"{name}.{key}", table[key], f"is not a key of a {kind}; "
+                                 f"allowed: kind, {', '.join(FAULT_FIELDS[kind])}")
+        if "gear" not in kw:
+            raise InputError(f"{name}.gear", "missing", "name the damaged gear")
+        for key in ("radii", "depths"):
+            if key in kw and not isinstance(kw[key], tuple):
+                kw[key] = (kw[key],)
+        with as_written(table, kind, FAULT_KEYS, sources=[(name, table)], default=name):
+            out.append(fault_from_kind(kind, **kw))
+    return tuple(out)
+
+
+def parse_modifications(raw: Any) -> tuple[Modification, ...]:
+    """Parse the ``[[modifications]]`` tables (one per gear).
+
+    Parameters
+    ----------
+    raw : list of dict
+        The TOML array of tables.
+
+    Returns
+    -------
+    tuple of Modification
+
+    Raises
+    ------
+    InputError
+        Naming ``modifications[i].<key>``.
+    """
+    out = []
+    for i, table in enumerate(_array_of_tables(raw, "modifications")):
+        name = f"modifications[{i}]"
+        kw = convert(table, MODIFICATION_KEYS, name, list_keys=("pitch_errors",))
+        if "gear" not in kw:
+            raise InputError(f"{name}.gear", "missing", "name the modified gear")
+        if "pitch_errors" in kw and not isinstance(kw["pitch_errors"], tuple):
+            kw["pitch_errors"] = (kw["pitch_errors"],)
+        with as_written(table, "modifications", MODIFICATION_KEYS, sources=[(name, table)],
+                        default=name):
+            out.append(Modification(**kw))
+    return tuple(out)
 
 
 def loads(text: str) -> Gearbox:

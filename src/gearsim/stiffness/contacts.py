@@ -407,8 +407,10 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     s_corner = np.zeros(frac.shape)
     if corner:
         pb = pair.base_pitch
-        corner_mask = (~inside) & (((centre <= la) & (centre > la - pb))
-                                   | ((centre > le) & (centre < le + pb)))
+        # within one base pitch of the path and between the base tangents T1, T2 (the
+        # involutes exist there)
+        corner_mask = (~inside) & (((centre <= la) & (centre > max(la - pb, 0.0)))
+                                   | ((centre > le) & (centre < min(le + pb, big_l))))
         s_corner = np.where(corner_mask, corner_separation(pair, centre), 0.0)
         lend = np.where(centre <= la, la + 1e-9 * pb, le - 1e-9 * pb)
         rc1 = np.where(corner_mask, np.hypot(g1.base_radius, lend), 0.0)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any
 
@@ -75,11 +76,18 @@ def train_to_toml(train: GearTrain, dynamics: dict[str, Any] | None = None) -> s
     _table(lines, "[stiffness]", {"closure": st.closure, "slices": st.slices,
                                   "positions_per_cycle": st.positions_per_cycle,
                                   "gauss_points": st.gauss_points, "plane": st.plane,
-                                  "source": st.source})
+                                  "source": st.source, "corner_contact": st.corner_contact})
     for c in train.cracks:
         _table(lines, "[[cracks]]", {"gear": c.gear, "tooth": c.tooth, "flank": c.flank,
                                      "depth": c.depth, "angle": c.angle, "extent": c.extent,
                                      "profile": c.profile, "start_radius": c.start_radius})
+    for f in train.faults:
+        _table(lines, "[[faults]]", {"kind": f.kind, **{
+            k: v for k, v in dataclasses.asdict(f).items()
+            if not (f.kind == "broken" and k == "flank") and v != ()}})
+    for m in train.modifications:
+        _table(lines, "[[modifications]]", {k: v for k, v in dataclasses.asdict(m).items()
+                                            if v != ()})
     if dynamics is not None:
         _table(lines, "[dynamics]", dynamics)
     return "\n".join(lines) + "\n"

@@ -38,14 +38,16 @@ def _table_k(tab, off, length, npc, period, c):
 
 @njit(cache=True, error_model="numpy")
 def _listed(ptr, kx, sx, row, x):
-    """Force sum k_j max(0, x - s_j) and closed stiffness of the listed contacts of a row."""
+    """Force sum k_j max(0, x - s_j) and closed stiffness of the listed contacts of a row
+    (sorted by separation: the loop stops at the first open contact)."""
     f = 0.0
     kc = 0.0
     for p in range(ptr[row], ptr[row + 1]):
         g = x - sx[p]
-        if g > 0.0:
-            f += kx[p] * g
-            kc += kx[p]
+        if g <= 0.0:
+            break
+        f += kx[p] * g
+        kc += kx[p]
     return f, kc
 
 

@@ -16,7 +16,7 @@ A mesh whose contacts have separations (modifications, pitch errors, spalls, bro
 teeth, ...; :mod:`gearsim.stiffness.contacts`) carries its mesh of contacts instead: the
 table ``k`` is still the sum of every contact's stiffness; ``k_zero`` the sum over the
 contacts with zero separation, and the other contacts are listed per position (``ptr``,
-``kx``, ``sx``). The kernel evaluates F = k_zero max(0, delta) + sum_j k_j max(0, delta -
+``kx``, ``sx``, each position's list sorted by separation). The kernel evaluates F = k_zero max(0, delta) + sum_j k_j max(0, delta -
 s_j) at the two tabulated positions around c and interpolates the forces linearly
 (docs/contacts.md). Any crack combination on a contact mesh is exact (its period is
 lcm(z1, z2) when both gears differ).
@@ -112,11 +112,17 @@ def contact_table(grid) -> MeshTable:
     listed = (k > 0) & (s != 0)
     counts = listed.sum(axis=1)
     ptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    # each row sorted by separation: the kernel stops at the first open contact
+    key = np.where(listed, s, np.inf)
+    order = np.argsort(key, axis=1, kind="stable")
+    ks = np.take_along_axis(k, order, axis=1)
+    ss = np.take_along_axis(s, order, axis=1)
+    first = np.arange(k.shape[1])[None, :] < counts[:, None]
     return MeshTable(k=np.ascontiguousarray(k.sum(axis=1)),
                      positions_per_cycle=grid.positions_per_cycle, period=grid.period,
                      k_zero=np.ascontiguousarray(np.where(zero, k, 0.0).sum(axis=1)),
-                     ptr=ptr, kx=np.ascontiguousarray(k[listed]),
-                     sx=np.ascontiguousarray(s[listed]))
+                     ptr=ptr, kx=np.ascontiguousarray(ks[first]),
+                     sx=np.ascontiguousarray(ss[first]))
 
 
 def mesh_tables(train: GearTrain, *, contacts: bool = False) -> tuple[MeshTable, ...]:

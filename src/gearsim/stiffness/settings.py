@@ -45,9 +45,12 @@ class StiffnessSettings:
         up, by :func:`gearsim.system.tooth_compliance`.
     corner_contact
         Add the tip-corner contacts of the tooth pairs just outside the path of contact
-        to the mesh of contacts (:mod:`gearsim.stiffness.contacts`): they close only when
-        contact is lost elsewhere (a broken tooth) or under overload. Default off: the
-        healthy mesh is then exactly the TVMS of the slicing model.
+        to the mesh of contacts (:mod:`gearsim.stiffness.contacts`; default on). They
+        close when contact is lost elsewhere (a broken tooth: without them the gears
+        would turn freely until the next pair reaches the path of contact) and, near the
+        ends of the path, under load (extended contact). Off: a healthy mesh of contacts
+        is exactly the TVMS of the slicing model. The stiffness table of a mesh without
+        faults (:func:`gearsim.stiffness.mesh.mesh_stiffness`) never has them.
     """
 
     closure: str = "contact"
@@ -56,7 +59,7 @@ class StiffnessSettings:
     gauss_points: int = 16
     plane: str = "stress"
     source: str = "pe"
-    corner_contact: bool = False
+    corner_contact: bool = True
 
     def __post_init__(self) -> None:
         require(self.closure in CLOSURES, "stiffness.closure", self.closure,

@@ -339,8 +339,6 @@ class GearTrain:
         -------
         bool
         """
-        if self.stiffness.corner_contact:
-            return True
         f1, f2 = mesh_flanks(self, mesh)
         return not (f1.empty and f2.empty)
 

@@ -16,8 +16,9 @@ A mesh whose contacts have separations (modifications, pitch errors, spalls, bro
 teeth, ...; :mod:`gearsim.stiffness.contacts`) carries its mesh of contacts instead: the
 table ``k`` is still the sum of every contact's stiffness; ``k_zero`` the sum over the
 contacts with zero separation, and the other contacts are listed per position (``ptr``,
-``kx``, ``sx``, each position's list sorted by separation). The kernel evaluates F = k_zero max(0, delta) + sum_j k_j max(0, delta -
-s_j) at the two tabulated positions around c and interpolates the forces linearly
+``kx``, ``sx``, each position's list sorted by separation). The kernel evaluates
+F = k_zero max(0, delta) + sum_j k_j max(0, delta - s_j) at the two tabulated
+positions around c and interpolates the forces linearly
 (docs/contacts.md). Any crack combination on a contact mesh is exact (its period is
 lcm(z1, z2) when both gears differ).
 """

@@ -356,6 +356,8 @@ class BrokenTooth:
         Radius where the break line meets the fillet [m] (the FE outline of
         :mod:`gearsim.fem.faults` cuts the tooth there); default the 30 deg tangent
         point of ISO 6336-3. Must lie on the fillet (checked by the train).
+    flank : str
+        Not used: a broken tooth is gone on both flanks (kept for a common interface).
 
     Raises
     ------

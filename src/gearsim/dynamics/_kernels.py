@@ -2,6 +2,23 @@
 
 The equations are those of :mod:`gearsim.dynamics.model`; the Python wrapper
 :func:`gearsim.dynamics.simulate.run_kernel` checks and converts the inputs.
+
+Packed arguments (built by :func:`gearsim.dynamics.simulate._kernel_args`):
+
+* ``dof`` (4, n): 1/M, K_b, C_b, F_ext of each coordinate;
+* ``mp`` (n_mesh, 8): kappa, kscale, c_m, clearance 2b, phase, e0, positions per
+  cycle and period of each mesh's table;
+* ``mi`` (n_mesh, 4) int: table offset and length in ``tab``, mesh-of-contacts flag,
+  offset of its rows in ``ptr``;
+* ``harm`` (3, n_mesh, n_h): amplitude, angular frequency and phase of the STE
+  harmonics;
+* ``tab``: the tables k (every contact); ``tabz``: k_zero of the meshes of contacts
+  (``tab`` elsewhere); ``ptr``, ``cx`` (2, n): rows of listed contacts, their stiffness
+  and separation (sorted by separation in each row).
+
+Two integrators share one RK4 body (:func:`_rk4`, inlined): :func:`integrate_rk4` for
+stiffness tables only and :func:`integrate_rk4_contacts` with meshes of contacts. Kept
+apart, the table-only integrator compiles without the contact code and keeps its speed.
 """
 
 from __future__ import annotations
@@ -11,10 +28,15 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["integrate_rk4", "mesh_forces", "rhs"]
+__all__ = ["integrate_rk4", "integrate_rk4_contacts", "mesh_forces", "rhs"]
+
+# columns of mp
+KAPPA, KSCALE, CM, CLEAR, PHASE, E0, NPC, PERIOD = range(8)
+# columns of mi
+TOFF, TLEN, CON, CROW = range(4)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy")
 def _table_index(length, npc, period, c):
     """Samples (i, j) around cycle ``c`` of a periodic table and the weight of j."""
     cm = c - period * math.floor(c / period)
@@ -30,38 +52,25 @@ def _table_index(length, npc, period, c):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _table_k(tab, off, length, npc, period, c):
-    """Linear periodic interpolation of table ``tab[off:off+length]`` at cycle ``c``."""
-    i, j, w = _table_index(length, npc, period, c)
-    return tab[off + i] * (1.0 - w) + tab[off + j] * w
-
-
-@njit(cache=True, error_model="numpy")
-def _listed(ptr, kx, sx, row, x):
-    """Force sum k_j max(0, x - s_j) and closed stiffness of the listed contacts of a row
-    (sorted by separation: the loop stops at the first open contact)."""
-    f = 0.0
-    kc = 0.0
-    for p in range(ptr[row], ptr[row + 1]):
-        g = x - sx[p]
-        if g <= 0.0:
-            break
-        f += kx[p] * g
-        kc += kx[p]
-    return f, kc
-
-
-@njit(cache=True, error_model="numpy")
-def _contact_force(x, xd, b2, cm, ks, tab, tabz, off, length, npc, period, c, ptr, poff,
-                   kx, sx):
+def _contact_force(x, xd, b2, cm, ks, tab, tabz, off, i, j, w, ptr, row0, cx):
     """Force of a mesh of contacts (docs/contacts.md; :mod:`gearsim.dynamics.model`)."""
-    i, j, w = _table_index(length, npc, period, c)
     ka = ks * (tab[off + i] * (1.0 - w) + tab[off + j] * w)
     kz = ks * (tabz[off + i] * (1.0 - w) + tabz[off + j] * w)
-    f0, k0 = _listed(ptr, kx, sx, poff + i, x)
-    f1, k1 = _listed(ptr, kx, sx, poff + j, x)
-    fx = ks * (f0 * (1.0 - w) + f1 * w)
-    kc = ks * (k0 * (1.0 - w) + k1 * w)
+    # listed contacts of the two rows, each sorted by separation: stop at the first open
+    fx = 0.0
+    kc = 0.0
+    for row, wt in ((row0 + i, 1.0 - w), (row0 + j, w)):
+        p = ptr[row]
+        end = ptr[row + 1]
+        while p < end:
+            g = x - cx[1, p]
+            if g <= 0.0:
+                break
+            fx += wt * cx[0, p] * g
+            kc += wt * cx[0, p]
+            p += 1
+    fx *= ks
+    kc *= ks
     frac_all = 1.0 if ka <= 0.0 else 1.0 / ka
     if b2 == np.inf:  # linear mesh: zero-separation contacts stay bilateral
         return kz * x + fx + cm * xd * (kz + kc) * frac_all
@@ -74,11 +83,12 @@ def _contact_force(x, xd, b2, cm, ks, tab, tabz, off, length, npc, period, c, pt
     return 0.0
 
 
-@njit(cache=True, error_model="numpy")
-def mesh_forces(t, q, v, V, kappa, kscale, cm, clear, tab, tab_off, tab_len, tab_npc,
-                tab_period, fm, phase, e0, h_amp, h_om, h_ph, tabz, c_on, ptr, ptr_off, kx,
-                sx, f_out, d_out):
-    """Mesh forces f_i [N] (into ``f_out``) and deflections V_i.q [m] (into ``d_out``)."""
+@njit(cache=True, inline="always", error_model="numpy")
+def mesh_forces(t, q, v, V, mp, mi, tab, tabz, fm, harm, ptr, cx, contacts, f_out, d_out):
+    """Mesh forces f_i [N] (into ``f_out``) and deflections V_i.q [m] (into ``d_out``).
+
+    ``contacts`` is a literal at each call site: with ``False`` the meshes-of-contacts
+    branch is dead code."""
     nm = V.shape[0]
     n = V.shape[1]
     for i in range(nm):
@@ -88,71 +98,55 @@ def mesh_forces(t, q, v, V, kappa, kscale, cm, clear, tab, tab_off, tab_len, tab
             d += V[i, j] * q[j]
             dd += V[i, j] * v[j]
         d_out[i] = d
-        e = e0[i]
+        e = mp[i, E0]
         ed = 0.0
-        for h in range(h_amp.shape[1]):
-            a = h_amp[i, h]
+        for h in range(harm.shape[2]):
+            a = harm[0, i, h]
             if a != 0.0:
-                arg = h_om[i, h] * t + h_ph[i, h]
+                arg = harm[1, i, h] * t + harm[2, i, h]
                 e += a * math.sin(arg)
-                ed += a * h_om[i, h] * math.cos(arg)
+                ed += a * harm[1, i, h] * math.cos(arg)
         x = d - e
         xd = dd - ed
-        b2 = clear[i]
-        if c_on[i] != 0:
-            f_out[i] = kappa[i] * _contact_force(
-                x, xd, b2, cm[i], kscale[i], tab, tabz, tab_off[i], tab_len[i], tab_npc[i],
-                tab_period[i], fm * t + phase[i], ptr, ptr_off[i], kx, sx)
-            continue
-        k = kscale[i] * _table_k(tab, tab_off[i], tab_len[i], tab_npc[i], tab_period[i],
-                                 fm * t + phase[i])
-        if b2 == np.inf:  # linear mesh
-            f = k * x + cm[i] * xd
-        elif x > 0.0:  # working flanks in contact: contact force cannot pull
-            f = max(k * x + cm[i] * xd, 0.0)
-        elif x <= -b2:  # back flanks in contact: it cannot push
-            f = min(k * (x + b2) + cm[i] * xd, 0.0)
-        else:  # teeth separated
-            f = 0.0
-        f_out[i] = kappa[i] * f
+        b2 = mp[i, CLEAR]
+        cmi = mp[i, CM]
+        off = mi[i, TOFF]
+        i0, j0, w = _table_index(mi[i, TLEN], mp[i, NPC], mp[i, PERIOD],
+                                 fm * t + mp[i, PHASE])
+        if contacts and mi[i, CON] != 0:
+            f = _contact_force(x, xd, b2, cmi, mp[i, KSCALE], tab, tabz, off, i0, j0, w,
+                               ptr, mi[i, CROW], cx)
+        else:
+            k = mp[i, KSCALE] * (tab[off + i0] * (1.0 - w) + tab[off + j0] * w)
+            if b2 == np.inf:  # linear mesh
+                f = k * x + cmi * xd
+            elif x > 0.0:  # working flanks in contact: contact force cannot pull
+                f = max(k * x + cmi * xd, 0.0)
+            elif x <= -b2:  # back flanks in contact: it cannot push
+                f = min(k * (x + b2) + cmi * xd, 0.0)
+            else:  # teeth separated
+                f = 0.0
+        f_out[i] = mp[i, KAPPA] * f
 
 
-@njit(cache=True, error_model="numpy")
-def rhs(t, q, v, minv, kb, cb, fext, V, kappa, kscale, cm, clear, tab, tab_off, tab_len,
-        tab_npc, tab_period, fm, phase, e0, h_amp, h_om, h_ph, tabz, c_on, ptr, ptr_off, kx,
-        sx, a_out, f_out, d_out):
+@njit(cache=True, inline="always", error_model="numpy")
+def rhs(t, q, v, dof, V, mp, mi, tab, tabz, fm, harm, ptr, cx, contacts, a_out, f_out,
+        d_out):
     """Accelerations M^-1 (F_ext - K_b q - C_b q' - sum V_i f_i) into ``a_out``."""
-    mesh_forces(t, q, v, V, kappa, kscale, cm, clear, tab, tab_off, tab_len, tab_npc,
-                tab_period, fm, phase, e0, h_amp, h_om, h_ph, tabz, c_on, ptr, ptr_off, kx,
-                sx, f_out, d_out)
+    mesh_forces(t, q, v, V, mp, mi, tab, tabz, fm, harm, ptr, cx, contacts, f_out, d_out)
     n = q.size
     nm = V.shape[0]
     for j in range(n):
-        s = fext[j] - kb[j] * q[j] - cb[j] * v[j]
+        s = dof[3, j] - dof[1, j] * q[j] - dof[2, j] * v[j]
         for i in range(nm):
             s -= V[i, j] * f_out[i]
-        a_out[j] = s * minv[j]
+        a_out[j] = s * dof[0, j]
 
 
-@njit(cache=True, error_model="numpy")
-def integrate_rk4(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, minv, kb, cb,
-                  fext, V, kappa, kscale, cm, clear, tab, tab_off, tab_len, tab_npc,
-                  tab_period, fm, phase, e0, h_amp, h_om, h_ph, tabz, c_on, ptr, ptr_off, kx,
-                  sx):
-    """Classical fixed-step RK4 from t0 over ``n_steps`` steps of ``dt``.
-
-    Records q, q' and the mesh forces at steps ``rec_start + r rec_every`` (r < n_rec),
-    i.e. at instantaneous sample times. Stops when a coordinate is not finite or exceeds
-    ``qlim`` in magnitude.
-
-    Returns
-    -------
-    status : 0 finished, 1 diverged
-    step : the step at which it stopped
-    rec_q, rec_v : (n_rec, n) recorded state
-    rec_f : (n_rec, n_mesh) recorded mesh forces
-    q, v : final state
-    """
+@njit(cache=True, inline="always", error_model="numpy")
+def _rk4(contacts, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof, V, mp,
+         mi, tab, tabz, fm, harm, ptr, cx):
+    """Classical fixed-step RK4 (body of both integrators; see :func:`integrate_rk4`)."""
     n = q0.size
     nm = V.shape[0]
     q = q0.copy()
@@ -177,9 +171,7 @@ def integrate_rk4(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, mi
     next_rec = rec_start
     for s in range(n_steps + 1):
         t = t0 + s * dt
-        rhs(t, q, v, minv, kb, cb, fext, V, kappa, kscale, cm, clear, tab, tab_off, tab_len,
-            tab_npc, tab_period, fm, phase, e0, h_amp, h_om, h_ph, tabz, c_on, ptr, ptr_off,
-            kx, sx, k1v, f, d)
+        rhs(t, q, v, dof, V, mp, mi, tab, tabz, fm, harm, ptr, cx, contacts, k1v, f, d)
         if s == next_rec and r < n_rec:
             for j in range(n):
                 rec_q[r, j] = q[j]
@@ -194,23 +186,17 @@ def integrate_rk4(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, mi
             k1q[j] = v[j]
             qt[j] = q[j] + h2 * v[j]
             vt[j] = v[j] + h2 * k1v[j]
-        rhs(t + h2, qt, vt, minv, kb, cb, fext, V, kappa, kscale, cm, clear, tab, tab_off,
-            tab_len, tab_npc, tab_period, fm, phase, e0, h_amp, h_om, h_ph, tabz, c_on, ptr,
-            ptr_off, kx, sx, k2v, f, d)
+        rhs(t + h2, qt, vt, dof, V, mp, mi, tab, tabz, fm, harm, ptr, cx, contacts, k2v, f, d)
         for j in range(n):
             k2q[j] = vt[j]
             qt[j] = q[j] + h2 * vt[j]
             vt[j] = v[j] + h2 * k2v[j]
-        rhs(t + h2, qt, vt, minv, kb, cb, fext, V, kappa, kscale, cm, clear, tab, tab_off,
-            tab_len, tab_npc, tab_period, fm, phase, e0, h_amp, h_om, h_ph, tabz, c_on, ptr,
-            ptr_off, kx, sx, k3v, f, d)
+        rhs(t + h2, qt, vt, dof, V, mp, mi, tab, tabz, fm, harm, ptr, cx, contacts, k3v, f, d)
         for j in range(n):
             k3q[j] = vt[j]
             qt[j] = q[j] + dt * vt[j]
             vt[j] = v[j] + dt * k3v[j]
-        rhs(t + dt, qt, vt, minv, kb, cb, fext, V, kappa, kscale, cm, clear, tab, tab_off,
-            tab_len, tab_npc, tab_period, fm, phase, e0, h_amp, h_om, h_ph, tabz, c_on, ptr,
-            ptr_off, kx, sx, k4v, f, d)
+        rhs(t + dt, qt, vt, dof, V, mp, mi, tab, tabz, fm, harm, ptr, cx, contacts, k4v, f, d)
         bad = False
         for j in range(n):
             q[j] += h6 * (k1q[j] + 2.0 * k2q[j] + 2.0 * k3q[j] + vt[j])
@@ -220,3 +206,32 @@ def integrate_rk4(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, mi
         if bad:
             return 1, s + 1, rec_q, rec_v, rec_f, q, v
     return 0, n_steps, rec_q, rec_v, rec_f, q, v
+
+
+@njit(cache=True, error_model="numpy")
+def integrate_rk4(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof, V, mp,
+                  mi, tab, tabz, fm, harm, ptr, cx):
+    """Classical fixed-step RK4 from t0 over ``n_steps`` steps of ``dt`` (stiffness tables).
+
+    Records q, q' and the mesh forces at steps ``rec_start + r rec_every`` (r < n_rec),
+    i.e. at instantaneous sample times. Stops when a coordinate is not finite or exceeds
+    ``qlim`` in magnitude.
+
+    Returns
+    -------
+    status : 0 finished, 1 diverged
+    step : the step at which it stopped
+    rec_q, rec_v : (n_rec, n) recorded state
+    rec_f : (n_rec, n_mesh) recorded mesh forces
+    q, v : final state
+    """
+    return _rk4(False, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof, V,
+                mp, mi, tab, tabz, fm, harm, ptr, cx)
+
+
+@njit(cache=True, error_model="numpy")
+def integrate_rk4_contacts(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof,
+                           V, mp, mi, tab, tabz, fm, harm, ptr, cx):
+    """:func:`integrate_rk4` with meshes of contacts (same arguments and returns)."""
+    return _rk4(True, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof, V,
+                mp, mi, tab, tabz, fm, harm, ptr, cx)

@@ -190,23 +190,28 @@ class Raw:
 
 
 def _kernel_args(model: DynamicModel):
+    """Packed kernel arguments (layout in :mod:`gearsim.dynamics._kernels`)."""
     tabs = model.tables
     lens = np.array([t.k.size for t in tabs], dtype=np.int64)
     offs = np.concatenate([[0], np.cumsum(lens)[:-1]]).astype(np.int64)
-    return (1.0 / model.mass, model.kb.astype(float), model.cb.astype(float),
-            model.fext.astype(float), np.ascontiguousarray(model.V, dtype=float),
-            model.kappa.astype(float), model.kscale.astype(float), model.cm.astype(float),
-            model.clearance.astype(float), np.concatenate([t.k for t in tabs]), offs, lens,
-            np.array([t.positions_per_cycle for t in tabs], dtype=float),
-            np.array([t.period for t in tabs], dtype=float), float(model.mesh_frequency),
-            model.phase.astype(float), model.e0.astype(float),
-            np.ascontiguousarray(model.h_amp, dtype=float),
-            np.ascontiguousarray(model.h_omega, dtype=float),
-            np.ascontiguousarray(model.h_phase, dtype=float), *_contact_args(tabs))
+    dof = np.ascontiguousarray(np.stack([1.0 / model.mass, model.kb, model.cb, model.fext]),
+                               dtype=float)
+    mp = np.ascontiguousarray(np.stack(
+        [model.kappa, model.kscale, model.cm, model.clearance, model.phase, model.e0,
+         np.array([t.positions_per_cycle for t in tabs], dtype=float),
+         np.array([t.period for t in tabs], dtype=float)], axis=1), dtype=float)
+    tabz, on, ptr, poff, cx = _contact_args(tabs)
+    mi = np.ascontiguousarray(np.stack([offs, lens, on, poff], axis=1), dtype=np.int64)
+    harm = np.ascontiguousarray(np.stack([model.h_amp, model.h_omega, model.h_phase]),
+                                dtype=float)
+    return (dof, np.ascontiguousarray(model.V, dtype=float), mp, mi,
+            np.concatenate([t.k for t in tabs]), tabz, float(model.mesh_frequency), harm,
+            ptr, cx)
 
 
 def _contact_args(tabs):
-    """Kernel arrays of the meshes of contacts: k_zero tables, on flags, CSR lists."""
+    """Kernel arrays of the meshes of contacts: k_zero tables, flags and row offsets per
+    mesh, CSR row pointers, listed (stiffness, separation) pairs."""
     tabz = np.concatenate([t.k_zero if t.has_contacts else t.k for t in tabs])
     on = np.array([1 if t.has_contacts else 0 for t in tabs], dtype=np.int64)
     ptrs, kxs, sxs, poff = [], [], [], []
@@ -223,9 +228,9 @@ def _contact_args(tabs):
     ptr = np.concatenate(ptrs).astype(np.int64) if ptrs else np.zeros(1, dtype=np.int64)
     kx = np.concatenate(kxs) if kxs else np.zeros(1)
     sx = np.concatenate(sxs) if sxs else np.zeros(1)
+    cx = np.ascontiguousarray(np.stack([kx, sx]), dtype=float)
     return (np.ascontiguousarray(tabz, dtype=float), on, ptr,
-            np.array(poff, dtype=np.int64), np.ascontiguousarray(kx, dtype=float),
-            np.ascontiguousarray(sx, dtype=float))
+            np.array(poff, dtype=np.int64), cx)
 
 
 def run_kernel(model: DynamicModel, *, dt: float, n_steps: int, rec_start: int = 0,
@@ -257,7 +262,9 @@ def run_kernel(model: DynamicModel, *, dt: float, n_steps: int, rec_start: int =
         n_rec = (n_steps - rec_start) // rec_every + 1
     q0 = model.q_static.copy() if q0 is None else np.asarray(q0, dtype=float).copy()
     v0 = np.zeros(model.n_dof) if v0 is None else np.asarray(v0, dtype=float).copy()
-    status, step, rq, rv, rf, q, v = _kernels.integrate_rk4(
+    integrate = (_kernels.integrate_rk4_contacts
+                 if any(t.has_contacts for t in model.tables) else _kernels.integrate_rk4)
+    status, step, rq, rv, rf, q, v = integrate(
         q0, v0, float(t0), float(dt), int(n_steps), int(rec_start), int(rec_every), int(n_rec),
         Q_LIMIT, *_kernel_args(model))
     if status != 0:

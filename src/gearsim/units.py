@@ -68,7 +68,7 @@ EXAMPLES: dict[str, str] = {
     "frequency": "50 kHz", "stiffness": "1e9 N/m", "damping": "1e3 N*s/m",
     "torsional_stiffness": "1e6 N*m/rad", "mass": "40 kg", "inertia": "1.2 kg*m^2",
     "dimensionless": "0.3", "force": "1 kN", "acceleration": "9.81 m/s^2",
-    "wear_coefficient": "5e-16 m^2/N",
+    "wear_coefficient": "1e-17 m^2/N",
 }
 
 #: Kinds whose bare numbers are ambiguous (a speed in rpm or rad/s?): a unit is required.

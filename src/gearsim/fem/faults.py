@@ -77,7 +77,8 @@ from gearsim.fem.tooth import (
     FINEST_LEVEL,
     PATCH_HALF_LENGTH,
     _check_radii,
-    _patch,
+    deflection_along_load,
+    flank_loads,
     load_geometry,
 )
 from gearsim.geometry.gear import Gear
@@ -433,39 +434,9 @@ def broken_shape(gear: Gear, broken: BrokenTooth | None = None) -> ToothShape:
 def _solve(gear: Gear, sector: SectorMesh, r: np.ndarray, plane: str,
            opt: SectorOptions) -> tuple[np.ndarray, ElasticModel]:
     """Compliance at Q along the load for each radius (as :mod:`gearsim.fem.tooth`)."""
-    prof = ToothProfile(gear)
-    mat = gear.material
-    model = ElasticModel(sector.p, sector.t, mat.youngs_modulus, mat.poisson_ratio,
-                         plane=plane, order=2)
-    fixed_nodes = sector.bore if opt.sides == "free" else np.union1d(sector.bore, sector.sides)
-    fixed = model.dofs_on_facets(model.facets_on_nodes(fixed_nodes))
-    flank = model.facets_on_nodes(sector.flank)
-    half = PATCH_HALF_LENGTH * gear.normal_module
-    n = r.size
-    loads = np.zeros((model.ndofs, n))
-    dirs = np.zeros((n, 2))
-    qs = np.zeros((2, n))
-    for k, rk in enumerate(r):
-        point, d, q = load_geometry(prof, float(rk))
-        facets = _patch(model, flank, point, half)
-
-        def bell(x, y, point=point, d=d):
-            s2 = ((x - point[0]) ** 2 + (y - point[1]) ** 2) / half**2
-            w = np.where(s2 < 1.0, (1.0 - s2) ** 2, 0.0)
-            return d[0] * w, d[1] * w
-
-        f = model.traction_load(facets, bell, intorder=12)
-        total = float(np.dot(d, [f[0::2].sum(), f[1::2].sum()]))
-        if not total > 0.0:
-            f = model.traction_load(facets[:1], d)
-            total = float(np.dot(d, [f[0::2].sum(), f[1::2].sum()]))
-        loads[:, k] = f / total
-        dirs[k] = d
-        qs[:, k] = q
+    model, fixed, loads, dirs, qs = flank_loads(gear, sector, r, plane, opt)
     u = model.solve(loads, fixed)
-    vals = model.probe(qs) @ u
-    comp = np.array([dirs[k, 0] * vals[k, k] + dirs[k, 1] * vals[n + k, k] for k in range(n)])
-    return comp, model
+    return deflection_along_load(model, u, dirs, qs), model
 
 
 def _result(gear, sector, r, plane, opt, fault, teeth, t0) -> FEFaultResult:

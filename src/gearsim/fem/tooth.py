@@ -214,6 +214,99 @@ def check_crack_resolved(gear: Gear, depth: float, *, crack_depth: float | None 
                          "for a smaller crack")
 
 
+def flank_loads(gear: Gear, sector: SectorMesh, r: np.ndarray, plane: str,
+                opt: SectorOptions):
+    """Elastic model of ``sector`` and a unit load on the loaded flank at each radius.
+
+    The load of radius r_k is a smooth bell of half length ``PATCH_HALF_LENGTH m_n``
+    around the involute point, along the contact normal, scaled to a unit resultant
+    along that normal; the deflection is read at the point Q of
+    :func:`load_geometry`.
+
+    Parameters
+    ----------
+    gear : Gear
+        The gear.
+    sector : SectorMesh
+        Its meshed sector (:func:`gearsim.fem.geometry.mesh_sector`).
+    r : ndarray
+        Contact radii [m].
+    plane : {"stress", "strain"}
+        Plane assumption.
+    opt : SectorOptions
+        Mesh options (which boundary is fixed).
+
+    Returns
+    -------
+    model : ElasticModel
+        The assembled model.
+    fixed : ndarray of int
+        Fixed degrees of freedom.
+    loads : ndarray, shape (ndofs, n)
+        Load vectors, unit resultant [N per m of face width].
+    dirs : ndarray, shape (n, 2)
+        Load directions (unit vectors).
+    qs : ndarray, shape (2, n)
+        Points Q where the deflection is read [m].
+    """
+    prof = ToothProfile(gear)
+    mat = gear.material
+    model = ElasticModel(sector.p, sector.t, mat.youngs_modulus, mat.poisson_ratio,
+                         plane=plane, order=2)
+    fixed_nodes = sector.bore if opt.sides == "free" else np.union1d(sector.bore, sector.sides)
+    fixed = model.dofs_on_facets(model.facets_on_nodes(fixed_nodes))
+    flank = model.facets_on_nodes(sector.flank)
+    half = PATCH_HALF_LENGTH * gear.normal_module
+    loads = np.zeros((model.ndofs, r.size))
+    dirs = np.zeros((r.size, 2))
+    qs = np.zeros((2, r.size))
+    for k, rk in enumerate(r):
+        point, d, q = load_geometry(prof, float(rk))
+        facets = _patch(model, flank, point, half)
+
+        def bell(x, y, point=point, d=d):
+            s2 = ((x - point[0]) ** 2 + (y - point[1]) ** 2) / half**2
+            w = np.where(s2 < 1.0, (1.0 - s2) ** 2, 0.0)
+            return d[0] * w, d[1] * w
+
+        # Lagrange shape functions sum to one: the dof sums per component are the
+        # resultant force (x dofs even, y dofs odd in scikit-fem's vector ordering)
+        f = model.traction_load(facets, bell, intorder=12)
+        total = float(np.dot(d, [f[0::2].sum(), f[1::2].sum()]))
+        if not total > 0.0:  # the bell fell between quadrature points: uniform fallback
+            f = model.traction_load(facets[:1], d)
+            total = float(np.dot(d, [f[0::2].sum(), f[1::2].sum()]))
+        loads[:, k] = f / total
+        dirs[k] = d
+        qs[:, k] = q
+    return model, fixed, loads, dirs, qs
+
+
+def deflection_along_load(model, u: np.ndarray, dirs: np.ndarray, qs: np.ndarray
+                          ) -> np.ndarray:
+    """Deflection at Q along each load direction for the solutions ``u`` (one per load).
+
+    Parameters
+    ----------
+    model : ElasticModel
+        The model.
+    u : ndarray, shape (ndofs, n)
+        Displacements, column k under load k.
+    dirs : ndarray, shape (n, 2)
+        Load directions.
+    qs : ndarray, shape (2, n)
+        Points Q.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Compliance [m/N per m of face width].
+    """
+    n = dirs.shape[0]
+    vals = model.probe(qs) @ u  # (2 n, n)
+    return np.array([dirs[k, 0] * vals[k, k] + dirs[k, 1] * vals[n + k, k] for k in range(n)])
+
+
 def fe_tooth_compliance(gear: Gear, radii, *, crack=None, depth: float | None = None,
                         side: int = 0, closure: str = "contact", plane: str = "stress",
                         options: SectorOptions | None = None) -> FEToothResult:
@@ -258,36 +351,7 @@ def fe_tooth_compliance(gear: Gear, radii, *, crack=None, depth: float | None = 
             check_crack_resolved(gear, q, crack_depth=crack.depth)
             cl = crack_line(prof, crack, q, side)
     sector = mesh_sector(gear, crack=cl, options=opt)
-    mat = gear.material
-    model = ElasticModel(sector.p, sector.t, mat.youngs_modulus, mat.poisson_ratio,
-                         plane=plane, order=2)
-    fixed_nodes = sector.bore if opt.sides == "free" else np.union1d(sector.bore, sector.sides)
-    fixed = model.dofs_on_facets(model.facets_on_nodes(fixed_nodes))
-    flank = model.facets_on_nodes(sector.flank)
-    half = PATCH_HALF_LENGTH * gear.normal_module
-    loads = np.zeros((model.ndofs, r.size))
-    dirs = np.zeros((r.size, 2))
-    qs = np.zeros((2, r.size))
-    for k, rk in enumerate(r):
-        point, d, q = load_geometry(prof, float(rk))
-        facets = _patch(model, flank, point, half)
-
-        def bell(x, y, point=point, d=d):
-            s2 = ((x - point[0]) ** 2 + (y - point[1]) ** 2) / half**2
-            w = np.where(s2 < 1.0, (1.0 - s2) ** 2, 0.0)
-            return d[0] * w, d[1] * w
-
-        # Lagrange shape functions sum to one: the dof sums per component are the
-        # resultant force (x dofs even, y dofs odd in scikit-fem's vector ordering)
-        f = model.traction_load(facets, bell, intorder=12)
-        total = float(np.dot(d, [f[0::2].sum(), f[1::2].sum()]))
-        if not total > 0.0:  # the bell fell between quadrature points: uniform fallback
-            f = model.traction_load(facets[:1], d)
-            total = float(np.dot(d, [f[0::2].sum(), f[1::2].sum()]))
-        loads[:, k] = f / total
-        dirs[k] = d
-        qs[:, k] = q
-    probe = model.probe(qs)
+    model, fixed, loads, dirs, qs = flank_loads(gear, sector, r, plane, opt)
     n = r.size
     iters = np.zeros(n, dtype=int)
     closed = np.zeros(n)
@@ -302,8 +366,7 @@ def fe_tooth_compliance(gear: Gear, radii, *, crack=None, depth: float | None = 
             closed[k] = float(np.sum(weights[active]) / np.sum(weights))
     else:
         u = model.solve(loads, fixed)
-    vals = probe @ u  # (2 n, n)
-    comp = np.array([dirs[k, 0] * vals[k, k] + dirs[k, 1] * vals[n + k, k] for k in range(n)])
+    comp = deflection_along_load(model, u, dirs, qs)
     return FEToothResult(radii=r, compliance=comp, level=opt.level, h=sector.h,
                          nodes=int(model.mesh.p.shape[1]), elements=int(model.mesh.t.shape[1]),
                          dofs=model.ndofs, closure=closure, plane=plane, crack=cl,

@@ -1,0 +1,135 @@
+"""Fault variants of a gearbox, one per fault class, sized by one severity number.
+
+The multi-class diagnostic study and the reproduction's fault-magnitude section need
+every fault type on the same footing: :func:`fault_variant` puts one fault of class
+``kind`` on tooth 0 of the input gear (the gear of the seed's crack), with its size set
+by ``severity`` in (0, 1] as a fraction of a reference size taken from the gear itself
+(module, face width, active flank, ISO 1328-1 tolerances), so that the same call works
+for any train:
+
+============== ==========================================================================
+class          fault at severity s (input gear, tooth 0, working flank)
+============== ==========================================================================
+none           healthy
+working        root crack on the working flank, depth s x 2 mm x m_n / 6 mm (the
+               default crack, 2 mm at the Table-1 module, at s = 1)
+non-working    the same crack on the non-working flank
+spall          rectangular spall at the pitch circle, mid-face: length s x 0.5 x active
+               profile arc, width s x 0.5 b, depth 0.05 m_n
+pitting        pits of 0.1 m_n diameter and 0.02 m_n depth over the dedendum half of
+               the active flank, area fraction 0.3 s (seed 0)
+chip           chipped tip corner at z = 0: length s x 0.4 x active profile arc from
+               the tip, width s x 0.5 b
+broken         broken tooth over s x b of the face (s = 1: the whole tooth)
+pitch          tooth 0 behind its position by s x 4 f_pT (ISO 1328-1 grade 6)
+eccentricity   runout of the input gear s x 4 f_pT (grade 6), phase 0
+============== ==========================================================================
+
+References
+----------
+ISO 1328-1:2013 (f_pT); the fault models: :mod:`gearsim.stiffness.faults`,
+:mod:`gearsim.stiffness.crack`; runout: :mod:`gearsim.dynamics.lta`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from gearsim.errors import require
+from gearsim.model.gearbox import Gearbox
+from gearsim.stiffness.faults import BrokenTooth, ChippedTip, Pitting, Spall, arc_at_radius
+from gearsim.stiffness.modifications import Modification, single_pitch_tolerance
+from gearsim.system.faults import active_roll_range
+
+__all__ = ["FAULT_CLASSES", "fault_variant"]
+
+#: Fault classes of :func:`fault_variant` (``none`` = healthy).
+FAULT_CLASSES = ("none", "working", "non-working", "spall", "pitting", "chip", "broken",
+                 "pitch", "eccentricity")
+
+
+def fault_variant(gearbox: Gearbox, kind: str, severity: float = 1.0) -> Gearbox:
+    """The gearbox with one fault of class ``kind`` on tooth 0 of the input gear.
+
+    Every other crack and fault of ``gearbox`` is removed first (the variant has one
+    fault); its modifications are kept. Every variant, the healthy one included, runs its
+    meshes as meshes of contacts (``dynamics.contact_mesh``, with the stiffness
+    options' tip-corner contacts), so that the classes differ by their fault only and
+    not by the mesh model (the tip-corner contacts alone change a spur pair's
+    vibration markedly).
+
+    Parameters
+    ----------
+    gearbox : Gearbox
+        The base gearbox.
+    kind : str
+        One of :data:`FAULT_CLASSES` (module docstring: the size at each severity).
+    severity : float
+        Fraction of the reference size, in (0, 1].
+
+    Returns
+    -------
+    Gearbox
+        The variant (checked where it is made, like any train).
+
+    Raises
+    ------
+    InputError
+        For an unknown class or a severity outside (0, 1].
+
+    Examples
+    --------
+    >>> import gearsim as gs
+    >>> gb = fault_variant(gs.example("idler-table1"), "broken", 0.5)
+    >>> f = gb.train.faults[0]
+    >>> f.kind, f.gear, f.tooth, round(f.width * 1e3, 3)
+    ('broken', 'input', 0, 75.0)
+    """
+    require(kind in FAULT_CLASSES, "fault", kind, "must be one of " + ", ".join(FAULT_CLASSES))
+    require(isinstance(severity, (int, float)) and not isinstance(severity, bool)
+            and math.isfinite(severity) and 0 < severity <= 1, "severity", severity,
+            "must be a number in (0, 1]")
+    s = float(severity)
+    base = gearbox.train.with_crack("none").with_faults(())
+    dyn = dataclasses.replace(gearbox.dynamics, runout=(0.0,), contact_mesh=True)
+    g = base.gears[0]
+    m, b, rb = g.normal_module, g.face_width, g.base_radius
+    lo, hi = active_roll_range(base, g.name, "working")
+    arc = (hi * hi - lo * lo) / (2 * rb)
+    fpt = single_pitch_tolerance(6, 2 * g.pitch_radius, m)
+    train = base
+    if kind in ("working", "non-working"):
+        train = base.with_crack(kind, depth=s * 2e-3 * m / 6e-3)
+    elif kind == "spall":
+        # centred on the pitch circle, kept inside the active flank
+        sc = min(max(arc_at_radius(g.pitch_radius, rb), lo * lo / (2 * rb) + 0.25 * arc),
+                 hi * hi / (2 * rb) - 0.25 * arc)
+        r = math.sqrt(2 * rb * sc + rb * rb)
+        train = base.with_faults((Spall(gear=g.name, tooth=0, radius=r, length=s * 0.5 * arc,
+                                        width=s * 0.5 * b, depth=0.05 * m),))
+    elif kind == "pitting":
+        r_lo = math.hypot(rb, lo)
+        r_hi = max(min(g.pitch_radius, math.hypot(rb, hi)), r_lo + 0.25 * (math.hypot(rb, hi) - r_lo))
+        train = base.with_faults((Pitting(gear=g.name, tooth=0, area_fraction=0.3 * s,
+                                          radius_min=r_lo, radius_max=r_hi,
+                                          pit_diameter=0.1 * m, depth=0.02 * m),))
+    elif kind == "chip":
+        train = base.with_faults((ChippedTip(gear=g.name, tooth=0, length=s * 0.4 * arc,
+                                             width=s * 0.5 * b),))
+    elif kind == "broken":
+        train = base.with_faults((BrokenTooth(gear=g.name, tooth=0,
+                                              width=None if s == 1 else s * b),))
+    elif kind == "pitch":
+        errors = [0.0] * g.teeth
+        errors[0] = s * 4 * fpt
+        mods = tuple(x for x in base.modifications if x.gear != g.name)
+        old = next((x for x in base.modifications if x.gear == g.name), None)
+        new = (dataclasses.replace(old, pitch_errors=tuple(errors), pitch_grade=None)
+               if old is not None else Modification(gear=g.name, pitch_errors=tuple(errors)))
+        train = base.with_faults((), (*mods, new))
+    elif kind == "eccentricity":
+        ro = [0.0] * len(base.gears)
+        ro[0] = s * 4 * fpt
+        dyn = dataclasses.replace(dyn, runout=tuple(ro))
+    return dataclasses.replace(gearbox, train=train, dynamics=dyn)

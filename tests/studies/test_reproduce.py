@@ -213,9 +213,10 @@ def test_findings_and_physics_trends(study):
 def test_report_and_figures_are_written(study):
     out, rep = study
     html = (out / "report.html").read_text()
-    assert html.count("data:image/png;base64,") == 6
+    assert html.count("data:image/png;base64,") == 7
+    assert "Which faults reach the seed's magnitudes" in html
     for name in ("fig3_stiffness", "fig5_time", "fig6_spectrum", "fig7_zooms", "fig8_stft",
-                 "fig_sensitivity"):
+                 "fig_sensitivity", "fig_fault_magnitudes"):
         png = out / "figures" / f"{name}.png"
         assert png.stat().st_size > 20_000
         assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -228,3 +229,25 @@ def test_report_and_figures_are_written(study):
     with xr.open_dataset(out / "dynamic_load.nc", engine="h5netcdf") as ds:
         assert ds.sizes["case"] == 10
         assert np.isfinite(ds["mesh_force_1"].values).all()
+
+
+def test_fault_magnitudes_section(study):
+    """Every fault class at every severity, measured against healthy on the same model:
+    a whole broken tooth and the largest pitch error give impacts far above the 2 mm
+    crack (they remove or shift a whole tooth pair's contact); a runout has no tooth
+    event (impact measure within 10 % of healthy); the verdict flags follow the seed's
+    levels."""
+    _, rep = study
+    rows = {(r["fault"], r["severity"]): r for r in rep.fault_magnitudes}
+    sev = rep.options.fault_severities
+    kinds = ("working", "non-working", "spall", "pitting", "chip", "broken", "pitch",
+             "eccentricity")
+    assert set(rows) == {(k, s) for k in kinds for s in sev}
+    crack = rows[("working", 1.0)]["impact_percent"]
+    assert rows[("broken", 1.0)]["impact_percent"] > crack + 50
+    assert rows[("pitch", 1.0)]["impact_percent"] > crack + 50
+    assert rows[("eccentricity", 1.0)]["impact_percent"] < 110
+    for r in rep.fault_magnitudes:
+        if r["impact_percent"] is not None:
+            assert r["reaches_impact"] == (r["impact_percent"] >= 203.1)
+        assert r["reaches_rms"] == (r["rms_percent"] >= 132.4)

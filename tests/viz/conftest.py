@@ -157,7 +157,11 @@ def reproduction():
         options=SimpleNamespace(depth=6e-3, revolutions=30), train=SimpleNamespace(gears=[gear]),
         t1=t1, f_m=f_m, contact_ratio=1.6, runs=runs, metrics=metrics, stiffness=stiffness,
         fe_checks={"none": check(1.0), "working": check(0.8)}, sensitivity=sensitivity,
-        claims=[], findings={}, timings={}, seed=seed)
+        claims=[], findings={}, timings={}, seed=seed,
+        fault_magnitudes=[{"fault": k, "severity": s, "impact_percent": 100 + 80 * s * i,
+                           "rms_percent": 100 + 10 * s * i}
+                          for i, k in enumerate(("working", "broken", "eccentricity"))
+                          for s in (0.5, 1.0)])
 
 
 @pytest.fixture(scope="session")

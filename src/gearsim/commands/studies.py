@@ -42,6 +42,22 @@ def _depths(text: str) -> tuple[float, ...]:
     return tuple(_depth(p, "--depths") for p in parts)
 
 
+def _severities(text: str) -> tuple[float, ...]:
+    """Parse ``--fault-severities`` ("0.25, 0.5, 1" or "none")."""
+    if text.strip().lower() == "none":
+        return ()
+    out = []
+    for part in (p.strip() for p in text.split(",") if p.strip()):
+        try:
+            out.append(float(part))
+        except ValueError:
+            raise InputError("--fault-severities", part,
+                             "must be numbers in (0, 1], comma separated, or 'none'") from None
+    if not out:
+        raise InputError("--fault-severities", text, "must list at least one severity or 'none'")
+    return tuple(out)
+
+
 def reproduce(
     out: Annotated[str, typer.Option(help="output folder (report.html, claims.json, "
                                           "figures/, dynamic_load.nc): new, empty or an "
@@ -57,6 +73,9 @@ def reproduce(
     fe: Annotated[bool, typer.Option("--fe/--no-fe", help="also run the FE-stiffness route "
                                                           "and the FE tooth check")] = True,
     model: Annotated[str, typer.Option(help="dynamic model: lta or seed")] = "lta",
+    fault_severities: Annotated[str, typer.Option(
+        help="severities in (0, 1] of the fault-magnitude section (every fault class at "
+             "each), comma separated; 'none' to skip it")] = "0.25, 0.5, 1",
     quiet: Annotated[bool, typer.Option("--quiet", help="no progress messages")] = False,
     force: Annotated[bool, typer.Option(
         "--force", help="run even above the cost bounds (1e9 integration steps over all "
@@ -67,10 +86,12 @@ def reproduce(
     folder: Path = check_output(out, "--out")  # every output target before any work
     d = _depth(depth, "--depth")
     names = {"revolutions": "--revolutions", "model": "--model", "depth": "--depth",
-             "depths": "--depths"}
+             "depths": "--depths", "fault_severities": "--fault-severities"}
+    sev = _severities(fault_severities)
     with as_options(names):
         opt = ReproduceOptions(config=config, depth=d, depths=_depths(depths),
-                               revolutions=revolutions, fe=fe, model=model)
+                               revolutions=revolutions, fe=fe, model=model,
+                               fault_severities=sev)
     t0 = time.perf_counter()
 
     def progress(msg: str) -> None:

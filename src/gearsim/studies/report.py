@@ -109,6 +109,43 @@ def _sensitivity_html(rep: Reproduction) -> str:
     return f"<table><tr>{head}</tr>{''.join(rows)}</table>"
 
 
+def _faults_html(rep: Reproduction) -> str:
+    rows = rep.fault_magnitudes
+    if not rows:
+        return "<p>Not computed (no fault severities).</p>"
+    seed = rep.seed
+    imp_lo = 100 * min(seed["impact_working"], seed["impact_non_working"])
+    body = []
+    for r in rows:
+        def cell(v):
+            return f'<td class="num">{_num(v, 4)}</td>' if v is not None else "<td>n/a</td>"
+        body.append(f"<tr><td>{_e(r['fault'])}</td><td class=\"num\">{r['severity']:g}</td>"
+                    f"<td>{_e(r['size'])}</td>{cell(r['impact_percent'])}"
+                    f"{cell(r['rms_percent'])}<td>{'yes' if r['reaches_impact'] else 'no'}</td>"
+                    f"<td>{'yes' if r['reaches_rms'] else 'no'}</td></tr>")
+    hit_i = sorted({f"{r['fault']} ({r['severity']:g})" for r in rows if r["reaches_impact"]})
+    hit_r = sorted({f"{r['fault']} ({r['severity']:g})" for r in rows if r["reaches_rms"]})
+    best_i = max(rows, key=lambda r: r["impact_percent"] or 0.0)
+    best_r = max(rows, key=lambda r: r["rms_percent"] or 0.0)
+    verdict = (f"<p>Reach the seed's impact amplitude (&ge; {imp_lo:.4g} %): "
+               f"{_e(', '.join(hit_i) or 'none')}. Reach its RMS rise (&ge; "
+               f"{100 * seed['rms_working']:.4g} %): {_e(', '.join(hit_r) or 'none')}. "
+               f"Largest impact: {_e(best_i['fault'])} at severity {best_i['severity']:g} "
+               f"({_num(best_i['impact_percent'] or 0.0, 4)} %); largest RMS: "
+               f"{_e(best_r['fault'])} at {best_r['severity']:g} "
+               f"({_num(best_r['rms_percent'] or 0.0, 4)} %).</p>")
+    return (verdict + "<table><tr><th>fault</th><th>severity</th><th>size</th>"
+            "<th>impact [% healthy]</th><th>RMS [% healthy]</th><th>reaches impact</th>"
+            "<th>reaches RMS</th></tr>" + "".join(body) + "</table>"
+            "<p>Each class is one fault on tooth 0 of the input gear (gearsim.model.variants: "
+            "sizes from the gear's module, face width, active flank and ISO 1328-1 grade-6 "
+            "tolerance), simulated like the crack cases and measured against the healthy "
+            "train run on the same mesh of contacts. A crack only softens one of the two to "
+            "three tooth pairs of this wide helical mesh; faults that remove contact "
+            "(broken or chipped tooth, spall, pits) or shift a tooth (pitch error) make the "
+            "load jump where the damaged tooth engages.</p>")
+
+
 def _fe_html(rep: Reproduction) -> str:
     if not rep.fe_checks:
         return "<p>The FE route was not run (<code>--no-fe</code>).</p>"
@@ -218,6 +255,9 @@ magnitudes, section 3 shows which of them hold here.</p>
 
 <h2>5. Crack-depth sensitivity (PE route)</h2>
 {_sensitivity_html(rep)}
+
+<h2>5b. Which faults reach the seed's magnitudes</h2>
+{_faults_html(rep)}
 
 <h2>6. FE check of the tooth stiffness (seed Figure 3)</h2>
 {_fe_html(rep)}

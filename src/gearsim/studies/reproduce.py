@@ -14,6 +14,11 @@ through gearsim:
   ``contact`` closure model; the same with the ``open`` closure model (as printed in
   the seed, blind to the flank);
 * the crack depth sensitivity (PE, both flanks and closures) over several depths;
+* the fault magnitudes: every fault class of :mod:`gearsim.model.variants` (cracks,
+  spall, pitting, chipped and broken tooth, pitch error, eccentricity) at several
+  severities, each against the healthy train on the same contact-mesh model, and
+  whether it reaches the seed's impact amplitude (about 200 % of healthy) and RMS rise
+  (132 %);
 * the claims table and the qualitative findings (:mod:`gearsim.studies.claims`);
 * figures (:mod:`gearsim.viz.reproduce`), ``claims.json``, ``dynamic_load.nc`` and a
   self-contained ``report.html`` (:mod:`gearsim.studies.report`).
@@ -64,6 +69,7 @@ from gearsim.io.atomic import atomic_write
 from gearsim.io.jsonout import strict_json
 from gearsim.io.targets import atomic_folder, check_output_folder
 from gearsim.model import load
+from gearsim.model.variants import FAULT_CLASSES, fault_variant
 from gearsim.signals import analyze
 from gearsim.signals.settings import AnalysisSettings
 from gearsim.studies.claims import case_metrics, claims_table, qualitative_findings
@@ -79,8 +85,8 @@ from gearsim.viz import save_all
 from gearsim.viz.reproduce import CAPTIONS
 
 __all__ = ["DEFAULT_DEPTHS", "OUTPUT_NAMES", "ReproduceOptions", "Reproduction",
-           "check_output", "compute_reproduction", "run_reproduction", "simulate_cases",
-           "write_reproduction"]
+           "check_output", "compute_reproduction", "fault_magnitudes", "run_reproduction",
+           "simulate_cases", "write_reproduction"]
 
 #: Cases of each route: (label, flank, closure).
 CASES = (
@@ -274,8 +280,9 @@ def compute_reproduction(options: ReproduceOptions | None = None, *,
                 f"must be <= {MAX_POINTS} (each point is one FE solve)")
 
     routes = ["PE"] + (["FE"] if opt.fe else [])
+    n_faults = (len(FAULT_CLASSES) - 1) * len(opt.fault_severities) + bool(opt.fault_severities)
     _check_cost(base, settings, opt, len(routes) * len(CASES)
-                + len(SENSITIVITY) * len(opt.depths), force)
+                + len(SENSITIVITY) * len(opt.depths) + n_faults, force)
     t0 = time.perf_counter()
     cases = {}
     for route in routes:
@@ -314,13 +321,21 @@ def compute_reproduction(options: ReproduceOptions | None = None, *,
     sensitivity = _sensitivity(base, opt, settings, runs["PE/healthy"], eps, say, force)
     timings["sensitivity"] = time.perf_counter() - t0
 
+    faults: list[dict[str, Any]] = []
+    if opt.fault_severities:
+        say("fault magnitudes")
+        t0 = time.perf_counter()
+        faults = fault_magnitudes(replace(gb, dynamics=settings), opt.fault_severities,
+                                  eps, progress=say, force=force)
+        timings["fault_magnitudes"] = time.perf_counter() - t0
+
     claims = claims_table(metrics, t1=t1, depth=opt.depth)
     findings = {route: qualitative_findings(metrics, t1=t1, route=route) for route in routes}
     timings["compute"] = time.perf_counter() - t_all
     return Reproduction(options=opt, train=base, t1=t1, f_m=f_m, contact_ratio=eps, runs=runs,
                         metrics=metrics, stiffness=stiffness, fe_checks=fe_checks,
                         sensitivity=sensitivity, claims=claims, findings=findings,
-                        timings=timings)
+                        timings=timings, fault_magnitudes=faults)
 
 
 def write_reproduction(rep: Reproduction, out: str | Path, *,
@@ -432,6 +447,101 @@ def _sensitivity(base: GearTrain, opt: ReproduceOptions, settings: DynamicsSetti
                 "sideband_mean_1fm_N": m.sideband_mean[1],
                 "sideband_mean_2fm_N": m.sideband_mean[2],
             })
+    return rows
+
+
+def _fault_size(train: GearTrain, runout: float) -> str:
+    """Short description of the one fault of a variant (SI values shown in mm / um)."""
+    if train.cracks:
+        c = train.cracks[0]
+        return f"crack {c.depth * 1e3:.3g} mm, {c.flank} flank"
+    if train.faults:
+        f = train.faults[0]
+        if f.kind == "spall":
+            return (f"spall {f.length * 1e3:.3g} x {f.width * 1e3:.3g} mm, "
+                    f"{f.depth * 1e3:.3g} mm deep")
+        if f.kind == "pitting":
+            return f"pits over {100 * f.area_fraction:.3g} % of the dedendum band"
+        if f.kind == "chip":
+            return f"chip {f.length * 1e3:.3g} mm x {f.width * 1e3:.3g} mm"
+        if f.kind == "broken":
+            w = train.gears[0].face_width if f.width is None else f.width
+            return f"broken over {w * 1e3:.3g} mm of the face"
+    for m in train.modifications:
+        if any(m.pitch_errors):
+            return f"pitch error {max(m.pitch_errors) * 1e6:.3g} um on one tooth"
+    if runout > 0:
+        return f"runout {runout * 1e6:.3g} um"
+    return "healthy"
+
+
+def fault_magnitudes(gearbox, severities: tuple[float, ...], contact_ratio: float, *,
+                     progress: Callable[[str], None] | None = None,
+                     force: bool | None = None) -> list[dict[str, Any]]:
+    """Impact amplitude and RMS of every fault class against healthy, as the claims.
+
+    Each class of :data:`gearsim.model.variants.FAULT_CLASSES` at each severity
+    (:func:`gearsim.model.variants.fault_variant`: tooth 0 of the input gear) is
+    simulated with ``gearbox.dynamics`` and measured against the healthy variant (on the
+    same contact-mesh model) with :func:`gearsim.studies.claims.case_metrics`: the
+    impact amplitude near the damaged tooth's engagement and the RMS of the dynamic load
+    of mesh I, in per cent of healthy. ``reaches_impact``: at least the lower of the
+    seed's two impact amplitudes (non-working flank, 203.1 %; working 209.8 %);
+    ``reaches_rms``: at least the seed's RMS rise (working flank, 132.4 %)
+    (:data:`gearsim.studies.claims.SEED`).
+
+    Parameters
+    ----------
+    gearbox : Gearbox
+        The seed's train and the dynamics settings of the reproduction.
+    severities : tuple of float
+        Severities in (0, 1].
+    contact_ratio : float
+        Total contact ratio of mesh I (impact window).
+    progress : callable, optional
+        Called with a short message before each case.
+    force : bool, optional
+        Lift the cost bounds of the simulations.
+
+    Returns
+    -------
+    list of dict
+        One row per class and severity: fault, severity, size, impact_percent,
+        rms_percent, peak_percent, impact_period_s, reaches_impact, reaches_rms.
+    """
+    from gearsim.studies.claims import SEED
+
+    base = gearbox.train
+    cases = {}
+    settings = {}
+    for kind in FAULT_CLASSES:
+        for s in (severities if kind != "none" else (1.0,)):
+            v = fault_variant(gearbox, kind, s)
+            key = f"{kind}@{s:g}"
+            cases[key] = ("PE", kind, v.train)
+            settings[key] = v.dynamics
+    runs = {}
+    for key, case in cases.items():  # per-case settings (runout of the eccentricity class)
+        runs.update(simulate_cases(base, {key: case}, settings[key], progress=progress,
+                                   force=force))
+    healthy = runs["none@1"]
+    rows = []
+    for key, run in runs.items():
+        if run.label == "none":
+            continue
+        kind, sev = key.split("@")
+        m = case_metrics(run.label, run.force, run.analysis, healthy.force, healthy.analysis,
+                         contact_ratio=contact_ratio)
+        impact, rms = _pct(m.impact_ratio), _pct(m.rms_ratio)
+        rows.append({
+            "fault": kind, "severity": float(sev),
+            "size": _fault_size(run.train, max(settings[key].runout)),
+            "impact_percent": impact, "rms_percent": rms, "peak_percent": _pct(m.peak_ratio),
+            "impact_period_s": _finite(m.impact_period),
+            "reaches_impact": impact is not None and impact >= 100 * min(
+                SEED["impact_working"], SEED["impact_non_working"]),
+            "reaches_rms": rms is not None and rms >= 100 * SEED["rms_working"],
+        })
     return rows
 
 

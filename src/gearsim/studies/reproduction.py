@@ -48,6 +48,9 @@ class ReproduceOptions:
         Contact positions of the FE check.
     model
         Dynamic model, ``"lta"`` or ``"seed"`` (see :mod:`gearsim.dynamics`).
+    fault_severities
+        Severities of the fault-magnitude section (every class of
+        :data:`gearsim.model.variants.FAULT_CLASSES` at each; empty: no such section).
     """
 
     config: str = "idler-table1"
@@ -57,6 +60,7 @@ class ReproduceOptions:
     fe: bool = True
     fe_points: int = 11
     model: str = "lta"
+    fault_severities: tuple[float, ...] = (0.25, 0.5, 1.0)
 
     def __post_init__(self) -> None:
         require(math.isfinite(self.depth) and self.depth > 0, "depth", self.depth,
@@ -69,6 +73,9 @@ class ReproduceOptions:
         require(self.fe_points >= 3, "fe_points", self.fe_points, "must be >= 3")
         require(self.model in MODELS, "model", self.model,
                 "must be one of " + ", ".join(f'"{m}"' for m in MODELS))
+        for v in self.fault_severities:
+            require(math.isfinite(v) and 0 < v <= 1, "fault_severities", v,
+                    "every severity must be in (0, 1]")
 
 
 @dataclass
@@ -134,6 +141,10 @@ class Reproduction:
         Route -> qualitative findings.
     timings : dict
         Seconds per step.
+    fault_magnitudes : list of dict
+        Rows of the fault-magnitude section: every fault class at each severity against
+        the healthy train on the same (contact) mesh model, with the seed's impact and
+        RMS levels reached or not.
     seed : dict
         The seed's stated numbers (:data:`gearsim.studies.claims.SEED`), for the figures.
     """
@@ -151,6 +162,7 @@ class Reproduction:
     claims: list[dict[str, Any]]
     findings: dict[str, list[dict[str, Any]]]
     timings: dict[str, float]
+    fault_magnitudes: list[dict[str, Any]] = field(default_factory=list)
     seed: dict[str, float] = field(default_factory=lambda: dict(SEED))
 
     def plot(self) -> dict[str, Figure]:
@@ -188,5 +200,6 @@ class Reproduction:
             "cases": {k: m.to_dict() for k, m in self.metrics.items()},
             "fe_check": {k: v.differences() for k, v in self.fe_checks.items()},
             "sensitivity": self.sensitivity,
+            "fault_magnitudes": self.fault_magnitudes,
             "timings_s": self.timings,
         }

@@ -373,3 +373,21 @@ def test_contact_grid_refuses_a_wrong_period(spur):
     assert err.value.parameter == "period"
     assert contact_grid(tr.pairs[0], settings=tr.stiffness, flank1=f1, flank2=f2,
                         period=38).period == 38
+
+
+def test_contact_cli_writes_results_and_refuses_bad_options(tmp_path):
+    """``gearsim contact``: summary, NetCDF and figure; a bad mesh index exits 2."""
+    import xarray as xr
+
+    from gearsim.cli import run
+
+    out, fig = tmp_path / "ltca.nc", tmp_path / "ltca.png"
+    assert run(["contact", "spur-19-48", "--out", str(out), "--plot", str(fig)]) == 0
+    ds = xr.open_dataset(out, engine="h5netcdf")
+    F = gs.example("spur-19-48").train.static_mesh_force(0)
+    # the pair shares sum to one wherever there is contact
+    np.testing.assert_allclose(ds["pair_share"].sum("pair"), 1.0, rtol=1e-12)
+    assert float(ds.attrs["force"]) == pytest.approx(F)
+    assert fig.stat().st_size > 10_000
+    assert run(["contact", "spur-19-48", "--mesh", "1"]) == 2
+    assert run(["contact", "spur-19-48", "--torque", "0 N*m"]) == 2

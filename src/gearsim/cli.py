@@ -57,7 +57,8 @@ def _global_options(
 #: Verb -> the module of gearsim.commands that defines it. A call imports only its verb's
 #: module (a small call starts fast); help and unknown verbs build the whole app.
 VERB_MODULES = {
-    "example": "basic", "stiffness": "basic", "analyze": "analysis", "compare": "analysis",
+    "example": "basic", "stiffness": "basic", "contact": "basic",
+    "analyze": "analysis", "compare": "analysis",
     "simulate": "dynamics", "fe-check": "fem", "reproduce": "studies", "sweep": "sweep",
     "sweep-report": "sweep",
 }

@@ -84,6 +84,16 @@ def spur_stiffness(spur):
 
 
 @pytest.fixture(scope="session")
+def loaded_contact_result(spur):
+    """Loaded contact analysis of the spur pair with a broken pinion tooth."""
+    from gearsim.stiffness.faults import BrokenTooth
+    from gearsim.stiffness.ltca import loaded_contact
+
+    tr = spur.with_faults((BrokenTooth(gear=spur.gears[0].name, tooth=0),))
+    return loaded_contact(tr.mesh_contacts(0), tr.static_mesh_force(0))
+
+
+@pytest.fixture(scope="session")
 def fe_result(spur):
     """A coarse FE check of the spur pinion."""
     from gearsim.fem.check import fe_check

@@ -22,11 +22,12 @@ import gearsim
 from gearsim.errors import InputError
 from gearsim.viz import DPI, STYLE, save, save_all
 
-VIZ_MODULES = ("dynamics", "fem", "reproduce", "signals", "stiffness", "sweep", "toolbox")
+VIZ_MODULES = ("contacts", "dynamics", "fem", "reproduce", "signals", "stiffness", "sweep", "toolbox")
 VIZ_DIR = Path(gearsim.__file__).parent / "viz"
 
 # name -> (fixture, extra kwargs, "ax" or "fig": the keyword of the target)
 CALLS: dict[str, tuple[str, dict, str]] = {
+    "contacts.plot_loaded_contact": ("loaded_contact_result", {}, "fig"),
     "dynamics.plot_run": ("dynamics_run", {}, "fig"),
     "fem.plot_fe_check": ("fe_result", {}, "fig"),
     "reproduce.plot_stiffness": ("reproduction", {}, "fig"),

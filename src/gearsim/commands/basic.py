@@ -1,7 +1,8 @@
-"""CLI verbs: ``example`` and ``stiffness``."""
+"""CLI verbs: ``example``, ``stiffness`` and ``contact``."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from typing import Annotated
 
@@ -56,15 +57,66 @@ def stiffness(
                        f"{m['ratio_to_iso6336']:.3f}")
 
 
+def contact(
+    config: Annotated[str, typer.Argument(help="TOML file or built-in example name")],
+    mesh: Annotated[int, typer.Option(help="mesh index (0 = mesh I)")] = 0,
+    torque: Annotated[str | None, typer.Option(
+        help="input torque, e.g. '2000 N*m' (default the configuration's)")] = None,
+    out: Annotated[str | None, typer.Option(help="results, .nc")] = None,
+    plot: Annotated[str | None, typer.Option(help="figure (.png, .pdf, .svg)")] = None,
+    json_: Annotated[bool, typer.Option("--json", help="print a JSON summary")] = False,
+) -> None:
+    """Loaded tooth contact analysis of one mesh with its faults and modifications:
+    loaded transmission error, load sharing and contact pattern over a period."""
+    from gearsim.errors import InputError
+    from gearsim.stiffness.ltca import loaded_contact
+    from gearsim.system import Operating
+    from gearsim.units import to_si
+
+    if out is not None:
+        out = check_output_file(out, "--out", (".nc",))
+    if plot is not None:
+        plot = check_plot_file(plot, "--plot")
+    gb = load(config)
+    train = gb.train
+    n = len(train.pairs)
+    if not 0 <= mesh < n:
+        raise InputError("--mesh", mesh, f"must be in 0 .. {n - 1} ({n} meshes)")
+    if torque is not None:
+        t = to_si(torque, "torque", "--torque")
+        with as_options({"operating.torque": "--torque"}):
+            train = dataclasses.replace(train, operating=Operating(
+                speed=train.operating.speed, torque=t))
+    lc = loaded_contact(train.mesh_contacts(mesh), train.static_mesh_force(mesh))
+    if out is not None:
+        from gearsim.io.atomic import atomic_write
+
+        ds = lc.to_dataset()
+        atomic_write(out, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+    if plot is not None:
+        save(lc.plot(), plot, parameter="--plot")
+    s = lc.summary()
+    if json_:
+        typer.echo(json.dumps(s, indent=2))
+        return
+    ptp = s["loaded_te_ptp_m"]
+    typer.echo(f"mesh {s['mesh']}: F = {s['force_N'] / 1e3:.4g} kN over {s['period_cycles']} "
+               f"mesh cycles; loaded TE peak-to-peak {ptp * 1e6:.4g} um, mean stiffness "
+               f"{(s['stiffness_mean_N_per_m'] or 0) / 1e9:.4f} GN/m, largest line load "
+               f"{s['max_line_load_N_per_m'] / 1e3:.4g} N/mm; positions without contact: "
+               f"{s['positions_without_contact']} of {s['positions']}")
+
+
 def register(app: typer.Typer) -> None:
     """Add the verbs of this module to ``app``.
 
     Parameters
     ----------
     app : typer.Typer
-        The ``gearsim`` application (:mod:`gearsim.cli`); ``example`` and ``stiffness``
-        are registered on it.
+        The ``gearsim`` application (:mod:`gearsim.cli`); ``example``, ``stiffness`` and
+        ``contact`` are registered on it.
     """
     app.command("example")(example)
     app.command("stiffness")(stiffness)
+    app.command("contact")(contact)
 

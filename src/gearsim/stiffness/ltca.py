@@ -171,6 +171,41 @@ class LoadedContact:
             np.maximum.at(peak[:, j], idx[..., j][on[..., j]], ll[..., j][on[..., j]])
         return edges, self.grid.zfrac, peak
 
+    def plot(self, *, cycles: float | None = None, fig=None):
+        """The figure of :func:`gearsim.viz.contacts.plot_loaded_contact`.
+
+        Parameters
+        ----------
+        cycles : float, optional
+            Mesh cycles shown; default all.
+        fig : matplotlib.figure.Figure, optional
+            Figure to draw into.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from gearsim.viz.contacts import plot_loaded_contact
+
+        return plot_loaded_contact(self, cycles=cycles, fig=fig)
+
+    def summary(self) -> dict:
+        """Key numbers (SI): peak-to-peak loaded error, stiffness, largest line load.
+
+        Returns
+        -------
+        dict
+        """
+        ok = self.contact
+        k = self.stiffness[ok]
+        return {"mesh": self.grid.name, "force_N": self.force,
+                "positions": int(self.delta.size), "positions_without_contact": int((~ok).sum()),
+                "loaded_te_ptp_m": self.peak_to_peak,
+                "loaded_te_mean_m": float(np.mean(self.delta[ok])) if ok.any() else None,
+                "stiffness_mean_N_per_m": float(np.mean(k)) if k.size else None,
+                "max_line_load_N_per_m": float(np.max(self.line_load)),
+                "period_cycles": self.grid.period}
+
     def to_dataset(self):
         """The result as an :class:`xarray.Dataset` (units in attributes).
 

@@ -239,7 +239,9 @@ def test_reproduce_revolutions_refused_before_work(here, capsys, monkeypatch):
     assert "per case" in line
     line = _refused(capsys, monkeypatch, here, "reproduce", "--revolutions", "300000",
                     "--out", "rep", parameter="--revolutions", within=NO_WORK)
-    assert "28 simulations" in line and "--force" in line
+    # 10 route cases + 18 sensitivity cases + 25 fault-magnitude cases (8 classes x 3
+    # severities + the healthy contact-mesh baseline)
+    assert "53 simulations" in line and "--force" in line
 
 
 def test_fe_check_points_bounded(here, capsys, monkeypatch):

@@ -37,7 +37,8 @@ import pytest
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMEDRIVER = Path("/usr/bin/chromedriver")
 TITLE = "gearsim reproduction of Shi, Li & Zhou (2025)"
-N_FIGURES = 6  # fig3_stiffness, fig5_time, fig6_spectrum, fig7_zooms, fig8_stft, sensitivity
+N_FIGURES = 7  # fig3_stiffness, fig5_time, fig6_spectrum, fig7_zooms, fig8_stft, sensitivity,
+#               fault magnitudes
 WINDOW = (1280, 900)  # CSS px of the window; its viewport is the "first screen"
 PAGE_LOAD_TIMEOUT = 60  # s: the report is a few MB of inline base64
 SCRIPT_TIMEOUT = 30  # s: img.decode() of six PNGs

@@ -122,6 +122,12 @@ def separability_rows():
         for depth in (1.0, 3.0):
             rows.append({"group": "all", "noise": noise, "crack_depth_mm": depth,
                          "accuracy": 0.6 + 0.1 * depth - noise, "auc": 0.9})
+    # confusion matrices (true rows, predicted columns) of the pooled rows
+    for r in rows:
+        if r["crack_depth_mm"] is None:
+            good = 6 if r["noise"] == 0.0 else 4
+            bad = (6 - good) // 2
+            r["confusion"] = [[good if i == j else bad for j in range(3)] for i in range(3)]
     return rows
 
 

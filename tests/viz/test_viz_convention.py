@@ -46,6 +46,10 @@ CALLS: dict[str, tuple[str, dict, str]] = {
     "stiffness.plot_train_stiffness": ("spur_stiffness", {}, "fig"),
     "stiffness.plot_mesh_tvms": ("spur_stiffness", {}, "ax"),
     "sweep.plot_separability": ("separability_rows", {"title": "test"}, "fig"),
+    "sweep.plot_confusion": ("separability_rows",
+                             {"classes": ("none", "working", "non-working")}, "fig"),
+    "sweep.plot_diagnostic": ("separability_rows",
+                              {"classes": ("none", "working", "non-working")}, "fig"),
     "toolbox.plot_envelope_spectrum": ("envelope_result", {}, "ax"),
     "toolbox.plot_kurtogram": ("kurtogram_result", {}, "ax"),
 }
@@ -102,7 +106,8 @@ def test_returns_figure_keyword_target_and_no_global_state(name, request, tmp_pa
     ax = fig.axes[0]
     assert {t.get_fontsize() for t in ax.yaxis.get_ticklabels()} == {STYLE["ytick.labelsize"]}
     assert ax.yaxis.label.get_fontsize() == STYLE["axes.labelsize"]
-    if not name.endswith(("plot_stft", "plot_mesh", "plot_kurtogram")):  # images: no grid
+    if not name.endswith(("plot_stft", "plot_mesh", "plot_kurtogram",
+                          "plot_confusion")):  # images: no grid
         assert any(line.get_visible() for line in ax.get_xgridlines())
     assert dict(matplotlib.rcParams) == before
 

@@ -10,7 +10,7 @@ import typer
 
 from gearsim.errors import InputError
 from gearsim.io.targets import check_output_file, check_output_folder
-from gearsim.studies.diagnostic import CLASSES, diagnostic_report
+from gearsim.studies.diagnostic import CLASSES, FAULT_CLASSES, diagnostic_report
 from gearsim.studies.sweep import expand, load_study
 from gearsim.studies.sweep_run import check_scheduler, plan_workers, run_study
 
@@ -19,7 +19,7 @@ __all__ = ["register"]
 
 def sweep(
     study: Annotated[str, typer.Argument(help="study TOML file or built-in study name "
-                                         "(diagnostic)")],
+                                         "(diagnostic, faults)")],
     out: Annotated[Path, typer.Option(help="results store (NetCDF, .nc); parts go to "
                                       "OUT.parts/")] = Path("sweep.nc"),
     scheduler: Annotated[str | None, typer.Option(
@@ -33,8 +33,9 @@ def sweep(
     report: Annotated[Path | None, typer.Option(
         help="also write the diagnostic report (CSV, JSON, PNG) to this folder")] = None,
 ) -> None:
-    """Run a parameter study (crack depth, flank, closure, speed, torque, bearing stiffness,
-    noise) on Dask; resumes from OUT.parts/ after an interruption."""
+    """Run a parameter study (crack depth and flank or fault class and severity, closure,
+    speed, torque, bearing stiffness, noise) on Dask; resumes from OUT.parts/ after an
+    interruption."""
 
     st = load_study(study)  # every study-wide setting is checked here, once
     if show:
@@ -46,11 +47,13 @@ def sweep(
     check_output_file(out, "--out", (".nc",))
     if report is not None:
         check_output_folder(report, "--report")
-        flanks = sorted({c.flank for c in expand(st)}, key=CLASSES.index)
-        if len(flanks) < 2:
-            raise InputError("--report", str(report), f"the study has {len(flanks)} flank "
-                             f"class ({', '.join(flanks)}); the diagnostic report compares "
-                             "at least two of " + ", ".join(CLASSES))
+        what, order = ("fault", FAULT_CLASSES) if "fault" in st.parameters else ("flank",
+                                                                                CLASSES)
+        classes = sorted({getattr(c, what) for c in expand(st)}, key=order.index)
+        if len(classes) < 2:
+            raise InputError("--report", str(report), f"the study has {len(classes)} {what} "
+                             f"class ({', '.join(classes)}); the diagnostic report compares "
+                             "at least two of " + ", ".join(order))
     res = run_study(st, out, scheduler=scheduler, workers=workers, progress=progress,
                     note=lambda line: typer.echo(line, err=True))
     typer.echo(f"gearsim: {res.n_cases} cases ({res.computed} computed, {res.skipped} resumed,"
@@ -71,8 +74,9 @@ def sweep_report(
     out: Annotated[Path, typer.Option(help="output folder")] = Path("sweep-report"),
     json_: Annotated[bool, typer.Option("--json", help="print the summary as JSON")] = False,
 ) -> None:
-    """Separability of healthy / working-flank / non-working-flank cracks per feature group
-    (cross-validated logistic regression): table (CSV, JSON) and figure (PNG)."""
+    """Separability of the fault classes (healthy / working-flank / non-working-flank crack,
+    or the fault coordinate of a fault study) per feature group (cross-validated logistic
+    regression): table (CSV, JSON with confusion matrices) and figure (PNG)."""
 
     paths = diagnostic_report(store, out)
     if json_:

@@ -1,11 +1,17 @@
-"""Diagnostic value of vibration features: separability of healthy, working-flank and
-non-working-flank cracks in a parameter-study store.
+"""Diagnostic value of vibration features: separability of the fault classes of a
+parameter-study store.
 
-For each feature group (time-domain, sideband, STFT band energy, TSA indicators, all
-together) and each subset of the store (per noise level with every depth pooled, and per
-noise level and crack depth) a three-class multinomial logistic regression on standardised
-features is scored by stratified k-fold cross-validation: accuracy (chance 1/3) and the
-macro-averaged one-vs-rest ROC AUC (chance 0.5) of the out-of-fold probabilities.
+The classes are the store's ``fault`` coordinate when it has one (a study that varies
+the fault class, :data:`gearsim.model.variants.FAULT_CLASSES`: healthy, root crack on the
+working or non-working flank, spall, pitting, chipped tip, broken tooth, pitch error,
+eccentricity), else its ``flank`` coordinate (healthy, working-flank and
+non-working-flank crack). For each feature group (time-domain, sideband, STFT band
+energy, TSA indicators, all together) and each subset of the store (per noise level with
+every depth or severity pooled, and per noise level and crack depth or severity) a
+multinomial logistic regression on standardised features is scored by stratified k-fold
+cross-validation: accuracy (chance 1 / number of classes), the macro-averaged one-vs-rest
+ROC AUC (chance 0.5) of the out-of-fold probabilities, and the confusion matrix of the
+out-of-fold predictions (rows: true class, columns: predicted class).
 
 References
 ----------
@@ -14,7 +20,8 @@ Pedregosa, F. et al. (2011). Scikit-learn: machine learning in Python. *JMLR* 12
 Hastie, T., Tibshirani, R. & Friedman, J. (2009). *The Elements of Statistical
 Learning*, 2nd ed., Springer: sec. 4.4 (logistic regression), sec. 7.10 (cross-validation).
 Fawcett, T. (2006). An introduction to ROC analysis. *Pattern Recognit. Lett.* 27,
-861-874 (AUC); Hand, D. J. & Till, R. J. (2001). *Mach. Learn.* 45, 171-186 (multi-class).
+861-874 (AUC, confusion matrix); Hand, D. J. & Till, R. J. (2001). *Mach. Learn.* 45,
+171-186 (multi-class).
 """
 
 from __future__ import annotations
@@ -29,21 +36,51 @@ import numpy as np
 from gearsim._version import __version__
 from gearsim.errors import InputError
 from gearsim.io.targets import atomic_folder, check_output_folder
+from gearsim.model.variants import FAULT_CLASSES
 from gearsim.studies.sweep_case import FEATURE_GROUPS
 from gearsim.viz import save
-from gearsim.viz.sweep import plot_separability
+from gearsim.viz.sweep import plot_diagnostic
 
-__all__ = ["CLASSES", "FOLDS", "STORE_ATTRS", "STORE_VARIABLES", "columns_matrix",
-           "diagnostic_report", "feature_matrix", "indicator_auc", "open_store",
-           "separability", "separability_report", "separability_table"]
+__all__ = ["CLASSES", "FAULT_CLASSES", "FOLDS", "STORE_ATTRS", "STORE_VARIABLES",
+           "class_labels", "columns_matrix", "diagnostic_report", "feature_matrix",
+           "indicator_auc", "open_store", "separability", "separability_report",
+           "separability_table"]
 
-#: Class labels: the ``flank`` coordinate of the store.
+#: Class labels of a store without faults: its ``flank`` coordinate.
 CLASSES = ("none", "working", "non-working")
 #: Folds of the stratified cross-validation.
 FOLDS = 5
 #: Variables and attributes every store of :func:`gearsim.studies.sweep_run.run_study` has.
 STORE_VARIABLES = ("case", "status", "flank", "noise", "crack_depth")
 STORE_ATTRS = ("study", "n_cases")
+
+
+def class_labels(ds) -> tuple[str, tuple[str, ...]]:
+    """Which coordinate of a store holds the classes, and their order.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A sweep store (or a subset of its cases).
+
+    Returns
+    -------
+    coordinate : str
+        ``"fault"`` when the store has that coordinate (a study that varies the fault
+        class), else ``"flank"``.
+    classes : tuple of str
+        Every class of that coordinate in report order: :data:`FAULT_CLASSES` or
+        :data:`CLASSES`.
+
+    Examples
+    --------
+    >>> import xarray as xr
+    >>> class_labels(xr.Dataset(coords={"flank": ("case", ["none", "working"])}))
+    ('flank', ('none', 'working', 'non-working'))
+    """
+    if "fault" in ds.variables:
+        return "fault", FAULT_CLASSES
+    return "flank", CLASSES
 
 
 def feature_matrix(ds, group: str) -> tuple[np.ndarray, list[str]]:
@@ -222,9 +259,10 @@ def separability_report(columns: Mapping[str, Sequence[float]], labels: Sequence
     }
 
 
-def separability(x: np.ndarray, y: np.ndarray, *, folds: int = FOLDS,
-                 seed: int = 0) -> dict[str, float]:
-    """Cross-validated accuracy and macro one-vs-rest ROC AUC of a logistic regression.
+def separability(x: np.ndarray, y: np.ndarray, *, folds: int = FOLDS, seed: int = 0,
+                 classes: Sequence[str] | None = None) -> dict:
+    """Cross-validated accuracy, macro one-vs-rest ROC AUC and confusion matrix of a
+    logistic regression.
 
     Parameters
     ----------
@@ -236,19 +274,35 @@ def separability(x: np.ndarray, y: np.ndarray, *, folds: int = FOLDS,
         Stratified folds (shuffled with ``seed``); fewer if a class has fewer members.
     seed : int
         Seed of the fold shuffle.
+    classes : sequence of str, optional
+        Order of the rows and columns of the confusion matrix (classes absent from
+        ``y`` give rows of zeros); default: no confusion matrix.
 
     Returns
     -------
     dict
         ``accuracy`` (fraction of correct out-of-fold predictions), ``auc`` (mean over
-        classes of the one-vs-rest AUC, Hand & Till 2001 style macro average), ``n``.
+        classes of the one-vs-rest AUC, Hand & Till 2001 style macro average), ``n``;
+        with ``classes`` also ``confusion``: list of rows of counts, ``confusion[i][j]``
+        = the cases of true class ``classes[i]`` predicted as ``classes[j]`` out of
+        fold (``sklearn.metrics.confusion_matrix``), so row ``i`` sums to the count of
+        class ``classes[i]``; ``None`` when no classifier could be scored.
 
     References
     ----------
     Hastie et al. (2009) secs. 4.4, 7.10; Fawcett (2006).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> y = np.array(["a", "b"] * 10)
+    >>> x = (y == "b").astype(float)[:, None] + np.linspace(0, 0.1, 20)[:, None]
+    >>> r = separability(x, y, classes=["a", "b"])
+    >>> r["accuracy"], r["confusion"]
+    (1.0, [[10, 0], [0, 10]])
     """
     from sklearn.linear_model import LogisticRegression
-    from sklearn.metrics import accuracy_score, roc_auc_score
+    from sklearn.metrics import accuracy_score, confusion_matrix, roc_auc_score
     from sklearn.model_selection import StratifiedKFold, cross_val_predict
     from sklearn.pipeline import make_pipeline
     from sklearn.preprocessing import StandardScaler
@@ -256,7 +310,8 @@ def separability(x: np.ndarray, y: np.ndarray, *, folds: int = FOLDS,
     labels, counts = np.unique(y, return_counts=True)
     folds = min(folds, int(counts.min()))  # every fold must hold every class
     if labels.size < 2 or folds < 2 or x.shape[1] == 0:
-        return {"accuracy": math.nan, "auc": math.nan, "n": int(y.size)}
+        out = {"accuracy": math.nan, "auc": math.nan, "n": int(y.size)}
+        return out if classes is None else {**out, "confusion": None}
     model = make_pipeline(StandardScaler(), LogisticRegression(max_iter=5000))
     cv = StratifiedKFold(n_splits=folds, shuffle=True, random_state=seed)
     proba = cross_val_predict(model, x, y, cv=cv, method="predict_proba")
@@ -265,49 +320,67 @@ def separability(x: np.ndarray, y: np.ndarray, *, folds: int = FOLDS,
         auc = roc_auc_score(y == labels[1], proba[:, 1])
     else:
         auc = roc_auc_score(y, proba, multi_class="ovr", average="macro", labels=labels)
-    return {"accuracy": float(accuracy_score(y, pred)), "auc": float(auc), "n": int(y.size)}
+    out = {"accuracy": float(accuracy_score(y, pred)), "auc": float(auc), "n": int(y.size)}
+    if classes is not None:
+        out["confusion"] = confusion_matrix(y, pred, labels=list(classes)).tolist()
+    return out
 
 
 def separability_table(ds, *, groups: Sequence[str] | None = None) -> list[dict]:
-    """Separability of the flank classes per feature group, noise level and crack depth.
+    """Separability of the classes per feature group, noise level and depth or severity.
 
     Parameters
     ----------
     ds : xarray.Dataset
         A sweep store (:func:`gearsim.studies.sweep_run.run_study`); cases whose status
-        is not ``"ok"`` are left out.
+        is not ``"ok"`` are left out. Classes: :func:`class_labels`.
     groups : sequence of str, optional
         Feature groups; default: every group of :data:`FEATURE_GROUPS` and ``"all"``.
 
     Returns
     -------
     list of dict
-        Rows ``{group, noise, snr_db, crack_depth_mm, n, n_features, accuracy, auc}``;
-        ``crack_depth_mm`` is ``None`` for rows that pool every depth.
+        Rows ``{group, noise, snr_db, crack_depth_mm, n, n_features, accuracy, auc,
+        confusion}`` for a store of flank classes, with ``severity`` (fraction of the
+        reference size) in place of ``crack_depth_mm`` for a store of fault classes;
+        the depth or severity is ``None`` for rows that pool every depth or severity
+        (healthy cases are counted at their nominal depth or severity).
+        ``confusion``: counts of the out-of-fold predictions, rows true class, columns
+        predicted, in the order of the classes present among the successful cases
+        (:func:`class_labels` order); ``None`` when no classifier could be scored.
     """
     ok = ds.where(ds["status"] == "ok", drop=True) if "status" in ds else ds
     if ok.sizes.get("case", 0) == 0:
         raise InputError("store", "no successful cases", "need cases with status ok")
     groups = list(groups) if groups is not None else [*FEATURE_GROUPS.values(), "all"]
+    coord, order = class_labels(ok)
+    labels = np.asarray(ok[coord].values, dtype=str)
+    classes = [c for c in order if c in set(labels)]
+    if coord == "fault":
+        level, key, scale = "severity", "severity", 1.0
+    else:
+        level, key, scale = "crack_depth", "crack_depth_mm", 1e3
     rows = []
     noises = np.unique(ok["noise"].values)
-    depths = np.unique(ok["crack_depth"].values)
+    levels = np.unique(ok[level].values)
     for noise in noises:
-        for depth in (None, *depths):
+        for value in (None, *levels):
             sel = ok["noise"].values == noise
-            if depth is not None:
-                sel &= ok["crack_depth"].values == depth
-            sub = ok.isel(case=np.flatnonzero(sel))
-            y = np.asarray(sub["flank"].values, dtype=str)
+            if value is not None:
+                sel &= ok[level].values == value
+            idx = np.flatnonzero(sel)
+            sub = ok.isel(case=idx)
+            y = labels[idx]
             for g in groups:
                 x, names = feature_matrix(sub, g)
-                r = separability(x, y)
+                r = separability(x, y, classes=classes)
                 rows.append({
                     "group": g, "noise": float(noise),
                     "snr_db": 0.0 - 20 * math.log10(noise) if noise > 0 else math.inf,
-                    "crack_depth_mm": None if depth is None else round(1e3 * float(depth), 6),
+                    key: None if value is None else round(scale * float(value), 6),
                     "n": r["n"], "n_features": len(names),
                     "accuracy": r["accuracy"], "auc": r["auc"],
+                    "confusion": r["confusion"],
                 })
     return rows
 
@@ -360,13 +433,20 @@ def diagnostic_report(store: str | Path, out: str | Path, *,
                       out_parameter: str = "--out") -> list[Path]:
     """Write ``separability.csv``, ``separability.json`` and ``separability.png``.
 
-    The folder is checked first and written as a whole (:func:`gearsim.io.targets.atomic_folder`):
-    a killed run leaves an earlier report whole.
+    The CSV has one row per feature group, noise level and depth or severity (pooled:
+    ``all``) with accuracy and AUC; the JSON the same rows with their confusion matrices
+    (``confusion``: rows true class, columns predicted class, in the order of
+    ``classes``), the class counts and the method; the figure the accuracy and AUC
+    against noise and depth or severity (top) and the confusion matrices of all feature
+    groups together at each noise level (bottom, :func:`gearsim.viz.sweep.plot_diagnostic`).
+    The folder is checked first and written as a whole
+    (:func:`gearsim.io.targets.atomic_folder`): a killed run leaves an earlier report whole.
 
     Parameters
     ----------
     store : path
-        Sweep store (NetCDF, :func:`open_store`).
+        Sweep store (NetCDF, :func:`open_store`); classes from its ``fault`` coordinate
+        when present, else ``flank`` (:func:`class_labels`).
     out : path
         Output folder (replaced as a whole).
     out_parameter : str
@@ -381,7 +461,7 @@ def diagnostic_report(store: str | Path, out: str | Path, *,
     ------
     InputError
         An output folder that cannot be written, a file that is not a sweep store, no
-        successful case, or fewer than two flank classes among the successful cases.
+        successful case, or fewer than two classes among the successful cases.
     """
     out = check_output_folder(out, out_parameter)
     store = Path(store)
@@ -389,14 +469,16 @@ def diagnostic_report(store: str | Path, out: str | Path, *,
     ok = ds["status"].values == "ok"
     if not ok.any():
         raise InputError("store", str(store), "has no successful case (status ok)")
-    present = [c for c in CLASSES if c in set(np.asarray(ds["flank"].values[ok], dtype=str))]
+    coord, order = class_labels(ds)
+    labels = np.asarray(ds[coord].values[ok], dtype=str)
+    present = [c for c in order if c in set(labels)]
     if len(present) < 2:
-        raise InputError("store", str(store), f"has {len(present)} flank class"
+        raise InputError("store", str(store), f"has {len(present)} {coord} class"
                          f"{'es' if len(present) != 1 else ''} among its successful cases "
                          f"({', '.join(present) or 'none'}); the report compares at least two"
-                         " of " + ", ".join(CLASSES))
+                         " of " + ", ".join(order))
     rows = separability_table(ds)
-    keys = list(rows[0])
+    keys = [k for k in rows[0] if k != "confusion"]
 
     def fmt(v) -> str:
         if v is None:
@@ -404,14 +486,20 @@ def diagnostic_report(store: str | Path, out: str | Path, *,
         return f"{v:.6g}" if isinstance(v, float) else str(v)
 
     csv = "\n".join([",".join(keys), *(",".join(fmt(r[k]) for k in keys) for r in rows)]) + "\n"
+    counts = {c: int(np.sum(labels == c)) for c in present}
     doc = {"store": str(store), "study": ds.attrs.get("title", ""),
-           "gearsim_version": __version__, "classes": list(CLASSES),
+           "gearsim_version": __version__, "class_coordinate": coord, "classes": present,
+           "counts": counts,
            "method": f"StandardScaler + LogisticRegression, stratified {FOLDS}-fold CV; "
-                     "accuracy and macro one-vs-rest ROC AUC of out-of-fold predictions",
+                     "accuracy, macro one-vs-rest ROC AUC and confusion matrix of "
+                     "out-of-fold predictions",
+           "confusion": "rows: true class, columns: predicted class, both in the order of "
+                        "classes; counts of out-of-fold predictions (a row sums to the "
+                        "cases of its class in the row's subset)",
            "n_cases": int(ds.sizes["case"]), "n_ok": int(np.sum(ok)),
            "rows": [{k: (None if isinstance(v, float) and not math.isfinite(v) else v)
                      for k, v in r.items()} for r in rows]}
-    fig = plot_separability(rows, title=ds.attrs.get("title", "parameter study"))
+    fig = plot_diagnostic(rows, present, title=ds.attrs.get("title", "parameter study"))
     names = ("separability.csv", "separability.json", "separability.png")
     with atomic_folder(out) as tmp:
         (tmp / names[0]).write_text(csv)

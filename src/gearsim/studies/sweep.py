@@ -1,8 +1,9 @@
 """Parameter-study definitions: the study TOML file, parsed and expanded into cases.
 
-A study varies the crack (depth, flank), the closure model of the crack faces, the
-operating point (speed, torque), the bearing stiffness and the measurement noise of one
-base gear train, on a full grid or by seeded random sampling. Layout::
+A study varies the crack (depth, flank) or the fault (class, severity), the closure model
+of the crack faces, the operating point (speed, torque), the bearing stiffness and the
+measurement noise of one base gear train, on a full grid or by seeded random sampling.
+Layout::
 
     [study]
     name = "my study"
@@ -21,13 +22,21 @@ base gear train, on a full grid or by seeded random sampling. Layout::
     [parameters]                # each: a list of values, or a range table
     crack_depth = ["0.5 mm", "1 mm", "2 mm"]
     flank = ["none", "working", "non-working"]
+    # or, instead of crack_depth and flank, the fault classes of gearsim.model.variants:
+    # fault = ["none", "spall", "broken"]   # FAULT_CLASSES
+    # severity = [0.5, 1.0]                 # fraction of each class's reference size
     closure = ["contact"]
     speed = { min = "1200 rpm", max = "1900 rpm", num = 3 }   # grid: linspace
     torque = ["2000 N*m", "4876 N*m"]
     bearing_stiffness = ["1e9 N/m"]
     noise = [0.0, 0.5, 1.0]     # noise RMS / RMS of the noise-free dynamic record
 
-Parameters not given take the base train's value (noise: 0). Plain numbers are SI. With
+Parameters not given take the base train's value (noise: 0; severity: 1). Plain numbers
+are SI. A study with ``fault`` builds each case's train with
+:func:`gearsim.model.variants.fault_variant` (one fault on tooth 0 of the input gear, the
+base train's cracks and faults removed, every class on the contact-mesh path); it may not
+also give ``flank`` or ``crack_depth`` (its cases have ``flank = "none"`` and
+``crack_depth = 0``), and ``severity`` needs ``fault``. With
 ``sampling = "random"`` a list is sampled uniformly and a range ``{min, max}`` uniformly
 in value (``log = true``: in logarithm). Unknown keys, empty lists and empty ranges are
 refused with :class:`gearsim.errors.InputError`.
@@ -36,8 +45,9 @@ Every study-wide setting is checked once, when the file is read (:func:`check_st
 so that a bad one is refused before any case runs rather than failing every case: the
 dynamics overrides (applied to the base train's settings, which check them), the
 analysed signal (a variable the simulation produces), every parameter value (noise
->= 0, speed, torque and bearing stiffness > 0, all finite; each crack depth fits the
-tooth on each cracked flank of the study), the recorded duration (at least one
+>= 0, speed, torque and bearing stiffness > 0, severity in (0, 1], all finite; each crack
+depth fits the tooth on each cracked flank of the study; each fault class at each
+severity end makes a valid train), the recorded duration (at least one
 revolution of the slowest gear at the lowest speed), a study that varies nothing, and
 the number of cases (at most :data:`MAX_CASES`, or ``study.max_cases``).
 """
@@ -63,6 +73,7 @@ from gearsim.dynamics.simulate import check_cost
 from gearsim.errors import InputError, require
 from gearsim.model import Gearbox, loads
 from gearsim.model.config import EXAMPLES, example_text, read_file_or_builtin
+from gearsim.model.variants import FAULT_CLASSES, fault_variant
 from gearsim.sections import convert
 from gearsim.stiffness.settings import CLOSURES
 from gearsim.system import Operating
@@ -73,12 +84,14 @@ __all__ = ["BUILTIN_STUDIES", "MAX_CASES", "PARAMETERS", "Case", "Study", "built
            "case_count", "check_study", "expand", "load_study", "loads_study", "signal_choices"]
 
 #: Built-in studies in ``gearsim/data/studies``.
-BUILTIN_STUDIES = ("diagnostic",)
+BUILTIN_STUDIES = ("diagnostic", "faults")
 
 #: Study parameter -> quantity kind (see :data:`gearsim.units.DIMENSIONS`) or choices.
 PARAMETERS: dict[str, str | tuple[str, ...]] = {
     "crack_depth": "length",
     "flank": CRACK_CHOICES,
+    "fault": FAULT_CLASSES,
+    "severity": "dimensionless",
     "closure": CLOSURES,
     "speed": "speed",
     "torque": "torque",
@@ -92,7 +105,11 @@ MAX_CASES = 100_000
 #: Parameter -> (lowest value, whether the lowest value itself is allowed, unit shown).
 LOWER_BOUNDS = {"crack_depth": (0.0, True, "m"), "speed": (0.0, False, "rad/s"),
                 "torque": (0.0, False, "N*m"), "bearing_stiffness": (0.0, False, "N/m"),
-                "noise": (0.0, True, "")}
+                "noise": (0.0, True, ""), "severity": (0.0, False, "")}
+#: Parameter -> highest value (allowed itself).
+UPPER_BOUNDS = {"severity": 1.0}
+#: Parameters of the crack route that a study with ``fault`` may not give.
+CRACK_ONLY = ("flank", "crack_depth")
 DYNAMICS_OVERRIDES = {"duration": "time", "fs": "frequency", "transient": "time",
                       "step": "time", "model": "str"}
 
@@ -118,6 +135,15 @@ class Case:
         RMS of the added Gaussian noise / RMS of the noise-free dynamic record [-].
     replicate : int
         Noise realisation number.
+    fault : str or None
+        Fault class (:data:`gearsim.model.variants.FAULT_CLASSES`) of a study that
+        varies ``fault``; ``None`` otherwise (then the crack route: ``flank``,
+        ``crack_depth``).
+    severity : float or None
+        Fault size as a fraction of the class's reference size, in (0, 1]
+        (:func:`gearsim.model.variants.fault_variant`); for ``fault == "none"`` the
+        nominal severity of the grid cell (no fault is modelled); ``None`` without
+        ``fault``.
     """
 
     index: int
@@ -129,20 +155,36 @@ class Case:
     bearing_stiffness: float
     noise: float
     replicate: int
+    fault: str | None = None
+    severity: float | None = None
 
     def params(self) -> dict[str, Any]:
-        """Parameters without the index (the case's identity)."""
+        """Parameters without the index (the case's identity).
+
+        ``fault`` and ``severity`` are left out when ``fault`` is ``None``, so that the
+        keys of a study without faults are those it had before they existed.
+        """
         d = dataclasses.asdict(self)
         d.pop("index")
+        if self.fault is None:
+            d.pop("fault")
+            d.pop("severity")
         return d
 
     def simulation_params(self) -> dict[str, Any]:
-        """Parameters that change the simulation (not noise or replicate)."""
+        """Parameters that change the simulation (not noise or replicate).
+
+        The crack depth of an uncracked case (``flank == "none"``) and the severity of a
+        healthy case (``fault == "none"``) count as 0: such cases share one simulation
+        whatever their nominal depth or severity.
+        """
         d = self.params()
         d.pop("noise")
         d.pop("replicate")
         if self.flank == "none":
             d["crack_depth"] = 0.0
+        if self.fault == "none":
+            d["severity"] = 0.0
         return d
 
 
@@ -223,8 +265,9 @@ class Study:
         Parameters
         ----------
         case : Case
-            A case of this study; noise and replicate are not hashed, and the crack
-            depth counts as 0 when ``flank == "none"``.
+            A case of this study; noise and replicate are not hashed, the crack
+            depth counts as 0 when ``flank == "none"`` and the severity as 0 when
+            ``fault == "none"``.
 
         Returns
         -------
@@ -285,13 +328,16 @@ def load_study(path: str | Path) -> Study:
 
 
 def _checked(name: str, value: float, where: str, raw: Any) -> float:
-    """``value`` (SI) if finite and above the parameter's lower bound, else refused."""
+    """``value`` (SI) if finite and within the parameter's bounds, else refused."""
     low, inclusive, unit = LOWER_BOUNDS[name]
     unit = f" {unit}" if unit else ""
-    limit = f"must be >= {low:g}{unit} and finite" if inclusive else \
-        f"must be > {low:g}{unit} and finite"
+    limit = f"must be >= {low:g}{unit}" if inclusive else f"must be > {low:g}{unit}"
     ok = math.isfinite(value) and (value >= low if inclusive else value > low)
-    require(ok, where, raw, limit)
+    high = UPPER_BOUNDS.get(name)
+    if high is not None:
+        limit += f" and <= {high:g}{unit}"
+        ok = ok and value <= high
+    require(ok, where, raw, limit + " and finite")
     return value
 
 
@@ -356,7 +402,8 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
     InputError
         Invalid TOML, an unknown section, key or parameter, a config file not found, a
         bad value (sampling, samples, seed, replicates, signal, shafts, units), an empty
-        list or range, or a grid range without ``num``.
+        list or range, a grid range without ``num``, ``fault`` together with ``flank``
+        or ``crack_depth``, or ``severity`` without ``fault``.
     """
     try:
         doc = tomllib.loads(text)
@@ -438,6 +485,17 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
     if not parameters:
         raise InputError("parameters", "none", "nothing to vary: give at least one of "
                          + ", ".join(PARAMETERS) + " under [parameters]")
+    if "fault" in parameters:
+        for key in CRACK_ONLY:
+            if key in parameters:
+                raise InputError(f"parameters.{key}", params_raw[key],
+                                 "cannot be combined with parameters.fault: a study varies "
+                                 "either the crack (flank, crack_depth) or the fault class "
+                                 "(fault, severity; the working and non-working crack are "
+                                 "fault classes too); remove one of them")
+    elif "severity" in parameters:
+        raise InputError("parameters.severity", params_raw["severity"],
+                         "needs parameters.fault (the fault classes it sizes)")
     study = Study(name=name, text=text, config=config, config_text=config_text,
                   sampling=sampling, samples=int(samples or 0), seed=seed,
                   replicates=replicates, signal=signal, shafts=shafts,
@@ -543,7 +601,9 @@ def check_study(study: Study) -> None:
     overrides (applied with :meth:`gearsim.model.Gearbox.replace`, which checks them,
     and finite), the analysed signal (one of :func:`signal_choices`), the bearing
     stiffness values (as dynamics settings), each crack depth on each cracked flank of the
-    study (:meth:`gearsim.system.GearTrain.with_crack` checks it fits the tooth), and the
+    study (:meth:`gearsim.system.GearTrain.with_crack` checks it fits the tooth), each
+    fault class at the lowest and highest severity of the study
+    (:func:`gearsim.model.variants.fault_variant` builds and checks the variant), and the
     recorded duration (at least one revolution of the slowest gear at the lowest speed).
     :func:`loads_study` calls it; the values' signs were checked when they were read.
 
@@ -556,7 +616,7 @@ def check_study(study: Study) -> None:
     ------
     InputError
         Naming the study key or parameter value (``study.dynamics.fs``,
-        ``parameters.crack_depth[2]``, ``study.signal``, ...).
+        ``parameters.crack_depth[2]``, ``parameters.severity[1]``, ``study.signal``, ...).
     """
     gb = loads(study.config_text)
     for key, value in study.dynamics.items():
@@ -588,6 +648,9 @@ def check_study(study: Study) -> None:
     flanks = study.parameters.get("flank")
     if flanks is None:
         flanks = (gb.train.cracks[0].flank,) if gb.train.cracks else ("none",)
+    if "fault" in study.parameters:
+        flanks = ("none",)  # the fault variants replace the base train's cracks
+        _check_faults(study, gb)
     cracked = [f for f in dict.fromkeys(flanks) if f != "none"]
     if "crack_depth" in study.parameters:
         depths = _points(study, "crack_depth")
@@ -625,12 +688,33 @@ def check_study(study: Study) -> None:
                          f"{max(speeds) * 30 / math.pi:.6g} rpm)") from None
 
 
+def _check_faults(study: Study, gb: Gearbox) -> None:
+    """Each fault class at each severity end of the study makes a valid variant of ``gb``."""
+    severities = (_points(study, "severity") if "severity" in study.parameters
+                  else [("parameters.fault", None, 1.0)])
+    for where_f, raw_f, kind in _points(study, "fault"):
+        if kind == "none":
+            continue
+        for where_s, raw_s, s in severities:
+            try:
+                fault_variant(gb, kind, s)
+            except InputError as exc:
+                where, raw = ((where_s, raw_s) if "severity" in study.parameters
+                              else (where_f, raw_f))
+                raise InputError(where, raw, f"{exc} (fault {kind}, severity {s:g})") from None
+
+
 def _base_values(study: Study) -> dict[str, tuple]:
     gb = loads(study.config_text)
     train, settings = gb.train, gb.dynamics
     depth = train.cracks[0].depth if train.cracks else 0.0
     flank = train.cracks[0].flank if train.cracks else "none"
-    return {"crack_depth": (depth,), "flank": (flank,), "closure": (train.stiffness.closure,),
+    if "fault" in study.parameters:  # the fault variants replace the cracks
+        depth, flank, fault, severity = 0.0, "none", None, 1.0
+    else:
+        fault = severity = None
+    return {"crack_depth": (depth,), "flank": (flank,), "fault": (fault,),
+            "severity": (severity,), "closure": (train.stiffness.closure,),
             "speed": (train.operating.speed,), "torque": (train.operating.torque,),
             "bearing_stiffness": (settings.bearing_stiffness,), "noise": (0.0,)}
 
@@ -656,7 +740,8 @@ def expand(study: Study) -> list[Case]:
     Random sampling draws each parameter independently with
     ``numpy.random.default_rng(study.seed)``. Each parameter combination is repeated
     ``study.replicates`` times (replicate number 0, 1, ...). Parameters the study does
-    not vary take the base train's value (noise: 0).
+    not vary take the base train's value (noise: 0; with ``fault``: severity 1, flank
+    ``"none"``, crack depth 0; without: fault and severity ``None``).
 
     Parameters
     ----------

@@ -4,7 +4,8 @@ A *simulation group* is the set of cases that differ only in measurement noise a
 replicate: the train is simulated once and each case adds its own seeded noise to the
 analysed record before :func:`gearsim.signals.analysis`. :func:`run_group` returns an
 ``xarray.Dataset`` with dimension ``case`` (one row per case): the parameters as
-coordinates, ``status`` (``"ok"``, ``"failed"`` for refused input or a failed
+coordinates (``fault`` and ``severity`` only in a study that varies the fault class),
+``status`` (``"ok"``, ``"failed"`` for refused input or a failed
 simulation, ``"error"`` for any other exception) and ``error`` (message) and one
 variable per feature. It runs unchanged in a Dask worker or in a plain loop.
 """
@@ -22,6 +23,7 @@ import numpy as np
 from gearsim.dynamics import DynamicsSettings, simulate
 from gearsim.errors import InputError, SimulationError
 from gearsim.model import loads
+from gearsim.model.variants import fault_variant
 from gearsim.signals import analyze
 from gearsim.studies.sweep import PARAMETERS, Case, Study
 from gearsim.system import GearTrain, Operating
@@ -33,7 +35,9 @@ FEATURE_GROUPS = {"td_": "time-domain", "sb_": "sideband", "tsa_": "TSA", "band_
 
 PARAM_UNITS = {"crack_depth": "m", "speed": "rad/s", "torque": "N*m",
                "bearing_stiffness": "N/m", "noise": "1", "flank": "", "closure": "",
-               "replicate": ""}
+               "replicate": "", "fault": "", "severity": "1"}
+#: Parameters stored only for studies that vary the fault class.
+FAULT_PARAMETERS = ("fault", "severity")
 
 
 def build_case(study: Study, case: Case) -> tuple[GearTrain, DynamicsSettings]:
@@ -44,16 +48,22 @@ def build_case(study: Study, case: Case) -> tuple[GearTrain, DynamicsSettings]:
     study : Study
         The study (base configuration and dynamics overrides).
     case : Case
-        The case (operating point, closure, crack flank and depth, bearing stiffness).
+        The case (operating point, closure, crack flank and depth or fault class and
+        severity, bearing stiffness).
 
     Returns
     -------
     train : gearsim.system.GearTrain
         Base train with the case's operating point, closure model and crack (the
         config's cracks, or :data:`gearsim.system.DEFAULT_CRACK`, moved to the case's
-        flank and depth by :meth:`GearTrain.with_crack`, which checks they fit).
+        flank and depth by :meth:`GearTrain.with_crack`, which checks they fit); for a
+        case with a fault class (``case.fault`` not ``None``), the train of
+        :func:`gearsim.model.variants.fault_variant` of that class and severity instead
+        (one fault on tooth 0 of the input gear, no other crack or fault).
     settings : gearsim.dynamics.DynamicsSettings
-        Base settings with the study's overrides and the case's bearing stiffness.
+        Base settings (for a fault case: those of the variant, which runs every mesh as
+        a mesh of contacts and carries the eccentricity) with the study's overrides and
+        the case's bearing stiffness.
 
     Raises
     ------
@@ -63,9 +73,16 @@ def build_case(study: Study, case: Case) -> tuple[GearTrain, DynamicsSettings]:
     gb = loads(study.config_text)
     train = dataclasses.replace(gb.train, operating=Operating(speed=case.speed,
                                                               torque=case.torque))
-    depth = None if case.flank == "none" else case.crack_depth
-    train = train.with_crack(case.flank, depth=depth, closure=case.closure)
-    settings = dataclasses.replace(gb.dynamics, bearing_stiffness=case.bearing_stiffness,
+    if case.fault is None:
+        depth = None if case.flank == "none" else case.crack_depth
+        train = train.with_crack(case.flank, depth=depth, closure=case.closure)
+        dynamics = gb.dynamics
+    else:
+        severity = 1.0 if case.fault == "none" else case.severity
+        variant = fault_variant(dataclasses.replace(
+            gb, train=train.with_crack(None, closure=case.closure)), case.fault, severity)
+        train, dynamics = variant.train, variant.dynamics
+    settings = dataclasses.replace(dynamics, bearing_stiffness=case.bearing_stiffness,
                                    **study.dynamics)
     return train, settings
 
@@ -170,7 +187,10 @@ def _table(study: Study, cases: Sequence[Case], rows: list[dict], status: list[s
 
     coords: dict[str, Any] = {"case": ("case", [c.index for c in cases])}
     coords["case_key"] = ("case", [study.case_key(c) for c in cases])
+    with_faults = any(c.fault is not None for c in cases)
     for name in (*PARAMETERS, "replicate"):
+        if name in FAULT_PARAMETERS and not with_faults:
+            continue
         coords[name] = ("case", [getattr(c, name) for c in cases],
                         {"units": PARAM_UNITS[name]} if PARAM_UNITS[name] else {})
     names = sorted({k for r in rows for k in r})

@@ -91,7 +91,8 @@ def reproduce(out: str | Path, *, progress: Callable[[str], None] | None = None,
 
 def sweep(study: str | Path, out: str | Path, *, workers: int = 2,
           scheduler: str | None = None, progress: bool = False) -> SweepResult:
-    """Run a parameter study (TOML file or ``"diagnostic"``) on Dask into a NetCDF store.
+    """Run a parameter study (TOML file, ``"diagnostic"`` or ``"faults"``) on Dask into a
+    NetCDF store.
 
     Parameters
     ----------

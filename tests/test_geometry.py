@@ -131,3 +131,27 @@ def test_interference_refused():
               dedendum_coefficient=1.9, fillet_radius_coefficient=0.1)
     with pytest.raises(InputError, match="interferes"):
         GearPair(g1, g2)
+
+
+def test_centre_distance_offset_changes_the_path_of_contact():
+    """Pulling the gears apart by da lengthens the line of action by da / sin(alpha_wt)
+    (d(a sin alpha)/da with cos alpha = const / a), moves the start of contact by that
+    amount and leaves the driver's tip point E: d eps_alpha / da = -1 / (p_b sin alpha_wt)
+    (first order; 1e-3 relative at 20 um)."""
+    import dataclasses
+    import math
+
+    import gearsim as gs
+    from gearsim.errors import InputError
+
+    p = gs.example("spur-19-48").train.pairs[0]
+    da = 20e-6
+    q = dataclasses.replace(p, centre_distance_offset=da)
+    s = math.sin(p.working_pressure_angle)
+    assert q.centre_distance - p.centre_distance == pytest.approx(da, rel=1e-9)
+    assert q.start_of_contact - p.start_of_contact == pytest.approx(da / s, rel=1e-3)
+    assert q.end_of_contact == p.end_of_contact
+    assert q.transverse_contact_ratio - p.transverse_contact_ratio == pytest.approx(
+        -da / (p.base_pitch * s), rel=1e-3)
+    with pytest.raises(InputError):
+        dataclasses.replace(p, centre_distance_offset=0.01)

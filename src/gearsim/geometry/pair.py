@@ -75,6 +75,12 @@ class GearPair:
         Driven gear; same normal module, pressure angle and helix angle (opposite hand).
     name
         Label used in error messages.
+    centre_distance_offset
+        Change of the operating centre distance from the zero-backlash one [m] (default
+        0): the working pressure angle, the line of action and the path of contact follow
+        (cos alpha_wt = (r_b1 + r_b2) / a). Used for the centre-distance modulation of
+        an eccentric gear (:mod:`gearsim.dynamics.tables`); must keep |offset| below
+        one module.
 
     Raises
     ------
@@ -105,10 +111,15 @@ class GearPair:
     driver: Gear
     driven: Gear
     name: str = "mesh"
+    centre_distance_offset: float = 0.0
 
     def __post_init__(self) -> None:
         g1, g2 = self.driver, self.driven
         n = self.name
+        off = self.centre_distance_offset
+        require(isinstance(off, (int, float)) and math.isfinite(off)
+                and abs(off) < g1.normal_module, f"{n}: centre_distance_offset", off,
+                f"must be a finite number below one module ({g1.normal_module:g} m) in size")
         require_same_rack(g1.name, g1.normal_module, g1.normal_pressure_angle, g2.name,
                           g2.normal_module, g2.normal_pressure_angle, mesh=n)
         require(math.isclose(abs(g1.helix_angle), abs(g2.helix_angle), rel_tol=1e-9, abs_tol=1e-12),
@@ -159,7 +170,11 @@ class GearPair:
         g1, g2 = self.driver, self.driven
         v = inv(g1.transverse_pressure_angle) + 2.0 * math.tan(g1.normal_pressure_angle) * (
             g1.profile_shift + g2.profile_shift) / (g1.teeth + g2.teeth)
-        return inv_inverse(v)
+        alpha = inv_inverse(v)
+        if self.centre_distance_offset == 0.0:
+            return alpha
+        a = (g1.base_radius + g2.base_radius) / math.cos(alpha) + self.centre_distance_offset
+        return math.acos((g1.base_radius + g2.base_radius) / a)
 
     @property
     def centre_distance(self) -> float:

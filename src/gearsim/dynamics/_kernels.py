@@ -10,8 +10,10 @@ Packed arguments (built by :func:`gearsim.dynamics.simulate._kernel_args`):
   cycle and period of each mesh's table;
 * ``mi`` (n_mesh, 4) int: table offset and length in ``tab``, mesh-of-contacts flag,
   offset of its rows in ``ptr``;
-* ``harm`` (3, n_mesh, n_h): amplitude, angular frequency and phase of the STE
-  harmonics;
+* ``harm`` (6, n_mesh, n_h): amplitude, angular frequency and phase of the STE
+  harmonics (rows 0-2) and of the centre-distance change (rows 3-5);
+* ``tabd``: dk/da on the samples of ``tab`` (zeros where not used): the stiffness is
+  k(c) + Delta a(t) dk/da(c);
 * ``tab``: the tables k (every contact); ``tabz``: k_zero of the meshes of contacts
   (``tab`` elsewhere); ``ptr``, ``cx`` (2, n): rows of listed contacts, their stiffness
   and separation (sorted by separation in each row).
@@ -52,10 +54,11 @@ def _table_index(length, npc, period, c):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _contact_force(x, xd, b2, cm, ks, tab, tabz, off, i, j, w, ptr, row0, cx):
-    """Force of a mesh of contacts (docs/contacts.md; :mod:`gearsim.dynamics.model`)."""
-    ka = ks * (tab[off + i] * (1.0 - w) + tab[off + j] * w)
-    kz = ks * (tabz[off + i] * (1.0 - w) + tabz[off + j] * w)
+def _contact_force(x, xd, b2, cm, ks, tab, tabz, dk, off, i, j, w, ptr, row0, cx):
+    """Force of a mesh of contacts (docs/contacts.md; :mod:`gearsim.dynamics.model`);
+    ``dk`` the centre-distance change of the stiffness, added to the zero-separation part."""
+    ka = ks * (tab[off + i] * (1.0 - w) + tab[off + j] * w + dk)
+    kz = ks * (tabz[off + i] * (1.0 - w) + tabz[off + j] * w + dk)
     # listed contacts of the two rows, each sorted by separation: stop at the first open
     fx = 0.0
     kc = 0.0
@@ -84,7 +87,8 @@ def _contact_force(x, xd, b2, cm, ks, tab, tabz, off, i, j, w, ptr, row0, cx):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def mesh_forces(t, q, v, V, mp, mi, tab, tabz, fm, harm, ptr, cx, contacts, f_out, d_out):
+def mesh_forces(t, q, v, V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx, contacts, f_out,
+                d_out):
     """Mesh forces f_i [N] (into ``f_out``) and deflections V_i.q [m] (into ``d_out``).
 
     ``contacts`` is a literal at each call site: with ``False`` the meshes-of-contacts
@@ -113,11 +117,18 @@ def mesh_forces(t, q, v, V, mp, mi, tab, tabz, fm, harm, ptr, cx, contacts, f_ou
         off = mi[i, TOFF]
         i0, j0, w = _table_index(mi[i, TLEN], mp[i, NPC], mp[i, PERIOD],
                                  fm * t + mp[i, PHASE])
+        dk = 0.0
+        for h in range(harm.shape[2]):  # centre-distance change (eccentric gears)
+            a = harm[3, i, h]
+            if a != 0.0:
+                dk += a * math.sin(harm[4, i, h] * t + harm[5, i, h])
+        if dk != 0.0:
+            dk *= tabd[off + i0] * (1.0 - w) + tabd[off + j0] * w
         if contacts and mi[i, CON] != 0:
-            f = _contact_force(x, xd, b2, cmi, mp[i, KSCALE], tab, tabz, off, i0, j0, w,
+            f = _contact_force(x, xd, b2, cmi, mp[i, KSCALE], tab, tabz, dk, off, i0, j0, w,
                                ptr, mi[i, CROW], cx)
         else:
-            k = mp[i, KSCALE] * (tab[off + i0] * (1.0 - w) + tab[off + j0] * w)
+            k = mp[i, KSCALE] * (tab[off + i0] * (1.0 - w) + tab[off + j0] * w + dk)
             if b2 == np.inf:  # linear mesh
                 f = k * x + cmi * xd
             elif x > 0.0:  # working flanks in contact: contact force cannot pull
@@ -130,10 +141,11 @@ def mesh_forces(t, q, v, V, mp, mi, tab, tabz, fm, harm, ptr, cx, contacts, f_ou
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def rhs(t, q, v, dof, V, mp, mi, tab, tabz, fm, harm, ptr, cx, contacts, a_out, f_out,
+def rhs(t, q, v, dof, V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx, contacts, a_out, f_out,
         d_out):
     """Accelerations M^-1 (F_ext - K_b q - C_b q' - sum V_i f_i) into ``a_out``."""
-    mesh_forces(t, q, v, V, mp, mi, tab, tabz, fm, harm, ptr, cx, contacts, f_out, d_out)
+    mesh_forces(t, q, v, V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx, contacts, f_out,
+                d_out)
     n = q.size
     nm = V.shape[0]
     for j in range(n):
@@ -145,7 +157,7 @@ def rhs(t, q, v, dof, V, mp, mi, tab, tabz, fm, harm, ptr, cx, contacts, a_out, 
 
 @njit(cache=True, inline="always", error_model="numpy")
 def _rk4(contacts, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof, V, mp,
-         mi, tab, tabz, fm, harm, ptr, cx):
+         mi, tab, tabz, tabd, fm, harm, ptr, cx):
     """Classical fixed-step RK4 (body of both integrators; see :func:`integrate_rk4`)."""
     n = q0.size
     nm = V.shape[0]
@@ -171,7 +183,7 @@ def _rk4(contacts, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, d
     next_rec = rec_start
     for s in range(n_steps + 1):
         t = t0 + s * dt
-        rhs(t, q, v, dof, V, mp, mi, tab, tabz, fm, harm, ptr, cx, contacts, k1v, f, d)
+        rhs(t, q, v, dof, V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx, contacts, k1v, f, d)
         if s == next_rec and r < n_rec:
             for j in range(n):
                 rec_q[r, j] = q[j]
@@ -186,17 +198,20 @@ def _rk4(contacts, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, d
             k1q[j] = v[j]
             qt[j] = q[j] + h2 * v[j]
             vt[j] = v[j] + h2 * k1v[j]
-        rhs(t + h2, qt, vt, dof, V, mp, mi, tab, tabz, fm, harm, ptr, cx, contacts, k2v, f, d)
+        rhs(t + h2, qt, vt, dof, V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx, contacts, k2v,
+            f, d)
         for j in range(n):
             k2q[j] = vt[j]
             qt[j] = q[j] + h2 * vt[j]
             vt[j] = v[j] + h2 * k2v[j]
-        rhs(t + h2, qt, vt, dof, V, mp, mi, tab, tabz, fm, harm, ptr, cx, contacts, k3v, f, d)
+        rhs(t + h2, qt, vt, dof, V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx, contacts, k3v,
+            f, d)
         for j in range(n):
             k3q[j] = vt[j]
             qt[j] = q[j] + dt * vt[j]
             vt[j] = v[j] + dt * k3v[j]
-        rhs(t + dt, qt, vt, dof, V, mp, mi, tab, tabz, fm, harm, ptr, cx, contacts, k4v, f, d)
+        rhs(t + dt, qt, vt, dof, V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx, contacts, k4v,
+            f, d)
         bad = False
         for j in range(n):
             q[j] += h6 * (k1q[j] + 2.0 * k2q[j] + 2.0 * k3q[j] + vt[j])
@@ -210,7 +225,7 @@ def _rk4(contacts, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, d
 
 @njit(cache=True, error_model="numpy")
 def integrate_rk4(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof, V, mp,
-                  mi, tab, tabz, fm, harm, ptr, cx):
+                  mi, tab, tabz, tabd, fm, harm, ptr, cx):
     """Classical fixed-step RK4 from t0 over ``n_steps`` steps of ``dt`` (stiffness tables).
 
     Records q, q' and the mesh forces at steps ``rec_start + r rec_every`` (r < n_rec),
@@ -226,12 +241,12 @@ def integrate_rk4(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, do
     q, v : final state
     """
     return _rk4(False, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof, V,
-                mp, mi, tab, tabz, fm, harm, ptr, cx)
+                mp, mi, tab, tabz, tabd, fm, harm, ptr, cx)
 
 
 @njit(cache=True, error_model="numpy")
 def integrate_rk4_contacts(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof,
-                           V, mp, mi, tab, tabz, fm, harm, ptr, cx):
+                           V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx):
     """:func:`integrate_rk4` with meshes of contacts (same arguments and returns)."""
     return _rk4(True, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof, V,
-                mp, mi, tab, tabz, fm, harm, ptr, cx)
+                mp, mi, tab, tabz, tabd, fm, harm, ptr, cx)

@@ -49,6 +49,7 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -56,10 +57,10 @@ import numpy as np
 from gearsim.dynamics.layout import layout
 from gearsim.dynamics.model import DynamicModel, static_equilibrium
 from gearsim.dynamics.settings import DynamicsSettings
-from gearsim.dynamics.tables import MeshTable, mesh_tables
+from gearsim.dynamics.tables import MeshTable, centre_distance_derivative, mesh_tables
 from gearsim.system import GearTrain
 
-__all__ = ["agma_backlash", "build_lta", "ste_harmonics"]
+__all__ = ["agma_backlash", "build_lta", "centre_distance_harmonics", "ste_harmonics"]
 
 AXES = ("x", "y", "z")
 
@@ -208,6 +209,59 @@ def ste_harmonics(train: GearTrain, settings: DynamicsSettings, phase: np.ndarra
     return e0, amp, om, ph
 
 
+def centre_distance_harmonics(train: GearTrain, settings: DynamicsSettings,
+                              centres: np.ndarray, senses: np.ndarray, signs: np.ndarray):
+    """Centre-distance change of every mesh by the gears' eccentricities, as harmonics.
+
+    The geometric centre of gear j sits eps_j from its bearing centre, turning with the
+    gear (global angle s_j Omega_j t + psi_j). Its component along the centre line of
+    mesh i (unit vector c_i from the driver's to the driven gear's centre) changes the
+    operating centre distance: Delta a_i(t) = sum_j -sign_ij eps_j cos(s_j Omega_j t +
+    psi_j - angle(c_i)) (driver: moving towards the driven gear shortens it), written as
+    ``amplitude sin(omega t + phase)``. With :attr:`MeshTable.dk_da` the mesh stiffness
+    becomes k(c) + Delta a_i(t) dk/da(c): the contact ratio follows the centre distance,
+    the amplitude modulation of the mesh tone by an eccentric gear (the component along
+    the line of action is the transmission error of :func:`ste_harmonics`).
+
+    Parameters
+    ----------
+    train : GearTrain
+        The gear chain; gear speeds Omega_j [rad/s].
+    settings : DynamicsSettings
+        ``runout`` [m] and ``runout_phase`` [rad] per gear.
+    centres : ndarray, shape (n_gears, 2)
+        Gear centres of the layout [m].
+    senses : ndarray, shape (n_gears,)
+        Sense of rotation of each gear [-].
+    signs : ndarray, shape (n_mesh, 2)
+        sign_ij of V_i for the driver and the driven gear [-].
+
+    Returns
+    -------
+    amplitude, omega, phase : ndarray, shape (n_mesh, 2)
+        One harmonic per gear of the mesh [m, rad/s, rad].
+
+    References
+    ----------
+    Velex & Maatar (1996) (eccentricities as displacements of the gear centres); the
+    path of contact at an operating centre distance: ISO 21771:2007.
+    """
+    ng, nm = len(train.gears), len(train.pairs)
+    ro = settings.per_item("runout", ng, "gear")
+    rph = settings.per_item("runout_phase", ng, "gear")
+    amp = np.zeros((nm, 2))
+    om = np.zeros((nm, 2))
+    ph = np.zeros((nm, 2))
+    for i in range(nm):
+        d = centres[i + 1] - centres[i]
+        ang = math.atan2(d[1], d[0])
+        for col, j in ((0, i), (1, i + 1)):
+            amp[i, col] = ro[j]
+            om[i, col] = senses[j] * train.speed(j)
+            ph[i, col] = rph[j] - ang - signs[i, col] * 0.5 * math.pi
+    return amp, om, ph
+
+
 def build_lta(train: GearTrain, settings: DynamicsSettings | None = None, *,
               tables: tuple[MeshTable, ...] | None = None) -> DynamicModel:
     """Assemble the LTA equations of motion of ``train``.
@@ -265,6 +319,15 @@ def build_lta(train: GearTrain, settings: DynamicsSettings | None = None, *,
     e0, amp, om, ph = ste_harmonics(train, settings, lay.phase,
                                     np.arctan2(lay.normal[:, 1], lay.normal[:, 0]),
                                     lay.senses, signs)
+    a_amp, a_om, a_ph = centre_distance_harmonics(train, settings, lay.centres, lay.senses,
+                                                  signs)
+    if np.any(a_amp != 0):
+        tables = tuple(
+            dataclasses.replace(t, dk_da=centre_distance_derivative(
+                train, i, t, float(np.sum(a_amp[i])))) if np.any(a_amp[i] != 0) else t
+            for i, t in enumerate(tables))
+    else:
+        a_amp = a_om = a_ph = None
     q_static = static_equilibrium(mass, kb, V, kmean, fext, e0)
     bearing_dofs = np.array([[4 * j, 4 * j + 1, 4 * j + 2] for j in range(ng)], dtype=np.int64)
     return DynamicModel(
@@ -272,7 +335,8 @@ def build_lta(train: GearTrain, settings: DynamicsSettings | None = None, *,
         mass=mass, kb=kb, cb=cb, fext=fext, V=V, kappa=np.ones(nm), kscale=np.ones(nm),
         cm=cm, clearance=backlash_values(train, settings), tables=tables,
         phase=lay.phase.copy(), mesh_frequency=train.mesh_frequency, e0=e0, h_amp=amp,
-        h_omega=om, h_phase=ph, to_transverse=np.ones(nm), dte_offset=np.zeros(nm),
+        h_omega=om, h_phase=ph, a_amp=a_amp, a_omega=a_om, a_phase=a_ph,
+        to_transverse=np.ones(nm), dte_offset=np.zeros(nm),
         static_force=np.array([train.static_mesh_force(i) for i in range(nm)]),
         bearing_dofs=bearing_dofs, axes=AXES, q_static=q_static,
         info={"equivalent_mass": meq, "mesh_damping_ratio": settings.mesh_damping_ratio,

@@ -94,6 +94,10 @@ class DynamicModel:
         Static equilibrium of the mean-stiffness system [m, rad]; the initial state.
     info : dict, optional
         Further descriptive data (mesh damping ratio, equivalent masses, ...).
+    a_amp, a_omega, a_phase : ndarray, shape (n_mesh, n_h), optional
+        Harmonics ``a_amp sin(a_omega t + a_phase)`` of the centre-distance change of each
+        mesh by eccentric gears [m], [rad/s], [rad]; the stiffness becomes
+        k(c) + Delta a(t) dk/da(c) (``MeshTable.dk_da``). ``None``: none.
     """
 
     kind: str
@@ -122,6 +126,9 @@ class DynamicModel:
     axes: tuple[str, ...]
     q_static: np.ndarray
     info: dict = field(default_factory=dict)
+    a_amp: np.ndarray | None = None
+    a_omega: np.ndarray | None = None
+    a_phase: np.ndarray | None = None
 
     @property
     def n_dof(self) -> int:

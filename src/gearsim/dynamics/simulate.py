@@ -202,11 +202,20 @@ def _kernel_args(model: DynamicModel):
          np.array([t.period for t in tabs], dtype=float)], axis=1), dtype=float)
     tabz, on, ptr, poff, cx = _contact_args(tabs)
     mi = np.ascontiguousarray(np.stack([offs, lens, on, poff], axis=1), dtype=np.int64)
-    harm = np.ascontiguousarray(np.stack([model.h_amp, model.h_omega, model.h_phase]),
-                                dtype=float)
+    nh = model.h_amp.shape[1]
+    a = np.zeros((3, model.n_mesh, nh))
+    if model.a_amp is not None:  # centre-distance harmonics beside the STE harmonics
+        na = model.a_amp.shape[1]
+        if na > nh:
+            raise ValueError("more centre-distance than STE harmonics")
+        a[0, :, :na], a[1, :, :na], a[2, :, :na] = model.a_amp, model.a_omega, model.a_phase
+    harm = np.ascontiguousarray(np.concatenate(
+        [np.stack([model.h_amp, model.h_omega, model.h_phase]), a]), dtype=float)
+    tabd = np.concatenate([t.dk_da if t.dk_da is not None else np.zeros(t.k.size)
+                           for t in tabs])
     return (dof, np.ascontiguousarray(model.V, dtype=float), mp, mi,
-            np.concatenate([t.k for t in tabs]), tabz, float(model.mesh_frequency), harm,
-            ptr, cx)
+            np.concatenate([t.k for t in tabs]), tabz, np.ascontiguousarray(tabd), float(
+                model.mesh_frequency), harm, ptr, cx)
 
 
 def _contact_args(tabs):
@@ -677,7 +686,7 @@ def reference_mesh_forces(model: DynamicModel, t: float, q: np.ndarray,
     arg = model.h_omega * t + model.h_phase
     e = model.e0 + np.sum(model.h_amp * np.sin(arg), axis=1)
     ed = np.sum(model.h_amp * model.h_omega * np.cos(arg), axis=1)
-    if any(tab.has_contacts for tab in model.tables):
+    if any(tab.has_contacts or tab.dk_da is not None for tab in model.tables):
         return _reference_contact_forces(model, t, q, v, e, ed)
     k = np.array([model.kscale[i] * float(tab(model.mesh_frequency * t + model.phase[i]))
                   for i, tab in enumerate(model.tables)])
@@ -699,6 +708,8 @@ def _reference_contact_forces(model: DynamicModel, t: float, q: np.ndarray, v: n
     x_all = model.V @ q - e
     xd_all = model.V @ v - ed
     out = np.zeros(len(model.tables))
+    da = (np.zeros(len(model.tables)) if model.a_amp is None else np.sum(
+        model.a_amp * np.sin(model.a_omega * t + model.a_phase), axis=1))
     for i, tab in enumerate(model.tables):
         ks = model.kscale[i]
         x, xd, b2, cm = x_all[i], xd_all[i], model.clearance[i], model.cm[i]
@@ -707,7 +718,9 @@ def _reference_contact_forces(model: DynamicModel, t: float, q: np.ndarray, v: n
         i0 = int(np.floor(pos)) % tab.k.size
         w = pos - np.floor(pos)
         i1 = (i0 + 1) % tab.k.size
-        ka = ks * (tab.k[i0] * (1 - w) + tab.k[i1] * w)
+        dk = 0.0 if tab.dk_da is None else da[i] * (tab.dk_da[i0] * (1 - w)
+                                                   + tab.dk_da[i1] * w)
+        ka = ks * (tab.k[i0] * (1 - w) + tab.k[i1] * w + dk)
         if not tab.has_contacts:
             lin = ka * x + cm * xd
             f = lin if np.isinf(b2) else (max(lin, 0.0) if x > 0 else (
@@ -716,7 +729,9 @@ def _reference_contact_forces(model: DynamicModel, t: float, q: np.ndarray, v: n
             continue
         force = closed = 0.0
         for row, wt in ((i0, 1 - w), (i1, w)):
-            kk = np.concatenate([[tab.k_zero[row]], tab.kx[tab.ptr[row]:tab.ptr[row + 1]]])
+            dkr = 0.0 if tab.dk_da is None else da[i] * tab.dk_da[row]
+            kk = np.concatenate([[tab.k_zero[row] + dkr],
+                                 tab.kx[tab.ptr[row]:tab.ptr[row + 1]]])
             ss = np.concatenate([[0.0], tab.sx[tab.ptr[row]:tab.ptr[row + 1]]])
             gap = x - ss
             bil = np.isinf(b2) & (ss == 0.0)  # linear mesh: zero-separation part bilateral

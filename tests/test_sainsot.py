@@ -118,3 +118,35 @@ def test_foundation_compliance_at_contact_point(z, m, beta_deg, bore, frac):
     assert got == pytest.approx(want, rel=FOUNDATION_RTOL)
     # plausibility: the foundation is a positive compliance of order 1e-11 m/N per metre
     assert 1e-12 < want < 1e-10
+
+
+def test_warns_outside_the_fitted_range():
+    """A 19-tooth pinion (theta_f 0.159 rad) is outside Sainsot's fitted theta_f range
+    [0.01, 0.12] rad: one ModelRangeWarning naming the gear and the quantity; a
+    39-tooth gear (theta_f 0.08 rad, h_f = 2) is inside and silent; a bore that makes
+    h_f = 8 names h_f."""
+    import warnings
+
+    from gearsim.errors import ModelRangeWarning
+
+    small = Gear(teeth=19, normal_module=3.2e-3, face_width=0.016, name="pinion")
+    with pytest.warns(ModelRangeWarning, match=r"gear pinion: theta_f = 0\.15\d+ rad"):
+        _ = ToothModel(small).sainsot
+    big = Gear(teeth=39, normal_module=6e-3, face_width=0.15, name="input")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ModelRangeWarning)
+        _ = ToothModel(big).sainsot
+    thin = Gear(teeth=39, normal_module=6e-3, face_width=0.15, name="input",
+                bore_radius=big.root_radius / 8)
+    with pytest.warns(ModelRangeWarning, match=r"gear input: h_f = 8 "):
+        _ = ToothModel(thin).sainsot
+
+
+def test_cli_prints_the_range_warning_as_one_line(capsys):
+    """The CLI turns the warning into one line on standard error; the run goes on."""
+    from gearsim.cli import run
+
+    assert run(["stiffness", "spur-19-48"]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["gearsim: warning: Sainsot foundation of gear pinion: theta_f = 0.1586 rad "
+                   "outside the fitted range [0.01, 0.12] rad (the fit is extrapolated)"]

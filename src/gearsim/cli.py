@@ -18,7 +18,10 @@ anything else (a bug)                     ``gearsim: internal error: TYPE: MESSA
 ========================================  ==========================================  ====
 
 ``--debug`` (anywhere on the command line) or ``GEARSIM_DEBUG=1`` prints the Python
-traceback before that line.
+traceback before that line. A model used outside the range it was fitted on
+(:class:`~gearsim.errors.ModelRangeWarning`) does not stop the run: it is printed once
+as ``gearsim: warning: MESSAGE`` when the run ends (not after a refusal of bad input,
+which stays one line).
 
 Typer bundles its own copy of click (``typer._click``); usage errors are recognised by
 class name along the exception's MRO, so those of either click package are caught.
@@ -31,11 +34,13 @@ import os
 import re
 import sys
 import traceback
+import warnings
+from functools import partial
 from typing import Any
 
 import typer
 
-from gearsim.errors import InputError, SimulationError
+from gearsim.errors import InputError, ModelRangeWarning, SimulationError
 
 __all__ = ["main", "run"]
 
@@ -225,6 +230,20 @@ def _finish(exc: BaseException, debug: bool, args: list[str]) -> int:
     return 1
 
 
+def _keep_warning(seen: list[str], message, category, filename, lineno, file=None,
+                  line=None) -> None:
+    """Collect a warning's text once (printed when the run ends, see :func:`run`)."""
+    text = str(message)
+    if text not in seen:
+        seen.append(text)
+
+
+def _show_warnings(seen: list[str]) -> None:
+    """Print each collected warning as one line ``gearsim: warning: MESSAGE``."""
+    for text in seen:
+        _say(f"gearsim: warning: {text}")
+
+
 def run(argv: list[str] | None = None) -> int:
     """Run the command line ``argv`` (default ``sys.argv[1:]``) and return the exit status.
 
@@ -246,10 +265,18 @@ def run(argv: list[str] | None = None) -> int:
     args, debug = _strip_debug([str(a) for a in args])
     debug = debug or os.environ.get(DEBUG_ENV, "").strip().lower() not in ("", "0", "false",
                                                                            "no")
-    try:
-        rv = _app_for(args)(args=args, prog_name="gearsim", standalone_mode=False)
-    except BaseException as exc:  # noqa: BLE001  (the one error path of the CLI)
-        return _finish(exc, debug, args)
+    seen: list[str] = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", ModelRangeWarning)
+        warnings.showwarning = partial(_keep_warning, seen)
+        try:
+            rv = _app_for(args)(args=args, prog_name="gearsim", standalone_mode=False)
+        except BaseException as exc:  # noqa: BLE001  (the one error path of the CLI)
+            code = _finish(exc, debug, args)
+            if code != 2:  # a refusal is one line; the warnings of its checks are moot
+                _show_warnings(seen)
+            return code
+    _show_warnings(seen)
     # non-standalone typer returns the code of typer.Exit, and 130 for a Ctrl-C it caught
     code = rv if isinstance(rv, int) and not isinstance(rv, bool) else 0
     return _interrupted() if code == EXIT_INTERRUPTED else code

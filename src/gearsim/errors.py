@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Any
 
-__all__ = ["InputError", "SimulationError", "require"]
+__all__ = ["InputError", "ModelRangeWarning", "SimulationError", "require"]
 
 
 class InputError(ValueError):
@@ -31,6 +31,16 @@ class InputError(ValueError):
         self.limit = limit
         shown = value if isinstance(value, str) else repr(value)
         super().__init__(f"{parameter} = {shown}: {limit}")
+
+
+class ModelRangeWarning(UserWarning):
+    """A model used outside the range it was fitted or validated on (the result is kept).
+
+    The message names the model, the gear or item, the quantity, its value and the range,
+    e.g. ``Sainsot foundation of gear pinion: theta_f = 0.159 rad outside the fitted
+    range [0.01, 0.12] rad``. The command-line interface prints it as one line
+    ``gearsim: warning: ...`` on standard error.
+    """
 
 
 class SimulationError(RuntimeError):

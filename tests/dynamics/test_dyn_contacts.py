@@ -75,8 +75,13 @@ def _spectrum(x):
 #: Dynamic against quasi-static transmission error at low shaft orders: the orders are
 #: far below the mesh resonance (about 0.3 % of it at order 7), so the dynamic
 #: amplification 1 / (1 - (f / f_n)^2) differs from 1 by < 1e-4; the rest is the
-#: dynamics' table interpolation and integration error.
+#: dynamics' table interpolation and integration error. The quasi-static reference is
+#: sampled at the table positions while the dynamics interpolates between them, and the
+#: contacts entering and leaving the path carry their cells' in-path fractions (in_path_
+#: fraction): the two differ by a sampling error that shrinks with the positions per
+#: cycle (largest over orders 1-7: 40 -> 0.57 %, 80 -> 0.36 %, 160 -> 0.08 %); 80 here.
 QUASI_STATIC = 0.005
+QUASI_STATIC_POSITIONS = 80
 
 
 def test_pitch_error_gives_shaft_order_lines(spur):
@@ -87,6 +92,8 @@ def test_pitch_error_gives_shaft_order_lines(spur):
 
     pe = [0.0] * 19
     pe[3] = 5e-6
+    spur = dataclasses.replace(spur, stiffness=dataclasses.replace(
+        spur.stiffness, positions_per_cycle=QUASI_STATIC_POSITIONS))
     tr = spur.with_faults((), (Modification(gear="pinion", pitch_errors=tuple(pe)),))
     revs = 3
     s = _settings(spur, revs)
@@ -140,9 +147,13 @@ def test_broken_tooth_without_corner_contact_loses_contact(spur):
     n0 = int(np.sum(grid.k_total == 0.0))
     fm = spur.mesh_frequency
     assert abs(zero.size * dt - (n0 - 1) / (npc * fm)) <= 1.5 * dt
-    # the single-contact zone: (2 - eps_alpha) / f_m, within one table sample
+    # the single-contact zone Z = (2 - eps_alpha) / f_m: each sample carries its cell's
+    # in-path fraction (in_path_fraction), so a sample is zero only if its whole cell h
+    # lies in the zone (Z / h - 1 samples, rounded either way) and the interpolated
+    # force is exactly zero over one interval less: Z - 3 h < zero <= Z - h
     eps = spur.pairs[0].transverse_contact_ratio
-    assert abs(zero.size * dt - (2 - eps) / fm) <= 1 / (npc * fm)
+    zone, h = (2 - eps) / fm, 1 / (npc * fm)
+    assert zone - 3 * h - 1.5 * dt < zero.size * dt <= zone - h + 1.5 * dt
     assert f[zero[-1] + 1:zero[-1] + 200].max() > 2 * fh.max()  # the impact
 
 

@@ -136,7 +136,7 @@ def centre_distance_derivative(train: GearTrain, mesh: int, table: MeshTable,
     import dataclasses
 
     from gearsim.stiffness.mesh import mesh_stiffness
-    from gearsim.system.train import tooth_compliance
+    from gearsim.system.train import body_coupling, tooth_compliance
 
     pair = train.pairs[mesh]
     st = dataclasses.replace(train.stiffness, positions_per_cycle=FINE_POSITIONS)
@@ -144,7 +144,9 @@ def centre_distance_derivative(train: GearTrain, mesh: int, table: MeshTable,
     ks = []
     for h in (step, -step):
         q = dataclasses.replace(pair, centre_distance_offset=h)
-        k = mesh_stiffness(q, settings=st, compliance=tooth_compliance(st.source)).k
+        k = mesh_stiffness(q, settings=st, compliance=tooth_compliance(st.source),
+                           force=train.static_mesh_force(mesh),
+                           coupling=body_coupling(st)).k
         k = k[:FINE_POSITIONS]
         shift = ((q.start_of_contact - pair.start_of_contact) - pair.driver.base_radius
                  * (q.working_pressure_angle - pair.working_pressure_angle)) / pair.base_pitch

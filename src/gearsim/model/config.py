@@ -64,7 +64,7 @@ GEAR_KEYS = {
 OPERATING_KEYS = {"speed": "speed", "torque": "torque"}
 STIFFNESS_KEYS = {"closure": "str", "slices": "int", "positions_per_cycle": "int",
                   "gauss_points": "int", "plane": "str", "source": "str",
-                  "corner_contact": "bool"}
+                  "corner_contact": "bool", "contact": "str", "coupling": "str"}
 CRACK_KEYS = {"gear": "str", "tooth": "int", "flank": "str", "depth": "length",
               "angle": "angle", "extent": "dimensionless", "profile": "str",
               "start_radius": "length"}

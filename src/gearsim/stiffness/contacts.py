@@ -43,6 +43,7 @@ import numpy as np
 from gearsim.errors import require
 from gearsim.geometry.pair import GearPair
 from gearsim.stiffness.faults import Patch
+from gearsim.stiffness.mesh import in_path_fraction
 from gearsim.stiffness.modifications import Modification
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance, ToothCrack
@@ -315,14 +316,7 @@ def _grid_geometry(pair: GearPair, settings: StiffnessSettings, corner: bool):
     hi = base - z0[None, None, :] * tb
     lo = base - z1[None, None, :] * tb
     centre = 0.5 * (hi + lo)
-    if tb > 0:
-        a = np.maximum(lo, la)
-        c = np.minimum(hi, le)
-        frac = np.clip((c - a) / (hi - lo), 0.0, 1.0)
-        lmid = 0.5 * (a + c)
-    else:
-        lmid = base
-        frac = ((base > la) & (base <= le)).astype(float)
+    lmid, frac = in_path_fraction(centre, la, le, pb / npc, dz * tb)
     lmid = np.where(frac > 0, lmid, la)
     return lmid, frac, centre, dz, n_age, first, ns, z0, z1
 
@@ -368,6 +362,10 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     flank1 = flank1 or FlankState()
     flank2 = flank2 or FlankState()
     model = compliance if compliance is not None else PotentialEnergyCompliance()
+    for name, value, plain in (("contact", settings.contact, "yang-lin"),
+                               ("coupling", settings.coupling, "none")):
+        require(value == plain, f"stiffness.{name}", value,
+                f'the mesh of contacts (faults, modifications) supports "{plain}" only')
     require(model.name == settings.source, "stiffness.source", settings.source,
             f"the tooth-compliance model passed is {model.name!r}")
     g1, g2 = pair.driver, pair.driven

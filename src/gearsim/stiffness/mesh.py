@@ -7,7 +7,18 @@ transverse slices of width b/N; the slice at axial position z touches at the poi
 the transverse line of action shifted by -z tan(beta_b) (slicing method, e.g. Wan et
 al. 2014; docs/references.md, "Helical slicing"). A slice that is only partly inside the path of contact
 contributes with its inside fraction, evaluated at the middle of that part; this keeps
-the sum smooth in the slice count.
+the sum smooth in the slice count. A spur pair likewise carries the in-path fraction of
+its sampling cell (:func:`in_path_fraction`), so no sample sits on a jump.
+
+Two options go beyond the seed (``StiffnessSettings.contact`` and ``.coupling``; docs/
+stiffness.md, "Beyond the seed: contact law and tooth coupling"): the 2D Hertz line
+contact up to the tooth centre lines in place of the load-independent k_h, and the
+coupling of the two loaded neighbouring teeth of a gear through its body. With coupling,
+the pairs of a slice are no longer independent springs in parallel: with C the
+compliance matrix of the pairs in contact (per unit face width: contact plus both teeth
+on the diagonal, the body cross compliances X of both gears off it) and w their carried
+widths, the loads per unit width at a unit approach are q = C^-1 1 and the slice
+stiffness is w . q.
 
 All stiffnesses are transverse: force and deflection along the transverse line of
 action. The normal-plane stiffness is k / cos^2(beta_b).
@@ -29,12 +40,13 @@ import numpy as np
 
 from gearsim.errors import require
 from gearsim.geometry.pair import GearPair
+from gearsim.geometry.profile import ToothProfile
 from gearsim.stiffness.settings import DEFAULT_SLICES, StiffnessSettings
 from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance, ToothCrack
-from gearsim.stiffness.tooth import hertz_stiffness
+from gearsim.stiffness.tooth import hertz_stiffness, line_contact_compliance
 
 __all__ = ["COMPONENTS", "DEFAULT_SLICES", "MeshStiffness", "StiffnessSettings", "ToothCrack",
-           "mesh_stiffness"]
+           "centre_line_depth", "in_path_fraction", "mesh_stiffness"]
 
 COMPONENTS = ("hertz", "bending_1", "shear_1", "axial_1", "foundation_1",
               "bending_2", "shear_2", "axial_2", "foundation_2")
@@ -130,26 +142,137 @@ def _slice_grid(pair: GearPair, settings: StiffnessSettings):
     age = u[:, None] + np.arange(n_age)[None, :]  # (npc, n_age)
     dz = b / ns
     z0 = np.arange(ns) * dz
-    z1 = z0 + dz
     base = la + age[:, :, None] * pb  # l at z = 0
-    if tb > 0:
-        hi = base - z0[None, None, :] * tb
-        lo = base - z1[None, None, :] * tb
-        a = np.maximum(lo, la)
-        c = np.minimum(hi, le)
-        frac = np.clip((c - a) / (hi - lo), 0.0, 1.0)
-        lmid = 0.5 * (a + c)
-    else:
-        lmid = base
-        frac = ((base > la) & (base <= le)).astype(float)  # same side as helical limit
+    centre = base - (z0 + 0.5 * dz)[None, None, :] * tb
+    lmid, frac = in_path_fraction(centre, la, le, pb / npc, dz * tb)
     lmid = np.where(frac > 0, lmid, la)
     return lmid, frac, dz, n_age, ns, (z0 + 0.5 * dz) / b
+
+
+def _ramp_integral(x: np.ndarray, c: float) -> np.ndarray:
+    """Integral of the CDF of the uniform law on [-c, c] from -inf to x."""
+    if c <= 0.0:
+        return np.maximum(x, 0.0)
+    return np.where(x <= -c, 0.0, np.where(x >= c, x, (x + c) ** 2 / (4.0 * c)))
+
+
+def in_path_fraction(centre: np.ndarray, start: float, end: float, cell: float,
+                     width: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Fraction of a contact's sampling cell inside the path of contact.
+
+    A spur tooth pair enters and leaves the path of contact [``start``, ``end``] with a
+    jump of the mesh stiffness. A sample that sits on a jump (the first position of a
+    cycle sits exactly on the start of contact) would count the whole cell on one side
+    and bias the cycle mean by up to one cell (0.96 % at 40 positions per cycle on the
+    19/48 pair). Each sample instead carries the in-path fraction of its cell: a contact
+    (a face-width slice of length ``width`` on the line of action, 0 for a spur pair)
+    whose centre runs over [``centre`` - ``cell`` / 2, ``centre`` + ``cell`` / 2]
+    covers ``centre + X`` with X the sum of two uniform laws of half widths ``cell`` / 2
+    and ``width`` / 2, so the fraction is
+    F(end - centre) - F(start - centre), F(t) = (H(t + cell / 2) - H(t - cell / 2)) / cell,
+    H the integral of the uniform CDF of half width ``width`` / 2. The contact point is
+    the middle of the in-path part of [lo - cell / 2, hi + cell / 2]. The number of pairs
+    in contact then averages exactly the contact ratio over a cycle, and the cycle mean
+    of the stiffness converges as (1 / positions)^2
+    (``tests/test_stiffness_mesh.py::test_spur_sampling_converges``).
+
+    Parameters
+    ----------
+    centre
+        Contact point of the slice centre at the sample, on the line of action [m].
+    start, end
+        Start and end of the path of contact on the line of action [m].
+    cell
+        Length of the sampling cell on the line of action [m] (base pitch over the
+        positions per cycle).
+    width
+        Length of the slice on the line of action [m] (slice width times tan of the
+        base helix angle; 0 for a spur pair).
+
+    Returns
+    -------
+    lmid, frac
+        Contact point at the middle of the in-path part [m] and the in-path fraction [-].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> lmid, frac = in_path_fraction(np.array([0.0, 1.0, 4.0]), 1.0, 4.0, 1.0)
+    >>> frac.tolist(), lmid.tolist()
+    ([0.0, 0.5, 0.5], [0.0, 1.25, 3.75])
+    """
+    half, c = 0.5 * cell, 0.5 * width
+
+    def cdf(t):
+        return (_ramp_integral(t + half, c) - _ramp_integral(t - half, c)) / cell
+
+    lo = np.maximum(centre - half - c, start)
+    hi = np.minimum(centre + half + c, end)
+    # outside the support both CDFs are 0 or 1 up to round-off: exactly 0 there
+    frac = np.where(hi > lo, np.clip(cdf(end - centre) - cdf(start - centre), 0.0, 1.0), 0.0)
+    return np.where(frac > 0, 0.5 * (lo + hi), centre), frac
+
+
+#: Fixed-point passes of the line contact law on the load per unit width.
+LINE_ITERATIONS = 3
+
+
+def centre_line_depth(gear, radii: np.ndarray) -> np.ndarray:
+    """Distance from a contact point to the tooth centre line along the load line [m].
+
+    The PE tooth deflects as a beam whose axis is the centre line; the contact approach
+    of :func:`gearsim.stiffness.tooth.line_contact_compliance` is taken up to the point
+    Q where the load line crosses it: d = x_c / cos(alpha_1), (x_c, y_c) the involute
+    point at radius r in the tooth frame and alpha_1 = alpha_r - atan(x_c / y_c) the
+    load angle (seed eq. 3). This is the point where the FE tooth reads its deflection
+    (:func:`gearsim.fem.tooth.load_geometry`).
+
+    Parameters
+    ----------
+    gear
+        The gear.
+    radii
+        Contact radii on the involute [m] (any shape).
+
+    Returns
+    -------
+    ndarray
+        d [m], the shape of ``radii``.
+    """
+    prof = ToothProfile(gear)
+    lo = max(prof.form_radius, gear.base_radius)
+    nodes = np.linspace(lo, gear.tip_radius, 64)
+    vals = np.empty(nodes.size)
+    for i, r in enumerate(nodes):
+        xc, yc = prof.involute_point(float(r))
+        a1 = math.acos(min(1.0, gear.base_radius / r)) - math.atan2(xc, yc)
+        vals[i] = xc / math.cos(a1)
+    return np.interp(np.asarray(radii, dtype=float), nodes, vals)
+
+
+def _slice_stiffness(diag: np.ndarray, width: np.ndarray, cross: np.ndarray | None
+                     ) -> np.ndarray:
+    """Pair stiffness per slice, (npc, n_age, ns), from per-unit-width compliances."""
+    inside = width > 0
+    if cross is None:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(inside, width / diag, 0.0)
+    n_age = diag.shape[1]
+    cmat = np.zeros(diag.shape[:1] + diag.shape[2:] + (n_age, n_age))  # (npc, ns, a, a)
+    idx = np.arange(n_age)
+    cmat[..., idx, idx] = np.moveaxis(np.where(inside, diag, 1.0), 1, -1)
+    off = np.moveaxis(np.where(inside[:, :-1] & inside[:, 1:], cross, 0.0), 1, -1)
+    cmat[..., idx[:-1], idx[1:]] = off
+    cmat[..., idx[1:], idx[:-1]] = off
+    q = np.linalg.solve(cmat, np.ones(cmat.shape[:-1])[..., None])[..., 0]
+    return np.where(inside, width * np.moveaxis(q, -1, 1), 0.0)
 
 
 def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
                    settings: StiffnessSettings | None = None,
                    revolution_of: int = 1,
-                   compliance: ToothCompliance | None = None) -> MeshStiffness:
+                   compliance: ToothCompliance | None = None,
+                   force: float | None = None, coupling=None) -> MeshStiffness:
     """TVMS of ``pair`` over one revolution of gear ``revolution_of`` (1 or 2).
 
     Parameters
@@ -167,6 +290,13 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
         default the potential-energy model. ``settings.source`` only names the model:
         the caller that owns the choice (:meth:`gearsim.system.GearTrain.mesh_stiffness`)
         passes the matching object.
+    force
+        Transverse line-of-action force of the mesh [N]; needed by the line contact
+        law (``settings.contact = "line"``), whose compliance depends on the load.
+    coupling
+        Body coupling of neighbouring teeth, an object with a method
+        ``cross(gear, r_read, r_load)`` (:class:`gearsim.fem.coupling.
+        FiniteElementCoupling`); needed when ``settings.coupling = "fe"``.
 
     Returns
     -------
@@ -205,6 +335,31 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     # Hertz compliance per unit width
     ch = 1.0 / hertz_stiffness(g1.material, g2.material, 1.0)
     width = frac * dz  # carried face width of each slice [m]
+    line = settings.contact == "line"
+    if line:
+        require(force is not None and math.isfinite(force) and force > 0, "force", force,
+                'the line contact law (stiffness.contact = "line") needs the mesh force, '
+                "a finite number > 0 N")
+        rho1 = np.where(inside, lmid, 1.0)
+        rho2 = np.where(inside, pair.line_length - lmid, 1.0)
+        dep1 = np.where(inside, centre_line_depth(g1, np.where(inside, r1, g1.base_radius)),
+                        1.0)
+        dep2 = np.where(inside, centre_line_depth(g2, np.where(inside, r2, g2.base_radius)),
+                        1.0)
+    coupled = settings.coupling != "none"
+    if coupled:
+        require(coupling is not None and hasattr(coupling, "cross"), "stiffness.coupling",
+                settings.coupling, "needs a body-coupling model: pass coupling= (gearsim."
+                "fem.coupling.FiniteElementCoupling) or use GearTrain.mesh_stiffness")
+        # tooth of age m + 1 (older pair) is the +x neighbour of the driver tooth of age m
+        # (the drive flank faces the way the driver turns) and the -x neighbour of the
+        # driven tooth of age m; X is symmetric in the two loaded teeth (Maxwell)
+        both = inside[:, :-1] & inside[:, 1:]
+        x1 = np.where(both, coupling.cross(g1, np.where(both, r1[:, :-1], g1.tip_radius),
+                                           np.where(both, r1[:, 1:], g1.tip_radius)), 0.0)
+        x2 = np.where(both, coupling.cross(g2, np.where(both, r2[:, 1:], g2.tip_radius),
+                                           np.where(both, r2[:, :-1], g2.tip_radius)), 0.0)
+        cross = x1 + x2  # (npc, n_age - 1, ns)
     z_rev = g1.teeth if revolution_of == 1 else g2.teeth
     n_pos = z_rev * npc
     k = np.zeros(n_pos)
@@ -223,17 +378,27 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
             t2[sl, m] = i2
             c1[:, m] = cracked1.get(i1, healthy1)[:, m]
             c2[:, m] = cracked2.get(i2, healthy2)[:, m]
-        # per unit width compliances -> slice compliances
-        with np.errstate(divide="ignore", invalid="ignore"):
-            cs = ch + c1.sum(-1) + c2.sum(-1)
-            ks = np.where(width > 0, width / cs, 0.0)  # (npc, n_age, ns)
+        teeth = c1.sum(-1) + c2.sum(-1)
+        chs = np.full(shape, ch)
+        ks = _slice_stiffness(chs + teeth, width, cross if coupled else None)
+        if line:
+            # fixed point on the load per unit width of each contact (ln dependence:
+            # three passes change k by < 1e-6)
+            for _ in range(LINE_ITERATIONS):
+                kt = ks.sum(axis=(1, 2))
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    q = np.where(width > 0, force * ks / (kt[:, None, None] * width), 1.0)
+                chs = np.where(inside, line_contact_compliance(
+                    np.maximum(q, 1e-3), rho1, rho2, dep1, dep2, g1.material, g2.material,
+                    settings.plane), ch)
+                ks = _slice_stiffness(chs + teeth, width, cross if coupled else None)
         kt = ks.sum(axis=(1, 2))
         k[sl] = kt
         pair_k[sl] = ks.sum(axis=2)
         share2 = (ks / kt[:, None, None]) ** 2
         with np.errstate(divide="ignore", invalid="ignore"):
             inv_w = np.where(width > 0, 1.0 / width, 0.0)
-        parts = [np.full(shape, ch)] + [c1[..., q] for q in range(4)] + [c2[..., q] for q in range(4)]
+        parts = [chs] + [c1[..., q] for q in range(4)] + [c2[..., q] for q in range(4)]
         with np.errstate(divide="ignore"):  # a zero component (FE source) -> inf stiffness
             for q, part in enumerate(parts):
                 comp[sl, q] = 1.0 / np.sum(share2 * part * inv_w, axis=(1, 2))
@@ -251,5 +416,7 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
         pair_tooth2=t2,
         attrs={"closure": settings.closure, "slices": ns,
                "positions_per_cycle": npc, "plane": settings.plane,
-               "gauss_points": settings.gauss_points, "source": model.name},
+               "gauss_points": settings.gauss_points, "source": model.name,
+               "contact": settings.contact, "coupling": settings.coupling,
+               **({"force": float(force)} if line else {})},
     )

@@ -6,7 +6,8 @@ from dataclasses import dataclass
 
 from gearsim.errors import require
 
-__all__ = ["CLOSURES", "DEFAULT_SLICES", "PLANES", "SOURCES", "StiffnessSettings"]
+__all__ = ["CLOSURES", "CONTACTS", "COUPLINGS", "DEFAULT_SLICES", "PLANES", "SOURCES",
+           "StiffnessSettings"]
 
 #: Tooth-compliance models ``stiffness.source`` may name.
 SOURCES = ("pe", "fe")
@@ -14,6 +15,10 @@ SOURCES = ("pe", "fe")
 CLOSURES = ("contact", "open")
 #: Plane assumptions ``stiffness.plane`` may name.
 PLANES = ("stress", "strain")
+#: Contact laws ``stiffness.contact`` may name.
+CONTACTS = ("yang-lin", "line")
+#: Tooth-coupling models ``stiffness.coupling`` may name.
+COUPLINGS = ("none", "fe")
 
 #: Default number of slices of a helical face width. From the convergence study in
 #: ``tests/test_stiffness_mesh.py::test_slice_convergence`` (Table-1 mesh I, largest
@@ -51,6 +56,17 @@ class StiffnessSettings:
         ends of the path, under load (extended contact). Off: a healthy mesh of contacts
         is exactly the TVMS of the slicing model. The stiffness table of a mesh without
         faults (:func:`gearsim.stiffness.mesh.mesh_stiffness`) never has them.
+    contact
+        Contact law of the mesh stiffness: ``"yang-lin"`` (default, the seed's load-
+        independent k_h = pi E b / (4 (1 - nu^2)), :func:`gearsim.stiffness.tooth.
+        hertz_stiffness`) or ``"line"``: the 2D Hertz line contact up to the tooth centre
+        lines (:func:`gearsim.stiffness.tooth.line_contact_compliance`), which depends on
+        the load per unit face width and agrees with the FE gear pair (docs/fem.md).
+    coupling
+        ``"none"`` (default, the seed: pairs in contact act in parallel, independently)
+        or ``"fe"``: a load on one tooth also deflects its loaded neighbour through the
+        gear body, with the cross compliance of the FE gear body computed once per gear
+        and cached (:mod:`gearsim.fem.coupling`).
     """
 
     closure: str = "contact"
@@ -60,6 +76,8 @@ class StiffnessSettings:
     plane: str = "stress"
     source: str = "pe"
     corner_contact: bool = True
+    contact: str = "yang-lin"
+    coupling: str = "none"
 
     def __post_init__(self) -> None:
         require(self.closure in CLOSURES, "stiffness.closure", self.closure,
@@ -75,3 +93,7 @@ class StiffnessSettings:
                 'must be "pe" or "fe"')
         require(isinstance(self.corner_contact, bool), "stiffness.corner_contact",
                 self.corner_contact, "must be true or false")
+        require(self.contact in CONTACTS, "stiffness.contact", self.contact,
+                'must be "yang-lin" or "line"')
+        require(self.coupling in COUPLINGS, "stiffness.coupling", self.coupling,
+                'must be "none" or "fe"')

@@ -76,7 +76,8 @@ def train_to_toml(train: GearTrain, dynamics: dict[str, Any] | None = None) -> s
     _table(lines, "[stiffness]", {"closure": st.closure, "slices": st.slices,
                                   "positions_per_cycle": st.positions_per_cycle,
                                   "gauss_points": st.gauss_points, "plane": st.plane,
-                                  "source": st.source, "corner_contact": st.corner_contact})
+                                  "source": st.source, "corner_contact": st.corner_contact,
+                                  "contact": st.contact, "coupling": st.coupling})
     for c in train.cracks:
         _table(lines, "[[cracks]]", {"gear": c.gear, "tooth": c.tooth, "flank": c.flank,
                                      "depth": c.depth, "angle": c.angle, "extent": c.extent,

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 from gearsim.errors import InputError, require
+from gearsim.fem.coupling import FiniteElementCoupling
 from gearsim.fem.tables import FiniteElementCompliance
 from gearsim.geometry.gear import Gear
 from gearsim.geometry.pair import GearPair
@@ -28,7 +29,8 @@ from gearsim.stiffness.modifications import Modification
 from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance
 from gearsim.system.faults import check_faults, flank_side, mesh_flanks
 
-__all__ = ["CRACK_CHOICES", "DEFAULT_CRACK", "GearTrain", "Operating", "tooth_compliance"]
+__all__ = ["CRACK_CHOICES", "DEFAULT_CRACK", "GearTrain", "Operating", "body_coupling",
+           "tooth_compliance"]
 
 #: The one default crack, used when a fault variant is asked for and the configuration
 #: names no crack: tooth 0 of the input gear, 2 mm deep at 45 deg to the tooth centre
@@ -60,6 +62,24 @@ def tooth_compliance(source: str) -> ToothCompliance:
     if source == "pe":
         return PotentialEnergyCompliance()
     raise InputError("stiffness.source", source, 'must be "pe" or "fe"')
+
+
+def body_coupling(settings: StiffnessSettings):
+    """The neighbouring-tooth coupling model named by ``stiffness.coupling``.
+
+    Parameters
+    ----------
+    settings : StiffnessSettings
+        ``coupling`` (``"none"`` or ``"fe"``) and ``plane``.
+
+    Returns
+    -------
+    FiniteElementCoupling or None
+        The FE body coupling (:mod:`gearsim.fem.coupling`), or None without coupling.
+    """
+    if settings.coupling == "fe":
+        return FiniteElementCoupling(plane=settings.plane)
+    return None
 
 
 #: Ceilings of the operating point: about 955 000 rpm, 1e9 N m (the largest gearboxes
@@ -325,7 +345,9 @@ class GearTrain:
         settings = settings or self.stiffness
         return mesh_stiffness(self.pairs[mesh], cracks=self.mesh_cracks(mesh),
                               settings=settings, revolution_of=revolution_of,
-                              compliance=tooth_compliance(settings.source))
+                              compliance=tooth_compliance(settings.source),
+                              force=self.static_mesh_force(mesh),
+                              coupling=body_coupling(settings))
 
     def has_contact_changes(self, mesh: int) -> bool:
         """True when faults, modifications or errors change the contacts of ``mesh``.

@@ -1,0 +1,142 @@
+"""The mesh-stiffness options beyond the seed against the FE gear pair (issue 15).
+
+``stiffness.contact = "line"`` (2D Hertz line contact up to the tooth centre lines) and
+``stiffness.coupling = "fe"`` (neighbouring loaded teeth coupled through the FE gear
+body) are checked against the finite-element gear pair in contact
+(:mod:`gearsim.fem.pair`), an independent model: both bodies meshed whole, contact
+solved exactly, the mesh stiffness read from the hub rotation. Positions are inside
+the single- and double-contact zones; near the transitions the FE pair touches outside
+the nominal path of contact under load (extended contact), which no option of the
+table models (docs/stiffness.md, "Beyond the seed").
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from gearsim.errors import InputError
+from gearsim.fem import pair as fp
+from gearsim.stiffness.mesh import mesh_stiffness
+from gearsim.stiffness.settings import StiffnessSettings
+from gearsim.system.train import body_coupling, tooth_compliance
+
+#: FE pair level of these checks: level 1 differs from the default level 2 by
+#: 0.06-0.24 % (docs/fem.md, convergence) and costs 0.2 s per position.
+LEVEL = 1
+#: Driver torque of the 19/48 checks [N m] (the docs/fem.md comparison).
+TORQUE = 100.0
+#: Positions inside double contact (u < eps - 1 = 0.646) and single contact.
+DOUBLE = (0.15, 0.35)
+SINGLE = (0.82,)
+#: FE tooth + line contact + FE coupling against the FE pair: the superposition of FE
+#: gear compliances and the 2D Hertz approach matches the FE pair within 1.1-1.7 %
+#: (tests/fem/test_fem_pair.py); the table adds the spline of the FE tooth curve and
+#: the Q-point convention of the single-tooth model: 3 %.
+SUPERPOSITION_TOL = 0.03
+#: Load shares of the two pairs in double contact, absolute.
+SHARE_TOL = 0.03
+#: Growth of the stiffness from 50 to 400 N m in single contact: FE pair against the
+#: line contact law, relative (both grow by ln(w) of the contact approach).
+LOAD_RATIO_TOL = 0.01
+#: Measured band of the potential-energy tooth with both options against the FE pair
+#: inside the zones (docs/stiffness.md: -6.2 % double, -8.1 % single contact): the PE
+#: tooth is 12-15 % softer than the FE tooth (docs/fem.md). A regression guard, not a
+#: target: the issue's 5 % is not reached by the PE tooth.
+PE_BAND = (-0.10, -0.04)
+#: Positions per cycle of the tables interpolated at the FE positions.
+NPC = 400
+
+
+@pytest.fixture(scope="module")
+def pair(spur):
+    return spur.pairs[0]
+
+
+@pytest.fixture(scope="module")
+def fe(pair):
+    model = fp.FEPairModel(pair, torque=TORQUE, level=LEVEL)
+    return {u: model.solve(u) for u in DOUBLE + SINGLE}, model
+
+
+def _table(pair, torque, **kw):
+    st = StiffnessSettings(positions_per_cycle=NPC, **kw)
+    return mesh_stiffness(pair, settings=st, compliance=tooth_compliance(st.source),
+                          force=torque / pair.driver.base_radius,
+                          coupling=body_coupling(st))
+
+
+def _at(ms, u):
+    i = int(round(u * NPC))
+    assert abs(i / NPC - u) < 1e-12
+    return ms.k[i], ms.pair_k[i]
+
+
+def test_fe_tooth_with_line_contact_and_coupling_equals_fe_pair(pair, fe):
+    """FE teeth + 2D line contact + body coupling = FE pair inside both contact zones."""
+    results, _ = fe
+    ms = _table(pair, TORQUE, source="fe", contact="line", coupling="fe")
+    for u, res in results.items():
+        k, _ = _at(ms, u)
+        assert k == pytest.approx(res.stiffness, rel=SUPERPOSITION_TOL), u
+
+
+def test_coupled_load_shares_equal_fe_pair(pair, fe):
+    """The coupled pairs share the load as the FE pair's two pairs do."""
+    results, _ = fe
+    ms = _table(pair, TORQUE, source="fe", contact="line", coupling="fe")
+    for u in DOUBLE:
+        k, pk = _at(ms, u)
+        share_pe = np.sort(pk[pk > 0] / k)
+        share_fe = np.sort(results[u].load_share[results[u].load_share > 0])
+        assert share_pe.size == share_fe.size == 2
+        np.testing.assert_allclose(share_pe, share_fe, atol=SHARE_TOL)
+
+
+def test_line_contact_follows_the_load_like_the_fe_pair(pair, fe):
+    """k(400 N m) / k(50 N m) in single contact: FE pair against the line contact law."""
+    _, model = fe
+    u = SINGLE[0]
+    fe_ratio = model.solve(u, torque=400.0).stiffness / model.solve(u, torque=50.0).stiffness
+    pe_ratio = (_at(_table(pair, 400.0, source="fe", contact="line"), u)[0]
+                / _at(_table(pair, 50.0, source="fe", contact="line"), u)[0])
+    assert fe_ratio > 1.02  # the FE pair stiffens with the load (wider contact)
+    assert pe_ratio == pytest.approx(fe_ratio, rel=LOAD_RATIO_TOL)
+
+
+def test_coupling_acts_in_double_contact_only(pair):
+    """Coupling lowers k where two pairs carry load and leaves single contact unchanged."""
+    free = _table(pair, TORQUE, contact="line")
+    coupled = _table(pair, TORQUE, contact="line", coupling="fe")
+    n_pairs = (free.pair_k[:NPC] > 0).sum(axis=1)
+    single = n_pairs == 1
+    np.testing.assert_allclose(coupled.k[:NPC][single], free.k[:NPC][single], rtol=1e-12)
+    assert np.all(coupled.k[:NPC][~single] < free.k[:NPC][~single])
+
+
+def test_potential_energy_tooth_band(pair, fe):
+    """PE tooth + both options: inside the measured band of the FE pair (regression guard)."""
+    results, _ = fe
+    ms = _table(pair, TORQUE, contact="line", coupling="fe")
+    for u, res in results.items():
+        k, _ = _at(ms, u)
+        assert PE_BAND[0] < k / res.stiffness - 1 < PE_BAND[1], u
+
+
+def test_options_need_their_inputs(pair):
+    st = StiffnessSettings(contact="line")
+    with pytest.raises(InputError, match="force"):
+        mesh_stiffness(pair, settings=st)
+    with pytest.raises(InputError, match="stiffness.coupling"):
+        mesh_stiffness(pair, settings=StiffnessSettings(coupling="fe"))
+    with pytest.raises(InputError, match="stiffness.contact"):
+        StiffnessSettings(contact="hertz")
+
+
+def test_mesh_of_contacts_refuses_the_options(spur):
+    """The contact mesh (faults) supports the seed's contact law only: refused, named."""
+    tr = dataclasses.replace(spur, stiffness=StiffnessSettings(contact="line"))
+    with pytest.raises(InputError, match="stiffness.contact"):
+        tr.mesh_contacts(0)

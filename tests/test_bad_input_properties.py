@@ -436,6 +436,8 @@ def config_fields() -> list[Field]:
         F(("stiffness", "closure"), "choice", ("closed", "")),
         F(("stiffness", "plane"), "choice", ("plain", "")),
         F(("stiffness", "source"), "choice", ("fem", "")),
+        F(("stiffness", "contact"), "choice", ("hertz", "")),
+        F(("stiffness", "coupling"), "choice", ("yes", "")),
         F(("stiffness", "slices"), "int", (0, -1, 2001)),
         F(("stiffness", "positions_per_cycle"), "int", (3, 0, 10001)),
         F(("stiffness", "gauss_points"), "int", (1, 0, 201)),

@@ -64,7 +64,8 @@ GEAR_KEYS = {
 OPERATING_KEYS = {"speed": "speed", "torque": "torque"}
 STIFFNESS_KEYS = {"closure": "str", "slices": "int", "positions_per_cycle": "int",
                   "gauss_points": "int", "plane": "str", "source": "str",
-                  "corner_contact": "bool", "contact": "str", "coupling": "str"}
+                  "corner_contact": "bool", "contact": "str", "coupling": "str",
+                  "fe_pair_positions": "int"}
 CRACK_KEYS = {"gear": "str", "tooth": "int", "flank": "str", "depth": "length",
               "angle": "angle", "extent": "dimensionless", "profile": "str",
               "start_radius": "length"}

@@ -10,7 +10,7 @@ __all__ = ["CLOSURES", "CONTACTS", "COUPLINGS", "DEFAULT_SLICES", "PLANES", "SOU
            "StiffnessSettings"]
 
 #: Tooth-compliance models ``stiffness.source`` may name.
-SOURCES = ("pe", "fe")
+SOURCES = ("pe", "fe", "fe-pair")
 #: Crack-face models ``stiffness.closure`` may name.
 CLOSURES = ("contact", "open")
 #: Plane assumptions ``stiffness.plane`` may name.
@@ -46,8 +46,10 @@ class StiffnessSettings:
     source
         ``"pe"``: potential-energy tooth compliance (default); ``"fe"``: the tooth
         compliance of the finite-element model (:mod:`gearsim.fem.tables`), the
-        counterpart of the seed's rigid-flexible coupling. The model is chosen one layer
-        up, by :func:`gearsim.system.tooth_compliance`.
+        counterpart of the seed's rigid-flexible coupling; ``"fe-pair"``: the whole mesh
+        stiffness from the FE gear pair in contact at the train's torque
+        (:mod:`gearsim.system.fe_pair`; cracks only, no mesh of contacts). The model is
+        chosen one layer up, by :func:`gearsim.system.tooth_compliance`.
     corner_contact
         Add the tip-corner contacts of the tooth pairs just outside the path of contact
         to the mesh of contacts (:mod:`gearsim.stiffness.contacts`; default on). They
@@ -62,6 +64,9 @@ class StiffnessSettings:
         hertz_stiffness`) or ``"line"``: the 2D Hertz line contact up to the tooth centre
         lines (:func:`gearsim.stiffness.tooth.line_contact_compliance`), which depends on
         the load per unit face width and agrees with the FE gear pair (docs/fem.md).
+    fe_pair_positions
+        Positions per mesh cycle solved by the FE gear pair (``source = "fe-pair"``),
+        interpolated to ``positions_per_cycle``.
     coupling
         ``"none"`` (default, the seed: pairs in contact act in parallel, independently)
         or ``"fe"``: a load on one tooth also deflects its loaded neighbour through the
@@ -78,19 +83,20 @@ class StiffnessSettings:
     corner_contact: bool = True
     contact: str = "yang-lin"
     coupling: str = "none"
+    fe_pair_positions: int = 20
 
     def __post_init__(self) -> None:
         require(self.closure in CLOSURES, "stiffness.closure", self.closure,
                 'must be "open" or "contact"')
         for name, lo, hi in (("slices", 1, 2000), ("positions_per_cycle", 4, 10000),
-                             ("gauss_points", 2, 200)):
+                             ("gauss_points", 2, 200), ("fe_pair_positions", 4, 200)):
             v = getattr(self, name)
             require(isinstance(v, int) and not isinstance(v, bool) and lo <= v <= hi,
                     f"stiffness.{name}", v, f"must be an integer in [{lo}, {hi}]")
         require(self.plane in PLANES, "stiffness.plane", self.plane,
                 'must be "stress" or "strain"')
         require(self.source in SOURCES, "stiffness.source", self.source,
-                'must be "pe" or "fe"')
+                'must be "pe", "fe" or "fe-pair"')
         require(isinstance(self.corner_contact, bool), "stiffness.corner_contact",
                 self.corner_contact, "must be true or false")
         require(self.contact in CONTACTS, "stiffness.contact", self.contact,

@@ -13,6 +13,8 @@ through gearsim:
 * cases per route: healthy; working-flank and non-working-flank crack with the
   ``contact`` closure model; the same with the ``open`` closure model (as printed in
   the seed, blind to the flank);
+* the FE gear pair in contact (:mod:`gearsim.fem.pair`) against the PE mesh stiffness
+  on the transverse section of mesh I, healthy (seed Figure 3);
 * the crack depth sensitivity (PE, both flanks and closures) over several depths;
 * the fault magnitudes: every fault class of :mod:`gearsim.model.variants` (cracks,
   spall, pitting, chipped and broken tooth, pitch error, eccentricity) at several
@@ -73,6 +75,7 @@ from gearsim.model.variants import FAULT_CLASSES, fault_variant
 from gearsim.signals import analyze
 from gearsim.signals.settings import AnalysisSettings
 from gearsim.studies.claims import case_metrics, claims_table, qualitative_findings
+from gearsim.studies.fe_pair_check import fe_pair_check
 from gearsim.studies.report import write_report
 from gearsim.studies.reproduction import (
     DEFAULT_DEPTHS,
@@ -307,6 +310,7 @@ def compute_reproduction(options: ReproduceOptions | None = None, *,
     timings["stiffness"] = time.perf_counter() - t0
 
     fe_checks: dict[str, Any] = {}
+    fe_pair: dict[str, Any] = {}
     if opt.fe:
         t0 = time.perf_counter()
         for crack in ("none", "working", "non-working"):
@@ -315,6 +319,10 @@ def compute_reproduction(options: ReproduceOptions | None = None, *,
             fe_checks[crack] = fe_check(tr, tr.gears[0].name, crack=crack,
                                         points=opt.fe_points)
         timings["fe_check"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        say("FE gear pair of mesh I against the PE stiffness")
+        fe_pair[base.pairs[0].name] = fe_pair_check(base, 0)
+        timings["fe_pair"] = time.perf_counter() - t0
 
     say("crack-depth sensitivity")
     t0 = time.perf_counter()
@@ -335,7 +343,7 @@ def compute_reproduction(options: ReproduceOptions | None = None, *,
     return Reproduction(options=opt, train=base, t1=t1, f_m=f_m, contact_ratio=eps, runs=runs,
                         metrics=metrics, stiffness=stiffness, fe_checks=fe_checks,
                         sensitivity=sensitivity, claims=claims, findings=findings,
-                        timings=timings, fault_magnitudes=faults)
+                        timings=timings, fault_magnitudes=faults, fe_pair=fe_pair)
 
 
 def write_reproduction(rep: Reproduction, out: str | Path, *,

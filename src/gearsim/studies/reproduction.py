@@ -141,6 +141,9 @@ class Reproduction:
         Route -> qualitative findings.
     timings : dict
         Seconds per step.
+    fe_pair : dict
+        Mesh name -> :class:`gearsim.studies.fe_pair_check.FEPairCheck`: the FE gear
+        pair's section TVMS against the PE curves (seed Figure 3; empty without FE).
     fault_magnitudes : list of dict
         Rows of the fault-magnitude section: every fault class at each severity against
         the healthy train on the same (contact) mesh model, with the seed's impact and
@@ -163,6 +166,7 @@ class Reproduction:
     findings: dict[str, list[dict[str, Any]]]
     timings: dict[str, float]
     fault_magnitudes: list[dict[str, Any]] = field(default_factory=list)
+    fe_pair: dict[str, Any] = field(default_factory=dict)
     seed: dict[str, float] = field(default_factory=lambda: dict(SEED))
 
     def plot(self) -> dict[str, Figure]:
@@ -199,6 +203,7 @@ class Reproduction:
             "findings": self.findings,
             "cases": {k: m.to_dict() for k, m in self.metrics.items()},
             "fe_check": {k: v.differences() for k, v in self.fe_checks.items()},
+            "fe_pair_check": {k: v.to_dict() for k, v in self.fe_pair.items()},
             "sensitivity": self.sensitivity,
             "fault_magnitudes": self.fault_magnitudes,
             "timings_s": self.timings,

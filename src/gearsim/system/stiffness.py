@@ -59,8 +59,8 @@ class TrainStiffness:
                 row = {"mesh": self.train.pairs[i].name, "revolution_of": r.revolution_of,
                        "cycle": r.cycles[j], "theta1_deg": math.degrees(r.theta1[j]),
                        "theta2_deg": math.degrees(r.theta2[j]), "k": r.k[j]}
-                for c in COMPONENTS:
-                    row[f"k_{c}"] = r.components[c][j]
+                for c in COMPONENTS:  # the FE pair source has no component split
+                    row[f"k_{c}"] = r.components[c][j] if c in r.components else math.nan
                 rows.append(row)
         return rows
 

@@ -77,7 +77,8 @@ def train_to_toml(train: GearTrain, dynamics: dict[str, Any] | None = None) -> s
                                   "positions_per_cycle": st.positions_per_cycle,
                                   "gauss_points": st.gauss_points, "plane": st.plane,
                                   "source": st.source, "corner_contact": st.corner_contact,
-                                  "contact": st.contact, "coupling": st.coupling})
+                                  "contact": st.contact, "coupling": st.coupling,
+                                  "fe_pair_positions": st.fe_pair_positions})
     for c in train.cracks:
         _table(lines, "[[cracks]]", {"gear": c.gear, "tooth": c.tooth, "flank": c.flank,
                                      "depth": c.depth, "angle": c.angle, "extent": c.extent,

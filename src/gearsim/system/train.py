@@ -61,7 +61,12 @@ def tooth_compliance(source: str) -> ToothCompliance:
         return FiniteElementCompliance()
     if source == "pe":
         return PotentialEnergyCompliance()
-    raise InputError("stiffness.source", source, 'must be "pe" or "fe"')
+    if source == "fe-pair":
+        raise InputError("stiffness.source", source, "gives whole-mesh tables from the FE "
+                         "gear pair; the mesh of contacts (faults other than cracks, "
+                         "modifications) and eccentricity need a tooth model: "
+                         'use "pe" or "fe"')
+    raise InputError("stiffness.source", source, 'must be "pe", "fe" or "fe-pair"')
 
 
 def body_coupling(settings: StiffnessSettings):
@@ -175,6 +180,15 @@ class GearTrain:
         for c in self.cracks:  # every crack fits its tooth, checked once, here
             crack_geometry(ToothProfile(self.gear(c.gear)), c)
         check_faults(self)
+        if self.stiffness.source == "fe-pair":
+            for c in self.cracks:
+                require(c.extent == 1.0 and c.profile == "uniform", "stiffness.source",
+                        "fe-pair", f"models one transverse section: the crack on {c.gear} "
+                        f"must be uniform over the face width (extent {c.extent:g}, "
+                        f"profile {c.profile!r})")
+            require(not self.faults and not self.modifications, "stiffness.source", "fe-pair",
+                    "gives whole-mesh tables: faults other than cracks and modifications "
+                    'need the mesh of contacts and a tooth model ("pe" or "fe")')
 
     def gear(self, name: str) -> Gear:
         """The gear called ``name``.
@@ -343,6 +357,11 @@ class GearTrain:
             Stiffness [N/m] per position, components and load sharing.
         """
         settings = settings or self.stiffness
+        if settings.source == "fe-pair":
+            from gearsim.system.fe_pair import fe_pair_train_stiffness
+
+            return fe_pair_train_stiffness(self, mesh, revolution_of=revolution_of,
+                                           settings=settings)
         return mesh_stiffness(self.pairs[mesh], cracks=self.mesh_cracks(mesh),
                               settings=settings, revolution_of=revolution_of,
                               compliance=tooth_compliance(settings.source),

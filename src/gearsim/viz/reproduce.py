@@ -56,19 +56,20 @@ def plot_stiffness(rep: Reproduction, *, fig: Figure | None = None) -> Figure:
     ----------
 {rep}
     fig : matplotlib.figure.Figure, optional
-        Figure to draw into (one panel, three with FE checks); default a new one.
+        Figure to draw into (one panel; two more per row of FE checks and of the FE
+        gear pair); default a new one.
 
 {returns}
     """
     has_fe = bool(rep.fe_checks)
-    fig = figure_or_new(fig, 12, 8.5 if has_fe else 4.5)
+    has_pair = bool(rep.fe_pair)
+    rows = 1 + has_fe + has_pair
+    fig = figure_or_new(fig, 12, 4.5 + 4.0 * (rows - 1))
+    gs = fig.add_gridspec(rows, 2)
+    ax0 = fig.add_subplot(gs[0, :])
     if has_fe:
-        gs = fig.add_gridspec(2, 2)
-        ax0 = fig.add_subplot(gs[0, :])
         ax1 = fig.add_subplot(gs[1, 0])
         ax2 = fig.add_subplot(gs[1, 1])
-    else:
-        ax0 = fig.add_subplot(1, 1, 1)
     z = rep.train.gears[0].teeth
     span = 360.0 / z * 5  # five base pitches either side of the cracked tooth
     pe = rep.stiffness["PE"]
@@ -116,7 +117,39 @@ def plot_stiffness(rep: Reproduction, *, fig: Figure | None = None) -> Figure:
         ax2.set_ylabel("|k_PE - k_FE| / k_FE [%]")
         ax2.set_title("(c) PE vs FE differences (seed Figure 3b)")
         ax2.legend(fontsize=8)
+    if has_pair:
+        _plot_fe_pair(rep, fig.add_subplot(gs[rows - 1, 0]), fig.add_subplot(gs[rows - 1, 1]))
     return fig
+
+
+_PAIR_STYLE = {"pe": ("-", "tab:blue", "PE, seed options"),
+               "pe_line": ("--", "tab:green", "PE tooth + line contact + coupling"),
+               "fe_tooth": (":", "tab:purple", "FE tooth + line contact + coupling")}
+
+
+def _plot_fe_pair(rep: Reproduction, ax_k, ax_bar) -> None:
+    """(d) FE gear pair TVMS of the mesh-I section against the model curves; (e) bars."""
+    mesh, chk = next(iter(rep.fe_pair.items()))
+    ax_k.plot(chk.cycles, chk.k_fe / 1e9, "ko", ms=4, label="FE gear pair")
+    for curve, (ls, color, label) in _PAIR_STYLE.items():
+        ax_k.plot(chk.cycles, chk.curves[curve] / 1e9, ls, color=color, lw=1.3, label=label)
+    ax_k.set_xlabel("mesh cycles")
+    ax_k.set_ylabel(f"mesh stiffness, section of mesh {mesh} [GN/m]")
+    ax_k.set_title(f"(d) FE gear pair vs PE, healthy, {chk.torque:.4g} N m (seed Figure 3a)")
+    ax_k.legend(fontsize=8)
+    names = ["max", "min", "mean"]
+    xs = np.arange(3)
+    width = 0.2
+    ax_bar.bar(xs - 1.5 * width, [6.7, 5.6, 6.3], width, color="grey", label="seed |error|")
+    for i, (curve, (_, color, label)) in enumerate(_PAIR_STYLE.items()):
+        d = chk.differences(curve)
+        ax_bar.bar(xs + (i - 0.5) * width, [d[n] for n in names], width, color=color,
+                   label=label)
+    ax_bar.axhline(0.0, color="k", lw=0.8)
+    ax_bar.set_xticks(xs, [f"{n} stiffness" for n in names])
+    ax_bar.set_ylabel("(k_model - k_FE pair) / k_FE pair [%]")
+    ax_bar.set_title("(e) Differences to the FE gear pair (seed Figure 3b)")
+    ax_bar.legend(fontsize=7)
 
 
 def _impacts(rep: Reproduction, key: str) -> np.ndarray:
@@ -434,7 +467,9 @@ CAPTIONS: dict[str, str] = {
         "tooth, potential energy (solid) and FE tooth compliance (dashed; the FE working-flank "
         "crack opens, so its contact and open curves coincide); (b) tooth "
         "stiffness along the path of contact, PE lines and FE points; (c) PE-FE "
-        "differences of the max, min and mean tooth stiffness beside the seed's.",
+        "differences of the max, min and mean tooth stiffness beside the seed's; (d) the FE "
+        "gear pair's mesh stiffness of the mesh-I transverse section against the PE curves "
+        "and (e) the differences of their max, min and mean (seed Figure 3a/3b).",
     "fig5_time":
         "Equivalent of seed Figure 5: dynamic load of mesh I over three input "
         "revolutions (left; triangles: impacts found in the fault residual, bottom row) and a "

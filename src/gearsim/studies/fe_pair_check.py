@@ -1,0 +1,159 @@
+"""PE mesh stiffness against the FE gear pair on a transverse section (seed Figure 3).
+
+The seed checks its potential-energy (PE) mesh stiffness against a finite-element model
+of the gear pair (its Figure 3a: the two TVMS curves; Figure 3b: the differences of their
+maximum, minimum and mean). :func:`fe_pair_check` does the same on the transverse section
+of a mesh: the FE gear pair in contact (:mod:`gearsim.fem.pair`, through the cached table
+of :func:`gearsim.fem.pair_table.fe_pair_mesh_stiffness`) against
+
+* ``pe``: the PE model with the train's options (the seed's: Yang-Lin contact, pairs in
+  parallel),
+* ``pe_line``: the PE tooth with the 2D line contact and the FE body coupling
+  (``stiffness.contact = "line"``, ``stiffness.coupling = "fe"``; docs/stiffness.md 4b),
+* ``fe_tooth``: the single-tooth FE compliance with the same two options,
+
+all on the section at z = 0 (the FE pair's convention: driver tooth k touches at
+l_A + (u + k) p_b), over a window of mesh cycles.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from gearsim.stiffness.mesh import mesh_stiffness
+from gearsim.system.fe_pair import FE_PAIR_LEVEL
+from gearsim.system.train import GearTrain, body_coupling, tooth_compliance
+
+__all__ = ["CURVES", "FEPairCheck", "fe_pair_check"]
+
+#: The model curves compared with the FE pair.
+CURVES = ("pe", "pe_line", "fe_tooth")
+#: Positions per cycle of the PE curves (interpolated at the FE positions).
+PE_POSITIONS = 400
+
+
+@dataclass
+class FEPairCheck:
+    """FE gear pair against the model curves on one transverse section.
+
+    Parameters
+    ----------
+    mesh
+        Mesh name.
+    crack
+        ``"none"`` (the FE pair table is for healthy gears).
+    torque
+        Driver torque [N m].
+    cycles
+        Mesh cycles of the positions [-].
+    k_fe
+        FE pair stiffness of the section over the face width [N/m].
+    curves
+        Curve name (:data:`CURVES`) -> stiffness at the same positions [N/m].
+    level
+        FE mesh level.
+    """
+
+    mesh: str
+    crack: str
+    torque: float
+    cycles: np.ndarray
+    k_fe: np.ndarray
+    curves: dict[str, np.ndarray] = field(default_factory=dict)
+    level: int = FE_PAIR_LEVEL
+
+    def differences(self, curve: str = "pe") -> dict[str, float]:
+        """100 (k_model - k_FE) / k_FE of the max, min and mean of the curves [%].
+
+        Parameters
+        ----------
+        curve : str
+            One of :data:`CURVES`.
+
+        Returns
+        -------
+        dict
+            ``max``, ``min``, ``mean`` [%] (the seed's Figure 3b quantities).
+        """
+        k = self.curves[curve]
+        return {name: float(100.0 * (f(k) - f(self.k_fe)) / f(self.k_fe))
+                for name, f in (("max", np.max), ("min", np.min), ("mean", np.mean))}
+
+    def to_dict(self) -> dict:
+        """JSON-ready summary (SI units)."""
+        return {"mesh": self.mesh, "crack": self.crack, "torque_N_m": self.torque,
+                "level": self.level, "cycles": self.cycles.tolist(),
+                "k_fe_pair_N_per_m": self.k_fe.tolist(),
+                **{f"k_{c}_N_per_m": v.tolist() for c, v in self.curves.items()},
+                "differences_percent": {c: self.differences(c) for c in self.curves}}
+
+
+#: Face-width scale of the section computation: a slice of width SECTION b has no extent
+#: along the line of action (b tan(beta_b) SECTION), so it is the transverse section.
+SECTION = 1e-6
+
+
+def _section(train: GearTrain, mesh: int, settings, npc: int) -> tuple[np.ndarray, np.ndarray]:
+    """PE-type TVMS of the transverse section over one revolution of the driver, (cycles, k).
+
+    The slicing model with one slice of the face width spreads a helical slice over
+    b tan(beta_b) of the line of action; the section is the same gears with the face
+    width scaled by :data:`SECTION` (and the force with it, so the load per unit width
+    is the train's), scaled back.
+    """
+    pair = train.pairs[mesh]
+    thin = dataclasses.replace(pair, driver=dataclasses.replace(
+        pair.driver, face_width=pair.driver.face_width * SECTION), driven=dataclasses.replace(
+        pair.driven, face_width=pair.driven.face_width * SECTION))
+    st = dataclasses.replace(settings, slices=1, positions_per_cycle=npc)
+    ms = mesh_stiffness(thin, settings=st, compliance=tooth_compliance(st.source),
+                        force=train.static_mesh_force(mesh) * SECTION,
+                        coupling=body_coupling(st))
+    return ms.cycles, ms.k / SECTION
+
+
+def fe_pair_check(train: GearTrain, mesh: int = 0, *, positions_per_cycle: int = 20,
+                  cycles: int = 3) -> FEPairCheck:
+    """The FE pair's section TVMS against the PE curves (module docstring).
+
+    Parameters
+    ----------
+    train : GearTrain
+        The train (healthy gears: its cracks are removed; torque from its operating
+        point).
+    mesh : int
+        Mesh index.
+    positions_per_cycle : int
+        FE positions per mesh cycle (the cached table's).
+    cycles : int
+        Mesh cycles shown.
+
+    Returns
+    -------
+    FEPairCheck
+    """
+    from gearsim.fem.pair_table import fe_pair_mesh_stiffness
+
+    tr = train.with_cracks(())
+    pair = tr.pairs[mesh]
+    torque = tr.torque(mesh)
+    fe = fe_pair_mesh_stiffness(pair, torque=torque, positions_per_cycle=positions_per_cycle,
+                                level=FE_PAIR_LEVEL, plane=tr.stiffness.plane)
+    n = cycles * positions_per_cycle
+    u = fe.cycles[:n]
+    base = dataclasses.replace(tr.stiffness, source="pe")
+    variants = {
+        "pe": base,
+        "pe_line": dataclasses.replace(base, contact="line", coupling="fe"),
+        "fe_tooth": dataclasses.replace(base, source="fe", contact="line", coupling="fe"),
+    }
+    z1 = pair.driver.teeth
+    curves = {}
+    for name, st in variants.items():
+        x, k = _section(tr, mesh, st, PE_POSITIONS)
+        curves[name] = np.interp(u, x, k, period=float(z1))
+    return FEPairCheck(mesh=pair.name, crack="none", torque=torque, cycles=u,
+                       k_fe=fe.k[:n].copy(), curves=curves)

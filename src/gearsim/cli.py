@@ -64,7 +64,7 @@ def _global_options(
 VERB_MODULES = {
     "example": "basic", "stiffness": "basic", "contact": "basic",
     "analyze": "analysis", "compare": "analysis",
-    "simulate": "dynamics", "fe-check": "fem", "reproduce": "studies", "sweep": "sweep",
+    "simulate": "dynamics", "fe-check": "fem", "fe-pair": "fem", "reproduce": "studies", "sweep": "sweep",
     "sweep-report": "sweep",
 }
 

@@ -1,11 +1,13 @@
-"""CLI verb ``fe-check``: finite-element versus potential-energy tooth compliance."""
+"""CLI verbs ``fe-check`` (FE versus PE tooth compliance) and ``fe-pair`` (FE gear pair)."""
 
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import Annotated
 
+import numpy as np
 import typer
 
 from gearsim.commands._options import as_options
@@ -14,7 +16,7 @@ from gearsim.io.targets import atomic_folder, check_output_folder
 from gearsim.model import load
 from gearsim.viz import save
 
-__all__ = ["fe_check_command", "register"]
+__all__ = ["fe_check_command", "fe_pair_command", "register"]
 
 
 def _figure_file(name: str) -> bool:
@@ -106,13 +108,142 @@ def fe_check_command(
                f"mean {d['mean']:+.2f} % (seed Fig. 3b: 6.7 / 5.6 / 6.3 %)")
 
 
+def _positions(text: str) -> list[float]:
+    """``N`` (N positions u = (i + 1/2) / N) or a comma list of mesh-cycle fractions."""
+    from gearsim.errors import InputError
+
+    text = text.strip()
+    try:
+        if "," not in text and "." not in text:
+            n = int(text)
+            if not 1 <= n <= 200:
+                raise InputError("--positions", text, "a count must be in [1, 200]")
+            return [(i + 0.5) / n for i in range(n)]
+        values = [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise InputError("--positions", text, "must be a count or a comma list of mesh-cycle "
+                         "fractions in [0, 1)") from None
+    if not values or len(values) > 200:
+        raise InputError("--positions", text, "must give 1 to 200 positions")
+    for v in values:
+        if not (math.isfinite(v) and 0.0 <= v < 1.0):
+            raise InputError("--positions", v, "a position must be a mesh-cycle fraction "
+                             "in [0, 1)")
+    return values
+
+
+def fe_pair_command(
+    config: Annotated[str, typer.Argument(help="TOML file or built-in example name")],
+    mesh: Annotated[int, typer.Option(help="mesh index (0 = mesh I)")] = 0,
+    positions: Annotated[str, typer.Option(
+        help="N positions u = (i + 1/2)/N, or a comma list of mesh-cycle fractions in [0, 1)")]
+    = "8",
+    torque: Annotated[str | None, typer.Option(
+        help="input torque, e.g. '2000 N*m' (default the configuration's)")] = None,
+    level: Annotated[int, typer.Option(help="mesh level N: element size m_n/(4 2^N) on the "
+                                            "teeth, 8 times finer on the flanks")] = 2,
+    json_: Annotated[bool, typer.Option("--json", help="print a JSON report")] = False,
+) -> None:
+    """FE gear pair in contact on the transverse section of one mesh: loaded
+    transmission error, mesh stiffness, load sharing, contact widths and root stresses at
+    mesh positions, beside the potential-energy mesh stiffness (seed Figure 3a).
+    \f
+
+    Both gears whole, hubs rigid, frictionless contact solved exactly
+    (:class:`gearsim.fem.pair.FEPairModel`; docs/fem.md, "Gear pair in contact"). The
+    PE curves are those of :func:`gearsim.studies.fe_pair_check.section_tvms`: the
+    seed's options and the FE tooth with the 2D line contact and body coupling.
+
+    Parameters
+    ----------
+    config : str
+        TOML file or built-in example name (its cracks are ignored: healthy gears).
+    mesh : int
+        Mesh index.
+    positions : str
+        A count N or a comma list of mesh-cycle fractions in [0, 1).
+    torque : str, optional
+        Input torque with its unit; default the configuration's.
+    level : int
+        FE mesh level.
+    json_ : bool
+        Print the JSON report (option ``--json``).
+
+    Raises
+    ------
+    InputError
+        A mesh index, position, torque or level out of range, or a mesh too coarse for
+        the contact (exit status 2 in the CLI), before the FE model is built.
+    """
+    import dataclasses
+
+    from gearsim.errors import InputError
+    from gearsim.fem.pair import FEPairModel
+    from gearsim.studies.fe_pair_check import section_tvms
+    from gearsim.system import Operating
+    from gearsim.units import to_si
+
+    u = _positions(positions)
+    train = load(config).train.with_cracks(())
+    n = len(train.pairs)
+    if not 0 <= mesh < n:
+        raise InputError("--mesh", mesh, f"must be in 0 .. {n - 1} ({n} meshes)")
+    if torque is not None:
+        t = to_si(torque, "torque", "--torque")
+        with as_options({"operating.torque": "--torque"}):
+            train = dataclasses.replace(train, operating=Operating(
+                speed=train.operating.speed, torque=t))
+    pair = train.pairs[mesh]
+    with as_options({"fem.level": "--level", "level": "--level", "torque": "--torque"}):
+        model = FEPairModel(pair, torque=train.torque(mesh), level=level,
+                            plane=train.stiffness.plane)
+    results = [model.solve(v) for v in u]
+    base = dataclasses.replace(train.stiffness, source="pe")
+    curves = {}
+    for name, st in (("pe", base), ("fe_tooth_line_coupling", dataclasses.replace(
+            base, source="fe", contact="line", coupling="fe"))):
+        x, k = section_tvms(train, mesh, st, 400)
+        curves[name] = np.interp(u, x, k, period=float(pair.driver.teeth))
+    rows = []
+    for i, r in enumerate(results):
+        rows.append({
+            "position": u[i], "stiffness_N_per_m": r.stiffness,
+            "transmission_error_m": r.transmission_error,
+            "pair_teeth": [int(k) for k in r.pair_teeth],
+            "load_share": [float(v) for v in r.load_share],
+            "contact_half_width_m": [float(v) for v in r.contact_half_width],
+            "root_stress_driver_Pa": [float(v) for v in r.root_stress_driver],
+            "root_stress_driven_Pa": [float(v) for v in r.root_stress_driven],
+            **{f"k_{c}_N_per_m": float(v[i]) for c, v in curves.items()}})
+    if json_:
+        typer.echo(json.dumps({"mesh": pair.name, "torque_N_m": train.torque(mesh),
+                               "level": model.level, "h_contact_m": model.h_contact,
+                               "positions": rows}, indent=2))
+        return
+    typer.echo(f"mesh {pair.name} ({pair.driver.name} -> {pair.driven.name}), transverse "
+               f"section; driver torque {train.torque(mesh):.6g} N m; FE level {model.level} "
+               f"(contact elements {model.h_contact * 1e6:.3g} um)")
+    typer.echo(f"{'u':>6} {'k_FE GN/m':>10} {'TE um':>8} {'shares':>14} {'b um':>12} "
+               f"{'root MPa':>9} {'PE/FE':>6} {'FE+line/FE':>10}")
+    for row in rows:
+        k = row["stiffness_N_per_m"]
+        shares = "/".join(f"{v:.2f}" for v in row["load_share"])
+        widths = "/".join(f"{v * 1e6:.0f}" for v in row["contact_half_width_m"])
+        root = max(row["root_stress_driver_Pa"] + [0.0]) / 1e6
+        typer.echo(f"{row['position']:6.3f} {k / 1e9:10.4f} "
+                   f"{row['transmission_error_m'] * 1e6:8.3f} {shares:>14} {widths:>12} "
+                   f"{root:9.1f} {row['k_pe_N_per_m'] / k:6.3f} "
+                   f"{row['k_fe_tooth_line_coupling_N_per_m'] / k:10.3f}")
+
+
 def register(app: typer.Typer) -> None:
-    """Add ``fe-check`` to ``app``.
+    """Add ``fe-check`` and ``fe-pair`` to ``app``.
 
     Parameters
     ----------
     app : typer.Typer
-        The ``gearsim`` application (:mod:`gearsim.cli`); :func:`fe_check_command` is
-        registered under the name ``fe-check``.
+        The ``gearsim`` application (:mod:`gearsim.cli`); :func:`fe_check_command` and
+        :func:`fe_pair_command` are registered as ``fe-check`` and ``fe-pair``.
     """
     app.command("fe-check")(fe_check_command)
+    app.command("fe-pair")(fe_pair_command)

@@ -27,7 +27,7 @@ from gearsim.stiffness.mesh import mesh_stiffness
 from gearsim.system.fe_pair import FE_PAIR_LEVEL
 from gearsim.system.train import GearTrain, body_coupling, tooth_compliance
 
-__all__ = ["CURVES", "FEPairCheck", "fe_pair_check"]
+__all__ = ["CURVES", "FEPairCheck", "fe_pair_check", "section_tvms"]
 
 #: The model curves compared with the FE pair.
 CURVES = ("pe", "pe_line", "fe_tooth")
@@ -96,13 +96,30 @@ class FEPairCheck:
 SECTION = 1e-6
 
 
-def _section(train: GearTrain, mesh: int, settings, npc: int) -> tuple[np.ndarray, np.ndarray]:
-    """PE-type TVMS of the transverse section over one revolution of the driver, (cycles, k).
+def section_tvms(train: GearTrain, mesh: int, settings, npc: int
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """Slicing-model TVMS of the transverse section over a driver revolution [N/m].
 
     The slicing model with one slice of the face width spreads a helical slice over
     b tan(beta_b) of the line of action; the section is the same gears with the face
     width scaled by :data:`SECTION` (and the force with it, so the load per unit width
-    is the train's), scaled back.
+    is the train's), scaled back: the quantity the FE gear pair computes.
+
+    Parameters
+    ----------
+    train : GearTrain
+        The train (its cracks on this mesh are ignored: healthy section).
+    mesh : int
+        Mesh index.
+    settings : StiffnessSettings
+        Source, contact law, coupling, plane of the curve.
+    npc : int
+        Positions per mesh cycle.
+
+    Returns
+    -------
+    cycles, k
+        Mesh cycles u = i / npc [-] and the section's stiffness over the face width [N/m].
     """
     pair = train.pairs[mesh]
     thin = dataclasses.replace(pair, driver=dataclasses.replace(
@@ -153,7 +170,7 @@ def fe_pair_check(train: GearTrain, mesh: int = 0, *, positions_per_cycle: int =
     z1 = pair.driver.teeth
     curves = {}
     for name, st in variants.items():
-        x, k = _section(tr, mesh, st, PE_POSITIONS)
+        x, k = section_tvms(tr, mesh, st, PE_POSITIONS)
         curves[name] = np.interp(u, x, k, period=float(z1))
     return FEPairCheck(mesh=pair.name, crack="none", torque=torque, cycles=u,
                        k_fe=fe.k[:n].copy(), curves=curves)

@@ -24,7 +24,9 @@ Modules, one concept each:
 * :mod:`~gearsim.signals.periodicity` -- periodicity verdict for impacts;
 * :mod:`~gearsim.signals.estimate` -- estimates of fs and tooth counts (labelled as such);
 * :mod:`~gearsim.signals.analysis` -- the full gear analysis of one record;
-* :mod:`~gearsim.signals.tiers` -- every tier a record's inputs allow, and what was skipped.
+* :mod:`~gearsim.signals.tiers` -- every tier a record's inputs allow, and what was skipped;
+* :mod:`~gearsim.signals.planetary` -- planetary stage frequencies (Willis), fault
+  frequencies and the fixed-sensor sideband rule (McFadden & Smith 1985).
 
 Names are imported on first use (PEP 562), so ``import gearsim.signals`` does not load
 scipy.signal until a function needs it. ``gearsim.signals.analyze`` is the function; its

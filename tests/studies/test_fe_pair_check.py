@@ -18,6 +18,25 @@ def check(table1):
     return fe_pair_check(table1, 0)
 
 
+#: FE tooth + line contact + coupling against the FE pair, max / min / mean of the
+#: curves, healthy and cracked (19/48, 1 mm crack): measured within 1.9 %; the issue's
+#: target is 5 %.
+TARGET = 5.0
+
+
+@pytest.mark.parametrize("crack", ["working", "non-working"])
+def test_cracked_section_meets_the_target_with_the_fe_tooth(spur, crack):
+    chk = fe_pair_check(spur, 0, crack=crack)
+    for value in chk.differences("fe_tooth").values():
+        assert abs(value) < TARGET
+    # the crack shows in the FE pair where the cracked tooth is engaged (cycles 0, 1)
+    healthy = fe_pair_check(spur, 0)
+    drop = 1 - chk.k_fe / healthy.k_fe
+    assert drop[(chk.cycles >= 0) & (chk.cycles < 2)].max() > (0.02 if crack == "working"
+                                                                else 1e-4)
+    assert np.all(np.abs(drop[chk.cycles < 0]) < 0.01)
+
+
 def test_section_has_the_transverse_contact_structure(check, table1):
     """The PE section drops from double to single contact at u = eps_alpha - 1 (closed
     form of the transverse section; a face-width slice would smear it over

@@ -178,16 +178,16 @@ def reproduction():
                            "rms_percent": 100 + 10 * s * i}
                           for i, k in enumerate(("working", "broken", "eccentricity"))
                           for s in (0.5, 1.0)],
-        fe_pair={"I": _fe_pair_check()})
+        fe_pair={c: _fe_pair_check(c) for c in ("none", "working", "non-working")})
 
 
-def _fe_pair_check():
+def _fe_pair_check(crack):
     """A FEPairCheck of made-up curves (the figure's data contract)."""
     from gearsim.studies.fe_pair_check import FEPairCheck
 
-    u = np.arange(60) / 20
-    k = 2.8e9 - 0.8e9 * (np.mod(u, 1.0) > 0.68)
-    return FEPairCheck(mesh="I", crack="none", torque=4876.0, cycles=u, k_fe=k,
+    u = np.arange(80) / 20 - 1
+    k = 2.8e9 - 0.8e9 * (np.mod(u, 1.0) > 0.68) - 1e8 * (crack != "none") * (u > 0)
+    return FEPairCheck(mesh="I", crack=crack, torque=4876.0, cycles=u, k_fe=k,
                        curves={"pe": 1.3 * k, "pe_line": 0.93 * k, "fe_tooth": 1.01 * k})
 
 

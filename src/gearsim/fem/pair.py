@@ -95,22 +95,26 @@ from gearsim.fem.geometry import (
     FlankRefinement,
     SectorOptions,
     _gmsh_session,
+    crack_line,
     element_size,
     mesh_sector,
 )
 from gearsim.fem.solve import ElasticModel, plane_lame
+from gearsim.fem.tooth import _contact_pairs
 from gearsim.geometry.gear import Material
 from gearsim.geometry.pair import GearPair
 from gearsim.geometry.profile import ToothProfile
 
 __all__ = [
     "CONTACT_GROWTH",
+    "CRACK_LABEL",
     "CONTACT_REFINEMENT",
     "DEFAULT_LEVEL",
     "FECylinderResult",
     "FEPairModel",
     "FEPairResult",
     "FEPairTVMS",
+    "PairCrack",
     "fe_cylinder_contact",
     "fe_pair_solve",
     "fe_pair_tvms",
@@ -638,6 +642,8 @@ class FEPairResult:
         ``"stress"`` or ``"strain"``.
     seconds
         Wall time of this position [s] (without the shared set-up).
+    crack_closed
+        Length fraction of the crack faces in contact (closed crack model), NaN without.
     """
 
     position: float
@@ -668,6 +674,7 @@ class FEPairResult:
     dofs: tuple[int, int]
     plane: str
     seconds: float = 0.0
+    crack_closed: float = float("nan")
 
 
 @dataclass
@@ -730,6 +737,48 @@ def _check_level(level) -> int:
     return int(level)
 
 
+@dataclass(frozen=True)
+class PairCrack:
+    """A tooth-root crack on one tooth of the FE gear pair.
+
+    Parameters
+    ----------
+    gear
+        1: the driver, 2: the driven gear.
+    pair
+        Label of the tooth pair the cracked tooth belongs to: the driver tooth index k
+        of :class:`FEPairModel` (driver tooth k touches at l_A + (u + k) p_b; the driven
+        tooth of that pair is the one meeting it).
+    crack
+        :class:`gearsim.stiffness.crack.Crack` (start on the fillet, angle, depth).
+    side
+        +1: the crack is on the flank this model loads (working flank); -1: on the
+        other flank (non-working).
+    closure
+        ``"contact"`` (default): the crack faces touch without friction and carry
+        compression (unilateral constraints in the same contact problem as the flanks);
+        ``"open"``: free faces (they may overlap, as the seed's PE model).
+    """
+
+    gear: int
+    pair: int
+    crack: object
+    side: int
+    closure: str = "contact"
+
+    def __post_init__(self) -> None:
+        if self.gear not in (1, 2):
+            raise InputError("crack.gear", self.gear, "must be 1 (driver) or 2 (driven)")
+        if self.side not in (1, -1):
+            raise InputError("crack.side", self.side, "must be +1 (working) or -1")
+        if self.closure not in ("contact", "open"):
+            raise InputError("stiffness.closure", self.closure, 'must be "open" or "contact"')
+
+
+#: Label of the crack-face constraints in the contact problem (not a tooth pair).
+CRACK_LABEL = -(10**6)
+
+
 class FEPairModel:
     """Meshed, factorised FE model of a gear pair for one loaded flank side.
 
@@ -754,6 +803,9 @@ class FEPairModel:
     flanks
         ``"auto"`` (default, from the sign of ``torque``), ``"drive"`` or ``"back"``;
         a torque that would separate the chosen flanks is refused.
+    crack
+        A :class:`PairCrack` on one tooth of the model (its pair label must be one of
+        the model's teeth, :attr:`teeth`), or ``None``.
 
     Raises
     ------
@@ -766,7 +818,8 @@ class FEPairModel:
     """
 
     def __init__(self, pair: GearPair, *, torque: float, level: int = DEFAULT_LEVEL,
-                 plane: str = "stress", flanks: str = "auto") -> None:
+                 plane: str = "stress", flanks: str = "auto",
+                 crack: PairCrack | None = None) -> None:
         t0 = time.perf_counter()
         torque = _check_torque(torque)
         level = _check_level(level)
@@ -801,13 +854,27 @@ class FEPairModel:
         def wrap(i: int) -> int:
             return lo2 + (i - lo2) % z2
 
+        if crack is not None and crack.pair not in self.teeth:
+            raise InputError("crack.pair", crack.pair, f"must be one of the model's tooth "
+                             f"pairs {self.teeth}")
+        self.crack = crack
+        self.crack_rows: np.ndarray | None = None  # (k, 2, 2) dof pairs, body crack.gear-1
         bodies, surfaces, fillets = [], [], []
         for gi, (gear, ks) in enumerate(((g1, self.teeth),
                                          (g2, tuple(wrap(n - k) for k in self.teeth)))):
-            mesh = mesh_sector(gear, options=SectorOptions(level=level),
-                               refine=FlankRefinement(teeth=tuple(sorted(ks)), sides=(side,),
-                                                      size=self.h_contact,
-                                                      growth=self.growth))
+            cracked = crack is not None and crack.gear == gi + 1
+            if cracked:
+                z = gear.teeth
+                kc = crack.pair if gi == 0 else wrap(n - crack.pair)
+                lo = z // 2 - z + 1  # tooth indices of the whole-gear mesh: [lo, z // 2]
+                mesh = self._cracked_mesh(gear, ks, kc, side * crack.side, level,
+                                          crack.crack, lambda i, z=z, lo=lo: lo + (i - lo) % z)
+            else:
+                mesh = mesh_sector(gear, options=SectorOptions(level=level),
+                                   refine=FlankRefinement(teeth=tuple(sorted(ks)),
+                                                          sides=(side,),
+                                                          size=self.h_contact,
+                                                          growth=self.growth))
             mat = gear.material
             model = ElasticModel(mesh.p, mesh.t, mat.youngs_modulus, mat.poisson_ratio,
                                  plane=plane, order=2)
@@ -815,6 +882,11 @@ class FEPairModel:
             centre = np.array([0.0, 0.0]) if gi == 0 else np.array([0.0, pair.centre_distance])
             bodies.append(_Body(model=model, fixed=fixed, mode=_rigid_rotation(model),
                                 centre=centre))
+            if cracked and crack.closure == "contact":
+                dofs, weights = _contact_pairs(model, mesh)
+                self.crack_rows = dofs
+                self.crack_weights = weights
+                self.crack_normal = mesh.crack_normal
             # surfaces labelled with the driver tooth index of the pair
             def lab(k, gi=gi):
                 return k if gi == 0 else self.teeth[[wrap(n - j) for j in self.teeth].index(k)]
@@ -830,6 +902,28 @@ class FEPairModel:
         self.setup_seconds = time.perf_counter() - t0
 
     # ---------------------------------------------------------------- geometry
+    def _cracked_mesh(self, gear, ks, kc: int, flank: int, level: int, crack, wrap):
+        """Mesh of ``gear`` with the crack on its tooth ``kc``.
+
+        The mesher cracks the middle tooth (index 0): the gear is meshed with the teeth
+        renumbered so that ``kc`` is tooth 0, then turned by -kc pitches and the parts
+        relabelled, which is the same gear with the crack on tooth ``kc``.
+        """
+        z = gear.teeth
+        pitch = 2.0 * math.pi / z
+        cl = crack_line(ToothProfile(gear), crack, crack.depth, flank)
+        shifted = tuple(sorted(wrap(k - kc) for k in ks))
+        mesh = mesh_sector(gear, crack=cl, options=SectorOptions(level=level),
+                           refine=FlankRefinement(teeth=shifted, sides=(self.side,),
+                                                  size=self.h_contact, growth=self.growth))
+        c, s_ = math.cos(-kc * pitch), math.sin(-kc * pitch)
+        rot = np.array([[c, -s_], [s_, c]])
+        mesh.p = rot @ mesh.p
+        mesh.parts = {(wrap(k + kc), sd, part): nodes
+                      for (k, sd, part), nodes in mesh.parts.items()}
+        mesh.crack_normal = rot @ cl.normal
+        return mesh
+
     def _check_resolution(self, torque: float) -> float:
         """Hertz half width at the pitch point under ``torque``; refuse a coarser mesh."""
         pair = self.pair
@@ -944,6 +1038,31 @@ class FEPairModel:
         """
         return float((self.back_offset - position) % 1.0)
 
+    def _add_crack_rows(self, brows: list, info: dict) -> tuple[list, dict]:
+        """Append the crack-face constraints g = n . (u_+ - u_-) >= 0 (closed crack)."""
+        if self.crack_rows is None:
+            return brows, info
+        bi = self.crack.gear - 1
+        dofs = self.crack_rows
+        k = dofs.shape[0]
+        nrm = self.crack_normal
+        rows = np.repeat(np.arange(k), 4)
+        cols = np.column_stack([dofs[:, 1, 0], dofs[:, 1, 1], dofs[:, 0, 0],
+                                dofs[:, 0, 1]]).ravel()
+        vals = np.tile([nrm[0], nrm[1], -nrm[0], -nrm[1]], k)
+        out = []
+        for i, (b, body) in enumerate(zip(brows, self.bodies, strict=True)):
+            extra = (sp.csr_matrix((vals, (rows, cols)), shape=(k, body.model.ndofs))
+                     if i == bi else sp.csr_matrix((k, body.model.ndofs)))
+            out.append(sp.vstack([b, extra]).tocsr())
+        gn = self.bodies[bi].rotation @ nrm
+        add = {"g0": np.zeros(k), "normal": np.tile(gn, (k, 1)), "xy": np.zeros((k, 2)),
+               "weight": np.asarray(self.crack_weights, dtype=float),
+               "label": np.full(k, CRACK_LABEL), "pass": np.full(k, 2)}
+        info = {key: np.concatenate([np.asarray(v).reshape((-1,) + add[key].shape[1:]),
+                                     add[key]]) for key, v in info.items()}
+        return out, info
+
     def solve(self, position: float, *, torque: float | None = None,
               rotation: float | None = None, driven_rotation: float = 0.0) -> FEPairResult:
         """Solve the contact problem at one mesh position.
@@ -1009,6 +1128,7 @@ class FEPairModel:
         for _grow in range(MAX_WINDOW_GROWTH):
             keep = [p.g0 < window for p in passes]
             brows, info = _rows(passes, self.bodies, keep)
+            brows, info = self._add_crack_rows(brows, info)
             kc = brows[0].shape[0]
             if kc == 0:
                 window *= 2.0
@@ -1048,7 +1168,12 @@ class FEPairModel:
         k = force / delta if delta > 0 else float("nan")
         # pairs
         labels = info["label"]
-        teeth = np.array(sorted(set(int(v) for v in labels[lam > 0])), dtype=np.int64)
+        on_crack = labels == CRACK_LABEL
+        closed = (float(np.sum(info["weight"][on_crack & (lam > 0)])
+                        / np.sum(info["weight"][on_crack])) if np.any(on_crack)
+                  else float("nan"))
+        teeth = np.array(sorted(set(int(v) for v in labels[(lam > 0) & ~on_crack])),
+                         dtype=np.int64)
         pforce = np.zeros(teeth.size)
         share = np.zeros(teeth.size)
         halfw = np.zeros(teeth.size)
@@ -1098,7 +1223,7 @@ class FEPairModel:
             contact_pair=s1.elabel[loaded], candidates=int(kc), iterations=iters,
             level=self.level, h=self.h, h_contact=self.h_contact,
             dofs=(b1.model.ndofs, b2.model.ndofs), plane=self.plane,
-            seconds=time.perf_counter() - t0)
+            seconds=time.perf_counter() - t0, crack_closed=closed)
 
 
 # --------------------------------------------------------------------------- public API

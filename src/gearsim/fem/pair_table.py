@@ -4,8 +4,12 @@
 FEPairModel`, transverse section) at ``positions_per_cycle`` positions u = i / N of one
 mesh cycle, the same grid as the potential-energy tables
 (:func:`gearsim.stiffness.mesh.mesh_stiffness`), and repeats that cycle over the
-revolution of gear 1 or 2. The result depends on the load (the contact widths and the
-extended contact grow with it), so the table belongs to one torque.
+revolution of gear 1 or 2. With a crack on tooth j of gear g, the cycles c in which that
+tooth belongs to one of the model's tooth pairs (pair label k = c - j mod z_g, the
+age of its pair as in the PE tables) are solved with the crack on that pair
+(:class:`gearsim.fem.pair.PairCrack`; one FE model per label). The result depends on the
+load (the contact widths and the extended contact grow with it), so the table belongs
+to one torque.
 
 Cache: ``$GEARSIM_CACHE/fe/pair-<key>.npz`` (:func:`gearsim.fem.tables.cache_dir`), the
 key the SHA-256 of the pair geometry and materials, the torque, the positions, the mesh
@@ -22,8 +26,8 @@ import time
 
 import numpy as np
 
-from gearsim.errors import InputError, require
-from gearsim.fem.pair import DEFAULT_LEVEL, FEPairModel
+from gearsim.errors import require
+from gearsim.fem.pair import DEFAULT_LEVEL, FEPairModel, PairCrack
 from gearsim.fem.tables import _write_npz, cache_dir
 from gearsim.geometry.pair import GearPair
 from gearsim.stiffness.mesh import MeshStiffness
@@ -41,18 +45,29 @@ def _gear_doc(g) -> list:
             g.material.poisson_ratio]
 
 
-def _key(pair: GearPair, torque: float, npc: int, level: int, plane: str) -> str:
+def _key(pair: GearPair, torque: float, npc: int, level: int, plane: str,
+         crack_doc, revolution_of: int) -> str:
     doc = {"kind": "fe-pair", "v": PAIR_TABLE_VERSION, "driver": _gear_doc(pair.driver),
            "driven": _gear_doc(pair.driven), "offset": pair.centre_distance_offset,
-           "torque": torque, "positions": npc, "level": level, "plane": plane}
+           "torque": torque, "positions": npc, "level": level, "plane": plane,
+           "crack": crack_doc, "revolution_of": revolution_of if crack_doc else 0}
     text = json.dumps(doc, sort_keys=True, default=repr)
     return hashlib.sha256(text.encode()).hexdigest()[:32]
+
+
+def _label(c: int, tooth: int, z: int, teeth: tuple[int, ...]) -> int | None:
+    """Pair label of tooth ``tooth`` of a gear with ``z`` teeth in cycle ``c`` (or None)."""
+    r = (c - tooth) % z
+    for k in (r, r - z):
+        if k in teeth:
+            return k
+    return None
 
 
 def fe_pair_mesh_stiffness(pair: GearPair, *, torque: float, cracks: tuple = (),
                            positions_per_cycle: int = 20, level: int = DEFAULT_LEVEL,
                            plane: str = "stress", revolution_of: int = 1,
-                           use_cache: bool = True) -> MeshStiffness:
+                           closure: str = "contact", use_cache: bool = True) -> MeshStiffness:
     """TVMS of the FE gear pair's transverse section over one revolution [N/m].
 
     Parameters
@@ -63,8 +78,9 @@ def fe_pair_mesh_stiffness(pair: GearPair, *, torque: float, cracks: tuple = (),
     torque
         Driver torque [N m] (> 0: drive flanks).
     cracks
-        Cracks of the pair (:class:`gearsim.stiffness.source.ToothCrack`); the FE pair
-        table is for healthy gears (a crack is refused, naming ``cracks``).
+        At most one crack (:class:`gearsim.stiffness.source.ToothCrack`: gear 1 or 2,
+        the crack with its tooth, side +1 working / -1 non-working flank), uniform over
+        the section.
     positions_per_cycle
         Positions u = i / N per mesh cycle solved by FE, 4 to 200.
     level
@@ -73,6 +89,8 @@ def fe_pair_mesh_stiffness(pair: GearPair, *, torque: float, cracks: tuple = (),
         ``"stress"`` or ``"strain"``.
     revolution_of
         1: over one revolution of the driver; 2: of the driven gear.
+    closure
+        Crack faces: ``"contact"`` (they carry compression) or ``"open"``.
     use_cache
         Read and write the disk cache.
 
@@ -86,35 +104,58 @@ def fe_pair_mesh_stiffness(pair: GearPair, *, torque: float, cracks: tuple = (),
     Raises
     ------
     InputError
-        Bad positions, revolution, torque, level or plane, or a crack.
+        Bad positions, revolution, torque, level or plane, more than one crack, or a
+        mesh too coarse for the crack (``fem.level``, with the level needed).
     """
     require(isinstance(positions_per_cycle, int) and 4 <= positions_per_cycle <= 200,
             "positions_per_cycle", positions_per_cycle, "must be an integer in [4, 200]")
     require(revolution_of in (1, 2), "revolution_of", revolution_of, "must be 1 or 2")
     require(math.isfinite(torque) and torque > 0, "torque", torque,
             "must be a finite driver torque > 0 N m")
-    if cracks:
-        raise InputError("cracks", len(cracks), "the FE pair table is for healthy gears")
+    require(len(cracks) <= 1, "cracks", len(cracks), "the FE pair table takes at most "
+            "one cracked tooth per mesh")
     npc = positions_per_cycle
-    path = cache_dir() / f"pair-{_key(pair, torque, npc, level, plane)}.npz"
-    k_cycle = None
+    g1, g2 = pair.driver, pair.driven
+    z_rev = g1.teeth if revolution_of == 1 else g2.teeth
+    tc = cracks[0] if cracks else None
+    crack_doc = None if tc is None else [tc.gear, tc.crack.tooth, tc.crack.depth,
+                                         tc.crack.angle, tc.crack.start_radius, tc.side,
+                                         closure]
+    path = cache_dir() / (f"pair-{_key(pair, torque, npc, level, plane, crack_doc, revolution_of)}"
+                          ".npz")
+    k = None
     if use_cache and path.exists():
         try:
             with np.load(path) as data:
-                k_cycle = np.array(data["k"])
+                k = np.array(data["k"])
                 seconds = float(data["seconds"])
         except (OSError, ValueError, KeyError):
-            k_cycle = None  # unreadable: recompute and overwrite
-    if k_cycle is None or k_cycle.size != npc:
+            k = None  # unreadable: recompute and overwrite
+    expected = npc if tc is None else z_rev * npc
+    if k is None or k.size != expected:
         t0 = time.perf_counter()
         model = FEPairModel(pair, torque=torque, level=level, plane=plane)
-        k_cycle = np.array([model.solve(i / npc).stiffness for i in range(npc)])
+        k = np.array([model.solve(i / npc).stiffness for i in range(npc)])
+        if tc is not None:
+            z = g1.teeth if tc.gear == 1 else g2.teeth
+            k = np.tile(k, z_rev)
+            cracked: dict[int, np.ndarray] = {}
+            for c in range(z_rev):
+                lab = _label(c, tc.crack.tooth, z, model.teeth)
+                if lab is None:
+                    continue
+                if lab not in cracked:
+                    cm = FEPairModel(pair, torque=torque, level=level, plane=plane,
+                                     crack=PairCrack(gear=tc.gear, pair=lab, crack=tc.crack,
+                                                     side=tc.side, closure=closure))
+                    cracked[lab] = np.array([cm.solve(i / npc).stiffness
+                                             for i in range(npc)])
+                k[c * npc:(c + 1) * npc] = cracked[lab]
         seconds = time.perf_counter() - t0
         if use_cache:
-            _write_npz(path, k=k_cycle, seconds=np.array(seconds))
-    g1, g2 = pair.driver, pair.driven
-    z_rev = g1.teeth if revolution_of == 1 else g2.teeth
-    k = np.tile(k_cycle, z_rev)
+            _write_npz(path, k=k, seconds=np.array(seconds))
+    if k.size == npc:
+        k = np.tile(k, z_rev)
     cycles = np.arange(k.size) / npc
     return MeshStiffness(
         name=pair.name, revolution_of=(g1.name if revolution_of == 1 else g2.name),
@@ -123,4 +164,5 @@ def fe_pair_mesh_stiffness(pair: GearPair, *, torque: float, cracks: tuple = (),
         pair_k=k[:, None].copy(), pair_tooth1=np.zeros((k.size, 1), dtype=np.int64),
         pair_tooth2=np.zeros((k.size, 1), dtype=np.int64),
         attrs={"source": "fe-pair", "positions_per_cycle": npc, "level": level,
-               "plane": plane, "torque": torque, "fe_seconds": seconds})
+               "plane": plane, "torque": torque, "fe_seconds": seconds,
+               "closure": closure if tc is not None else "none"})

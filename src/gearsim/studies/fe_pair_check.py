@@ -44,7 +44,7 @@ class FEPairCheck:
     mesh
         Mesh name.
     crack
-        ``"none"`` (the FE pair table is for healthy gears).
+        ``"none"``, ``"working"`` or ``"non-working"`` (faces in contact).
     torque
         Driver torque [N m].
     cycles
@@ -96,7 +96,7 @@ class FEPairCheck:
 SECTION = 1e-6
 
 
-def section_tvms(train: GearTrain, mesh: int, settings, npc: int
+def section_tvms(train: GearTrain, mesh: int, settings, npc: int, revolution_of: int = 1
                  ) -> tuple[np.ndarray, np.ndarray]:
     """Slicing-model TVMS of the transverse section over a driver revolution [N/m].
 
@@ -108,45 +108,55 @@ def section_tvms(train: GearTrain, mesh: int, settings, npc: int
     Parameters
     ----------
     train : GearTrain
-        The train (its cracks on this mesh are ignored: healthy section).
+        The train (its cracks on this mesh are in the section, uniform).
     mesh : int
         Mesh index.
     settings : StiffnessSettings
         Source, contact law, coupling, plane of the curve.
     npc : int
         Positions per mesh cycle.
+    revolution_of : {1, 2}
+        Over a revolution of the driver (1) or of the driven gear (2).
 
     Returns
     -------
     cycles, k
-        Mesh cycles u = i / npc [-] and the section's stiffness over the face width [N/m].
+        Mesh cycles u = i / npc [-] and the section's stiffness over the face width [N/m]
+        over the revolution.
     """
     pair = train.pairs[mesh]
     thin = dataclasses.replace(pair, driver=dataclasses.replace(
         pair.driver, face_width=pair.driver.face_width * SECTION), driven=dataclasses.replace(
         pair.driven, face_width=pair.driven.face_width * SECTION))
     st = dataclasses.replace(settings, slices=1, positions_per_cycle=npc)
-    ms = mesh_stiffness(thin, settings=st, compliance=tooth_compliance(st.source),
+    ms = mesh_stiffness(thin, cracks=train.mesh_cracks(mesh), settings=st,
+                        compliance=tooth_compliance(st.source),
                         force=train.static_mesh_force(mesh) * SECTION,
-                        coupling=body_coupling(st))
+                        coupling=body_coupling(st), revolution_of=revolution_of)
     return ms.cycles, ms.k / SECTION
 
 
-def fe_pair_check(train: GearTrain, mesh: int = 0, *, positions_per_cycle: int = 20,
-                  cycles: int = 3) -> FEPairCheck:
+def fe_pair_check(train: GearTrain, mesh: int = 0, *, crack: str = "none",
+                  depth: float | None = None, positions_per_cycle: int = 20,
+                  cycles: int = 4) -> FEPairCheck:
     """The FE pair's section TVMS against the PE curves (module docstring).
 
     Parameters
     ----------
     train : GearTrain
-        The train (healthy gears: its cracks are removed; torque from its operating
-        point).
+        The train (torque from its operating point; its crack gives the cracked tooth,
+        angle and default depth).
     mesh : int
         Mesh index.
+    crack : {"none", "working", "non-working"}
+        Healthy, or the train's crack on the working or the non-working flank of this
+        mesh's cracked gear (:meth:`GearTrain.with_crack`), faces in contact.
+    depth : float, optional
+        Crack depth [m]; default the train's.
     positions_per_cycle : int
         FE positions per mesh cycle (the cached table's).
     cycles : int
-        Mesh cycles shown.
+        Mesh cycles shown, from the cycle before the cracked tooth enters.
 
     Returns
     -------
@@ -154,23 +164,35 @@ def fe_pair_check(train: GearTrain, mesh: int = 0, *, positions_per_cycle: int =
     """
     from gearsim.fem.pair_table import fe_pair_mesh_stiffness
 
-    tr = train.with_cracks(())
+    if crack == "none":
+        tr = train.with_cracks(())
+    else:
+        kw = {} if depth is None else {"depth": depth}
+        tr = train.with_crack(crack, closure="contact", source="pe", **kw)
     pair = tr.pairs[mesh]
     torque = tr.torque(mesh)
-    fe = fe_pair_mesh_stiffness(pair, torque=torque, positions_per_cycle=positions_per_cycle,
-                                level=FE_PAIR_LEVEL, plane=tr.stiffness.plane)
-    n = cycles * positions_per_cycle
-    u = fe.cycles[:n]
+    cracks = tr.mesh_cracks(mesh)
+    rev = cracks[0].gear if cracks else 1
+    # the window starts one cycle before the (train's) cracked tooth enters, healthy too
+    ref = cracks[0].crack.tooth if cracks else (
+        train.cracks[0].tooth if train.cracks and train.mesh_cracks(mesh) else 1)
+    first = ref - 1
+    fe = fe_pair_mesh_stiffness(pair, torque=torque, cracks=cracks,
+                                positions_per_cycle=positions_per_cycle, level=FE_PAIR_LEVEL,
+                                plane=tr.stiffness.plane, revolution_of=rev, closure="contact")
+    z_rev = pair.driver.teeth if rev == 1 else pair.driven.teeth
+    npc = positions_per_cycle
+    idx = (first * npc + np.arange(cycles * npc)) % (z_rev * npc)
+    u = first + np.arange(cycles * npc) / npc
     base = dataclasses.replace(tr.stiffness, source="pe")
     variants = {
         "pe": base,
         "pe_line": dataclasses.replace(base, contact="line", coupling="fe"),
         "fe_tooth": dataclasses.replace(base, source="fe", contact="line", coupling="fe"),
     }
-    z1 = pair.driver.teeth
     curves = {}
     for name, st in variants.items():
-        x, k = section_tvms(tr, mesh, st, PE_POSITIONS)
-        curves[name] = np.interp(u, x, k, period=float(z1))
-    return FEPairCheck(mesh=pair.name, crack="none", torque=torque, cycles=u,
-                       k_fe=fe.k[:n].copy(), curves=curves)
+        x, k = section_tvms(tr, mesh, st, PE_POSITIONS, revolution_of=rev)
+        curves[name] = np.interp(u, x, k, period=float(z_rev))
+    return FEPairCheck(mesh=pair.name, crack=crack, torque=torque, cycles=u,
+                       k_fe=fe.k[idx].copy(), curves=curves)

@@ -14,7 +14,8 @@ through gearsim:
   ``contact`` closure model; the same with the ``open`` closure model (as printed in
   the seed, blind to the flank);
 * the FE gear pair in contact (:mod:`gearsim.fem.pair`) against the PE mesh stiffness
-  on the transverse section of mesh I, healthy (seed Figure 3);
+  on the transverse section of mesh I, healthy and with the working and the closed
+  non-working crack (seed Figure 3);
 * the crack depth sensitivity (PE, both flanks and closures) over several depths;
 * the fault magnitudes: every fault class of :mod:`gearsim.model.variants` (cracks,
   spall, pitting, chipped and broken tooth, pitch error, eccentricity) at several
@@ -320,8 +321,9 @@ def compute_reproduction(options: ReproduceOptions | None = None, *,
                                         points=opt.fe_points)
         timings["fe_check"] = time.perf_counter() - t0
         t0 = time.perf_counter()
-        say("FE gear pair of mesh I against the PE stiffness")
-        fe_pair[base.pairs[0].name] = fe_pair_check(base, 0)
+        for crack in ("none", "working", "non-working"):
+            say(f"FE gear pair of mesh I against the PE stiffness, crack {crack}")
+            fe_pair[crack] = fe_pair_check(base, 0, crack=crack, depth=opt.depth)
         timings["fe_pair"] = time.perf_counter() - t0
 
     say("crack-depth sensitivity")

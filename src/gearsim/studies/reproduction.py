@@ -142,8 +142,9 @@ class Reproduction:
     timings : dict
         Seconds per step.
     fe_pair : dict
-        Mesh name -> :class:`gearsim.studies.fe_pair_check.FEPairCheck`: the FE gear
-        pair's section TVMS against the PE curves (seed Figure 3; empty without FE).
+        Crack (``"none"``, ``"working"``, ``"non-working"``) ->
+        :class:`gearsim.studies.fe_pair_check.FEPairCheck`: the FE gear pair's section
+        TVMS of mesh I against the PE curves (seed Figure 3; empty without FE).
     fault_magnitudes : list of dict
         Rows of the fault-magnitude section: every fault class at each severity against
         the healthy train on the same (contact) mesh model, with the seed's impact and

@@ -77,7 +77,7 @@ def fe_pair_train_stiffness(train, mesh: int, *, revolution_of: int = 1,
     section = fe_pair_mesh_stiffness(pair, torque=train.torque(mesh), cracks=cracks,
                                      positions_per_cycle=settings.fe_pair_positions,
                                      level=FE_PAIR_LEVEL, plane=settings.plane,
-                                     revolution_of=revolution_of)
+                                     revolution_of=revolution_of, closure=settings.closure)
     g1, g2 = pair.driver, pair.driven
     z_rev = g1.teeth if revolution_of == 1 else g2.teeth
     npc = settings.positions_per_cycle

@@ -122,34 +122,47 @@ def plot_stiffness(rep: Reproduction, *, fig: Figure | None = None) -> Figure:
     return fig
 
 
-_PAIR_STYLE = {"pe": ("-", "tab:blue", "PE, seed options"),
-               "pe_line": ("--", "tab:green", "PE tooth + line contact + coupling"),
-               "fe_tooth": (":", "tab:purple", "FE tooth + line contact + coupling")}
+_PAIR_CURVES = {"pe": ("-", "PE, seed options"),
+                "pe_line": ("--", "PE tooth + line contact + coupling"),
+                "fe_tooth": (":", "FE tooth + line contact + coupling")}
 
 
 def _plot_fe_pair(rep: Reproduction, ax_k, ax_bar) -> None:
     """(d) FE gear pair TVMS of the mesh-I section against the model curves; (e) bars."""
-    mesh, chk = next(iter(rep.fe_pair.items()))
-    ax_k.plot(chk.cycles, chk.k_fe / 1e9, "ko", ms=4, label="FE gear pair")
-    for curve, (ls, color, label) in _PAIR_STYLE.items():
-        ax_k.plot(chk.cycles, chk.curves[curve] / 1e9, ls, color=color, lw=1.3, label=label)
-    ax_k.set_xlabel("mesh cycles")
-    ax_k.set_ylabel(f"mesh stiffness, section of mesh {mesh} [GN/m]")
-    ax_k.set_title(f"(d) FE gear pair vs PE, healthy, {chk.torque:.4g} N m (seed Figure 3a)")
-    ax_k.legend(fontsize=8)
+    chk0 = next(iter(rep.fe_pair.values()))
+    for crack, chk in rep.fe_pair.items():
+        label = {"none": "healthy"}.get(crack, crack)
+        color = COLORS[label]
+        ax_k.plot(chk.cycles, chk.k_fe / 1e9, "o", color=color, ms=3.5,
+                  label=f"FE gear pair, {label}")
+        for curve in ("pe", "pe_line"):
+            ls, name = _PAIR_CURVES[curve]
+            ax_k.plot(chk.cycles, chk.curves[curve] / 1e9, ls, color=color, lw=1.1,
+                      label=f"{name}, {label}" if crack == "none" else None)
+    ax_k.set_xlabel("mesh cycles (cracked tooth enters at the second)")
+    ax_k.set_ylabel(f"mesh stiffness, section of mesh {chk0.mesh} [GN/m]")
+    ax_k.set_title(f"(d) FE gear pair vs PE, {chk0.torque:.4g} N m (seed Figure 3a)")
+    ax_k.legend(fontsize=7, ncols=2)
     names = ["max", "min", "mean"]
     xs = np.arange(3)
-    width = 0.2
-    ax_bar.bar(xs - 1.5 * width, [6.7, 5.6, 6.3], width, color="grey", label="seed |error|")
-    for i, (curve, (_, color, label)) in enumerate(_PAIR_STYLE.items()):
-        d = chk.differences(curve)
-        ax_bar.bar(xs + (i - 0.5) * width, [d[n] for n in names], width, color=color,
-                   label=label)
+    n = 1 + 2 * len(rep.fe_pair)
+    width = 0.8 / n
+    ax_bar.bar(xs - 0.4 + 0.5 * width, [6.7, 5.6, 6.3], width, color="grey",
+               label="seed |error|")
+    j = 1
+    for curve, hatch in (("pe", ""), ("pe_line", "//")):
+        for crack, chk in rep.fe_pair.items():
+            label = {"none": "healthy"}.get(crack, crack)
+            d = chk.differences(curve)
+            ax_bar.bar(xs - 0.4 + (j + 0.5) * width, [d[m] for m in names], width,
+                       color=COLORS[label], hatch=hatch, edgecolor="k", lw=0.3,
+                       label=f"{_PAIR_CURVES[curve][1]}, {label}")
+            j += 1
     ax_bar.axhline(0.0, color="k", lw=0.8)
-    ax_bar.set_xticks(xs, [f"{n} stiffness" for n in names])
+    ax_bar.set_xticks(xs, [f"{m} stiffness" for m in names])
     ax_bar.set_ylabel("(k_model - k_FE pair) / k_FE pair [%]")
     ax_bar.set_title("(e) Differences to the FE gear pair (seed Figure 3b)")
-    ax_bar.legend(fontsize=7)
+    ax_bar.legend(fontsize=6)
 
 
 def _impacts(rep: Reproduction, key: str) -> np.ndarray:

@@ -7,7 +7,7 @@ from contextlib import contextmanager
 
 from gearsim.errors import InputError
 
-__all__ = ["as_options"]
+__all__ = ["as_options", "with_torque"]
 
 
 @contextmanager
@@ -29,3 +29,31 @@ def as_options(names: dict[str, str]) -> Iterator[None]:
         if exc.parameter in names:
             raise InputError(names[exc.parameter], exc.value, exc.limit) from None
         raise
+
+
+def with_torque(train, torque: str | None):
+    """``train`` with the input torque of a ``--torque`` option (with its unit), if given.
+
+    Parameters
+    ----------
+    train : GearTrain
+        The train.
+    torque : str or None
+        The option's text, e.g. ``"2000 N*m"``; ``None`` keeps the train's torque.
+
+    Returns
+    -------
+    GearTrain
+        The train at that torque (refusals name ``--torque``).
+    """
+    if torque is None:
+        return train
+    import dataclasses
+
+    from gearsim.system import Operating
+    from gearsim.units import to_si
+
+    t = to_si(torque, "torque", "--torque")
+    with as_options({"operating.torque": "--torque"}):
+        return dataclasses.replace(train, operating=Operating(speed=train.operating.speed,
+                                                              torque=t))

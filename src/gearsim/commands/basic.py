@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import dataclasses
 import json
 from typing import Annotated
 
 import typer
 
-from gearsim.commands._options import as_options
+from gearsim.commands._options import as_options, with_torque
 from gearsim.io.targets import check_output_file
 from gearsim.model import example_text, load
 from gearsim.system import train_stiffness
@@ -70,8 +69,6 @@ def contact(
     loaded transmission error, load sharing and contact pattern over a period."""
     from gearsim.errors import InputError
     from gearsim.stiffness.ltca import loaded_contact
-    from gearsim.system import Operating
-    from gearsim.units import to_si
 
     if out is not None:
         out = check_output_file(out, "--out", (".nc",))
@@ -82,11 +79,7 @@ def contact(
     n = len(train.pairs)
     if not 0 <= mesh < n:
         raise InputError("--mesh", mesh, f"must be in 0 .. {n - 1} ({n} meshes)")
-    if torque is not None:
-        t = to_si(torque, "torque", "--torque")
-        with as_options({"operating.torque": "--torque"}):
-            train = dataclasses.replace(train, operating=Operating(
-                speed=train.operating.speed, torque=t))
+    train = with_torque(train, torque)
     lc = loaded_contact(train.mesh_contacts(mesh), train.static_mesh_force(mesh))
     if out is not None:
         from gearsim.io.atomic import atomic_write

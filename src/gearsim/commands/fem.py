@@ -10,7 +10,7 @@ from typing import Annotated
 import numpy as np
 import typer
 
-from gearsim.commands._options import as_options
+from gearsim.commands._options import as_options, with_torque
 from gearsim.fem.check import fe_check
 from gearsim.io.targets import atomic_folder, check_output_folder
 from gearsim.model import load
@@ -180,19 +180,13 @@ def fe_pair_command(
     from gearsim.errors import InputError
     from gearsim.fem.pair import FEPairModel
     from gearsim.studies.fe_pair_check import section_tvms
-    from gearsim.system import Operating
-    from gearsim.units import to_si
 
     u = _positions(positions)
     train = load(config).train.with_cracks(())
     n = len(train.pairs)
     if not 0 <= mesh < n:
         raise InputError("--mesh", mesh, f"must be in 0 .. {n - 1} ({n} meshes)")
-    if torque is not None:
-        t = to_si(torque, "torque", "--torque")
-        with as_options({"operating.torque": "--torque"}):
-            train = dataclasses.replace(train, operating=Operating(
-                speed=train.operating.speed, torque=t))
+    train = with_torque(train, torque)
     pair = train.pairs[mesh]
     with as_options({"fem.level": "--level", "level": "--level", "torque": "--torque"}):
         model = FEPairModel(pair, torque=train.torque(mesh), level=level,

@@ -156,13 +156,8 @@ def fe_pair_mesh_stiffness(pair: GearPair, *, torque: float, cracks: tuple = (),
             _write_npz(path, k=k, seconds=np.array(seconds))
     if k.size == npc:
         k = np.tile(k, z_rev)
-    cycles = np.arange(k.size) / npc
-    return MeshStiffness(
-        name=pair.name, revolution_of=(g1.name if revolution_of == 1 else g2.name),
-        cycles=cycles, theta1=2 * math.pi * cycles / g1.teeth,
-        theta2=2 * math.pi * cycles / g2.teeth, k=k, components={},
-        pair_k=k[:, None].copy(), pair_tooth1=np.zeros((k.size, 1), dtype=np.int64),
-        pair_tooth2=np.zeros((k.size, 1), dtype=np.int64),
-        attrs={"source": "fe-pair", "positions_per_cycle": npc, "level": level,
-               "plane": plane, "torque": torque, "fe_seconds": seconds,
-               "closure": closure if tc is not None else "none"})
+    return MeshStiffness.whole_mesh(
+        pair, revolution_of, npc, k,
+        {"source": "fe-pair", "positions_per_cycle": npc, "level": level, "plane": plane,
+         "torque": torque, "fe_seconds": seconds,
+         "closure": closure if tc is not None else "none"})

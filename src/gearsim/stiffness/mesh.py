@@ -90,6 +90,38 @@ class MeshStiffness:
     pair_tooth2: np.ndarray
     attrs: dict = field(default_factory=dict)
 
+    @classmethod
+    def whole_mesh(cls, pair: GearPair, revolution_of: int, npc: int, k: np.ndarray,
+                   attrs: dict) -> MeshStiffness:
+        """A table of the whole mesh only (no pair or component split): the FE gear pair.
+
+        Parameters
+        ----------
+        pair : GearPair
+            The gear pair.
+        revolution_of : {1, 2}
+            Gear whose revolution the positions cover.
+        npc : int
+            Positions per mesh cycle (cycles ``i / npc``).
+        k : ndarray
+            Mesh stiffness at the positions [N/m].
+        attrs : dict
+            Options of the table.
+
+        Returns
+        -------
+        MeshStiffness
+            ``components`` empty, ``pair_k`` the mesh as one column, tooth indices 0.
+        """
+        g1, g2 = pair.driver, pair.driven
+        k = np.asarray(k, dtype=float)
+        cycles = np.arange(k.size) / npc
+        return cls(name=pair.name, revolution_of=(g1.name if revolution_of == 1 else g2.name),
+                   cycles=cycles, theta1=2 * math.pi * cycles / g1.teeth,
+                   theta2=2 * math.pi * cycles / g2.teeth, k=k, components={},
+                   pair_k=k[:, None].copy(), pair_tooth1=np.zeros((k.size, 1), dtype=np.int64),
+                   pair_tooth2=np.zeros((k.size, 1), dtype=np.int64), attrs=dict(attrs))
+
     @property
     def load_share(self) -> np.ndarray:
         """Load sharing ratio of each pair, k_pair / k [-]."""

@@ -95,16 +95,4 @@ def fe_pair_train_stiffness(train, mesh: int, *, revolution_of: int = 1,
     attrs.update({"source": "fe-pair", "positions_per_cycle": npc, "slices": ns,
                   "fe_pair_positions": settings.fe_pair_positions,
                   "torque": train.torque(mesh), "plane": settings.plane})
-    return MeshStiffness(
-        name=pair.name,
-        revolution_of=(g1.name if revolution_of == 1 else g2.name),
-        cycles=cycles,
-        theta1=2 * math.pi * cycles / g1.teeth,
-        theta2=2 * math.pi * cycles / g2.teeth,
-        k=k,
-        components={},
-        pair_k=k[:, None].copy(),
-        pair_tooth1=np.zeros((k.size, 1), dtype=np.int64),
-        pair_tooth2=np.zeros((k.size, 1), dtype=np.int64),
-        attrs=attrs,
-    )
+    return MeshStiffness.whole_mesh(pair, revolution_of, npc, k, attrs)

@@ -28,6 +28,7 @@ from gearsim.stiffness.mesh import MeshStiffness, StiffnessSettings, ToothCrack,
 from gearsim.stiffness.modifications import Modification
 from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance
 from gearsim.system.faults import check_faults, flank_side, mesh_flanks
+from gearsim.system.fe_pair import fe_pair_train_stiffness
 
 __all__ = ["CRACK_CHOICES", "DEFAULT_CRACK", "GearTrain", "Operating", "body_coupling",
            "tooth_compliance"]
@@ -358,8 +359,6 @@ class GearTrain:
         """
         settings = settings or self.stiffness
         if settings.source == "fe-pair":
-            from gearsim.system.fe_pair import fe_pair_train_stiffness
-
             return fe_pair_train_stiffness(self, mesh, revolution_of=revolution_of,
                                            settings=settings)
         return mesh_stiffness(self.pairs[mesh], cracks=self.mesh_cracks(mesh),

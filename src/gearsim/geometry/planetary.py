@@ -152,6 +152,10 @@ class PlanetaryStage:
         :class:`~gearsim.geometry.gear.Material` of all gears.
     addendum_coefficient, dedendum_coefficient
         h_a*, h_f* of the basic rack (defaults 1.0, 1.25).
+    ring_addendum_coefficient
+        h_a* of the ring [-]; ``None``: ``addendum_coefficient``. Internal gears commonly
+        get a shorter addendum (0.8 and less) so that the ring's tip does not reach the
+        planet's fillet (checked by :class:`gearsim.stiffness.internal.InternalMesh`).
 
     Raises
     ------
@@ -194,8 +198,13 @@ class PlanetaryStage:
     material: Material = field(default_factory=Material)
     addendum_coefficient: float = 1.0
     dedendum_coefficient: float = 1.25
+    ring_addendum_coefficient: float | None = None
 
     def __post_init__(self) -> None:
+        ha = self.ring_addendum_coefficient
+        require(ha is None or (isinstance(ha, (int, float)) and math.isfinite(ha)
+                               and 0.0 < ha <= 1.5), "stage.ring_addendum_coefficient", ha,
+                "must be a finite number in (0, 1.5]")
         for name in ("sun_teeth", "planet_teeth", "ring_teeth", "planets"):
             v = getattr(self, name)
             require(_is_int(v), f"stage.{name}", v, "must be an integer")
@@ -277,7 +286,9 @@ class PlanetaryStage:
         """The ring gear (:class:`RingGear`)."""
         return RingGear(teeth=self.ring_teeth, normal_module=self.normal_module,
                         normal_pressure_angle=self.normal_pressure_angle, helix_angle=self.helix_angle,
-                        addendum_coefficient=self.addendum_coefficient,
+                        addendum_coefficient=(self.addendum_coefficient
+                                              if self.ring_addendum_coefficient is None
+                                              else self.ring_addendum_coefficient),
                         dedendum_coefficient=self.dedendum_coefficient, profile_shift=self.ring_shift)
 
     @property
@@ -438,12 +449,23 @@ class PlanetaryStage:
         Derivation in docs/planetary.md (the sun mesh loads one flank of the planet, the
         ring mesh the other; the two pitch points are half a planet turn apart).
         """
-        zp = self.planet_teeth
-        g = (0.5 * zp - zp * self.planet.base_half_thickness_angle / math.pi
-             + zp * (inv(self.sun_planet_pressure_angle) + inv(self.ring_planet_pressure_angle))
-             / (2.0 * math.pi))
-        g = g % 1.0
+        g = self.sun_ring_offset % 1.0
         return 0.0 if min(g, 1.0 - g) < 1e-9 else g
+
+    @property
+    def sun_ring_offset(self) -> float:
+        """Mesh cycles from a planet tooth's sun-side to its ring-side pitch-point contact [-].
+
+        The unwrapped form of :attr:`sun_ring_phase` (same tooth, no frac):
+        z_p/2 - z_p psi_b/pi + z_p (inv alpha_w,sp + inv alpha_w,rp)/(2 pi), the angle
+        the planet turns between the two events in units of its angular pitch. It ties
+        the tooth numbering of a planet's sun and ring meshes together (a cracked planet
+        tooth meets the ring this many mesh cycles after it met the sun).
+        """
+        zp = self.planet_teeth
+        return (0.5 * zp - zp * self.planet.base_half_thickness_angle / math.pi
+                + zp * (inv(self.sun_planet_pressure_angle) + inv(self.ring_planet_pressure_angle))
+                / (2.0 * math.pi))
 
     @property
     def phasing(self) -> str:

@@ -24,7 +24,7 @@ import math
 
 from gearsim.geometry.pair import GearPair
 
-__all__ = ["ISO_C", "mean_mesh_stiffness", "single_stiffness"]
+__all__ = ["ISO_C", "internal_mean_mesh_stiffness", "mean_mesh_stiffness", "single_stiffness"]
 
 ISO_C = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
 
@@ -115,3 +115,50 @@ def mean_mesh_stiffness(pair: GearPair) -> float:
     c1 = single_stiffness(pair) * (0.75 * pair.transverse_contact_ratio + 0.25)
     e_ratio = pair.driver.material.youngs_modulus / 206e9
     return c1 * 1e9 * pair.face_width * e_ratio
+
+
+def internal_mean_mesh_stiffness(stage) -> float:
+    """ISO 6336-1 mesh stiffness c_gamma_alpha b of the ring-planet (internal) mesh [N/m].
+
+    ISO 6336-1:2019, 9.3: for internal gears the virtual number of teeth of the ring is
+    taken as infinite, z_n2 = inf, so C3/z_n2 and C7 x2/z_n2 vanish; the shift terms
+    C6 x2 + C9 x2^2 keep the ring's shift (the built-in stages are unshifted). C_M = 0.8,
+    C_R = 1, C_B = 0.975 as for the external meshes, c' = c'_th C_M C_R C_B cos(beta),
+    c_gamma_alpha = c' (0.75 eps_alpha + 0.25) with the ring-planet contact ratio.
+
+    Parameters
+    ----------
+    stage : gearsim.geometry.planetary.PlanetaryStage
+        The stage (planet z, x; ring shift; helix angle; face width; material).
+
+    Returns
+    -------
+    float
+        c_gamma_alpha b [N/m].
+
+    References
+    ----------
+    ISO 6336-1:2019, clause 9 (eqs. 96-103 and the note on internal gears).
+
+    Examples
+    --------
+    z_p 24 spur, unshifted: q' = 0.04723 + 0.15551/24 = 0.053710, c'_th = 18.618,
+    c' = 18.618 x 0.8 x 0.975 = 14.522 N/(mm um); eps_alpha 1.9163:
+    c_gamma_alpha = 14.522 x (0.75 x 1.9163 + 0.25) = 24.502; b = 20 mm: 4.900e8 N/m.
+
+    >>> from gearsim.geometry.planetary import PlanetaryStage
+    >>> st = PlanetaryStage(30, 24, 78, 2e-3, planets=4, face_width=0.02)
+    >>> round(internal_mean_mesh_stiffness(st) / 1e8, 3)
+    4.901
+    """
+    p = stage.planet
+    beta = abs(p.helix_angle)
+    zn1 = p.teeth / (math.cos(p.base_helix_angle) ** 2 * math.cos(beta))
+    x1, x2 = p.profile_shift, stage.ring_shift
+    c = ISO_C
+    q = (c[0] + c[1] / zn1 + c[3] * x1 + c[4] * x1 / zn1 + c[5] * x2 + c[7] * x1**2
+         + c[8] * x2**2)
+    c_single = (1.0 / q) * 0.8 * 1.0 * 0.975 * math.cos(beta)
+    c_ga = c_single * (0.75 * stage.ring_planet_contact_ratio + 0.25)
+    e_ratio = stage.material.youngs_modulus / 206e9
+    return c_ga * 1e9 * stage.face_width * e_ratio

@@ -46,7 +46,7 @@ from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance,
 from gearsim.stiffness.tooth import hertz_stiffness, line_contact_compliance
 
 __all__ = ["COMPONENTS", "DEFAULT_SLICES", "MeshStiffness", "StiffnessSettings", "ToothCrack",
-           "centre_line_depth", "in_path_fraction", "mesh_stiffness"]
+           "centre_line_depth", "in_path_fraction", "mesh_stiffness", "slice_grid"]
 
 COMPONENTS = ("hertz", "bending_1", "shear_1", "axial_1", "foundation_1",
               "bending_2", "shear_2", "axial_2", "foundation_2")
@@ -161,13 +161,38 @@ class MeshStiffness:
 
 def _slice_grid(pair: GearPair, settings: StiffnessSettings):
     """Contact points and in-contact fractions on the (position, pair age, slice) grid."""
-    tb = math.tan(pair.driver.base_helix_angle)
-    b = pair.face_width
+    return slice_grid(math.tan(pair.driver.base_helix_angle), pair.face_width,
+                      pair.base_pitch, pair.start_of_contact, pair.end_of_contact, settings)
+
+
+def slice_grid(tb: float, b: float, pb: float, la: float, le: float,
+               settings: StiffnessSettings):
+    """Contact points and in-contact fractions on the (position, pair age, slice) grid.
+
+    Parameters
+    ----------
+    tb
+        tan of the base helix angle [-] (0: spur, one slice).
+    b
+        Face width [m].
+    pb
+        Transverse base pitch [m].
+    la, le
+        Start and end of the path of contact on the transverse line of action [m].
+    settings
+        Positions per cycle and slices.
+
+    Returns
+    -------
+    lmid, frac, dz, n_age, ns, zfrac
+        Contact point [m] and in-path fraction [-] of each (position, age, slice), the
+        slice width [m], the number of pair ages and slices, and the slice centres over
+        the face width [-]. Pair age m at position u of a cycle has its contact at
+        la + (u + m) pb - z tan(beta_b) (z the slice centre).
+    """
     ns = settings.slices if tb > 0 else 1
     npc = settings.positions_per_cycle
-    pb = pair.base_pitch
-    la, le = pair.start_of_contact, pair.end_of_contact
-    eps_a = pair.transverse_contact_ratio
+    eps_a = (le - la) / pb
     eps_b = b * tb / pb
     n_age = int(math.ceil(eps_a + eps_b)) + 1
     u = np.arange(npc) / npc

@@ -1,0 +1,275 @@
+"""Time-varying mesh stiffness of the internal ring-planet mesh (potential energy method).
+
+The mesh of a planet (gear 1) with the ring (gear 2, an internal gear) is computed like an
+external mesh (:func:`gearsim.stiffness.mesh.mesh_stiffness`): the same slicing of a
+helical face width, the same in-path sampling, each slice a series of the Hertz contact,
+the planet tooth and the ring tooth, slices and tooth pairs in parallel:
+
+    1/k_slice = [1/k_h + sum_(b, s, a, f) 1/k_planet + sum_(b, s, a, f) 1/k_ring] / w_slice
+
+with the planet tooth of :class:`gearsim.stiffness.tooth.ToothModel` (cracks included,
+on either flank) and the ring tooth of :class:`gearsim.stiffness.ring.RingToothModel`
+(Chen & Shao 2013: the internal tooth as a cantilever on the root circle; Liang, Zuo &
+Pandey 2014). The Hertz term is the seed's load-independent line-contact stiffness
+(Yang & Sun 1985), which does not depend on the curvatures.
+
+Geometry (ISO 21771, internal pair; :class:`gearsim.geometry.planetary.PlanetaryStage`).
+Positions s on the transverse line of action are measured from the tangent point T_p on
+the planet's base circle; both tangent points lie on the same side of the pitch point, so
+a contact at s has the radii
+
+    r_planet = sqrt(r_b,p^2 + s^2),  r_ring = sqrt(r_b,r^2 + (s + a_rp sin alpha_w,rp)^2)
+
+and the path of contact runs from the ring's (inner) tip circle,
+s_a = sqrt(r_a,r^2 - r_b,r^2) - a_rp sin alpha_w,rp, to the planet's tip circle,
+s_e = sqrt(r_a,p^2 - r_b,p^2). A contact enters at s_a (near the planet root) and leaves at
+s_e when the planet drives the ring, which is the sense of the table: pair age m at
+position u of a cycle is at s_a + (u + m) p_bt - z tan(beta_b), with planet tooth
+(c - m) mod z_p and ring tooth (c - m) mod z_r in cycle c.
+
+References
+----------
+.. [ChenShao2013] Z. Chen, Y. Shao, Mesh stiffness of an internal spur gear pair with ring
+   gear rim deformation, Mech. Mach. Theory 69 (2013) 1-12.
+.. [Liang2014] X. Liang, M. J. Zuo, M. Pandey, Analytical evaluation of time-varying mesh
+   stiffness for planetary gear sets, Mech. Mach. Theory 76 (2014) 20-38.
+.. [ISO21771] ISO 21771:2007 (internal gear pairs).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from gearsim.errors import require
+from gearsim.geometry.planetary import PlanetaryStage
+from gearsim.geometry.profile import ToothProfile
+from gearsim.stiffness.mesh import COMPONENTS, MeshStiffness, slice_grid
+from gearsim.stiffness.settings import StiffnessSettings
+from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCrack
+from gearsim.stiffness.tooth import hertz_stiffness
+
+__all__ = ["InternalMesh", "internal_mesh_stiffness"]
+
+
+@dataclass(frozen=True)
+class InternalMesh:
+    """Line-of-action geometry of the ring-planet mesh of a stage.
+
+    Parameters
+    ----------
+    stage : PlanetaryStage
+        The stage.
+
+    Raises
+    ------
+    InputError
+        If the ring's tip circle cuts the planet below its form circle (the contact would
+        reach the planet's fillet: tip interference of the internal pair).
+
+    Examples
+    --------
+    z 30/24/78, m 2 mm, ring addendum 0.8 m: the path of contact over the base pitch is
+    the contact ratio of the stage; with the full addendum the ring's tip would reach
+    the planet's fillet and the mesh is refused:
+
+    >>> from gearsim.geometry.planetary import PlanetaryStage
+    >>> st = PlanetaryStage(30, 24, 78, 2e-3, planets=4, ring_addendum_coefficient=0.8)
+    >>> mesh = InternalMesh(st)
+    >>> round((mesh.end - mesh.start) / st.base_pitch, 4) == round(st.ring_planet_contact_ratio, 4)
+    True
+    >>> InternalMesh(PlanetaryStage(30, 24, 78, 2e-3, planets=4))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    gearsim.errors.InputError: stage: ring-planet mesh = ring tip circle 76 mm: reaches ...
+    """
+
+    stage: PlanetaryStage
+
+    def __post_init__(self) -> None:
+        p = self.stage.planet
+        form = ToothProfile(p).form_radius
+        s_form = math.sqrt(max(form**2 - p.base_radius**2, 0.0))
+        require(self.start >= s_form - 1e-12, "stage: ring-planet mesh", (
+            f"ring tip circle {self.stage.ring.tip_radius * 1e3:.6g} mm"),
+            f"reaches the planet below its form circle ({form * 1e3:.6g} mm): contact on the "
+            f"planet's fillet (start of contact {self.start * 1e3:.4g} mm < "
+            f"{s_form * 1e3:.4g} mm from T_p); reduce the ring addendum or shift the gears")
+
+    @property
+    def offset(self) -> float:
+        """Distance T_p T_r between the tangent points, a_rp sin(alpha_w,rp) [m]."""
+        return self.stage.ring_planet_line_of_action
+
+    @property
+    def start(self) -> float:
+        """Start of contact s_a (ring tip circle), from T_p [m]."""
+        r = self.stage.ring
+        return math.sqrt(r.tip_radius**2 - r.base_radius**2) - self.offset
+
+    @property
+    def end(self) -> float:
+        """End of contact s_e (planet tip circle), from T_p [m]."""
+        p = self.stage.planet
+        return math.sqrt(p.tip_radius**2 - p.base_radius**2)
+
+    @property
+    def pitch_point(self) -> float:
+        """Pitch point r_b,p tan(alpha_w,rp), from T_p [m]."""
+        return self.stage.planet.base_radius * math.tan(self.stage.ring_planet_pressure_angle)
+
+    def radii(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Contact radii on planet and ring at positions ``s`` from T_p [m].
+
+        Parameters
+        ----------
+        s : ndarray
+            Positions on the transverse line of action [m].
+
+        Returns
+        -------
+        r_planet, r_ring : ndarray
+            [m], the shape of ``s``.
+        """
+        s = np.asarray(s, dtype=float)
+        return (np.hypot(self.stage.planet.base_radius, s),
+                np.hypot(self.stage.ring.base_radius, s + self.offset))
+
+
+def internal_mesh_stiffness(stage: PlanetaryStage, *, cracks: tuple[ToothCrack, ...] = (),
+                            settings: StiffnessSettings | None = None,
+                            revolution_of: int = 1, ring_foundation: str = "none",
+                            ring_tooth: Callable[[np.ndarray], np.ndarray] | None = None,
+                            name: str = "ring-planet") -> MeshStiffness:
+    """TVMS of the ring-planet mesh over one revolution of the planet (1) or ring (2).
+
+    Parameters
+    ----------
+    stage
+        The planetary stage.
+    cracks
+        Cracks as the mesh sees them: ``gear`` 1 the planet (either flank, ``side``
+        +1 when the cracked flank is the one the ring loads), 2 the ring (refused: the
+        ring tooth model has no crack).
+    settings
+        Numerical options (positions per cycle, slices, closure, plane, Gauss points);
+        ``contact`` must be ``"yang-lin"`` and ``coupling`` ``"none"``.
+    revolution_of
+        1: z_p mesh cycles (a planet revolution relative to the carrier); 2: z_r cycles.
+    ring_foundation
+        Foundation term of the ring tooth (:class:`gearsim.stiffness.ring.RingToothModel`):
+        ``"none"`` (default; the tooth clamped on its root circle, Chen & Shao 2013) or
+        ``"sainsot-solid"`` (docs/planetary.md section 4.3 for why it is not the default).
+    ring_tooth
+        Another ring-tooth model: a function of contact radii [m] (1-D array) returning
+        the compliances times width [m^2/N], shape (n, 4): bending, shear, axial,
+        foundation (for example one interpolated from :mod:`gearsim.fem.ring`). Replaces
+        ``ring_foundation``'s potential-energy tooth.
+    name
+        Mesh name written into the table.
+
+    Returns
+    -------
+    MeshStiffness
+        Stiffness along the transverse line of action [N/m] per position; components
+        ``hertz``, ``*_1`` the planet, ``*_2`` the ring; pair stiffnesses and teeth.
+
+    Raises
+    ------
+    InputError
+        If an option the internal mesh does not model is set, a crack is on the ring or
+        on a tooth the gear does not have.
+
+    References
+    ----------
+    Chen & Shao (2013); Liang, Zuo & Pandey (2014); docs/planetary.md section 4.
+
+    Examples
+    --------
+    >>> from gearsim.geometry.planetary import PlanetaryStage
+    >>> st = PlanetaryStage(30, 24, 78, 2e-3, planets=4, ring_addendum_coefficient=0.8)
+    >>> ms = internal_mesh_stiffness(st, settings=StiffnessSettings(positions_per_cycle=20))
+    >>> ms.k.size, round(ms.mean / 1e9, 2)
+    (480, 0.63)
+    """
+    from gearsim.stiffness.ring import RingToothModel
+
+    settings = settings or StiffnessSettings()
+    require(settings.contact == "yang-lin", "stiffness.contact", settings.contact,
+            'the internal (ring-planet) mesh has the Yang-Lin contact only: use "yang-lin"')
+    require(settings.coupling == "none", "stiffness.coupling", settings.coupling,
+            'the internal (ring-planet) mesh has no body coupling: use "none"')
+    require(settings.source == "pe", "stiffness.source", settings.source,
+            'the internal (ring-planet) mesh has the potential-energy tooth only: use "pe"')
+    require(revolution_of in (1, 2), "revolution_of", revolution_of, "must be 1 or 2")
+    planet, ring = stage.planet, stage.ring
+    for tc in cracks:
+        require(tc.gear == 1, "crack.gear", "ring",
+                "ring tooth cracks are not modelled (the ring tooth model has no crack)")
+        require(tc.crack.tooth < planet.teeth, "crack.tooth", tc.crack.tooth,
+                f"must be < {planet.teeth} (teeth of the planet)")
+    geo = InternalMesh(stage)
+    tb = math.tan(planet.base_helix_angle)
+    lmid, frac, dz, n_age, ns, zfrac = slice_grid(tb, stage.face_width, stage.base_pitch,
+                                                  geo.start, geo.end, settings)
+    npc = settings.positions_per_cycle
+    inside = frac > 0
+    rp, rr = geo.radii(lmid)
+    rp = np.where(inside, rp, 0.0)
+    rr = np.where(inside, np.clip(rr, ring.tip_radius, ring.root_radius), ring.tip_radius)
+    pe = PotentialEnergyCompliance()
+    healthy1 = pe.compliance(planet, rp, None, zfrac, settings)
+    cracked1 = {tc.crack.tooth: pe.compliance(planet, rp, tc, zfrac, settings) for tc in cracks}
+    ring_label = ring_foundation if ring_tooth is None else "user"
+    if ring_tooth is None:
+        rt = RingToothModel(ring, material=stage.material, plane=settings.plane,
+                            foundation=ring_foundation, gauss_points=settings.gauss_points)
+        ring_tooth = rt.compliance
+    c2r = np.asarray(ring_tooth(rr.ravel()), dtype=float)
+    require(c2r.shape == (rr.size, 4) and bool(np.all(np.isfinite(c2r))), "ring_tooth",
+            c2r.shape, f"must return finite compliances of shape ({rr.size}, 4)")
+    c2 = np.where(inside[..., None], c2r.reshape(rr.shape + (4,)), 0.0)
+    ch = 1.0 / hertz_stiffness(stage.material, stage.material, 1.0)
+    width = frac * dz
+    z_rev = planet.teeth if revolution_of == 1 else ring.teeth
+    n_pos = z_rev * npc
+    k = np.zeros(n_pos)
+    comp = np.zeros((n_pos, len(COMPONENTS)))
+    pair_k = np.zeros((n_pos, n_age))
+    t1 = np.zeros((n_pos, n_age), dtype=np.int64)
+    t2 = np.zeros((n_pos, n_age), dtype=np.int64)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv_w = np.where(width > 0, 1.0 / width, 0.0)
+    for c in range(z_rev):
+        sl = slice(c * npc, (c + 1) * npc)
+        c1 = np.empty(c2.shape)
+        for m in range(n_age):
+            i1 = (c - m) % planet.teeth
+            t1[sl, m] = i1
+            t2[sl, m] = (c - m) % ring.teeth
+            c1[:, m] = cracked1.get(i1, healthy1)[:, m]
+        total = ch + c1.sum(-1) + c2.sum(-1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ks = np.where(inside, width / total, 0.0)
+        kt = ks.sum(axis=(1, 2))
+        k[sl] = kt
+        pair_k[sl] = ks.sum(axis=2)
+        share2 = (ks / kt[:, None, None]) ** 2
+        parts = [np.full(ks.shape, ch)] + [c1[..., q] for q in range(4)] + [
+            c2[..., q] for q in range(4)]
+        with np.errstate(divide="ignore"):
+            for q, part in enumerate(parts):
+                comp[sl, q] = 1.0 / np.sum(share2 * part * inv_w, axis=(1, 2))
+    cycles = np.arange(n_pos) / npc
+    return MeshStiffness(
+        name=name, revolution_of="planet" if revolution_of == 1 else "ring", cycles=cycles,
+        theta1=2 * math.pi * cycles / planet.teeth, theta2=2 * math.pi * cycles / ring.teeth,
+        k=k, components={nm: comp[:, q] for q, nm in enumerate(COMPONENTS)}, pair_k=pair_k,
+        pair_tooth1=t1, pair_tooth2=t2,
+        attrs={"closure": settings.closure, "slices": ns, "positions_per_cycle": npc,
+               "plane": settings.plane, "gauss_points": settings.gauss_points,
+               "source": "pe", "contact": settings.contact, "coupling": settings.coupling,
+               "ring_foundation": ring_label, "internal": 1})

@@ -57,7 +57,8 @@ from gearsim.system.toml import train_to_toml
 from gearsim.system.train import GearTrain
 
 __all__ = ["FORCE_ENV", "MAX_STEPS", "MEMORY_FRACTION", "Raw", "RunCost", "build_model",
-           "check_cost", "cost_bounds_lifted", "integration_step", "physical_memory", "reference_mesh_forces",
+           "check_cost", "cost_bounds_lifted", "decimation_filter", "integration_step",
+           "physical_memory", "reference_mesh_forces",
            "reference_rhs", "run_kernel", "settings_of", "simulate", "summary"]
 
 #: |q| limit [m or rad] beyond which a run counts as diverged.
@@ -283,6 +284,25 @@ def run_kernel(model: DynamicModel, *, dt: float, n_steps: int, rec_start: int =
             f"{Q_LIMIT}] or became NaN; reduce dynamics.step or check the inputs")
     t = t0 + (rec_start + rec_every * np.arange(n_rec)) * dt
     return Raw(t=t, q=rq, v=rv, f=rf, q_end=q, v_end=v)
+
+
+def decimation_filter(r: int, fs: float) -> np.ndarray:
+    """Anti-aliasing FIR taps for decimating ``r fs`` to ``fs`` (as :func:`simulate` uses).
+
+    Parameters
+    ----------
+    r : int
+        Oversampling factor (> 1).
+    fs : float
+        Output rate [Hz].
+
+    Returns
+    -------
+    ndarray
+        ``2 FIR_HALF_PER_R r + 1`` Kaiser-window low-pass taps, cut-off ``FIR_CUTOFF fs``
+        (scipy.signal.firwin).
+    """
+    return _fir(r, fs)
 
 
 def _fir(r: int, fs: float) -> np.ndarray:

@@ -1,0 +1,487 @@
+"""Time simulation of a planetary stage: the Lin & Parker model with phased, time-varying meshes.
+
+Equations of motion (model frame of :mod:`gearsim.system.planetary`; Lin & Parker 1999,
+coordinates and spring gradients b_i of :class:`gearsim.dynamics.planetary.LinParkerModel`):
+
+    M q'' + C_b q' + K_b q + sum_i b_i f_i(t, b_i . q, b_i . q') = F
+
+* central members (carrier, ring, sun): bearings k_j in x and y on the diagonal, the held
+  member's torsional stiffness k_u on its rotation (``u = r theta``);
+* planet bearings (radial and tangential, k_p) and the 2N meshes are springs along b_i;
+* a mesh force is f = k_i(t)(delta - 0) + c_m delta' while the flanks touch, zero inside
+  the backlash 2b and k_i(t)(delta + 2b) + c_m delta' on the back flanks
+  (``nonlinear``), with k_i(t) = k(f_m t + phase_i) the phased table of the mesh
+  (:meth:`gearsim.system.planetary.PlanetaryTrain.mesh_table`);
+* F: the model-frame torques on the input and output members as forces T / r on their
+  ``u`` coordinates (r the base radius; carrier: the planet-centre radius a).
+
+The gyroscopic and centripetal terms of the rotating carrier frame are left out (as in the
+paper's free-vibration analysis; they scale with the carrier speed squared over the
+natural frequencies squared). The compiled RK4 kernel of the gear trains
+(:mod:`gearsim.dynamics._kernels`) integrates the system: its springs are rows of ``V``
+with periodic stiffness tables, so the stage reuses it unchanged.
+
+**What a fixed transducer sees** (McFadden & Smith 1985; Inalpolat & Kahraman 2009): the
+ring-planet mesh force of each planet reaches a sensor on the ring (housing) through a
+path that depends on how far the planet is from it,
+
+    y(t) = sum_n w(phi_n(t)) [f_rn(t) - mean(f_rn)],  phi_n = theta_c(t) + psi_n - theta_s,
+
+with w(phi) = (1 + cos(pi phi / Theta)) / 2 for |phi| < Theta (phi wrapped to
+[-pi, pi)) and 0 elsewhere: a Hann window of half width Theta (``sensor_width``) centred on
+the sensor angle theta_s. theta_c is the physical carrier angle relative to the housing.
+
+References
+----------
+.. [LinParker1999] J. Lin, R. G. Parker, J. Vib. Acoust. 121 (1999) 316-321.
+.. [McFaddenSmith1985] P. D. McFadden, J. D. Smith, An explanation for the asymmetry of the
+   modulation sidebands about the tooth meshing frequency in epicyclic gear vibration,
+   Proc. Inst. Mech. Eng. C 199 (1985) 65-70.
+.. [Inalpolat2009] M. Inalpolat, A. Kahraman, A theoretical and experimental investigation
+   of modulation sidebands of planetary gear sets, J. Sound Vib. 323 (2009) 677-696.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from gearsim.dynamics.model import DynamicModel, static_equilibrium
+from gearsim.dynamics.planetary import LinParkerModel
+from gearsim.dynamics.settings import DynamicsSettings
+from gearsim.dynamics.simulate import FIR_HALF_PER_R, decimation_filter, run_kernel
+from gearsim.dynamics.tables import MeshTable
+from gearsim.errors import InputError, require
+from gearsim.system.planetary import PlanetaryTrain, planet_name
+
+__all__ = ["StageDynamics", "build_stage_model", "lin_parker_of", "sensor_window",
+           "simulate_stage", "stage_summary"]
+
+_MEMBERS = ("carrier", "ring", "sun")
+#: Largest RK4 step as a fraction of 1 / omega_max (RK4's stability limit is 2.78).
+STABILITY_FRACTION = 2.0
+#: Default backlash 2b in normal modules (of the order of the AGMA minimum backlash).
+BACKLASH_MODULES = 0.05
+#: Thickness of the estimated carrier (two plates) in face widths.
+CARRIER_PLATES = 0.5
+#: Rim thickness of the estimated ring in normal modules (as the FE ring tooth).
+RING_RIM_MODULES = 3.5
+
+
+def _positive(v: object) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v > 0
+
+
+@dataclass(frozen=True)
+class StageDynamics:
+    """Members, supports and sensor of a simulated stage.
+
+    Parameters
+    ----------
+    masses
+        Mass of ``sun``, ``planet``, ``ring``, ``carrier`` [kg]; a missing member is
+        estimated from the geometry (solid steel cylinders of pitch radius and face width;
+        ring: annulus from the root circle out by ``RING_RIM_MODULES`` m_n; carrier: two
+        plates of the planet-centre radius, ``CARRIER_PLATES`` b thick in all).
+    inertias
+        Moments of inertia about the axis [kg m^2]; missing: of those cylinders.
+    bearings
+        Translational bearing stiffness of each member (planet: radial and tangential)
+        [N/m]; missing: ``DynamicsSettings.bearing_stiffness``.
+    held_torsional
+        Torsional stiffness holding the fixed member [N m/rad]; ``None``: 1e3 times the
+        mean sun-planet mesh stiffness times r_b,s^2 (a practically rigid hold).
+    sensor_angle
+        Sensor position on the ring theta_s [rad].
+    sensor_width
+        Half width Theta of the transfer-path window [rad], in (0, pi].
+
+    Raises
+    ------
+    InputError
+        Unknown member names, values not finite > 0, sensor width outside (0, pi].
+    """
+
+    masses: dict[str, float] = field(default_factory=dict)
+    inertias: dict[str, float] = field(default_factory=dict)
+    bearings: dict[str, float] = field(default_factory=dict)
+    held_torsional: float | None = None
+    sensor_angle: float = 0.0
+    sensor_width: float = math.pi
+
+    def __post_init__(self) -> None:
+        names = ("sun", "planet", "ring", "carrier")
+        for group in ("masses", "inertias", "bearings"):
+            for k, v in getattr(self, group).items():
+                require(k in names, f"stage.{group}", k, "must be sun, planet, ring or carrier")
+                require(_positive(v), f"stage.{group}.{k}", v, "must be a finite number > 0")
+        require(self.held_torsional is None or _positive(self.held_torsional),
+                "stage.held_torsional", self.held_torsional, "must be a finite number > 0 N*m/rad")
+        require(isinstance(self.sensor_angle, (int, float)) and math.isfinite(self.sensor_angle),
+                "stage.sensor_angle", self.sensor_angle, "must be a finite angle")
+        require(_positive(self.sensor_width) and self.sensor_width <= math.pi + 1e-12,
+                "stage.sensor_width", self.sensor_width, "must be in (0, pi] rad")
+
+    def mass_inertia(self, train: PlanetaryTrain) -> dict[str, tuple[float, float]]:
+        """(mass [kg], inertia [kg m^2]) of each member, given or estimated.
+
+        Parameters
+        ----------
+        train : PlanetaryTrain
+            The stage (geometry, material density).
+
+        Returns
+        -------
+        dict
+            ``{"sun": (m, I), "planet": ..., "ring": ..., "carrier": ...}``.
+        """
+        st = train.stage
+        rho, b = st.material.density, st.face_width
+
+        def disc(r_out: float, r_in: float, width: float) -> tuple[float, float]:
+            m = rho * math.pi * (r_out**2 - r_in**2) * width
+            return m, 0.5 * m * (r_out**2 + r_in**2)
+
+        rf = st.ring.root_radius
+        est = {"sun": disc(st.sun.pitch_radius, 0.0, b),
+               "planet": disc(st.planet.pitch_radius, 0.0, b),
+               "ring": disc(rf + RING_RIM_MODULES * st.normal_module, rf, b),
+               "carrier": disc(st.centre_distance, 0.0, CARRIER_PLATES * b)}
+        return {k: (self.masses.get(k, m), self.inertias.get(k, i)) for k, (m, i) in est.items()}
+
+
+def lin_parker_of(train: PlanetaryTrain, dyn: StageDynamics,
+                  settings: DynamicsSettings) -> LinParkerModel:
+    """The Lin & Parker model of a stage at its mean mesh stiffnesses (model frame).
+
+    Parameters
+    ----------
+    train
+        The stage in operation.
+    dyn
+        Members and supports.
+    settings
+        ``bearing_stiffness`` for members without their own.
+
+    Returns
+    -------
+    LinParkerModel
+        Masses as I / r^2 (base radii; carrier: planet-centre radius), the held member's
+        torsional stiffness as k_u / r^2, the other two free, the mean of each mesh table.
+    """
+    st = train.stage
+    mi = dyn.mass_inertia(train)
+    radius = {"sun": st.sun.base_radius, "planet": st.planet.base_radius,
+              "ring": st.ring.base_radius, "carrier": st.centre_distance}
+    tabs = train.tables()
+    ksp = float(np.mean([np.mean(t.k) for t in tabs[0::2]]))
+    krp = float(np.mean([np.mean(t.k) for t in tabs[1::2]]))
+    held = dyn.held_torsional
+    if held is None:
+        held = 1e3 * ksp * st.sun.base_radius**2
+    fixed = train.operating.fixed
+    tors = {m: (held / radius[m] ** 2 if m == fixed else 0.0) for m in _MEMBERS}
+    kb = {m: dyn.bearings.get(m, settings.bearing_stiffness)
+          for m in ("sun", "planet", "ring", "carrier")}
+    return LinParkerModel(
+        planets=st.planets,
+        carrier_mass=mi["carrier"][0], carrier_inertia=mi["carrier"][1] / radius["carrier"] ** 2,
+        ring_mass=mi["ring"][0], ring_inertia=mi["ring"][1] / radius["ring"] ** 2,
+        sun_mass=mi["sun"][0], sun_inertia=mi["sun"][1] / radius["sun"] ** 2,
+        planet_mass=mi["planet"][0], planet_inertia=mi["planet"][1] / radius["planet"] ** 2,
+        carrier_bearing=kb["carrier"], ring_bearing=kb["ring"], sun_bearing=kb["sun"],
+        planet_bearing=kb["planet"], carrier_torsional=tors["carrier"],
+        ring_torsional=tors["ring"], sun_torsional=tors["sun"], sun_mesh=ksp, ring_mesh=krp,
+        sun_pressure_angle=st.sun_planet_pressure_angle,
+        ring_pressure_angle=st.ring_planet_pressure_angle,
+        planet_angles=tuple(float(a) for a in train.model_angles))
+
+
+def _check_settings(s: DynamicsSettings) -> None:
+    """Refuse the gear-train options a stage does not model (one line each)."""
+    for name, default in (("model", "lta"), ("profile_modification", (0.0,)),
+                          ("crowning", (0.0,)), ("runout", (0.0,)),
+                          ("assembly_error", (0.0,)), ("contact_mesh", False),
+                          ("bearing_damping", None), ("bearing_axial_stiffness", None)):
+        v = getattr(s, name)
+        require(v == default, f"dynamics.{name}", v,
+                f"is not modelled for a planetary stage (leave it at {default!r})")
+    require(s.backlash is None or len(s.backlash) == 1, "dynamics.backlash", s.backlash,
+            "a planetary stage takes one backlash for all its meshes")
+
+
+def build_stage_model(train: PlanetaryTrain, dyn: StageDynamics | None = None,
+                      settings: DynamicsSettings | None = None) -> DynamicModel:
+    """Equations of motion of a stage as a :class:`DynamicModel` for the RK4 kernel.
+
+    Parameters
+    ----------
+    train
+        The stage in operation (tables, phases, model-frame torques).
+    dyn
+        Members, supports and sensor; default :class:`StageDynamics()`.
+    settings
+        Damping ratios, backlash, non-linearity, bearing stiffness.
+
+    Returns
+    -------
+    DynamicModel
+        ``kind = "planetary"``; rows of ``V``: for each planet its sun mesh, ring mesh,
+        radial and tangential bearing; ``info`` holds the Lin & Parker model, the mesh
+        rows and the model-frame radii.
+    """
+    dyn = dyn or StageDynamics()
+    settings = settings or DynamicsSettings()
+    _check_settings(settings)
+    st = train.stage
+    lp = lin_parker_of(train, dyn, settings)
+    k_all, b_all = lp.springs()
+    n_planet_rows = 4 * st.planets
+    tabs = train.tables()
+    mass = np.diag(lp.mass_matrix()).copy()
+    n = mass.size
+    kb = np.zeros(n)
+    # central springs: x, y, u of carrier, ring, sun (diagonal gradients)
+    for i in range(n_planet_rows, k_all.size):
+        j = int(np.flatnonzero(b_all[i])[0])
+        kb[j] += k_all[i]
+    zb = settings.bearing_damping_ratio
+    cb = 2.0 * zb * np.sqrt(kb * mass)
+    V = b_all[:n_planet_rows].copy()
+    tables: list[MeshTable] = []
+    phase = np.zeros(n_planet_rows)
+    cm = np.zeros(n_planet_rows)
+    clear = np.full(n_planet_rows, np.inf)
+    m_s, m_p, m_r = mass[8], mass[11], mass[5]
+    b2 = (settings.backlash[0] if settings.backlash is not None
+          else BACKLASH_MODULES * st.normal_module)
+    mesh_rows = []
+    for j in range(st.planets):
+        ts, tr = tabs[2 * j], tabs[2 * j + 1]
+        for q, (t, m_eq) in enumerate(((ts, 1.0 / (1.0 / m_s + 1.0 / m_p)),
+                                       (tr, 1.0 / (1.0 / m_r + 1.0 / m_p)))):
+            row = 4 * j + q
+            mesh_rows.append(row)
+            tables.append(MeshTable(k=t.k, positions_per_cycle=t.positions_per_cycle,
+                                    period=t.period))
+            phase[row] = t.phase
+            cm[row] = 2.0 * settings.mesh_damping_ratio * math.sqrt(float(np.mean(t.k)) * m_eq)
+            clear[row] = b2 if settings.nonlinear else np.inf
+        for q in (2, 3):  # planet bearing, constant
+            row = 4 * j + q
+            tables.append(MeshTable(k=np.array([k_all[row]]), positions_per_cycle=1, period=1))
+            cm[row] = 2.0 * zb * math.sqrt(k_all[row] * m_p)
+    radius = {"sun": st.sun.base_radius, "ring": st.ring.base_radius,
+              "carrier": st.centre_distance}
+    tq = train.model_torques
+    fext = np.zeros(n)
+    for m in _MEMBERS:
+        if m != train.operating.fixed:
+            fext[3 * _MEMBERS.index(m) + 2] = tq[m] / radius[m]
+    kmean = np.array([float(np.mean(t.k)) for t in tables])
+    q0 = static_equilibrium(mass, kb, V, kmean, fext, np.zeros(n_planet_rows))
+    labels = []
+    for m in _MEMBERS:
+        labels += [f"{m}.x", f"{m}.y", f"{m}.u"]
+    for j in range(st.planets):
+        p = planet_name(j)
+        labels += [f"{p}.xi", f"{p}.eta", f"{p}.u"]
+    f_static = train.sun_torque / (st.planets * st.sun.base_radius)
+    row_names = []
+    for j in range(st.planets):
+        p = planet_name(j)
+        row_names += [f"sun-{p}", f"ring-{p}", f"bearing-{p}.radial", f"bearing-{p}.tangential"]
+    return DynamicModel(
+        kind="planetary", gear_names=_MEMBERS + tuple(planet_name(j) for j in range(st.planets)),
+        dof_labels=tuple(labels), mass=mass, kb=kb, cb=cb, fext=fext, V=V,
+        kappa=np.ones(n_planet_rows), kscale=np.ones(n_planet_rows), cm=cm, clearance=clear,
+        tables=tuple(tables), phase=phase, mesh_frequency=train.mesh_frequency,
+        e0=np.zeros(n_planet_rows), h_amp=np.zeros((n_planet_rows, 1)),
+        h_omega=np.zeros((n_planet_rows, 1)), h_phase=np.zeros((n_planet_rows, 1)),
+        to_transverse=np.ones(n_planet_rows), dte_offset=np.zeros(n_planet_rows),
+        static_force=np.where(np.isin(np.arange(n_planet_rows), mesh_rows), f_static, 0.0),
+        bearing_dofs=np.arange(3 * len(_MEMBERS)).reshape(len(_MEMBERS), 3)[:, :2],
+        axes=("x", "y"), q_static=q0,
+        info={"lin_parker": lp, "mesh_rows": tuple(mesh_rows), "row_names": tuple(row_names),
+              "backlash": b2})
+
+
+def sensor_window(phi: np.ndarray, width: float) -> np.ndarray:
+    """Transfer-path window w(phi) of a planet at angle ``phi`` from the sensor [-].
+
+    Parameters
+    ----------
+    phi
+        Angle of the planet from the sensor [rad] (any range; wrapped to [-pi, pi)).
+    width
+        Half width Theta [rad].
+
+    Returns
+    -------
+    ndarray
+        (1 + cos(pi phi / Theta)) / 2 inside |phi| < Theta, 0 outside.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> sensor_window(np.array([0.0, np.pi / 4, np.pi / 2, 3.0]), np.pi / 2).round(6).tolist()
+    [1.0, 0.5, 0.0, 0.0]
+    """
+    p = np.mod(np.asarray(phi, dtype=float) + math.pi, 2.0 * math.pi) - math.pi
+    return np.where(np.abs(p) < width, 0.5 * (1.0 + np.cos(math.pi * p / width)), 0.0)
+
+
+def _omega_max(model: DynamicModel) -> float:
+    import scipy.linalg
+
+    K = np.diag(model.kb).astype(float)
+    for i, t in enumerate(model.tables):
+        K += t.max * np.outer(model.V[i], model.V[i])
+    w2 = scipy.linalg.eigh(K, np.diag(model.mass), eigvals_only=True)
+    return math.sqrt(max(float(w2.max()), 0.0))
+
+
+def _slowest_decay(model: DynamicModel, zeta: float) -> float:
+    import scipy.linalg
+
+    K = np.diag(model.kb).astype(float)
+    for i, t in enumerate(model.tables):
+        K += t.mean * np.outer(model.V[i], model.V[i])
+    w2 = scipy.linalg.eigh(K, np.diag(model.mass), eigvals_only=True)
+    w = np.sqrt(w2[w2 > 1e-6 * w2.max()])
+    return 1.0 / (max(zeta, 1e-3) * float(w.min()))
+
+
+def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
+                   settings: DynamicsSettings | None = None, *,
+                   model: DynamicModel | None = None):
+    """Simulate a stage; mesh forces, member motion and the fixed sensor's signal.
+
+    Parameters
+    ----------
+    train
+        The stage in operation.
+    dyn
+        Members, supports and sensor.
+    settings
+        ``duration``, ``fs``, ``oversample`` (FIR decimation as the gear trains),
+        ``step`` (largest step; the step used is also kept below
+        ``STABILITY_FRACTION / omega_max`` of the stiffest mesh state), ``transient``
+        (``None``: 12 decay times of the slowest mode at the smaller damping ratio, at
+        least one carrier revolution), damping, backlash.
+    model
+        A prebuilt :func:`build_stage_model` (for benchmarks).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``mesh_force`` (time, mesh) [N] for the 2N meshes, ``q`` (time, dof) [m],
+        ``acceleration`` of the ring translation [m/s^2], ``sensor`` [N] (module docstring),
+        ``carrier_angle`` [rad]; attributes: f_m, speeds, direction, phases.
+
+    Raises
+    ------
+    InputError
+        If fs does not exceed twice the mesh frequency or options not modelled are set.
+    SimulationError
+        If the integration diverges.
+    """
+    import xarray as xr
+    from scipy.signal import upfirdn
+
+    dyn = dyn or StageDynamics()
+    settings = settings or DynamicsSettings()
+    f_m = train.mesh_frequency
+    if not settings.fs > 2.0 * f_m:
+        raise InputError("dynamics.fs", settings.fs,
+                         f"must be > {2 * f_m:.6g} Hz, twice the mesh frequency "
+                         f"{f_m:.6g} Hz, else the record is aliased")
+    model = model or build_stage_model(train, dyn, settings)
+    r = settings.oversample
+    fs = settings.fs
+    t_int = 1.0 / (r * fs)
+    step = min(settings.step, STABILITY_FRACTION / _omega_max(model))
+    m = max(1, math.ceil(t_int / step * (1 - 1e-12)))
+    dt = t_int / m
+    half = FIR_HALF_PER_R * r if r > 1 else 0
+    wc = abs(train.speeds["carrier"])
+    transient = settings.transient
+    if transient is None:
+        zeta = min(settings.bearing_damping_ratio, settings.mesh_damping_ratio)
+        transient = max(12.0 * _slowest_decay(model, zeta),
+                        (2.0 * math.pi / wc) if wc > 0 else 0.0, 1.0 / f_m)
+    tr_samples = max(math.ceil(transient / t_int - 1e-9), half)
+    transient = tr_samples * t_int
+    n_out = int(round(settings.duration * fs))
+    n_rec = (n_out - 1) * r + 1 + 2 * half
+    rec_start = (tr_samples - half) * m
+    n_steps = rec_start + (n_rec - 1) * m
+    raw = run_kernel(model, dt=dt, n_steps=n_steps, rec_start=rec_start, rec_every=m,
+                     n_rec=n_rec)
+    n = model.n_dof
+    x = np.concatenate([raw.q, raw.v, raw.f], axis=1)
+    if r > 1:
+        k0 = 2 * half // r
+        x = upfirdn(decimation_filter(r, fs), x, up=1, down=r, axis=0)[k0:k0 + n_out]
+    q, v, f = x[:, :n], x[:, n:2 * n], x[:, 2 * n:]
+    t = transient + np.arange(n_out) / fs
+    rows = list(model.info["mesh_rows"])
+    names = [model.info["row_names"][i] for i in rows]
+    forces = f[:, rows]
+    # ring acceleration from the equation of motion of its x, y coordinates
+    acc = np.gradient(v[:, 3:5], t, axis=0) if n_out > 2 else np.zeros((n_out, 2))
+    theta_c = train.speeds["carrier"] * t
+    psi = train.stage.planet_angles_value
+    ring_f = forces[:, 1::2]
+    dyn_f = ring_f - ring_f.mean(axis=0)
+    w = sensor_window(theta_c[:, None] + psi[None, :] - dyn.sensor_angle, dyn.sensor_width)
+    sensor = np.sum(w * dyn_f, axis=1)
+    ds = xr.Dataset(
+        {"mesh_force": (("time", "mesh"), forces, {"units": "N"}),
+         "q": (("time", "dof"), q, {"units": "m"}),
+         "ring_acceleration": (("time", "axis"), acc, {"units": "m/s^2"}),
+         "sensor": ("time", sensor, {"units": "N", "long_name": "ring-planet forces through "
+                                     "the transfer-path window of the fixed sensor"}),
+         "carrier_angle": ("time", theta_c, {"units": "rad"})},
+        coords={"time": ("time", t, {"units": "s"}), "mesh": names,
+                "dof": list(model.dof_labels), "axis": ["x", "y"]},
+        attrs={"kind": "planetary", "name": train.name, "mesh_frequency": f_m, "fs": fs,
+               "dt": dt, "transient": transient, "direction": train.direction,
+               "mirrored": int(train.mirrored),
+               "carrier_frequency": train.speeds["carrier"] / (2 * math.pi),
+               "sun_frequency": train.speeds["sun"] / (2 * math.pi),
+               "ring_frequency": train.speeds["ring"] / (2 * math.pi),
+               "sun_teeth": train.stage.sun_teeth, "planet_teeth": train.stage.planet_teeth,
+               "ring_teeth": train.stage.ring_teeth, "planets": train.stage.planets,
+               "static_mesh_force": float(model.static_force[rows[0]]),
+               "sensor_angle": dyn.sensor_angle, "sensor_width": dyn.sensor_width,
+               "cracks": ", ".join(f"{c.gear}:{c.tooth}:{c.flank}:{c.depth:g}"
+                                   for c in train.cracks) or "none"})
+    return ds
+
+
+def stage_summary(ds) -> dict:
+    """Summary of a simulated stage: per mesh mean, RMS and peak force; sensor RMS.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        From :func:`simulate_stage`.
+
+    Returns
+    -------
+    dict
+        ``meshes`` (name, mean, rms, peak, static force), ``sensor_rms``, ``mesh_frequency``.
+    """
+    f = ds["mesh_force"].values
+    static = float(ds.attrs["static_mesh_force"])
+    meshes = [{"mesh": str(name), "mean": float(np.mean(f[:, i])),
+               "rms": float(np.std(f[:, i])), "peak": float(np.max(np.abs(f[:, i]))),
+               "static_force": static}
+              for i, name in enumerate(ds["mesh"].values)]
+    return {"kind": "planetary", "meshes": meshes,
+            "sensor_rms": float(np.std(ds["sensor"].values)),
+            "mesh_frequency": float(ds.attrs["mesh_frequency"]),
+            "samples": int(ds.sizes["time"])}

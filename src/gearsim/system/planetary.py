@@ -1,0 +1,498 @@
+"""A planetary stage in operation: kinematics, member torques, cracks and phased mesh tables.
+
+Operation (Willis; Mueller 1982): one member is held (``fixed``: ring, carrier or sun),
+one is driven (``input``) at ``speed`` with ``torque``, the third is the output. With the
+speeds omega and the external torques T of sun, ring and carrier
+
+    omega_s - omega_c = -(z_r / z_s)(omega_r - omega_c),
+    T_s + T_r + T_c = 0,  T_s omega_s + T_r omega_r + T_c omega_c = 0 (no losses),
+    T_r = (z_r / z_s) T_s                      (planet equilibrium, Lin & Parker 1999).
+
+Mesh frequency f_m = z_s |omega_s - omega_c| / 2 pi = z_r |omega_r - omega_c| / 2 pi.
+
+**Model frame.** The Lin & Parker (1999) model (:mod:`gearsim.dynamics.planetary`)
+loads the flanks on which the sun pushes the planets counter-clockwise, i.e. an external
+sun torque T_s > 0 (counter-clockwise). A stage whose sun torque is clockwise is looked at
+from the other side (``mirrored``: planet angles psi -> -psi, all torques and speeds change
+sign), which puts the loads on the model's flanks. The sense in which the contacts then
+run along the lines of action is ``direction`` = sign(T_s (omega_s - omega_c)): +1 when
+the sun, relative to the carrier, turns the way its torque acts (it drives the planets),
+-1 when the planets drive the sun (a wind-turbine stage with the carrier as input, a
+star stage driven by the ring): the tables are run backwards.
+
+**Mesh tables.** The table coordinate of planet n's sun mesh, in mesh cycles, is
+tau_sn = d c - z_s psi_n / 2 pi (c = f_m t, d = ``direction``; psi_n in the model frame),
+which is Parker & Lin's (2004) phase gamma_sn = frac(z_s psi_n / 2 pi) and also places a
+cracked sun tooth at each planet in turn. The ring mesh of the same planet has
+tau_rn = tau_sn - c_p,sp - Delta + c_p,rp, with c_p the table coordinate of a pitch-point
+contact in each table (mid face width) and Delta the mesh cycles a planet tooth turns from
+its sun-side to its ring-side pitch-point contact
+(:attr:`~gearsim.geometry.planetary.PlanetaryStage.sun_ring_offset`): the planet's tooth
+numbers agree in both tables, so a cracked planet tooth loads the sun mesh and then, Delta
+cycles later, the ring mesh, each on its own flank.
+
+**Flanks.** The working flank of the sun and of the ring is the flank the planets load;
+the working flank of a planet is the flank the sun loads, so the ring loads its
+non-working flank (reversed bending, like an idler). A crack on a planet's working flank
+is on the tension side (``side = +1``) in the sun mesh and on the compression side
+(``side = -1``) in the ring mesh; a non-working crack the other way round.
+
+References
+----------
+.. [LinParker1999] J. Lin, R. G. Parker, J. Vib. Acoust. 121 (1999) 316-321.
+.. [ParkerLin2004] R. G. Parker, J. Lin, J. Mech. Des. 126 (2004) 365-370.
+.. [Muller1982] H. W. Mueller, Epicyclic Drive Trains, Wayne State University Press, 1982.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from functools import cached_property
+
+import numpy as np
+
+from gearsim.errors import require
+from gearsim.geometry.pair import GearPair
+from gearsim.geometry.planetary import PlanetaryStage
+from gearsim.stiffness.crack import Crack
+from gearsim.stiffness.internal import InternalMesh, internal_mesh_stiffness
+from gearsim.stiffness.mesh import MeshStiffness, mesh_stiffness
+from gearsim.stiffness.settings import StiffnessSettings
+from gearsim.stiffness.source import ToothCrack
+
+__all__ = ["MEMBERS", "PhasedTable", "PlanetaryTrain", "StageOperating", "planet_name",
+           "stage_stiffness"]
+
+#: Members of a stage that can be held or driven.
+MEMBERS = ("sun", "ring", "carrier")
+#: Ceilings of the operating point (the same as the gear trains').
+MAX_SPEED = 1e5
+MAX_TORQUE = 1e9
+
+
+def planet_name(n: int) -> str:
+    """Name of planet ``n`` (0-based index) in cracks and results: ``"planet-1"`` ...
+
+    Parameters
+    ----------
+    n : int
+        Planet index 0 .. N-1.
+
+    Returns
+    -------
+    str
+        ``f"planet-{n + 1}"``.
+    """
+    return f"planet-{n + 1}"
+
+
+@dataclass(frozen=True)
+class StageOperating:
+    """Operating point of a planetary stage.
+
+    Parameters
+    ----------
+    fixed
+        Held member: ``"ring"`` (default), ``"carrier"`` or ``"sun"``.
+    input
+        Driven member (not the held one): ``"sun"`` (default), ``"ring"`` or ``"carrier"``.
+    speed
+        Speed of the input member [rad/s], finite, in (0, 1e5].
+    torque
+        Torque on the input member [N m], finite, in (0, 1e9].
+
+    Raises
+    ------
+    InputError
+        Unknown member names, input = fixed, speed or torque outside its range.
+    """
+
+    fixed: str = "ring"
+    input: str = "sun"
+    speed: float = 1000.0 * 2 * math.pi / 60
+    torque: float = 100.0
+
+    def __post_init__(self) -> None:
+        require(self.fixed in MEMBERS, "operating.fixed", self.fixed,
+                'must be "ring", "carrier" or "sun"')
+        require(self.input in MEMBERS, "operating.input", self.input,
+                'must be "sun", "ring" or "carrier"')
+        require(self.input != self.fixed, "operating.input", self.input,
+                f"must differ from the held member (operating.fixed = {self.fixed!r})")
+        for name, v, top, unit in (("speed", self.speed, MAX_SPEED, "rad/s"),
+                                   ("torque", self.torque, MAX_TORQUE, "N*m")):
+            require(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+                    and 0.0 < v <= top, f"operating.{name}", v,
+                    f"must be a finite number in (0, {top:g}] {unit}")
+
+
+@dataclass(frozen=True)
+class PhasedTable:
+    """A mesh-stiffness table with its place in time, ready for the dynamics kernel.
+
+    The stiffness at time t is ``k(f_m t + phase)`` with ``k`` periodic over ``period``
+    mesh cycles and sampled at ``positions_per_cycle`` points per cycle (already reversed
+    when the contacts run backwards, ``direction = -1``).
+
+    Parameters
+    ----------
+    mesh : str
+        ``"sun-planet-1"``, ``"ring-planet-1"``, ...
+    k : ndarray
+        Samples [N/m].
+    positions_per_cycle, period : int
+        Sampling and period [mesh cycles].
+    phase : float
+        Offset [mesh cycles].
+    table : MeshStiffness
+        The table as computed (forward sense, with components and teeth).
+    """
+
+    mesh: str
+    k: np.ndarray
+    positions_per_cycle: int
+    period: int
+    phase: float
+    table: MeshStiffness
+
+    def __call__(self, t: np.ndarray, mesh_frequency: float) -> np.ndarray:
+        """Stiffness at times ``t`` [s] (linear interpolation) [N/m].
+
+        Parameters
+        ----------
+        t : ndarray
+            Times [s].
+        mesh_frequency : float
+            f_m [Hz].
+
+        Returns
+        -------
+        ndarray
+            k(f_m t + phase) [N/m].
+        """
+        c = np.asarray(t, dtype=float) * mesh_frequency + self.phase
+        pos = np.mod(c, self.period) * self.positions_per_cycle
+        i = np.floor(pos).astype(np.int64)
+        w = pos - i
+        n = self.k.size
+        i %= n
+        return self.k[i] * (1.0 - w) + self.k[(i + 1) % n] * w
+
+
+@dataclass(frozen=True)
+class PlanetaryTrain:
+    """A planetary stage with its operating point, stiffness options and cracks.
+
+    Parameters
+    ----------
+    stage
+        The stage geometry (:class:`~gearsim.geometry.planetary.PlanetaryStage`).
+    operating
+        Held and driven members, speed and torque.
+    settings
+        Stiffness options (:class:`~gearsim.stiffness.settings.StiffnessSettings`); the
+        ring-planet mesh needs ``source = "pe"``, ``contact = "yang-lin"``,
+        ``coupling = "none"``.
+    cracks
+        Cracks on ``"sun"`` or ``"planet-n"`` teeth (``Crack.gear``); flank as in the
+        module docstring. At most one cracked member per mesh.
+    name
+        Name of the configuration.
+    sun_mesh_stiffness, ring_mesh_stiffness
+        Constant mesh stiffnesses [N/m] replacing the computed tables (e.g. the
+        Lin & Parker example, which gives mean values only); ``None``: computed.
+    ring_foundation
+        Foundation term of the ring tooth (``"sainsot-solid"`` or ``"none"``).
+
+    Raises
+    ------
+    InputError
+        A crack on a gear the stage does not have (``planet-5`` of three planets), on
+        the ring (not modelled), on a tooth number the gear does not have, two cracked
+        members in one mesh, constant stiffnesses not finite > 0, options the internal
+        mesh does not model.
+
+    Examples
+    --------
+    >>> from gearsim.geometry.planetary import PlanetaryStage
+    >>> st = PlanetaryStage(30, 24, 78, 2e-3, planets=4, ring_addendum_coefficient=0.8)
+    >>> tr = PlanetaryTrain(st, StageOperating(speed=100.0, torque=50.0))
+    >>> round(tr.mesh_frequency, 4), tr.direction
+    (344.8357, 1)
+    """
+
+    stage: PlanetaryStage
+    operating: StageOperating = field(default_factory=StageOperating)
+    settings: StiffnessSettings = field(default_factory=StiffnessSettings)
+    cracks: tuple[Crack, ...] = ()
+    name: str = "planetary stage"
+    sun_mesh_stiffness: float | None = None
+    ring_mesh_stiffness: float | None = None
+    ring_foundation: str = "none"
+
+    def __post_init__(self) -> None:
+        st = self.stage
+        n = st.planets
+        names = ["sun", "ring"] + [planet_name(i) for i in range(n)]
+        seen: dict[str, int] = {}
+        for c in self.cracks:
+            require(isinstance(c, Crack), "cracks", type(c).__name__, "must be Crack objects")
+            if c.gear.startswith("planet-") and c.gear not in names:
+                require(False, "crack.gear", c.gear,
+                        f"no such planet: the stage has {n} planets (planet-1 .. planet-{n})")
+            require(c.gear in names, "crack.gear", c.gear,
+                    f"must be sun or planet-1 .. planet-{n}")
+            require(c.gear != "ring", "crack.gear", "ring",
+                    "ring tooth cracks are not modelled (the ring tooth model has no crack)")
+            z = st.sun_teeth if c.gear == "sun" else st.planet_teeth
+            require(c.tooth < z, "crack.tooth", c.tooth, f"must be < {z} (teeth of {c.gear})")
+            seen[c.gear] = seen.get(c.gear, 0) + 1
+            require(seen[c.gear] == 1, "crack.gear", c.gear, "at most one crack per gear")
+        require(not ("sun" in seen and len(seen) > 1), "cracks", ", ".join(seen),
+                "a cracked sun and a cracked planet share a mesh: crack one member at a time")
+        for nm in ("sun_mesh_stiffness", "ring_mesh_stiffness"):
+            v = getattr(self, nm)
+            require(v is None or (isinstance(v, (int, float)) and math.isfinite(v) and v > 0),
+                    f"stage.{nm}", v, "must be a finite number > 0 N/m (or omitted)")
+        require(self.ring_foundation in ("sainsot-solid", "none"), "stage.ring_foundation",
+                self.ring_foundation, 'must be "sainsot-solid" or "none"')
+        if self.ring_mesh_stiffness is None:
+            s = self.settings
+            require(s.source == "pe", "stiffness.source", s.source,
+                    'a planetary stage has the potential-energy tooth only: use "pe"')
+            require(s.contact == "yang-lin", "stiffness.contact", s.contact,
+                    'the ring-planet mesh has the Yang-Lin contact only: use "yang-lin"')
+            require(s.coupling == "none", "stiffness.coupling", s.coupling,
+                    'the ring-planet mesh has no body coupling: use "none"')
+            InternalMesh(st)  # tip interference of the internal pair
+
+    # ----------------------------------------------------------------- kinematics
+    @cached_property
+    def speeds(self) -> dict[str, float]:
+        """Physical speeds of sun, ring and carrier [rad/s] (input positive)."""
+        op, st = self.operating, self.stage
+        zs, zr = st.sun_teeth, st.ring_teeth
+        w = {op.fixed: 0.0, op.input: op.speed}
+        out = next(m for m in MEMBERS if m not in w)
+        # omega_s - omega_c = -(z_r/z_s)(omega_r - omega_c): solve for the unknown
+        if out == "carrier":
+            ws, wr = w["sun"], w["ring"]
+            w[out] = (zs * ws + zr * wr) / (zs + zr)
+        elif out == "sun":
+            w[out] = w["carrier"] - zr / zs * (w["ring"] - w["carrier"])
+        else:
+            w[out] = w["carrier"] - zs / zr * (w["sun"] - w["carrier"])
+        return w
+
+    @cached_property
+    def torques(self) -> dict[str, float]:
+        """Physical external torques on sun, ring and carrier [N m] (sum zero)."""
+        op, st = self.operating, self.stage
+        ratio = {"sun": 1.0, "ring": st.ring_teeth / st.sun_teeth}
+        ratio["carrier"] = -(ratio["sun"] + ratio["ring"])
+        ts = op.torque / ratio[op.input]
+        return {m: ts * ratio[m] for m in MEMBERS}
+
+    @property
+    def direction(self) -> int:
+        """Sense of the contacts along the lines of action in the model frame [-].
+
+        +1: the sun turns, relative to the carrier, the way its torque acts (it drives the
+        planets; contacts run from the start to the end of the path), -1 the other way
+        (the planets drive the sun; the tables are run backwards): sign(T_s (omega_s -
+        omega_c)).
+        """
+        rel = self.speeds["sun"] - self.speeds["carrier"]
+        return 1 if self.torques["sun"] * rel > 0 else -1
+
+    @property
+    def mesh_frequency(self) -> float:
+        """f_m = z_s |omega_s - omega_c| / 2 pi [Hz]."""
+        return self.stage.sun_teeth * abs(self.speeds["sun"] - self.speeds["carrier"]) / (
+            2.0 * math.pi)
+
+    @property
+    def mirrored(self) -> bool:
+        """True when the model frame is the mirror image (physical sun torque < 0)."""
+        return self.torques["sun"] < 0
+
+    @property
+    def model_angles(self) -> np.ndarray:
+        """Planet angles in the model frame [rad]: psi_n, or (-psi_n) mod 2 pi mirrored."""
+        psi = self.stage.planet_angles_value
+        return np.mod(-psi, 2.0 * math.pi) if self.mirrored else psi
+
+    @property
+    def model_torques(self) -> dict[str, float]:
+        """External torques in the model frame [N m] (sun torque > 0)."""
+        sgn = -1.0 if self.mirrored else 1.0
+        return {m: sgn * t for m, t in self.torques.items()}
+
+    @property
+    def sun_torque(self) -> float:
+        """|T_s| [N m], the sun torque in the model frame."""
+        return abs(self.torques["sun"])
+
+    # --------------------------------------------------------------------- tables
+    def _side(self, crack: Crack, mesh: str) -> int:
+        working = crack.flank == "working"
+        if crack.gear.startswith("planet-") and mesh == "ring":
+            working = not working
+        return 1 if working else -1
+
+    @cached_property
+    def sun_pair(self) -> GearPair:
+        """The sun-planet pair (sun drives, model frame)."""
+        return GearPair(self.stage.sun, self.stage.planet, name="sun-planet")
+
+    def _pitch_cycle(self, s_pitch: float, la: float) -> float:
+        st = self.stage
+        tb = math.tan(st.planet.base_helix_angle)
+        return (s_pitch - la + 0.5 * st.face_width * tb) / st.base_pitch
+
+    @cached_property
+    def ring_offset(self) -> float:
+        """tau_rn - tau_sn = c_p,rp - c_p,sp - Delta [mesh cycles] (module docstring)."""
+        st, pair = self.stage, self.sun_pair
+        c_sp = self._pitch_cycle(st.sun.base_radius * math.tan(st.sun_planet_pressure_angle),
+                                 pair.start_of_contact)
+        geo = InternalMesh(st)
+        c_rp = self._pitch_cycle(geo.pitch_point, geo.start)
+        return c_rp - c_sp - st.sun_ring_offset
+
+    def _crack_of(self, gear: str) -> Crack | None:
+        return next((c for c in self.cracks if c.gear == gear), None)
+
+    @cached_property
+    def _sun_tables(self) -> dict[str, MeshStiffness]:
+        """Sun-planet tables: healthy, cracked sun, cracked planet n (keys)."""
+        out: dict[str, MeshStiffness] = {}
+        if self.sun_mesh_stiffness is not None:
+            return out
+        pair, s = self.sun_pair, self.settings
+        out["healthy"] = mesh_stiffness(pair, settings=s, revolution_of=1)
+        for c in self.cracks:
+            gear = 1 if c.gear == "sun" else 2
+            out[c.gear] = mesh_stiffness(
+                pair, cracks=(ToothCrack(gear, replace(c, gear=pair.driver.name if gear == 1
+                                                        else pair.driven.name),
+                                         self._side(c, "sun")),),
+                settings=s, revolution_of=gear)
+        return out
+
+    @cached_property
+    def _ring_tables(self) -> dict[str, MeshStiffness]:
+        out: dict[str, MeshStiffness] = {}
+        if self.ring_mesh_stiffness is not None:
+            return out
+        st, s = self.stage, self.settings
+        out["healthy"] = internal_mesh_stiffness(st, settings=s, revolution_of=1,
+                                                 ring_foundation=self.ring_foundation)
+        for c in self.cracks:
+            if c.gear.startswith("planet-"):
+                out[c.gear] = internal_mesh_stiffness(
+                    st, cracks=(ToothCrack(1, replace(c, gear="planet"), self._side(c, "ring")),),
+                    settings=s, revolution_of=1, ring_foundation=self.ring_foundation)
+        return out
+
+    def mesh_table(self, mesh: str, planet: int) -> PhasedTable:
+        """Phased stiffness table of one mesh.
+
+        Parameters
+        ----------
+        mesh : {"sun", "ring"}
+            The sun-planet or ring-planet mesh.
+        planet : int
+            Planet index 0 .. N-1.
+
+        Returns
+        -------
+        PhasedTable
+            k(f_m t + phase) over ``period`` cycles (module docstring).
+        """
+        require(mesh in ("sun", "ring"), "mesh", mesh, 'must be "sun" or "ring"')
+        n = self.stage.planets
+        require(isinstance(planet, int) and 0 <= planet < n, "planet", planet,
+                f"must be in 0 .. {n - 1} ({n} planets)")
+        pname = planet_name(planet)
+        const = self.sun_mesh_stiffness if mesh == "sun" else self.ring_mesh_stiffness
+        label = f"{mesh}-{pname}"
+        if const is not None:
+            ms = MeshStiffness.whole_mesh(self.sun_pair, 1, 1, np.array([const]),
+                                          {"source": "constant"})
+            return PhasedTable(label, np.array([float(const)]), 1, 1, 0.0, ms)
+        tabs = self._sun_tables if mesh == "sun" else self._ring_tables
+        key = pname if pname in tabs else ("sun" if mesh == "sun" and "sun" in tabs
+                                           else "healthy")
+        ms = tabs[key]
+        npc = int(ms.attrs["positions_per_cycle"])
+        k = ms.k
+        period = k.size // npc
+        if key == "healthy":  # one cycle repeats
+            k = k[:npc]
+            period = 1
+        psi = float(self.model_angles[planet])
+        tau = -self.stage.sun_teeth * psi / (2.0 * math.pi)
+        if mesh == "ring":
+            tau += self.ring_offset
+        d = self.direction
+        if d == -1:  # k_rev(c) = k(-c)
+            k = np.roll(k[::-1], 1)
+            tau = -tau
+        return PhasedTable(label, np.ascontiguousarray(k, dtype=float), npc, period,
+                           float(tau), ms)
+
+    def tables(self) -> list[PhasedTable]:
+        """All mesh tables: sun mesh then ring mesh of each planet in turn.
+
+        Returns
+        -------
+        list of PhasedTable
+            ``[sun-planet-1, ring-planet-1, sun-planet-2, ...]``.
+        """
+        return [self.mesh_table(m, j) for j in range(self.stage.planets) for m in ("sun", "ring")]
+
+
+def stage_stiffness(train: PlanetaryTrain) -> tuple[dict, object]:
+    """Stiffness tables of every mesh of a stage: JSON summary and an xarray Dataset.
+
+    Parameters
+    ----------
+    train : PlanetaryTrain
+        The stage.
+
+    Returns
+    -------
+    summary : dict
+        Per mesh (``sun-planet-1`` ...): mean, min, max [N/m], table period [cycles],
+        phase [cycles] and the ISO 6336-1 estimate c_gamma_alpha b with the ratio
+        mean / ISO; ``mesh_frequency`` [Hz], ``direction``, contact ratios.
+    dataset : xarray.Dataset
+        ``k_<mesh>`` over ``cycles_<mesh>`` (the forward tables, one period each).
+    """
+    import xarray as xr
+
+    from gearsim.stiffness.iso6336 import internal_mean_mesh_stiffness, mean_mesh_stiffness
+
+    st = train.stage
+    iso = {"sun": mean_mesh_stiffness(train.sun_pair), "ring": internal_mean_mesh_stiffness(st)}
+    meshes, data = [], {}
+    for t in train.tables():
+        kind = t.mesh.split("-")[0]
+        k = t.table.k
+        meshes.append({"mesh": t.mesh, "k_mean": float(np.mean(t.k)), "k_min": float(t.k.min()),
+                       "k_max": float(t.k.max()), "period_cycles": int(t.period),
+                       "phase_cycles": float(t.phase), "iso6336": iso[kind],
+                       "ratio_to_iso6336": float(np.mean(t.k)) / iso[kind]})
+        data[f"k_{t.mesh}"] = (f"cycles_{t.mesh}", k, {"units": "N/m"})
+    coords = {f"cycles_{t.mesh}": (f"cycles_{t.mesh}", t.table.cycles, {"units": "1"})
+              for t in train.tables()}
+    ds = xr.Dataset(data, coords=coords, attrs={"kind": "planetary", "name": train.name,
+                                                "mesh_frequency": train.mesh_frequency})
+    summary = {"kind": "planetary", "name": train.name, "meshes": meshes,
+               "mesh_frequency": train.mesh_frequency, "direction": train.direction,
+               "eps_alpha_sun": st.sun_planet_contact_ratio,
+               "eps_alpha_ring": st.ring_planet_contact_ratio, "eps_beta": st.overlap_ratio,
+               "phasing": st.phasing}
+    return summary, ds

@@ -16,7 +16,8 @@ from gearsim.viz import check_plot_file, save
 __all__ = ["register"]
 
 
-def example(name: Annotated[str, typer.Argument(help="idler-table1 or spur-19-48")]) -> None:
+def example(name: Annotated[str, typer.Argument(
+        help="idler-table1, spur-19-48, lin-parker-1999 or nrel-grc")]) -> None:
     """Print a built-in example configuration (TOML)."""
     typer.echo(example_text(name), nl=False)
 
@@ -37,6 +38,9 @@ def stiffness(
     if plot is not None:
         plot = check_plot_file(plot, "--plot")
     gb = load(config)
+    if getattr(gb, "kind", "") == "planetary":
+        _stage_stiffness(gb, out, plot, json_, crack, closure)
+        return
     with as_options({"crack": "--crack", "stiffness.closure": "--closure"}):
         train = gb.train.with_crack(crack, closure=closure)
     ts = train_stiffness(train)
@@ -54,6 +58,58 @@ def stiffness(
                        f"max {m['k_max'] / 1e9:.4f}; eps_alpha {m['eps_alpha']:.3f}, "
                        f"eps_beta {m['eps_beta']:.3f}; mean / ISO 6336 c_ga b = "
                        f"{m['ratio_to_iso6336']:.3f}")
+
+
+def _stage_stiffness(box, out, plot, json_: bool, crack: str | None, closure: str | None
+                     ) -> None:
+    """The ``stiffness`` verb for a planetary stage (every sun and ring mesh)."""
+    import dataclasses
+
+    from gearsim.errors import InputError
+    from gearsim.system.planetary import stage_stiffness
+
+    if plot is not None:
+        raise InputError("--plot", plot, "is not available for a planetary stage yet "
+                         "(write the tables with --out)")
+    with as_options({"crack": "--crack"}):
+        box = box.with_crack(crack)
+    train = box.train
+    if closure is not None:
+        with as_options({"stiffness.closure": "--closure"}):
+            train = dataclasses.replace(train, settings=dataclasses.replace(
+                train.settings, closure=closure))
+    summary, ds = stage_stiffness(train)
+    if out is not None:
+        if str(out).endswith(".nc"):
+            from gearsim.io.results import write_results
+
+            write_results(ds, out)
+        else:
+            from gearsim.io.atomic import atomic_write
+
+            def write(tmp) -> None:
+                with open(tmp, "w", encoding="utf-8") as f:
+                    f.write(f"# gearsim TVMS of '{train.name}'; stiffness in N/m along the "
+                            "transverse line of action, cycles counted from each table's "
+                            "start (forward sense)\nmesh,cycles,k\n")
+                    for name in ds.data_vars:
+                        mesh = name[2:]
+                        for c, k in zip(ds[f"cycles_{mesh}"].values, ds[name].values,
+                                        strict=True):
+                            f.write(f"{mesh},{c:.10g},{k:.10g}\n")
+            atomic_write(out, write)
+    if json_:
+        typer.echo(json.dumps(summary, indent=2))
+        return
+    typer.echo(f"{summary['name']}: f_m {summary['mesh_frequency']:.6g} Hz, "
+               f"{summary['phasing']} planets; eps_alpha sun-planet "
+               f"{summary['eps_alpha_sun']:.3f}, ring-planet {summary['eps_alpha_ring']:.3f}, "
+               f"eps_beta {summary['eps_beta']:.3f}")
+    for m in summary["meshes"]:
+        typer.echo(f"mesh {m['mesh']}: k mean {m['k_mean'] / 1e9:.4f} GN/m, min "
+                   f"{m['k_min'] / 1e9:.4f}, max {m['k_max'] / 1e9:.4f}; period "
+                   f"{m['period_cycles']} cycles, phase {m['phase_cycles']:+.4f}; mean / "
+                   f"ISO 6336 c_ga b = {m['ratio_to_iso6336']:.3f}")
 
 
 def contact(

@@ -54,6 +54,9 @@ def simulate(
     gb = load(config)
     # every value is checked where the settings are made; the message names the option
     names = {"crack": "--crack", **{f"dynamics.{k}": f"--{k}" for k in changes}}
+    if getattr(gb, "kind", "") == "planetary":
+        _simulate_stage(gb, target, crack, changes, names, plot, json_)
+        return
     with as_options(names):
         gb = gb.with_crack(crack).replace(dynamics=changes)
     # cost and aliasing (for the mesh harmonics the analysis looks at) before any work
@@ -73,6 +76,49 @@ def simulate(
                        f" N, {100 * m['mean_error']:+.3f} %), RMS {m['rms']:.6g} N, peak "
                        f"{m['peak']:.6g} N")
         typer.echo(f"gearsim: results written to {path}")
+
+
+def _simulate_stage(box, target, crack, changes: dict, names: dict, plot: bool,
+                    json_: bool) -> None:
+    """The ``simulate`` verb for a planetary stage."""
+    import dataclasses
+
+    from gearsim.dynamics.settings import DynamicsSettings
+    from gearsim.dynamics.stage import simulate_stage, stage_summary
+    from gearsim.errors import InputError
+
+    if "model" in changes:
+        raise InputError("--model", changes["model"], "a planetary stage has one model "
+                         "(Lin & Parker 1999 with time-varying meshes): leave --model out")
+    if plot:
+        raise InputError("--plot", "on", "is not available for a planetary stage yet")
+    with as_options(names):
+        box = box.with_crack(crack)
+        settings = DynamicsSettings(**{**{f.name: getattr(box.dynamics, f.name)
+                                          for f in dataclasses.fields(DynamicsSettings)},
+                                       **changes})
+        ds = simulate_stage(box.train, box.members, settings)
+    path = write_results(ds, target)
+    s = stage_summary(ds)
+    s["out"] = str(path)
+    if json_:
+        typer.echo(json.dumps(s, indent=2))
+        return
+    for m in s["meshes"]:
+        typer.echo(f"mesh {m['mesh']}: mean {m['mean']:.6g} N (static {m['static_force']:.6g}"
+                   f" N), RMS {m['rms']:.6g} N, peak {m['peak']:.6g} N")
+    typer.echo(f"sensor (ring, transfer-path window): RMS {s['sensor_rms']:.6g} N; f_m "
+               f"{s['mesh_frequency']:.6g} Hz")
+    top = max(m["frequency"] for m in s["modes"])
+    modes = ", ".join("0 (rigid body)" if m["frequency"] < 1e-6 * top else
+                      f"{m['frequency']:.5g} ({m['kind'][0]}{m['multiplicity']})"
+                      for m in s["modes"])
+    typer.echo(f"natural frequencies of the mean-stiffness model [Hz] (r rotational, "
+               f"t translational, p planet, m mixed; multiplicity): {modes}")
+    if s["constant_meshes"]:
+        typer.echo("note: constant mesh stiffnesses: no parametric excitation, the response "
+                   "stays at the static load")
+    typer.echo(f"gearsim: results written to {path}")
 
 
 def register(app: typer.Typer) -> None:

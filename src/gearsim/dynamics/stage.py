@@ -438,13 +438,20 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     dyn_f = ring_f - ring_f.mean(axis=0)
     w = sensor_window(theta_c[:, None] + psi[None, :] - dyn.sensor_angle, dyn.sensor_width)
     sensor = np.sum(w * dyn_f, axis=1)
+    groups = model.info["lin_parker"].modes().groups
+    constant = all(t.k.size == 1 for t in model.tables)
     ds = xr.Dataset(
         {"mesh_force": (("time", "mesh"), forces, {"units": "N"}),
          "q": (("time", "dof"), q, {"units": "m"}),
          "ring_acceleration": (("time", "axis"), acc, {"units": "m/s^2"}),
          "sensor": ("time", sensor, {"units": "N", "long_name": "ring-planet forces through "
                                      "the transfer-path window of the fixed sensor"}),
-         "carrier_angle": ("time", theta_c, {"units": "rad"})},
+         "carrier_angle": ("time", theta_c, {"units": "rad"}),
+         "mode_frequency": ("mode", [g.frequency for g in groups],
+                            {"units": "Hz", "long_name": "natural frequencies of the "
+                             "mean-stiffness Lin & Parker model"}),
+         "mode_multiplicity": ("mode", [g.multiplicity for g in groups]),
+         "mode_kind": ("mode", [g.kind for g in groups])},
         coords={"time": ("time", t, {"units": "s"}), "mesh": names,
                 "dof": list(model.dof_labels), "axis": ["x", "y"]},
         attrs={"kind": "planetary", "name": train.name, "mesh_frequency": f_m, "fs": fs,
@@ -458,7 +465,8 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
                "static_mesh_force": float(model.static_force[rows[0]]),
                "sensor_angle": dyn.sensor_angle, "sensor_width": dyn.sensor_width,
                "cracks": ", ".join(f"{c.gear}:{c.tooth}:{c.flank}:{c.depth:g}"
-                                   for c in train.cracks) or "none"})
+                                   for c in train.cracks) or "none",
+               "constant_meshes": int(constant)})
     return ds
 
 
@@ -473,7 +481,10 @@ def stage_summary(ds) -> dict:
     Returns
     -------
     dict
-        ``meshes`` (name, mean, rms, peak, static force), ``sensor_rms``, ``mesh_frequency``.
+        ``meshes`` (name, mean, rms, peak, static force), ``sensor_rms``,
+        ``mesh_frequency``, ``modes`` (frequency [Hz], multiplicity, kind of each group of
+        the mean-stiffness Lin & Parker model), ``constant_meshes`` (no mesh table
+        varies: no parametric excitation, the response stays at the static load).
     """
     f = ds["mesh_force"].values
     static = float(ds.attrs["static_mesh_force"])
@@ -484,4 +495,9 @@ def stage_summary(ds) -> dict:
     return {"kind": "planetary", "meshes": meshes,
             "sensor_rms": float(np.std(ds["sensor"].values)),
             "mesh_frequency": float(ds.attrs["mesh_frequency"]),
-            "samples": int(ds.sizes["time"])}
+            "samples": int(ds.sizes["time"]),
+            "modes": [{"frequency": float(f), "multiplicity": int(m), "kind": str(k)}
+                      for f, m, k in zip(ds["mode_frequency"].values,
+                                         ds["mode_multiplicity"].values,
+                                         ds["mode_kind"].values, strict=True)],
+            "constant_meshes": bool(ds.attrs.get("constant_meshes", 0))}

@@ -49,8 +49,9 @@ from gearsim.units import plain_numbers_are_si
 __all__ = ["EXAMPLES", "example", "example_text", "load", "loads", "parse",
            "read_file_or_builtin"]
 
-#: Built-in examples: the seed's Table-1 helical idler train and Tian's spur pair.
-EXAMPLES = ("idler-table1", "spur-19-48")
+#: Built-in examples: the seed's Table-1 helical idler train, Tian's spur pair, and two
+#: planetary stages (the Lin & Parker 1999 example system, the NREL GRC stage).
+EXAMPLES = ("idler-table1", "spur-19-48", "lin-parker-1999", "nrel-grc")
 
 MATERIAL_KEYS = {"youngs_modulus": "pressure", "poisson_ratio": "dimensionless",
                  "density": "density"}
@@ -141,6 +142,10 @@ def parse(doc: dict[str, Any]) -> Gearbox:
     InputError
         The first problem found, naming the parameter, its value and the limit.
     """
+    if "stage" in doc:  # a planetary stage (gearsim.model.planetary)
+        from gearsim.model.planetary import parse_planetary
+
+        return parse_planetary(doc, _material(doc.get("material", {}), "material"))
     for key in doc:
         if key not in TOP_KEYS:
             raise InputError(key, "...", "unknown section; allowed: " + ", ".join(TOP_KEYS))

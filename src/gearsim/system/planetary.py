@@ -255,6 +255,9 @@ class PlanetaryTrain:
             v = getattr(self, nm)
             require(v is None or (isinstance(v, (int, float)) and math.isfinite(v) and v > 0),
                     f"stage.{nm}", v, "must be a finite number > 0 N/m (or omitted)")
+            require(v is None or not self.cracks, f"stage.{nm}", v,
+                    "a constant mesh stiffness cannot carry a crack: leave it out (computed "
+                    "tables) or remove the cracks")
         require(self.ring_foundation in ("sainsot-solid", "none"), "stage.ring_foundation",
                 self.ring_foundation, 'must be "sainsot-solid" or "none"')
         if self.ring_mesh_stiffness is None:

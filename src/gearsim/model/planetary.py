@@ -1,0 +1,186 @@
+"""TOML configuration of a planetary stage, validated into :class:`PlanetaryBox`.
+
+A configuration with a ``[stage]`` section describes one planetary stage (gear trains
+have ``[[gears]]`` instead). Values take units as strings like the gear trains'
+(``"10 mm"``, ``"7.5 deg"``, ``"22 rpm"``). Layout::
+
+    name = "..."
+    [material]        # youngs_modulus, poisson_ratio, density
+    [stage]           # sun_teeth, planet_teeth, ring_teeth, planets, normal_module,
+                      # normal_pressure_angle, helix_angle, face_width, sun_shift,
+                      # planet_shift, ring_shift, planet_angles (list), addendum_coefficient,
+                      # dedendum_coefficient, ring_addendum_coefficient,
+                      # sun_mesh_stiffness, ring_mesh_stiffness, ring_foundation
+    [operating]       # fixed, input, speed, torque
+    [members]         # sun_mass, sun_inertia, ..., sun_bearing, planet_bearing, ...,
+                      # held_torsional
+    [sensor]          # angle, width
+    [stiffness]       # as for gear trains (positions_per_cycle, slices, closure, ...)
+    [[cracks]]        # gear = "sun" | "planet-1" ..., tooth, flank, depth, angle, ...
+    [dynamics]        # duration, fs, step, transient, oversample, damping, backlash
+    [analysis]        # as for gear trains
+
+Assembly (coaxiality, (z_s + z_r)/N, planet spacing, tip interference of the internal
+pair) and the cracks (a planet the stage does not have) are checked where the stage is
+made: a bad value gives one line naming it, the numbers and the condition.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+from gearsim.dynamics.settings import DynamicsSettings, parse_dynamics
+from gearsim.dynamics.stage import StageDynamics
+from gearsim.errors import InputError
+from gearsim.geometry.gear import Material
+from gearsim.geometry.planetary import PlanetaryStage
+from gearsim.sections import as_written, convert
+from gearsim.signals.settings import AnalysisSettings, parse_analysis
+from gearsim.stiffness.crack import Crack
+from gearsim.stiffness.settings import StiffnessSettings
+from gearsim.system.planetary import PlanetaryTrain, StageOperating
+
+__all__ = ["PLANETARY_TOP_KEYS", "PlanetaryBox", "parse_planetary"]
+
+STAGE_KEYS = {"sun_teeth": "int", "planet_teeth": "int", "ring_teeth": "int",
+              "planets": "int", "normal_module": "length", "normal_pressure_angle": "angle",
+              "helix_angle": "angle", "face_width": "length", "sun_shift": "dimensionless",
+              "planet_shift": "dimensionless", "ring_shift": "dimensionless",
+              "planet_angles": "angle", "addendum_coefficient": "dimensionless",
+              "dedendum_coefficient": "dimensionless",
+              "ring_addendum_coefficient": "dimensionless", "sun_mesh_stiffness": "stiffness",
+              "ring_mesh_stiffness": "stiffness", "ring_foundation": "str"}
+STAGE_OPERATING_KEYS = {"fixed": "str", "input": "str", "speed": "speed", "torque": "torque"}
+MEMBER_KEYS = {f"{m}_{q}": kind for m in ("sun", "planet", "ring", "carrier")
+               for q, kind in (("mass", "mass"), ("inertia", "inertia"),
+                               ("bearing", "stiffness"))}
+MEMBER_KEYS["held_torsional"] = "torsional_stiffness"
+SENSOR_KEYS = {"angle": "angle", "width": "angle"}
+PLANETARY_TOP_KEYS = ("name", "material", "stage", "operating", "members", "sensor",
+                      "stiffness", "cracks", "dynamics", "analysis")
+
+
+@dataclass(frozen=True)
+class PlanetaryBox:
+    """A planetary stage and the settings of everything done with it.
+
+    Parameters
+    ----------
+    train : PlanetaryTrain
+        Stage, operating point, stiffness options, cracks.
+    members : StageDynamics
+        Masses, inertias, bearings, held torsional stiffness, sensor.
+    dynamics : DynamicsSettings
+        Time integration and damping.
+    analysis : AnalysisSettings
+        Analysis options.
+    """
+
+    train: PlanetaryTrain
+    members: StageDynamics = field(default_factory=StageDynamics)
+    dynamics: DynamicsSettings = field(default_factory=DynamicsSettings)
+    analysis: AnalysisSettings = field(default_factory=AnalysisSettings)
+
+    @property
+    def kind(self) -> str:
+        """``"planetary"``."""
+        return "planetary"
+
+    def with_crack(self, crack: str | None) -> PlanetaryBox:
+        """The box with its cracks kept (``None``/``"as-configured"``) or removed (``"none"``).
+
+        Parameters
+        ----------
+        crack : str or None
+            ``None`` keeps the configuration's cracks; ``"none"`` removes them. The gear
+            trains' ``working``/``non-working`` switch needs a gear and is refused here.
+
+        Returns
+        -------
+        PlanetaryBox
+        """
+        import dataclasses
+
+        if crack is None:
+            return self
+        if crack != "none":
+            raise InputError("crack", crack, 'a planetary stage takes "none" here (give the '
+                             "cracked gear, tooth and flank in [[cracks]])")
+        return dataclasses.replace(self, train=dataclasses.replace(self.train, cracks=()))
+
+
+def parse_planetary(doc: dict[str, Any], material: Material) -> PlanetaryBox:
+    """Build a :class:`PlanetaryBox` from a parsed TOML document with a ``[stage]``.
+
+    Parameters
+    ----------
+    doc : dict
+        The document.
+    material : Material
+        The parsed ``[material]``.
+
+    Returns
+    -------
+    PlanetaryBox
+
+    Raises
+    ------
+    InputError
+        The first problem found (unknown sections or keys, bad values, assembly).
+    """
+    for key in doc:
+        if key not in PLANETARY_TOP_KEYS:
+            raise InputError(key, "...", "unknown section for a planetary stage; allowed: "
+                             + ", ".join(PLANETARY_TOP_KEYS))
+    raw = doc.get("stage", {})
+    kw = convert(raw, STAGE_KEYS, "stage", list_keys=("planet_angles",))
+    for need in ("sun_teeth", "planet_teeth", "ring_teeth", "normal_module"):
+        if need not in kw:
+            raise InputError(f"stage.{need}", "missing", "a planetary stage needs it")
+    consts = {k: kw.pop(k) for k in ("sun_mesh_stiffness", "ring_mesh_stiffness",
+                                     "ring_foundation") if k in kw}
+    if "planet_angles" in kw and not isinstance(kw["planet_angles"], tuple):
+        kw["planet_angles"] = (kw["planet_angles"],)
+    with as_written(raw, "stage"):
+        stage = PlanetaryStage(material=material, **kw)
+    op_raw = doc.get("operating", {})
+    with as_written(op_raw, "operating"):
+        operating = StageOperating(**convert(op_raw, STAGE_OPERATING_KEYS, "operating"))
+    stiffness_kw = convert(doc.get("stiffness", {}), {
+        "closure": "str", "slices": "int", "positions_per_cycle": "int",
+        "gauss_points": "int", "plane": "str", "source": "str", "contact": "str",
+        "coupling": "str"}, "stiffness")
+    stiffness = StiffnessSettings(**stiffness_kw)
+    cracks_raw = doc.get("cracks", [])
+    if not isinstance(cracks_raw, list) or not all(isinstance(t, dict) for t in cracks_raw):
+        raise InputError("cracks", cracks_raw, "must be an array of tables [[cracks]]")
+    cracks = []
+    from gearsim.model.config import CRACK_KEYS
+
+    for i, table in enumerate(cracks_raw):
+        ckw = convert(table, CRACK_KEYS, f"cracks[{i}]")
+        if "gear" not in ckw:
+            raise InputError(f"cracks[{i}].gear", "missing",
+                             "name the cracked gear (sun, planet-1 ...)")
+        with as_written(table, "crack", CRACK_KEYS, sources=[(f"cracks[{i}]", table)],
+                        default=f"cracks[{i}]"):
+            cracks.append(Crack(**ckw))
+    name = doc.get("name", "planetary stage")
+    if not isinstance(name, str):
+        raise InputError("name", name, "must be a string")
+    train = PlanetaryTrain(stage=stage, operating=operating, settings=stiffness,
+                           cracks=tuple(cracks), name=name, **consts)
+    mem = convert(doc.get("members", {}), MEMBER_KEYS, "members")
+    sen = convert(doc.get("sensor", {}), SENSOR_KEYS, "sensor")
+    groups: dict[str, dict[str, float]] = {"masses": {}, "inertias": {}, "bearings": {}}
+    held = mem.pop("held_torsional", None)
+    for key, v in mem.items():
+        member, q = key.split("_", 1)
+        groups[{"mass": "masses", "inertia": "inertias", "bearing": "bearings"}[q]][member] = v
+    members = StageDynamics(held_torsional=held, sensor_angle=sen.get("angle", 0.0),
+                            sensor_width=sen.get("width", math.pi), **groups)
+    dynamics = parse_dynamics(doc.get("dynamics", {}), "dynamics")
+    analysis = parse_analysis(doc.get("analysis", {}), "analysis")
+    return PlanetaryBox(train=train, members=members, dynamics=dynamics, analysis=analysis)

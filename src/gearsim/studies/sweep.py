@@ -50,6 +50,14 @@ depth fits the tooth on each cracked flank of the study; each fault class at eac
 severity end makes a valid train), the recorded duration (at least one
 revolution of the slowest gear at the lowest speed), a study that varies nothing, and
 the number of cases (at most :data:`MAX_CASES`, or ``study.max_cases``).
+
+A ``config`` with a ``[stage]`` section is a planetary stage
+(:class:`gearsim.model.planetary.PlanetaryBox`): its studies vary ``crack_depth`` and
+``flank`` of the stage's first crack, ``speed`` and ``torque`` of the input member,
+``bearing_stiffness`` and ``noise`` (``fault``, ``severity`` and ``closure`` are
+refused), analyse ``sensor`` (the default), ``mesh_force[sun-planet-1]``, ... or
+``ring_acceleration[x]`` with the carrier as the reference shaft; see
+:mod:`gearsim.studies.sweep_planetary`.
 """
 
 from __future__ import annotations
@@ -76,6 +84,13 @@ from gearsim.model.config import EXAMPLES, example_text, read_file_or_builtin
 from gearsim.model.variants import FAULT_CLASSES, fault_variant
 from gearsim.sections import convert
 from gearsim.stiffness.settings import CLOSURES
+from gearsim.studies.sweep_planetary import (
+    STAGE_REFUSED,
+    check_stage_study,
+    config_kind,
+    stage_base_values,
+    stage_signal_choices,
+)
 from gearsim.system import Operating
 from gearsim.system.train import CRACK_CHOICES
 from gearsim.units import to_si
@@ -220,6 +235,9 @@ class Study:
         Overrides of the dynamics settings (SI).
     parameters : dict
         Parameter name -> tuple of values, or a dict ``{min, max, num, log}`` (SI).
+    kind : str
+        ``"train"`` (a gear train) or ``"planetary"`` (``config`` has a ``[stage]``;
+        :mod:`gearsim.studies.sweep_planetary`).
     """
 
     name: str
@@ -235,6 +253,7 @@ class Study:
     store_signals: bool
     dynamics: dict[str, Any]
     parameters: dict[str, Any]
+    kind: str = "train"
 
     def fingerprint(self) -> str:
         """Hash of everything but the parameter lists that changes a case's result."""
@@ -452,7 +471,8 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
     replicates = st.get("replicates", 1)
     require(isinstance(replicates, int) and not isinstance(replicates, bool)
             and replicates >= 1, "study.replicates", replicates, "must be an integer >= 1")
-    signal = st.get("signal", "acceleration[input,y]")
+    kind = config_kind(config_text)
+    signal = st.get("signal", "sensor" if kind == "planetary" else "acceleration[input,y]")
     require(isinstance(signal, str) and len(signal) > 0, "study.signal", signal,
             "must be a variable name, optionally with [gear,axis]")
     shafts = st.get("shafts", "all")
@@ -485,6 +505,11 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
     if not parameters:
         raise InputError("parameters", "none", "nothing to vary: give at least one of "
                          + ", ".join(PARAMETERS) + " under [parameters]")
+    if kind == "planetary":
+        for key, why in STAGE_REFUSED.items():
+            if key in parameters:
+                raise InputError(f"parameters.{key}", params_raw[key],
+                                 f"not a parameter of a planetary stage: {why}")
     if "fault" in parameters:
         for key in CRACK_ONLY:
             if key in parameters:
@@ -499,7 +524,8 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
     study = Study(name=name, text=text, config=config, config_text=config_text,
                   sampling=sampling, samples=int(samples or 0), seed=seed,
                   replicates=replicates, signal=signal, shafts=shafts,
-                  store_signals=store_signals, dynamics=dynamics, parameters=parameters)
+                  store_signals=store_signals, dynamics=dynamics, parameters=parameters,
+                  kind=kind)
     n = case_count(study)
     if n > max_cases:
         what = ("samples x replicates" if sampling == "random"
@@ -537,15 +563,19 @@ def signal_choices(gearbox: Gearbox) -> list[str]:
 
     Parameters
     ----------
-    gearbox : gearsim.model.Gearbox
-        The base train with the study's dynamics settings (the model decides the axes).
+    gearbox : gearsim.model.Gearbox or gearsim.model.planetary.PlanetaryBox
+        The base train with the study's dynamics settings (the model decides the axes),
+        or a planetary stage.
 
     Returns
     -------
     list of str
         ``mesh_force_i``, ``dte_i``, ``ste_i`` for each mesh ``i`` (1, 2, ...), then
         ``bearing_force[gear,axis]`` and ``acceleration[gear,axis]`` for every gear and
-        bearing axis (LTA model: x, y, z; seed model: y).
+        bearing axis (LTA model: x, y, z; seed model: y). For a planetary stage
+        :func:`gearsim.studies.sweep_planetary.stage_signal_choices`: ``sensor``,
+        ``mesh_force[sun-planet-1]``, ... and ``ring_acceleration[x]``,
+        ``ring_acceleration[y]``.
 
     Examples
     --------
@@ -555,6 +585,8 @@ def signal_choices(gearbox: Gearbox) -> list[str]:
     >>> names[:3], "acceleration[input,y]" in names
     (['mesh_force_1', 'dte_1', 'ste_1'], True)
     """
+    if getattr(gearbox, "kind", "") == "planetary":
+        return stage_signal_choices(gearbox)
     out = []
     for i in range(len(gearbox.train.pairs)):
         out += [f"mesh_force_{i + 1}", f"dte_{i + 1}", f"ste_{i + 1}"]
@@ -597,7 +629,9 @@ def _points(study: Study, name: str) -> list[tuple[str, Any, float]]:
 def check_study(study: Study) -> None:
     """Check every study-wide setting once, before any case runs.
 
-    A bad setting here would fail every case alike; it is refused instead: the dynamics
+    A bad setting here would fail every case alike; it is refused instead. A planetary
+    stage is checked by :func:`gearsim.studies.sweep_planetary.check_stage_study`; a gear
+    train here: the dynamics
     overrides (applied with :meth:`gearsim.model.Gearbox.replace`, which checks them,
     and finite), the analysed signal (one of :func:`signal_choices`), the bearing
     stiffness values (as dynamics settings), each crack depth on each cracked flank of the
@@ -619,6 +653,9 @@ def check_study(study: Study) -> None:
         ``parameters.crack_depth[2]``, ``parameters.severity[1]``, ``study.signal``, ...).
     """
     gb = loads(study.config_text)
+    if getattr(gb, "kind", "") == "planetary":
+        check_stage_study(study, gb)
+        return
     for key, value in study.dynamics.items():
         if isinstance(value, float):
             require(math.isfinite(value), f"study.dynamics.{key}", value, "must be finite")
@@ -705,6 +742,8 @@ def _check_faults(study: Study, gb: Gearbox) -> None:
 
 
 def _base_values(study: Study) -> dict[str, tuple]:
+    if study.kind == "planetary":
+        return stage_base_values(study)
     gb = loads(study.config_text)
     train, settings = gb.train, gb.dynamics
     depth = train.cracks[0].depth if train.cracks else 0.0

@@ -4,7 +4,8 @@ Design (see ``docs/studies.md``, "Parameter sweeps"):
 
 * The cases of :func:`gearsim.studies.sweep.expand` are grouped by simulation
   (:meth:`Study.simulation_key`); each group is one Dask task
-  (:func:`gearsim.studies.sweep_case.run_group`).
+  (:func:`gearsim.studies.sweep_case.run_group`; for a planetary stage,
+  :func:`gearsim.studies.sweep_planetary.run_stage_group`, see :func:`group_runner`).
 * The worker encodes a group's table as NetCDF bytes; the client writes them atomically
   (temporary file + rename) as its own small NetCDF file ``STORE.parts/<simulation key>.nc``. Keys hash
   the case parameters and the study fingerprint (base config, dynamics overrides,
@@ -47,7 +48,7 @@ if TYPE_CHECKING:  # the simulation modules load on first use (gearsim analyze n
     from gearsim.studies.sweep import Case, Study
 
 __all__ = ["ALLOWED_FAILURES", "CONNECT_TIMEOUT", "RETRIES", "SweepResult", "check_scheduler",
-           "combine", "groups", "lock_path", "part_bytes", "parts_dir", "plan_workers",
+           "combine", "group_runner", "groups", "lock_path", "part_bytes", "parts_dir", "plan_workers",
            "run_serial", "run_study", "store_lock"]
 
 #: Worker deaths a task may cause before the scheduler gives up on it (local cluster).
@@ -111,6 +112,30 @@ def groups(study: Study, cases: Sequence[Case] | None = None) -> dict[str, list[
     return out
 
 
+def group_runner(study: Study) -> Callable:
+    """The function that runs one simulation group of ``study``.
+
+    Parameters
+    ----------
+    study : Study
+        The study.
+
+    Returns
+    -------
+    callable
+        ``(study, cases, hook) -> xarray.Dataset``:
+        :func:`gearsim.studies.sweep_planetary.run_stage_group` for a planetary stage
+        (``study.kind == "planetary"``), else :func:`gearsim.studies.sweep_case.run_group`.
+    """
+    if getattr(study, "kind", "train") == "planetary":
+        from gearsim.studies.sweep_planetary import run_stage_group
+
+        return run_stage_group
+    from gearsim.studies.sweep_case import run_group
+
+    return run_group
+
+
 def parts_dir(store: str | Path) -> Path:
     """Folder of the per-group part files of ``store``: ``STORE.parts``.
 
@@ -133,7 +158,7 @@ def _write_nc(ds, path: str | Path) -> Path:
 
 
 def part_bytes(study: Study, cases: Sequence[Case], hook: Callable | None = None) -> bytes:
-    """Run a group (:func:`run_group`) and encode its table as NetCDF bytes (the Dask task).
+    """Run a group (:func:`group_runner`) and encode its table as NetCDF bytes (the Dask task).
 
     The features are stacked in one 2-D variable ``features``: HDF5 writes each variable
     with its dimension scales, ~60 feature variables take ~0.5 s, stacked ~0.04 s
@@ -155,9 +180,7 @@ def part_bytes(study: Study, cases: Sequence[Case], hook: Callable | None = None
     bytes
         The group's table as an in-memory NetCDF-4 file.
     """
-    from gearsim.studies.sweep_case import run_group
-
-    ds = run_group(study, cases, hook)
+    ds = group_runner(study)(study, cases, hook)
     names = [v for v in ds.data_vars if ds[v].dims == ("case",) and ds[v].dtype.kind == "f"]
     if names:
         stacked = ds[names].to_dataarray("feature").transpose("case", "feature")
@@ -260,9 +283,8 @@ def run_serial(study: Study, *, hook: Callable | None = None):
     xarray.Dataset
         As :func:`combine`; not written to disk.
     """
-    from gearsim.studies.sweep_case import run_group
-
-    return combine(study, [run_group(study, cs, hook) for cs in groups(study).values()])
+    run = group_runner(study)
+    return combine(study, [run(study, cs, hook) for cs in groups(study).values()])
 
 
 def _progress(total: int, done: int, enabled: bool):

@@ -83,6 +83,8 @@ def test_grc_simulate_analyze(capsys, tmp_path) -> None:
                           "--teeth", "99")
     assert code == 0, err
     assert "RMS" in out
+    # the stage result brings its stage and carrier speed: the planetary tier runs
+    assert "planetary [stage file" in out and "f_m 36.465 Hz" in out
 
 
 def test_lin_parker_simulate_is_static(capsys, tmp_path) -> None:

@@ -79,6 +79,21 @@ def _speed_search(text: str | None, problems: list[str]) -> tuple[float, float] 
     return lo / 60.0, hi / 60.0
 
 
+def _stage(text: str | None, problems: list[str]) -> tuple[int, int, int, int] | None:
+    """``ZS,ZP,ZR,N`` to four integers >= 1."""
+    if text is None:
+        return None
+    try:
+        vals = tuple(int(v) for v in text.split(","))
+    except ValueError:
+        vals = ()
+    if len(vals) != 4 or min(vals) < 1:
+        problems.append(f"--stage = {text}: must be ZS,ZP,ZR,N (sun, planet and ring teeth, "
+                        "planets; integers >= 1, e.g. 21,39,99,3)")
+        return None
+    return vals  # type: ignore[return-value]
+
+
 def _emd_threshold(method: str | None, threshold: str | None) -> float | str:
     if method is None:
         return "ayenu-prah"
@@ -196,13 +211,18 @@ def analyze(
     window: Annotated[str, typer.Option(help="hann, flattop or boxcar")] = "hann",
     emd: Annotated[str | None, typer.Option(
         help="decompose by EMD first and keep IMFs by 'correlation' or 'kurtosis'")] = None,
+    stage: Annotated[str | None, typer.Option(
+        help="planetary stage ZS,ZP,ZR,N with the ring held: adds the planetary tier "
+             "(sidebands, fault lines, separated planet and sun averages); --shaft-rpm is "
+             "then the carrier speed. A gearsim stage result brings its own")] = None,
     emd_threshold: Annotated[str | None, typer.Option(
         help="IMF threshold [-]: number, or 'ayenu-prah' (correlation default); kurtosis "
              "default 3.0")] = None,
 ) -> None:
     """Tiered analysis of records: statistics always; spectrum in Hz with a sampling rate
     (else cycles/sample); shaft orders with a speed (--shaft-rpm, --tacho or
-    --speed-search); gear quantities with --teeth. Rows = file x channel."""
+    --speed-search); gear quantities with --teeth; planetary quantities with --stage (or
+    from a gearsim stage result). Rows = file x channel."""
     problems: list[str] = []
     # every output target is checked before any work
     out_path = report_path = plot_path = None
@@ -244,6 +264,10 @@ def analyze(
     ints = [f for f in files if f.strip().isdigit() and not Path(f).exists()] if teeth else []
     files = [f for f in files if f not in ints]
     zs = _teeth(teeth, ints, problems)
+    stage_z = _stage(stage, problems)
+    if stage_z is not None and shaft_rpm is None:
+        problems.append(f"--stage = {stage}: needs the carrier speed --shaft-rpm (the "
+                        "measured shaft is the carrier)")
     search = _speed_search(speed_search, problems)
     threshold = _collect(problems, _emd_threshold, emd, emd_threshold)
     settings = None
@@ -276,7 +300,7 @@ def analyze(
     options: dict[str, Any] = {"channels": channel, "fs": fs, "fmt": format_, "speed": speed,
                                "tacho": tacho, "pulses_per_rev": pulses_per_rev,
                                "speed_search": search, "teeth": zs, "settings": settings,
-                               "drop_nonfinite": drop_nonfinite}
+                               "drop_nonfinite": drop_nonfinite, "stage": stage_z}
     with ExitStack() as stack:  # OUT's lock, from the first part to the table
         if out_path is not None:
             from gearsim.studies.sweep_run import store_lock

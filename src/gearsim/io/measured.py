@@ -402,7 +402,20 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
             channels[key] = np.asarray(values, dtype=np.float64)
             if "units" in var.attrs:
                 units[key] = str(var.attrs["units"])
-    return _Raw(channels=channels, fs=fs, units=units)
+    meta: dict = {}
+    if ds.attrs.get("kind") == "planetary" and "carrier_angle" in ds:
+        # a gearsim stage result: the stage and its carrier angle for the planetary tier
+        try:
+            meta["planetary"] = {
+                "z_sun": int(ds.attrs["sun_teeth"]), "z_planet": int(ds.attrs["planet_teeth"]),
+                "z_ring": int(ds.attrs["ring_teeth"]), "planets": int(ds.attrs["planets"]),
+                "carrier_frequency": float(ds.attrs["carrier_frequency"]),
+                "ring_frequency": float(ds.attrs["ring_frequency"]),
+                "carrier_phase": float(ds["carrier_angle"].values[0]),
+                "sensor_angle": float(ds.attrs["sensor_angle"])}
+        except (KeyError, TypeError, ValueError, IndexError):
+            pass  # an incomplete stage result is analysed as a plain record
+    return _Raw(channels=channels, fs=fs, units=units, metadata=meta)
 
 
 _READERS: dict[str, Callable[[Path, Path], _Raw]] = {

@@ -276,6 +276,18 @@ class RecordAnalysis:
             for k, v in (g.get("demodulation") or {}).items():
                 if isinstance(v, (int, float)) and not isinstance(v, bool):
                     out[f"demodulation_{k}"] = (v, "1")
+        pl = self.tiers.get("planetary")
+        if pl:
+            out["planet_pass_hz"] = (pl["frequencies"]["planet_pass"], "Hz")
+            for sb in pl["sidebands"] or []:
+                out[f"sideband_predicted_share_m{sb['harmonic']}"] = (sb["predicted_share"], "1")
+            for name, line in ((pl["envelope"] or {}).get("lines") or {}).items():
+                out[f"envelope_{name}_db"] = (line["to_floor_db"], "dB")
+            sep = pl["separation"]
+            if sep:
+                for p in sep["planets"]:
+                    out[f"planet{p['planet']}_fm4"] = (p["fm4"], "1")
+                out["sun_fm4"] = (sep["sun"]["fm4"], "1")
         return {k: (_f(v) if not isinstance(v, str) else v, u) for k, (v, u) in out.items()}
 
     def to_dict(self) -> dict[str, Any]:
@@ -395,6 +407,30 @@ class RecordAnalysis:
                 if vals:
                     lines.append(f"    {name}: " + "  ".join(f"{k} {v:.4g}"
                                                             for k, v in vals.items()))
+        pl = self.tiers.get("planetary")
+        if pl:
+            fq = pl["frequencies"]
+            lines.append(f"  planetary [stage {pl['rests_on']['stage']}, fs "
+                         f"{pl['rests_on'].get('fs')}]: f_c {fq['carrier']:.5g} Hz, f_m "
+                         f"{fq['mesh']:.6g} Hz, planet pass {fq['planet_pass']:.5g} Hz; "
+                         f"fault frequencies sun {fq['sun_fault']:.5g}, planet "
+                         f"{fq['planet_fault']:.5g}, ring {fq['ring_fault']:.5g} Hz")
+            for sb in pl["sidebands"] or []:
+                lines.append(f"    {sb['harmonic']} f_m: share of sideband power at the "
+                             f"orders equal spacing allows {sb['predicted_share']:.4g}; "
+                             f"largest order {sb['dominant_order']:+d} (predicted "
+                             f"{sb['predicted_dominant_order']:+d})")
+            env = pl["envelope"]
+            if env and env["lines"]:
+                lines.append("    envelope lines over the local floor: " + ", ".join(
+                    f"{k} {v['to_floor_db']:.1f} dB" for k, v in env["lines"].items()
+                    if v["to_floor_db"] is not None))
+            sep = pl["separation"]
+            if sep:
+                lines.append(f"    separated averages ({sep['window']}): FM4 " + "  ".join(
+                    f"planet-{p['planet']} {p['fm4']:.3g}" for p in sep["planets"])
+                    + f"  sun {sep['sun']['fm4']:.3g}; highest planet-"
+                      f"{sep['highest_fm4_planet']}")
         for s in self.skipped:
             lines.append(f"  skipped {s['tier']}: {s['reason']}")
         return "\n".join(lines)
@@ -739,6 +775,7 @@ def analyze_record(
     teeth_provenance: str | None = None,
     source: dict | None = None,
     units: str | None = None,
+    stage: Any = None,
 ) -> RecordAnalysis:
     """Every tier of analysis the inputs allow, with what was skipped and why.
 
@@ -775,6 +812,11 @@ def analyze_record(
         Where the record came from (``file``, ``channel``, ...), copied to the output.
     units : str, optional
         Units of the signal.
+    stage : StageSpec, optional
+        A planetary stage with its carrier speed, ring held
+        (:class:`gearsim.signals.planetary_tier.StageSpec`): adds the ``planetary`` tier
+        (carrier-order sidebands, envelope fault lines, separated planet and sun
+        averages); needs a sampling rate.
 
     Returns
     -------
@@ -939,5 +981,17 @@ def analyze_record(
                 rec.tiers["gear"] = g
                 rec.analysis = full
     rec.timings["gear"] = time.perf_counter() - t0
+    if stage is not None:
+        t0 = time.perf_counter()
+        if fs is None:
+            skipped.append({"tier": "planetary", "reason": "needs a sampling rate (give --fs, "
+                            "or a file that stores it)"})
+        else:
+            from gearsim.signals.planetary_tier import planetary_tier
+
+            pt = planetary_tier(a, fs, stage, skipped)
+            pt["rests_on"]["fs"] = prov_fs
+            rec.tiers["planetary"] = pt
+        rec.timings["planetary"] = time.perf_counter() - t0
     rec.timings["total"] = time.perf_counter() - t_start
     return rec

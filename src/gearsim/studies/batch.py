@@ -222,7 +222,7 @@ def _from_record(rec, channels, tacho) -> list[dict]:
     src = "file" if rec.fs_source == "file" else "given"
     dropped = getattr(rec, "dropped", None) or {}
     return [{"channel": c, "data": data[c], "fs": rec.fs, "fs_source": src,
-             "units": units.get(c), "tacho": tach,
+             "units": units.get(c), "tacho": tach, "planetary": meta.get("planetary"),
              "rpm": float(rpm) if isinstance(rpm, (int, float)) and rpm > 0 else None,
              "dropped": str(dropped[c]) if c in dropped else None} for c in chosen]
 
@@ -232,6 +232,7 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
                  pulses_per_rev: int = 1, speed_search: tuple[float, float] | None = None,
                  teeth: Sequence[int] | None = None, settings: Any = None,
                  drop_nonfinite: bool = False, keep_analysis: bool = False,
+                 stage: Sequence[int] | None = None,
                  ) -> tuple[list[Any], list[str]]:
     """Read one file and analyse each of its channels (a Dask task of :func:`run_batch`).
 
@@ -262,6 +263,10 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
     keep_analysis : bool
         Return :class:`~gearsim.signals.tiers.RecordAnalysis` objects (with arrays) rather
         than their dicts.
+    stage : sequence of int, optional
+        ``(z_sun, z_planet, z_ring, planets)`` of a planetary stage with the ring held;
+        the measured shaft (``speed``, ``tacho``) is then the carrier. A gearsim stage
+        result (NetCDF) brings its own stage and carrier speed, used when this is None.
 
     Returns
     -------
@@ -285,12 +290,13 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
         if ch.get("dropped"):
             src["dropped"] = ch["dropped"]
         try:
+            spec = _stage_spec(stage, ch, speed)
             rec = analyze_record(
                 ch["data"], ch["fs"], speed=file_rpm / 60.0 if file_rpm else speed,
                 speed_provenance="file" if file_rpm else None, tacho=ch["tacho"],
                 pulses_per_rev=pulses_per_rev, speed_search=speed_search, teeth=teeth,
                 settings=settings, fs_provenance=ch["fs_source"] if ch["fs"] else None,
-                source=src, units=ch["units"],
+                source=src, units=ch["units"], stage=spec,
             )
         except InputError as exc:
             problems.append(_problem(f"{path} [{ch['channel']}]", exc))
@@ -299,6 +305,26 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
             rec = {"record": rec.to_dict(), "features": rec.features()}
         out.append(rec)
     return out, problems
+
+
+def _stage_spec(stage: Sequence[int] | None, ch: dict, speed: float | None):
+    """The planetary tier's stage: given (``--stage``, the speed is the carrier's) or the
+    file's (a gearsim stage result with the ring held); None when neither applies."""
+    from gearsim.signals.planetary_tier import StageSpec
+
+    if stage is not None:
+        if speed is None:
+            raise InputError("--stage", ",".join(map(str, stage)), "needs the carrier speed "
+                             "(--shaft-rpm; the measured shaft is the carrier)")
+        zs, zp, zr, n = stage
+        return StageSpec(zs, zp, zr, n, carrier_frequency=speed, provenance="given")
+    meta = ch.get("planetary")
+    if not meta or meta["ring_frequency"] != 0.0 or meta["carrier_frequency"] <= 0:
+        return None
+    return StageSpec(meta["z_sun"], meta["z_planet"], meta["z_ring"], meta["planets"],
+                     carrier_frequency=meta["carrier_frequency"],
+                     carrier_phase=meta["carrier_phase"], sensor_angle=meta["sensor_angle"],
+                     provenance="file")
 
 
 #: Reader parameters -> the options of ``gearsim analyze`` that set them: a problem found

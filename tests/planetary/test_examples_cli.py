@@ -173,3 +173,10 @@ def test_grc_kinematics_in_file() -> None:
     assert w["carrier"] == pytest.approx(22.1 * 2 * math.pi / 60)
     # ring held, carrier input: the sun runs at (1 + z_r / z_s) times the carrier
     assert w["sun"] / w["carrier"] == pytest.approx(1 + 99 / 21)
+
+
+def test_stage_stiffness_plot(capsys, tmp_path) -> None:
+    png = tmp_path / "meshes.png"
+    code, out, err = _run(capsys, "stiffness", "lin-parker-1999", "--plot", png)
+    assert code == 0, err
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

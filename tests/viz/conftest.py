@@ -76,6 +76,19 @@ def idler():
 
 
 @pytest.fixture(scope="session")
+def stage_train():
+    """The Lin & Parker example stage on computed (coarse) mesh tables."""
+    import dataclasses
+
+    from gearsim.model.config import example
+    from gearsim.stiffness.settings import StiffnessSettings
+
+    tr = example("lin-parker-1999").train
+    return dataclasses.replace(tr, sun_mesh_stiffness=None, ring_mesh_stiffness=None,
+                               settings=StiffnessSettings(positions_per_cycle=8, slices=2))
+
+
+@pytest.fixture(scope="session")
 def spur_stiffness(spur):
     """TVMS of every mesh of the spur pair."""
     from gearsim.system import train_stiffness

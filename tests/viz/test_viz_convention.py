@@ -22,7 +22,8 @@ import gearsim
 from gearsim.errors import InputError
 from gearsim.viz import DPI, STYLE, save, save_all
 
-VIZ_MODULES = ("contacts", "dynamics", "fem", "reproduce", "signals", "stiffness", "sweep", "toolbox")
+VIZ_MODULES = ("contacts", "dynamics", "fem", "planetary", "reproduce", "signals", "stiffness",
+               "sweep", "toolbox")
 VIZ_DIR = Path(gearsim.__file__).parent / "viz"
 
 # name -> (fixture, extra kwargs, "ax" or "fig": the keyword of the target)
@@ -30,6 +31,7 @@ CALLS: dict[str, tuple[str, dict, str]] = {
     "contacts.plot_loaded_contact": ("loaded_contact_result", {}, "fig"),
     "dynamics.plot_run": ("dynamics_run", {}, "fig"),
     "fem.plot_fe_check": ("fe_result", {}, "fig"),
+    "planetary.plot_stage_meshes": ("stage_train", {"cycles": 2.0}, "fig"),
     "reproduce.plot_stiffness": ("reproduction", {}, "fig"),
     "reproduce.plot_time": ("reproduction", {}, "fig"),
     "reproduce.plot_spectrum": ("reproduction", {}, "ax"),

@@ -65,12 +65,8 @@ def _stage_stiffness(box, out, plot, json_: bool, crack: str | None, closure: st
     """The ``stiffness`` verb for a planetary stage (every sun and ring mesh)."""
     import dataclasses
 
-    from gearsim.errors import InputError
     from gearsim.system.planetary import stage_stiffness
 
-    if plot is not None:
-        raise InputError("--plot", plot, "is not available for a planetary stage yet "
-                         "(write the tables with --out)")
     with as_options({"crack": "--crack"}):
         box = box.with_crack(crack)
     train = box.train
@@ -98,6 +94,10 @@ def _stage_stiffness(box, out, plot, json_: bool, crack: str | None, closure: st
                                         strict=True):
                             f.write(f"{mesh},{c:.10g},{k:.10g}\n")
             atomic_write(out, write)
+    if plot is not None:
+        from gearsim.viz.planetary import plot_stage_meshes
+
+        save(plot_stage_meshes(train), plot, parameter="--plot")
     if json_:
         typer.echo(json.dumps(summary, indent=2))
         return

@@ -75,6 +75,9 @@ def _stage_stiffness(box, out, plot, json_: bool, crack: str | None, closure: st
             train = dataclasses.replace(train, settings=dataclasses.replace(
                 train.settings, closure=closure))
     summary, ds = stage_stiffness(train)
+    if box.chain is not None:  # the parallel gears on the output shaft
+        chain = box.chain.with_crack("none") if crack == "none" else box.chain
+        summary["chain"] = train_stiffness(chain).summary()
     if out is not None:
         if str(out).endswith(".nc"):
             from gearsim.io.results import write_results
@@ -110,6 +113,11 @@ def _stage_stiffness(box, out, plot, json_: bool, crack: str | None, closure: st
                    f"{m['k_min'] / 1e9:.4f}, max {m['k_max'] / 1e9:.4f}; period "
                    f"{m['period_cycles']} cycles, phase {m['phase_cycles']:+.4f}; mean / "
                    f"ISO 6336 c_ga b = {m['ratio_to_iso6336']:.3f}")
+    for m in summary.get("chain", {}).get("meshes", []):
+        typer.echo(f"chain mesh {m['mesh']} ({m['gears'][0]} -> {m['gears'][1]}): k mean "
+                   f"{m['k_mean'] / 1e9:.4f} GN/m, min {m['k_min'] / 1e9:.4f}, max "
+                   f"{m['k_max'] / 1e9:.4f}; mean / ISO 6336 c_ga b = "
+                   f"{m['ratio_to_iso6336']:.3f}")
 
 
 def contact(

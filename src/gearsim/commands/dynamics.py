@@ -97,7 +97,13 @@ def _simulate_stage(box, target, crack, changes: dict, names: dict, plot: bool,
         settings = DynamicsSettings(**{**{f.name: getattr(box.dynamics, f.name)
                                           for f in dataclasses.fields(DynamicsSettings)},
                                        **changes})
-        ds = simulate_stage(box.train, box.members, settings)
+        if box.chain is not None:
+            from gearsim.dynamics.compose import simulate_stage_chain
+
+            ds = simulate_stage_chain(box.train, box.chain, box.members, settings,
+                                      shaft_stiffness=box.shaft_stiffness)
+        else:
+            ds = simulate_stage(box.train, box.members, settings)
     path = write_results(ds, target)
     s = stage_summary(ds)
     s["out"] = str(path)
@@ -113,8 +119,15 @@ def _simulate_stage(box, target, crack, changes: dict, names: dict, plot: bool,
     modes = ", ".join("0 (rigid body)" if m["frequency"] < 1e-6 * top else
                       f"{m['frequency']:.5g} ({m['kind'][0]}{m['multiplicity']})"
                       for m in s["modes"])
-    typer.echo(f"natural frequencies of the mean-stiffness model [Hz] (r rotational, "
-               f"t translational, p planet, m mixed; multiplicity): {modes}")
+    typer.echo(f"natural frequencies of the stage's mean-stiffness Lin & Parker model [Hz] "
+               f"(r rotational, t translational, p planet, m mixed; multiplicity): {modes}")
+    for m in s.get("chain_meshes", []):
+        typer.echo(f"chain mesh {m['mesh']}: mean {m['mean']:.6g} N (static "
+                   f"{m['static_force']:.6g} N), RMS {m['rms']:.6g} N; f_m2 "
+                   f"{s['chain_mesh_frequency']:.6g} Hz")
+    if "shaft_torque_mean" in s:
+        typer.echo(f"output shaft ({s['output_member']}): torque mean "
+                   f"{s['shaft_torque_mean']:.6g} N m, RMS {s['shaft_torque_rms']:.6g} N m")
     if s["constant_meshes"]:
         typer.echo("note: constant mesh stiffnesses: no parametric excitation, the response "
                    "stays at the static load")

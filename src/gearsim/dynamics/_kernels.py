@@ -6,8 +6,9 @@ The equations are those of :mod:`gearsim.dynamics.model`; the Python wrapper
 Packed arguments (built by :func:`gearsim.dynamics.simulate._kernel_args`):
 
 * ``dof`` (4, n): 1/M, K_b, C_b, F_ext of each coordinate;
-* ``mp`` (n_mesh, 8): kappa, kscale, c_m, clearance 2b, phase, e0, positions per
-  cycle and period of each mesh's table;
+* ``mp`` (n_mesh, 9): kappa, kscale, c_m, clearance 2b, phase, e0, positions per
+  cycle and period of each mesh's table, and its mesh frequency f_i [Hz] (the table is
+  read at c_i = f_i t + phase_i; the argument ``fm`` is kept for the call signature);
 * ``mi`` (n_mesh, 4) int: table offset and length in ``tab``, mesh-of-contacts flag,
   offset of its rows in ``ptr``;
 * ``harm`` (6, n_mesh, n_h): amplitude, angular frequency and phase of the STE
@@ -33,7 +34,7 @@ from numba import njit
 __all__ = ["integrate_rk4", "integrate_rk4_contacts", "mesh_forces", "rhs"]
 
 # columns of mp
-KAPPA, KSCALE, CM, CLEAR, PHASE, E0, NPC, PERIOD = range(8)
+KAPPA, KSCALE, CM, CLEAR, PHASE, E0, NPC, PERIOD, FREQ = range(9)
 # columns of mi
 TOFF, TLEN, CON, CROW = range(4)
 
@@ -116,7 +117,7 @@ def mesh_forces(t, q, v, V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx, contacts
         cmi = mp[i, CM]
         off = mi[i, TOFF]
         i0, j0, w = _table_index(mi[i, TLEN], mp[i, NPC], mp[i, PERIOD],
-                                 fm * t + mp[i, PHASE])
+                                 mp[i, FREQ] * t + mp[i, PHASE])
         dk = 0.0
         for h in range(harm.shape[2]):  # centre-distance change (eccentric gears)
             a = harm[3, i, h]

@@ -94,6 +94,10 @@ class DynamicModel:
         Static equilibrium of the mean-stiffness system [m, rad]; the initial state.
     info : dict, optional
         Further descriptive data (mesh damping ratio, equivalent masses, ...).
+    rate : ndarray, shape (n_mesh,), optional
+        Mesh i reads its table at c_i = rate_i f_m t + phase_i [-]: a system with two
+        mesh frequencies (a planetary stage and a chain, :mod:`gearsim.dynamics.compose`).
+        ``None``: 1 for every mesh.
     a_amp, a_omega, a_phase : ndarray, shape (n_mesh, n_h), optional
         Harmonics ``a_amp sin(a_omega t + a_phase)`` of the centre-distance change of each
         mesh by eccentric gears [m], [rad/s], [rad]; the stiffness becomes
@@ -129,6 +133,13 @@ class DynamicModel:
     a_amp: np.ndarray | None = None
     a_omega: np.ndarray | None = None
     a_phase: np.ndarray | None = None
+    rate: np.ndarray | None = None
+
+    @property
+    def mesh_frequencies(self) -> np.ndarray:
+        """Mesh frequency of each mesh, rate_i f_m [Hz], shape (n_mesh,)."""
+        rate = np.ones(self.V.shape[0]) if self.rate is None else np.asarray(self.rate)
+        return self.mesh_frequency * rate
 
     @property
     def n_dof(self) -> int:

@@ -200,7 +200,8 @@ def _kernel_args(model: DynamicModel):
     mp = np.ascontiguousarray(np.stack(
         [model.kappa, model.kscale, model.cm, model.clearance, model.phase, model.e0,
          np.array([t.positions_per_cycle for t in tabs], dtype=float),
-         np.array([t.period for t in tabs], dtype=float)], axis=1), dtype=float)
+         np.array([t.period for t in tabs], dtype=float), model.mesh_frequencies], axis=1),
+        dtype=float)
     tabz, on, ptr, poff, cx = _contact_args(tabs)
     mi = np.ascontiguousarray(np.stack([offs, lens, on, poff], axis=1), dtype=np.int64)
     nh = model.h_amp.shape[1]
@@ -708,7 +709,8 @@ def reference_mesh_forces(model: DynamicModel, t: float, q: np.ndarray,
     ed = np.sum(model.h_amp * model.h_omega * np.cos(arg), axis=1)
     if any(tab.has_contacts or tab.dk_da is not None for tab in model.tables):
         return _reference_contact_forces(model, t, q, v, e, ed)
-    k = np.array([model.kscale[i] * float(tab(model.mesh_frequency * t + model.phase[i]))
+    fr = model.mesh_frequencies
+    k = np.array([model.kscale[i] * float(tab(fr[i] * t + model.phase[i]))
                   for i, tab in enumerate(model.tables)])
     x = model.V @ q - e
     xd = model.V @ v - ed
@@ -733,7 +735,7 @@ def _reference_contact_forces(model: DynamicModel, t: float, q: np.ndarray, v: n
     for i, tab in enumerate(model.tables):
         ks = model.kscale[i]
         x, xd, b2, cm = x_all[i], xd_all[i], model.clearance[i], model.cm[i]
-        c = model.mesh_frequency * t + model.phase[i]
+        c = model.mesh_frequencies[i] * t + model.phase[i]
         pos = np.mod(c, tab.period) * tab.positions_per_cycle
         i0 = int(np.floor(pos)) % tab.k.size
         w = pos - np.floor(pos)

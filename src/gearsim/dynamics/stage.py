@@ -439,7 +439,23 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     w = sensor_window(theta_c[:, None] + psi[None, :] - dyn.sensor_angle, dyn.sensor_width)
     sensor = np.sum(w * dyn_f, axis=1)
     groups = model.info["lin_parker"].modes().groups
-    constant = all(t.k.size == 1 for t in model.tables)
+    extra: dict = {}
+    extra_coords: dict = {}
+    extra_attrs: dict = {}
+    if "chain_rows" in model.info:  # a stage driving a chain (gearsim.dynamics.compose)
+        crow = list(model.info["chain_rows"])
+        extra["chain_mesh_force"] = (("time", "chain_mesh"), f[:, crow], {"units": "N"})
+        extra["shaft_torque"] = ("time", f[:, model.info["shaft_row"]], {"units": "N*m"})
+        extra_coords["chain_mesh"] = list(model.info["chain_mesh_names"])
+        extra_attrs = {"chain_mesh_frequency": model.info["chain_mesh_frequency"],
+                       "shaft_stiffness": model.info["shaft_stiffness"],
+                       "output_member": model.info["output_member"],
+                       "chain_name": model.info["chain_name"],
+                       "chain_static_mesh_force": [float(model.static_force[i])
+                                                   for i in crow],
+                       "static_shaft_torque": float(model.static_force[-1])}
+    constant = all(model.tables[i].k.size == 1 for i in list(model.info["mesh_rows"])
+                   + list(model.info.get("chain_rows", ())))
     ds = xr.Dataset(
         {"mesh_force": (("time", "mesh"), forces, {"units": "N"}),
          "q": (("time", "dof"), q, {"units": "m"}),
@@ -451,9 +467,9 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
                             {"units": "Hz", "long_name": "natural frequencies of the "
                              "mean-stiffness Lin & Parker model"}),
          "mode_multiplicity": ("mode", [g.multiplicity for g in groups]),
-         "mode_kind": ("mode", [g.kind for g in groups])},
+         "mode_kind": ("mode", [g.kind for g in groups]), **extra},
         coords={"time": ("time", t, {"units": "s"}), "mesh": names,
-                "dof": list(model.dof_labels), "axis": ["x", "y"]},
+                "dof": list(model.dof_labels), "axis": ["x", "y"], **extra_coords},
         attrs={"kind": "planetary", "name": train.name, "mesh_frequency": f_m, "fs": fs,
                "dt": dt, "transient": transient, "direction": train.direction,
                "mirrored": int(train.mirrored),
@@ -466,7 +482,7 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
                "sensor_angle": dyn.sensor_angle, "sensor_width": dyn.sensor_width,
                "cracks": ", ".join(f"{c.gear}:{c.tooth}:{c.flank}:{c.depth:g}"
                                    for c in train.cracks) or "none",
-               "constant_meshes": int(constant)})
+               "constant_meshes": int(constant), **extra_attrs})
     return ds
 
 
@@ -484,7 +500,10 @@ def stage_summary(ds) -> dict:
         ``meshes`` (name, mean, rms, peak, static force), ``sensor_rms``,
         ``mesh_frequency``, ``modes`` (frequency [Hz], multiplicity, kind of each group of
         the mean-stiffness Lin & Parker model), ``constant_meshes`` (no mesh table
-        varies: no parametric excitation, the response stays at the static load).
+        varies: no parametric excitation, the response stays at the static load); with a
+        chain (:mod:`gearsim.dynamics.compose`) also ``chain_meshes``,
+        ``chain_mesh_frequency``, ``output_member``, ``shaft_torque_mean`` and
+        ``shaft_torque_rms``.
     """
     f = ds["mesh_force"].values
     static = float(ds.attrs["static_mesh_force"])
@@ -500,4 +519,20 @@ def stage_summary(ds) -> dict:
                       for f, m, k in zip(ds["mode_frequency"].values,
                                          ds["mode_multiplicity"].values,
                                          ds["mode_kind"].values, strict=True)],
-            "constant_meshes": bool(ds.attrs.get("constant_meshes", 0))}
+            "constant_meshes": bool(ds.attrs.get("constant_meshes", 0)),
+            **_chain_summary(ds)}
+
+
+def _chain_summary(ds) -> dict:
+    """Chain meshes and shaft torque of a stage+chain result (empty for a stage alone)."""
+    if "chain_mesh_force" not in ds:
+        return {}
+    f = ds["chain_mesh_force"].values
+    static = np.atleast_1d(ds.attrs["chain_static_mesh_force"])
+    tq = ds["shaft_torque"].values
+    return {"chain_meshes": [{"mesh": str(name), "mean": float(np.mean(f[:, i])),
+                              "rms": float(np.std(f[:, i])), "static_force": float(static[i])}
+                             for i, name in enumerate(ds["chain_mesh"].values)],
+            "chain_mesh_frequency": float(ds.attrs["chain_mesh_frequency"]),
+            "output_member": str(ds.attrs["output_member"]),
+            "shaft_torque_mean": float(np.mean(tq)), "shaft_torque_rms": float(np.std(tq))}

@@ -19,6 +19,12 @@ have ``[[gears]]`` instead). Values take units as strings like the gear trains'
     [[cracks]]        # gear = "sun" | "planet-1" ..., tooth, flank, depth, angle, ...
     [dynamics]        # duration, fs, step, transient, oversample, damping, backlash
     [analysis]        # as for gear trains
+    [chain]           # optional: parallel gears on the output shaft (dynamics.compose)
+    shaft_stiffness = "2e7 N*m/rad"      # optional; default 10 x the first mesh's
+    [chain.common]    # as a gear train's [common]; [[chain.gears]], [[chain.cracks]],
+                      # [[chain.faults]], [[chain.modifications]], [chain.stiffness]
+
+The chain runs at the stage output's speed and torque (no ``[operating]`` of its own).
 
 Assembly (coaxiality, (z_s + z_r)/N, planet spacing, tip interference of the internal
 pair) and the cracks (a planet the stage does not have) are checked where the stage is
@@ -40,6 +46,7 @@ from gearsim.sections import as_written, convert
 from gearsim.signals.settings import AnalysisSettings, parse_analysis
 from gearsim.stiffness.crack import Crack
 from gearsim.stiffness.settings import StiffnessSettings
+from gearsim.system import GearTrain
 from gearsim.system.planetary import PlanetaryTrain, StageOperating
 
 __all__ = ["PLANETARY_TOP_KEYS", "PlanetaryBox", "parse_planetary"]
@@ -59,7 +66,10 @@ MEMBER_KEYS = {f"{m}_{q}": kind for m in ("sun", "planet", "ring", "carrier")
 MEMBER_KEYS["held_torsional"] = "torsional_stiffness"
 SENSOR_KEYS = {"angle": "angle", "width": "angle"}
 PLANETARY_TOP_KEYS = ("name", "material", "stage", "operating", "members", "sensor",
-                      "stiffness", "cracks", "dynamics", "analysis")
+                      "stiffness", "cracks", "dynamics", "analysis", "chain")
+#: Keys of ``[chain]``: the shaft and a gear train's sections (no operating point).
+CHAIN_KEYS = ("name", "shaft_stiffness", "common", "gears", "stiffness", "cracks", "faults",
+              "modifications")
 
 
 @dataclass(frozen=True)
@@ -76,12 +86,20 @@ class PlanetaryBox:
         Time integration and damping.
     analysis : AnalysisSettings
         Analysis options.
+    chain : GearTrain, optional
+        Parallel gears driven by the stage's output shaft
+        (:mod:`gearsim.dynamics.compose`), at the output's speed and torque.
+    shaft_stiffness : float, optional
+        Torsional stiffness of the output shaft [N m/rad]; ``None``: the default of
+        :func:`gearsim.dynamics.compose.build_stage_chain_model`.
     """
 
     train: PlanetaryTrain
     members: StageDynamics = field(default_factory=StageDynamics)
     dynamics: DynamicsSettings = field(default_factory=DynamicsSettings)
     analysis: AnalysisSettings = field(default_factory=AnalysisSettings)
+    chain: GearTrain | None = None
+    shaft_stiffness: float | None = None
 
     @property
     def kind(self) -> str:
@@ -94,7 +112,8 @@ class PlanetaryBox:
         Parameters
         ----------
         crack : str or None
-            ``None`` keeps the configuration's cracks; ``"none"`` removes them. The gear
+            ``None`` keeps the configuration's cracks; ``"none"`` removes them (the
+            chain's too). The gear
             trains' ``working``/``non-working`` switch needs a gear and is refused here.
 
         Returns
@@ -108,7 +127,9 @@ class PlanetaryBox:
         if crack != "none":
             raise InputError("crack", crack, 'a planetary stage takes "none" here (give the '
                              "cracked gear, tooth and flank in [[cracks]])")
-        return dataclasses.replace(self, train=dataclasses.replace(self.train, cracks=()))
+        chain = None if self.chain is None else self.chain.with_crack("none")
+        return dataclasses.replace(self, train=dataclasses.replace(self.train, cracks=()),
+                                   chain=chain)
 
 
 def parse_planetary(doc: dict[str, Any], material: Material) -> PlanetaryBox:
@@ -183,4 +204,43 @@ def parse_planetary(doc: dict[str, Any], material: Material) -> PlanetaryBox:
                             sensor_width=sen.get("width", math.pi), **groups)
     dynamics = parse_dynamics(doc.get("dynamics", {}), "dynamics")
     analysis = parse_analysis(doc.get("analysis", {}), "analysis")
-    return PlanetaryBox(train=train, members=members, dynamics=dynamics, analysis=analysis)
+    chain, shaft = (_parse_chain(doc["chain"], doc.get("material", {}), train)
+                    if "chain" in doc else (None, None))
+    return PlanetaryBox(train=train, members=members, dynamics=dynamics, analysis=analysis,
+                        chain=chain, shaft_stiffness=shaft)
+
+
+def _parse_chain(raw: Any, material: Any, train: PlanetaryTrain
+                 ) -> tuple[GearTrain, float | None]:
+    """The ``[chain]`` of a stage: a gear train at the stage output's operating point."""
+    import dataclasses
+
+    from gearsim.dynamics.compose import chain_operating
+    from gearsim.model.config import parse
+
+    if not isinstance(raw, dict):
+        raise InputError("chain", raw, "must be a table [chain]")
+    for key in raw:
+        if key not in CHAIN_KEYS:
+            raise InputError(f"chain.{key}", "...", "unknown key; allowed: "
+                             + ", ".join(CHAIN_KEYS))
+    if "gears" not in raw:
+        raise InputError("chain.gears", "missing", "a chain needs [[chain.gears]] (two or "
+                         "more gears, the first on the stage's output shaft)")
+    shaft = None
+    if "shaft_stiffness" in raw:
+        shaft = convert({"shaft_stiffness": raw["shaft_stiffness"]},
+                        {"shaft_stiffness": "torsional_stiffness"}, "chain")["shaft_stiffness"]
+        if not (math.isfinite(shaft) and shaft > 0):
+            raise InputError("chain.shaft_stiffness", raw["shaft_stiffness"],
+                             "must be a finite stiffness > 0 N*m/rad")
+    op = chain_operating(train)
+    sub = {k: v for k, v in raw.items() if k != "shaft_stiffness"}
+    sub.setdefault("name", "chain")
+    sub["material"] = material
+    sub["operating"] = {"speed": f"{op.speed!r} rad/s", "torque": f"{op.torque!r} N*m"}
+    try:
+        box = parse(sub)
+    except InputError as exc:  # name the table the value was written in
+        raise InputError(f"chain.{exc.parameter}", exc.value, exc.limit) from None
+    return dataclasses.replace(box.train, operating=op), shaft

@@ -277,6 +277,10 @@ def check_stage_study(study: Study, box: PlanetaryBox) -> None:
     """
     from gearsim.studies.sweep import _points, _raw_parameter
 
+    if box.chain is not None:
+        raise InputError("study.config", "[chain]", "a sweep runs a stage alone: remove the "
+                         "[chain] of the stage (a stage driving a chain is simulated by "
+                         "gearsim simulate)")
     for name, why in STAGE_REFUSED.items():
         if name in study.parameters:
             raise InputError(f"parameters.{name}", _raw_parameter(study, name),

@@ -1,0 +1,293 @@
+r"""A planetary stage followed by a chain of parallel gears, coupled by the output shaft.
+
+The stage's output member (the one neither held nor driven: the sun of a wind-turbine
+stage driven by its carrier, the carrier of a helicopter stage driven by its sun) carries
+the first gear of a :class:`gearsim.system.GearTrain` on a torsional shaft of stiffness
+k_t. The two models keep their own coordinates and springs
+(:func:`gearsim.dynamics.stage.build_stage_model`, Lin & Parker 1999 in the stage's model
+frame; :func:`gearsim.dynamics.lta.build_lta`, the chain's lateral-torsional-axial model)
+and are joined by one more spring row, the shaft:
+
+    tau = k_t (s u_o / r_o - theta_1) + c_t (s u_o' / r_o - theta_1'),
+
+with u_o the output member's rotation coordinate of the stage model (arc length on the
+radius r_o: base radius of the sun or ring, planet-centre radius of the carrier),
+theta_1 the chain's first gear (positive in its sense of rotation) and s = +-1 the sense
+of the output's physical rotation in the stage's model frame (opposite to the load torque
+there). The shaft torque replaces the stage's load torque on u_o and the chain's input
+torque on theta_1; the chain keeps its load on the last gear, T_o r_b,N / r_b,1, so
+the static torques balance and the static shaft torque is the stage's output torque T_o.
+Shaft damping c_t = 2 zeta sqrt(k_t J_eq), J_eq = 1 / (1/J_o + 1/J_1) (the bearing
+damping ratio; J_o = m_uo r_o^2).
+
+Two mesh frequencies: the stage's f_m and the chain's f_m2 = z_1 |omega_o| / 2 pi. The
+kernel reads mesh i's table at c_i = rate_i f_m t + phase_i (``DynamicModel.rate``),
+rate 1 for the stage's rows and f_m2 / f_m for the chain's.
+
+The chain runs at the stage's output speed and torque (:func:`chain_operating`); its
+other options (layout, bearings, profile modification, runout, cracks and faults of its
+gears) are its own. The default shaft is stiff: ten times the torsional stiffness of the
+chain's first mesh, k_t = 10 k_mean r_b,1^2.
+
+References
+----------
+.. [LinParker1999] J. Lin, R. G. Parker, J. Vib. Acoust. 121 (1999) 316-321.
+.. [Kahraman1994] A. Kahraman, Dynamic analysis of a multi-mesh helical gear train,
+   J. Mech. Des. 116 (1994) 706-712.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from gearsim.dynamics.lta import build_lta
+from gearsim.dynamics.model import DynamicModel, static_equilibrium
+from gearsim.dynamics.settings import DynamicsSettings
+from gearsim.dynamics.stage import StageDynamics, build_stage_model
+from gearsim.dynamics.tables import MeshTable
+from gearsim.errors import InputError, require
+from gearsim.system import GearTrain
+from gearsim.system.planetary import MEMBERS, PlanetaryTrain
+from gearsim.system.train import Operating
+
+__all__ = ["SHAFT_FACTOR", "STAGE_ONLY", "build_stage_chain_model", "chain_operating",
+           "output_member", "simulate_stage_chain", "stage_settings"]
+
+#: Default shaft: this many times the torsional stiffness of the chain's first mesh.
+SHAFT_FACTOR = 10.0
+#: Dynamics options of the chain that the stage model refuses: reset for the stage.
+STAGE_ONLY = {"model": "lta", "profile_modification": (0.0,), "crowning": (0.0,),
+              "runout": (0.0,), "runout_phase": (0.0,), "assembly_error": (0.0,),
+              "contact_mesh": False, "bearing_damping": None, "bearing_axial_stiffness": None,
+              "idler_angle": (math.pi,)}
+#: Relative agreement required between the chain's operating point and the stage output.
+OPERATING_RTOL = 1e-9
+
+
+def output_member(train: PlanetaryTrain) -> str:
+    """The stage member neither held nor driven (its output).
+
+    Parameters
+    ----------
+    train : PlanetaryTrain
+        The stage in operation.
+
+    Returns
+    -------
+    str
+        ``"sun"``, ``"ring"`` or ``"carrier"``.
+    """
+    op = train.operating
+    return next(m for m in MEMBERS if m not in (op.fixed, op.input))
+
+
+def chain_operating(train: PlanetaryTrain) -> Operating:
+    """Operating point of a chain driven by the stage's output shaft.
+
+    Parameters
+    ----------
+    train : PlanetaryTrain
+        The stage in operation.
+
+    Returns
+    -------
+    Operating
+        Speed |omega_o| [rad/s] and torque |T_o| [N m] of the output member (Willis and
+        the torque balance of :class:`PlanetaryTrain`).
+    """
+    out = output_member(train)
+    return Operating(speed=abs(train.speeds[out]), torque=abs(train.torques[out]))
+
+
+def stage_settings(settings: DynamicsSettings) -> DynamicsSettings:
+    """``settings`` with the chain-only options reset, for the stage model.
+
+    Parameters
+    ----------
+    settings : DynamicsSettings
+        Options of the whole system.
+
+    Returns
+    -------
+    DynamicsSettings
+        The same with :data:`STAGE_ONLY` applied (fields the settings do not have are
+        skipped).
+    """
+    names = {f.name for f in dataclasses.fields(settings)}
+    return dataclasses.replace(settings, **{k: v for k, v in STAGE_ONLY.items() if k in names})
+
+
+def _pad(a: np.ndarray | None, rows: int, cols: int) -> np.ndarray:
+    out = np.zeros((rows, cols))
+    if a is not None:
+        out[:, :a.shape[1]] = a
+    return out
+
+
+def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
+                            dyn: StageDynamics | None = None,
+                            settings: DynamicsSettings | None = None, *,
+                            shaft_stiffness: float | None = None) -> DynamicModel:
+    """Equations of motion of a stage, its output shaft and a chain of parallel gears.
+
+    Parameters
+    ----------
+    train
+        The stage in operation.
+    chain
+        The chain; its operating point must be :func:`chain_operating` of ``train``.
+    dyn
+        Members, supports and sensor of the stage.
+    settings
+        Dynamics options (the chain's own options apply to the chain only).
+    shaft_stiffness
+        k_t [N m/rad], finite > 0; default ``SHAFT_FACTOR`` k_mean r_b,1^2 of the chain's
+        first mesh.
+
+    Returns
+    -------
+    DynamicModel
+        ``kind = "stage+chain"``: the stage's coordinates, then the chain's; rows: the
+        stage's springs, the chain's meshes, the shaft (last). ``info`` holds the stage's
+        ``lin_parker``, ``mesh_rows``, ``row_names`` and ``chain_rows``, ``shaft_row``,
+        ``chain_mesh_frequency``, ``shaft_stiffness``.
+
+    Raises
+    ------
+    InputError
+        If the chain does not run at the stage's output speed and torque, or the shaft
+        stiffness is not finite > 0.
+
+    References
+    ----------
+    Lin & Parker (1999); Kahraman (1994); module docstring.
+    """
+    settings = settings or DynamicsSettings()
+    want = chain_operating(train)
+    for name in ("speed", "torque"):
+        got, ref = getattr(chain.operating, name), getattr(want, name)
+        require(abs(got - ref) <= OPERATING_RTOL * ref, f"chain.operating.{name}", got,
+                f"must be the stage output's {ref:.10g} (use chain_operating)")
+    sm = build_stage_model(train, dyn, stage_settings(settings))
+    cm_ = build_lta(chain, settings)
+    n1, n2 = sm.n_dof, cm_.n_dof
+    r1, r2 = sm.n_mesh, cm_.n_mesh
+    n, rows = n1 + n2, r1 + r2 + 1
+    out = output_member(train)
+    iu = sm.dof_labels.index(f"{out}.u")
+    r_o = {"sun": train.stage.sun.base_radius, "ring": train.stage.ring.base_radius,
+           "carrier": train.stage.centre_distance}[out]
+    t_model = train.model_torques[out]
+    require(t_model != 0.0, "stage", out, "the output member carries no torque")
+    s = -math.copysign(1.0, t_model)  # the output turns against its load in the model frame
+    g1 = chain.gears[0]
+    i_theta = n1 + 3  # theta of the chain's first gear (x, y, z, theta per gear)
+    if shaft_stiffness is None:
+        shaft_stiffness = SHAFT_FACTOR * cm_.tables[0].mean * g1.base_radius ** 2
+    kt = shaft_stiffness
+    if not (isinstance(kt, (int, float)) and math.isfinite(kt) and kt > 0):
+        raise InputError("chain.shaft_stiffness", kt, "must be a finite number > 0 N*m/rad")
+    mass = np.concatenate([sm.mass, cm_.mass])
+    kb = np.concatenate([sm.kb, cm_.kb])
+    cb = np.concatenate([sm.cb, cm_.cb])
+    fext = np.concatenate([sm.fext, cm_.fext])
+    fext[iu] = 0.0  # the load of the output member is now the shaft
+    fext[i_theta] = 0.0  # and so is the chain's input torque
+    V = np.zeros((rows, n))
+    V[:r1, :n1] = sm.V
+    V[r1:r1 + r2, n1:] = cm_.V
+    V[-1, iu] = s / r_o
+    V[-1, i_theta] = -1.0
+    j_o = sm.mass[iu] * r_o ** 2
+    j_eq = 1.0 / (1.0 / j_o + 1.0 / g1.polar_inertia)
+    c_t = 2.0 * settings.bearing_damping_ratio * math.sqrt(kt * j_eq)
+    f_m, f_m2 = train.mesh_frequency, chain.mesh_frequency
+    nh = max(sm.h_amp.shape[1], cm_.h_amp.shape[1])
+
+    def h(a, b):
+        return np.vstack([_pad(a, r1, nh), _pad(b, r2, nh), np.zeros((1, nh))])
+
+    a_amp = a_om = a_ph = None
+    if cm_.a_amp is not None:
+        na = cm_.a_amp.shape[1]
+        a_amp = np.vstack([np.zeros((r1, na)), cm_.a_amp, np.zeros((1, na))])
+        a_om = np.vstack([np.zeros((r1, na)), cm_.a_omega, np.zeros((1, na))])
+        a_ph = np.vstack([np.zeros((r1, na)), cm_.a_phase, np.zeros((1, na))])
+    kmean = np.concatenate([[t.mean for t in sm.tables], [t.mean for t in cm_.tables], [kt]])
+    e0 = np.concatenate([sm.e0, cm_.e0, [0.0]])
+    q0 = static_equilibrium(mass, kb, V, kmean, fext, e0)
+    chain_rows = tuple(range(r1, r1 + r2))
+    return DynamicModel(
+        kind="stage+chain", gear_names=sm.gear_names + cm_.gear_names,
+        dof_labels=sm.dof_labels + cm_.dof_labels, mass=mass, kb=kb, cb=cb, fext=fext, V=V,
+        kappa=np.concatenate([sm.kappa, cm_.kappa, [1.0]]),
+        kscale=np.concatenate([sm.kscale, cm_.kscale, [1.0]]),
+        cm=np.concatenate([sm.cm, cm_.cm, [c_t]]),
+        clearance=np.concatenate([sm.clearance, cm_.clearance, [np.inf]]),
+        tables=sm.tables + cm_.tables + (MeshTable(k=np.array([kt]), positions_per_cycle=1,
+                                                   period=1),),
+        phase=np.concatenate([sm.phase, cm_.phase, [0.0]]), mesh_frequency=f_m, e0=e0,
+        h_amp=h(sm.h_amp, cm_.h_amp), h_omega=h(sm.h_omega, cm_.h_omega),
+        h_phase=h(sm.h_phase, cm_.h_phase), a_amp=a_amp, a_omega=a_om, a_phase=a_ph,
+        to_transverse=np.concatenate([sm.to_transverse, cm_.to_transverse, [1.0]]),
+        dte_offset=np.concatenate([sm.dte_offset, cm_.dte_offset, [0.0]]),
+        static_force=np.concatenate([sm.static_force, cm_.static_force,
+                                     [abs(train.torques[out])]]),
+        bearing_dofs=sm.bearing_dofs, axes=sm.axes, q_static=q0,
+        rate=np.concatenate([np.ones(r1), np.full(r2, f_m2 / f_m), [1.0]]),
+        info={**sm.info, "chain_rows": chain_rows, "shaft_row": rows - 1,
+              "chain_mesh_names": tuple(p.name for p in chain.pairs),
+              "chain_mesh_frequency": f_m2, "shaft_stiffness": kt,
+              "chain_dofs": (n1, n), "output_member": out, "chain_name": chain.name})
+
+
+def simulate_stage_chain(train: PlanetaryTrain, chain: GearTrain,
+                         dyn: StageDynamics | None = None,
+                         settings: DynamicsSettings | None = None, *,
+                         shaft_stiffness: float | None = None):
+    """Time response of a stage driving a chain (:func:`build_stage_chain_model`).
+
+    Parameters
+    ----------
+    train
+        The stage in operation.
+    chain
+        The chain at :func:`chain_operating` of ``train``.
+    dyn
+        Members, supports and sensor of the stage.
+    settings
+        Duration, fs, oversampling, damping, backlash; the chain's own options.
+    shaft_stiffness
+        k_t [N m/rad]; default ``SHAFT_FACTOR`` k_mean r_b,1^2 of the chain's first mesh.
+
+    Returns
+    -------
+    xarray.Dataset
+        As :func:`gearsim.dynamics.stage.simulate_stage` (stage meshes, coordinates of
+        both parts, ring sensor) plus ``chain_mesh_force`` (time, chain_mesh) [N] and
+        ``shaft_torque`` (time) [N m]; attributes ``chain_mesh_frequency``,
+        ``shaft_stiffness``, ``output_member``, ``static_shaft_torque``.
+
+    Raises
+    ------
+    InputError
+        If fs does not exceed twice the higher mesh frequency, or as
+        :func:`build_stage_chain_model`.
+    SimulationError
+        If the integration diverges.
+    """
+    from gearsim.dynamics.stage import simulate_stage
+
+    settings = settings or DynamicsSettings()
+    f_hi = max(train.mesh_frequency, chain.mesh_frequency)
+    if not settings.fs > 2.0 * f_hi:
+        raise InputError("dynamics.fs", settings.fs,
+                         f"must be > {2 * f_hi:.6g} Hz, twice the higher mesh frequency "
+                         f"(stage {train.mesh_frequency:.6g} Hz, chain "
+                         f"{chain.mesh_frequency:.6g} Hz), else the record is aliased")
+    model = build_stage_chain_model(train, chain, dyn, settings,
+                                    shaft_stiffness=shaft_stiffness)
+    return simulate_stage(train, dyn, settings, model=model)

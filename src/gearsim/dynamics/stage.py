@@ -199,6 +199,26 @@ def lin_parker_of(train: PlanetaryTrain, dyn: StageDynamics,
         planet_angles=tuple(float(a) for a in train.model_angles))
 
 
+def _contact_rows(t, direction: int) -> MeshTable:
+    """Kernel table of a phased mesh of contacts, read backwards when ``direction`` is -1
+    (sample j of the reversed table is sample -j mod n of the forward one, as for ``k``)."""
+    from gearsim.dynamics.tables import contact_table
+
+    tab = contact_table(t.grid)
+    if direction == 1:
+        return tab
+    n = tab.k.size
+    perm = (-np.arange(n)) % n
+    counts = np.diff(tab.ptr)[perm]
+    rows = [np.arange(tab.ptr[j], tab.ptr[j + 1]) for j in perm]
+    idx = np.concatenate(rows) if rows else np.zeros(0, dtype=np.int64)
+    return MeshTable(k=tab.k[perm].copy(), positions_per_cycle=tab.positions_per_cycle,
+                     period=tab.period, k_zero=tab.k_zero[perm].copy(),
+                     ptr=np.concatenate([[0], np.cumsum(counts)]).astype(np.int64),
+                     kx=np.ascontiguousarray(tab.kx[idx]),
+                     sx=np.ascontiguousarray(tab.sx[idx]))
+
+
 def _check_settings(s: DynamicsSettings) -> None:
     """Refuse the gear-train options a stage does not model (one line each)."""
     for name, default in (("model", "lta"), ("profile_modification", (0.0,)),
@@ -258,6 +278,7 @@ def build_stage_model(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     b2 = (settings.backlash[0] if settings.backlash is not None
           else BACKLASH_MODULES * st.normal_module)
     mesh_rows = []
+    k_ref_rows: dict[int, float] = {}
     for j in range(st.planets):
         ts, tr = tabs[2 * j], tabs[2 * j + 1]
         for q, (t, m_eq) in enumerate(((ts, 1.0 / (1.0 / m_s + 1.0 / m_p)),
@@ -265,9 +286,12 @@ def build_stage_model(train: PlanetaryTrain, dyn: StageDynamics | None = None,
             row = 4 * j + q
             mesh_rows.append(row)
             tables.append(MeshTable(k=t.k, positions_per_cycle=t.positions_per_cycle,
-                                    period=t.period))
+                                    period=t.period) if t.grid is None
+                          else _contact_rows(t, train.direction))
             phase[row] = t.phase
-            cm[row] = 2.0 * settings.mesh_damping_ratio * math.sqrt(float(np.mean(t.k)) * m_eq)
+            k_ref = t.reference_mean if t.reference_mean is not None else float(np.mean(t.k))
+            k_ref_rows[row] = k_ref
+            cm[row] = 2.0 * settings.mesh_damping_ratio * math.sqrt(k_ref * m_eq)
             clear[row] = b2 if settings.nonlinear else np.inf
         for q in (2, 3):  # planet bearing, constant
             row = 4 * j + q
@@ -280,7 +304,7 @@ def build_stage_model(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     for m in _MEMBERS:
         if m != train.operating.fixed:
             fext[3 * _MEMBERS.index(m) + 2] = tq[m] / radius[m]
-    kmean = np.array([float(np.mean(t.k)) for t in tables])
+    kmean = np.array([k_ref_rows.get(i, float(np.mean(t.k))) for i, t in enumerate(tables)])
     q0 = static_equilibrium(mass, kb, V, kmean, fext, np.zeros(n_planet_rows))
     labels = []
     for m in _MEMBERS:

@@ -17,6 +17,8 @@ have ``[[gears]]`` instead). Values take units as strings like the gear trains'
     [sensor]          # angle, width
     [stiffness]       # as for gear trains (positions_per_cycle, slices, closure, ...)
     [[cracks]]        # gear = "sun" | "planet-1" ..., tooth, flank, depth, angle, ...
+    [[faults]]        # as for gear trains (spall, pitting, chip, wear; broken on the sun)
+                      # on the sun or a planet's working flank
     [dynamics]        # duration, fs, step, transient, oversample, damping, backlash
     [analysis]        # as for gear trains
     [chain]           # optional: parallel gears on the output shaft (dynamics.compose)
@@ -66,7 +68,7 @@ MEMBER_KEYS = {f"{m}_{q}": kind for m in ("sun", "planet", "ring", "carrier")
 MEMBER_KEYS["held_torsional"] = "torsional_stiffness"
 SENSOR_KEYS = {"angle": "angle", "width": "angle"}
 PLANETARY_TOP_KEYS = ("name", "material", "stage", "operating", "members", "sensor",
-                      "stiffness", "cracks", "dynamics", "analysis", "chain")
+                      "stiffness", "cracks", "faults", "dynamics", "analysis", "chain")
 #: Keys of ``[chain]``: the shaft and a gear train's sections (no operating point).
 CHAIN_KEYS = ("name", "shaft_stiffness", "common", "gears", "stiffness", "cracks", "faults",
               "modifications")
@@ -131,6 +133,19 @@ class PlanetaryBox:
         return dataclasses.replace(self, train=dataclasses.replace(self.train, cracks=()),
                                    chain=chain)
 
+    def healthy(self) -> PlanetaryBox:
+        """The box without cracks and faults (stage and chain).
+
+        Returns
+        -------
+        PlanetaryBox
+        """
+        import dataclasses
+
+        chain = None if self.chain is None else self.chain.with_crack("none").with_faults(())
+        return dataclasses.replace(self, train=dataclasses.replace(self.train, cracks=(),
+                                                                   faults=()), chain=chain)
+
 
 def parse_planetary(doc: dict[str, Any], material: Material) -> PlanetaryBox:
     """Build a :class:`PlanetaryBox` from a parsed TOML document with a ``[stage]``.
@@ -191,8 +206,11 @@ def parse_planetary(doc: dict[str, Any], material: Material) -> PlanetaryBox:
     name = doc.get("name", "planetary stage")
     if not isinstance(name, str):
         raise InputError("name", name, "must be a string")
+    from gearsim.model.config import parse_faults
+
+    faults = parse_faults(doc.get("faults", []))
     train = PlanetaryTrain(stage=stage, operating=operating, settings=stiffness,
-                           cracks=tuple(cracks), name=name, **consts)
+                           cracks=tuple(cracks), name=name, faults=faults, **consts)
     mem = convert(doc.get("members", {}), MEMBER_KEYS, "members")
     sen = convert(doc.get("sensor", {}), SENSOR_KEYS, "sensor")
     groups: dict[str, dict[str, float]] = {"masses": {}, "inertias": {}, "bearings": {}}

@@ -80,8 +80,8 @@ __all__ = ["STAGE_REFUSED", "build_stage_case", "check_stage_study", "config_kin
 STAGE_REFUSED = {
     "fault": "the fault classes are variants of a gear train; a planetary stage is varied "
              "through its first crack (flank, crack_depth)",
-    "severity": "sizes the gear-train fault classes; a planetary stage has none "
-                "(vary crack_depth instead)",
+    "severity": "sizes the gear-train fault classes, which a planetary stage study does "
+                "not vary (its [[faults]] stay as configured; vary crack_depth instead)",
     "closure": "the crack-face closure switch is not varied for a planetary stage (set "
                "[stiffness] closure in the stage configuration)",
 }

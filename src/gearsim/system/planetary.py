@@ -55,7 +55,9 @@ import numpy as np
 from gearsim.errors import require
 from gearsim.geometry.pair import GearPair
 from gearsim.geometry.planetary import PlanetaryStage
+from gearsim.stiffness.contacts import ContactGrid, contact_grid
 from gearsim.stiffness.crack import Crack
+from gearsim.stiffness.faults import BrokenTooth, ChippedTip, Pitting, Spall, Wear
 from gearsim.stiffness.internal import InternalMesh, internal_mesh_stiffness
 from gearsim.stiffness.mesh import MeshStiffness, mesh_stiffness
 from gearsim.stiffness.settings import StiffnessSettings
@@ -66,6 +68,8 @@ __all__ = ["MEMBERS", "PhasedTable", "PlanetaryTrain", "StageOperating", "planet
 
 #: Members of a stage that can be held or driven.
 MEMBERS = ("sun", "ring", "carrier")
+#: Fault classes a stage takes.
+FAULT_TYPES = (Spall, Pitting, ChippedTip, BrokenTooth, Wear)
 #: Ceilings of the operating point (the same as the gear trains').
 MAX_SPEED = 1e5
 MAX_TORQUE = 1e9
@@ -147,6 +151,12 @@ class PhasedTable:
         Offset [mesh cycles].
     table : MeshStiffness
         The table as computed (forward sense, with components and teeth).
+    grid : ContactGrid, optional
+        The mesh of contacts (forward sense) when faults change the contacts of this mesh
+        (:mod:`gearsim.stiffness.contacts`); the dynamics reads it in the sense of ``k``.
+    reference_mean : float, optional
+        With ``grid``: the mean stiffness of the healthy mesh [N/m], which sets the mesh
+        damping and the static equilibrium (a local fault does not change them).
     """
 
     mesh: str
@@ -155,6 +165,8 @@ class PhasedTable:
     period: int
     phase: float
     table: MeshStiffness
+    grid: ContactGrid | None = None
+    reference_mean: float | None = None
 
     def __call__(self, t: np.ndarray, mesh_frequency: float) -> np.ndarray:
         """Stiffness at times ``t`` [s] (linear interpolation) [N/m].
@@ -204,6 +216,15 @@ class PlanetaryTrain:
         Lin & Parker example, which gives mean values only); ``None``: computed.
     ring_foundation
         Foundation term of the ring tooth (``"sainsot-solid"`` or ``"none"``).
+    faults
+        Surface faults (:mod:`gearsim.stiffness.faults`: spall, pitting, chipped tip,
+        wear; a broken tooth on the sun) on ``"sun"`` or on the working flank of a
+        ``"planet-n"`` (the flank the sun loads): the sun-planet meshes become meshes of
+        contacts. One damaged member (cracks and faults) at a time.
+    contacts
+        Use the mesh of contacts for every sun-planet mesh even without faults (as
+        ``mesh_tables(..., contacts=True)`` of the gear trains); with faults every
+        sun-planet mesh uses it, so that all planets share one mesh model.
 
     Raises
     ------
@@ -230,6 +251,8 @@ class PlanetaryTrain:
     sun_mesh_stiffness: float | None = None
     ring_mesh_stiffness: float | None = None
     ring_foundation: str = "none"
+    faults: tuple = ()
+    contacts: bool = False
 
     def __post_init__(self) -> None:
         st = self.stage
@@ -260,6 +283,44 @@ class PlanetaryTrain:
                     "tables) or remove the cracks")
         require(self.ring_foundation in ("sainsot-solid", "none"), "stage.ring_foundation",
                 self.ring_foundation, 'must be "sainsot-solid" or "none"')
+        self._check_faults(names)
+
+    def _check_faults(self, names: list[str]) -> None:
+        st, n = self.stage, self.stage.planets
+        for f in self.faults:
+            require(isinstance(f, FAULT_TYPES), "faults", type(f).__name__,
+                    "must be fault objects of gearsim.stiffness.faults")
+            g = f.gear
+            if g.startswith("planet-") and g not in names:
+                require(False, "fault.gear", g,
+                        f"no such planet: the stage has {n} planets (planet-1 .. planet-{n})")
+            require(g != "ring", "fault.gear", "ring", "ring tooth faults are not modelled "
+                    "(the internal mesh has no mesh of contacts)")
+            require(g in names, "fault.gear", g, f"must be sun or planet-1 .. planet-{n}")
+            z = st.sun_teeth if g == "sun" else st.planet_teeth
+            require(f.tooth < z, "fault.tooth", f.tooth, f"must be < {z} (teeth of {g})")
+            if g == "sun":
+                require(getattr(f, "flank", "working") == "working", "fault.flank", f.flank,
+                        "the planets load the sun's working flank only: a fault on the other "
+                        "flank is never loaded")
+            else:
+                require(not isinstance(f, BrokenTooth), "fault.kind", "broken",
+                        f"a broken tooth of {g} also leaves the ring mesh, which has no mesh "
+                        "of contacts: not modelled")
+                require(f.flank == "working", "fault.flank", f.flank,
+                        f"the non-working flank of {g} meets the ring, whose mesh has no "
+                        "mesh of contacts: not modelled (the working flank meets the sun)")
+        require(isinstance(self.contacts, bool), "stage.contacts", self.contacts,
+                "must be true or false")
+        require(not (self.contacts and self.sun_mesh_stiffness is not None),
+                "stage.sun_mesh_stiffness", self.sun_mesh_stiffness,
+                "a constant mesh stiffness has no mesh of contacts")
+        if self.faults:
+            damaged = sorted({f.gear for f in self.faults} | {c.gear for c in self.cracks})
+            require(len(damaged) == 1, "faults", ", ".join(damaged),
+                    "a stage with faults takes damage on one member (the sun or one planet)")
+            require(self.sun_mesh_stiffness is None, "stage.sun_mesh_stiffness",
+                    self.sun_mesh_stiffness, "a constant mesh stiffness cannot carry faults")
         if self.ring_mesh_stiffness is None:
             s = self.settings
             require(s.source == "pe", "stiffness.source", s.source,
@@ -385,6 +446,33 @@ class PlanetaryTrain:
         return out
 
     @cached_property
+    def _sun_grids(self) -> dict[str, ContactGrid]:
+        """Mesh of contacts of the sun-planet mesh of the faulted member (key), if any."""
+        if not (self.faults or self.contacts):
+            return {}
+        from gearsim.system.faults import mesh_flanks
+        from gearsim.system.train import GearTrain, tooth_compliance
+
+        pair, s = self.sun_pair, self.settings
+        healthy = contact_grid(pair, settings=s, compliance=tooth_compliance(s.source),
+                               corner=s.corner_contact)
+        if not self.faults:
+            return {"all": healthy}
+        member = self.faults[0].gear
+        gear = 1 if member == "sun" else 2
+        own = pair.driver.name if gear == 1 else pair.driven.name
+        cracks = tuple(replace(c, gear=own) for c in self.cracks)
+        aux = GearTrain(gears=(pair.driver, pair.driven), stiffness=s, cracks=cracks,
+                        faults=tuple(replace(f, gear=own) for f in self.faults),
+                        name=f"{self.name}: sun mesh of {member}")
+        f1, f2 = mesh_flanks(aux, 0)
+        tc = tuple(ToothCrack(gear, c, self._side(replace(c, gear=member), "sun"))
+                   for c in cracks)
+        grid = contact_grid(pair, cracks=tc, flank1=f1, flank2=f2, settings=s,
+                            compliance=tooth_compliance(s.source), corner=s.corner_contact)
+        return {member: grid, "all": healthy}
+
+    @cached_property
     def _ring_tables(self) -> dict[str, MeshStiffness]:
         out: dict[str, MeshStiffness] = {}
         if self.ring_mesh_stiffness is not None:
@@ -425,12 +513,27 @@ class PlanetaryTrain:
             ms = MeshStiffness.whole_mesh(self.sun_pair, 1, 1, np.array([const]),
                                           {"source": "constant"})
             return PhasedTable(label, np.array([float(const)]), 1, 1, 0.0, ms)
-        tabs = self._sun_tables if mesh == "sun" else self._ring_tables
-        key = pname if pname in tabs else ("sun" if mesh == "sun" and "sun" in tabs
-                                           else "healthy")
-        ms = tabs[key]
-        npc = int(ms.attrs["positions_per_cycle"])
-        k = ms.k
+        grids = self._sun_grids if mesh == "sun" else {}
+        gkey = next((g for g in (pname, "sun", "all") if g in grids), None)
+        grid = grids[gkey] if gkey is not None else None
+        if grid is not None:
+            npc = grid.positions_per_cycle
+            # the stiffness of the contacts that touch without load (those with a
+            # separation close under load in the dynamics): equal to the healthy table
+            # wherever the fault is out of mesh
+            kg = grid.k.reshape(grid.k.shape[0], -1)
+            k = np.where(grid.s.reshape(kg.shape) == 0, kg, 0.0).sum(axis=1)
+            ms = MeshStiffness.whole_mesh(self.sun_pair, 2 if gkey.startswith("planet") else 1,
+                                          npc, k, {"source": "contacts",
+                                                   "positions_per_cycle": npc})
+            key = gkey
+        else:
+            tabs = self._sun_tables if mesh == "sun" else self._ring_tables
+            key = pname if pname in tabs else ("sun" if mesh == "sun" and "sun" in tabs
+                                               else "healthy")
+            ms = tabs[key]
+            npc = int(ms.attrs["positions_per_cycle"])
+            k = ms.k
         period = k.size // npc
         if key == "healthy":  # one cycle repeats
             k = k[:npc]
@@ -443,8 +546,9 @@ class PlanetaryTrain:
         if d == -1:  # k_rev(c) = k(-c)
             k = np.roll(k[::-1], 1)
             tau = -tau
+        ref = float(np.mean(self._sun_tables["healthy"].k)) if grid is not None else None
         return PhasedTable(label, np.ascontiguousarray(k, dtype=float), npc, period,
-                           float(tau), ms)
+                           float(tau), ms, grid, ref)
 
     def tables(self) -> list[PhasedTable]:
         """All mesh tables: sun mesh then ring mesh of each planet in turn.

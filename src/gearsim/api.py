@@ -28,7 +28,9 @@ __all__ = ["Analysis", "MeasuredSignal", "analyze", "read_signal", "reproduce", 
 
 
 def _gearbox(model: Gearbox | str | Path) -> Gearbox:
-    return model if isinstance(model, Gearbox) else load(model)
+    from gearsim.model.planetary import PlanetaryBox
+
+    return model if isinstance(model, (Gearbox, PlanetaryBox)) else load(model)
 
 
 def simulate(model: Gearbox | str | Path, *, crack: str | None = None,
@@ -37,8 +39,10 @@ def simulate(model: Gearbox | str | Path, *, crack: str | None = None,
 
     Parameters
     ----------
-    model : Gearbox, str or Path
-        A gearbox (:func:`gearsim.load`), a TOML file or a built-in example name.
+    model : Gearbox, PlanetaryBox, str or Path
+        A gearbox (:func:`gearsim.load`), a TOML file or a built-in example name; a
+        planetary stage (``[stage]``) runs :func:`gearsim.dynamics.stage.simulate_stage`
+        (with its ``[chain]``, :func:`gearsim.dynamics.compose.simulate_stage_chain`).
     crack : {"none", "working", "non-working"}, optional
         Fault variant (:meth:`gearsim.system.GearTrain.with_crack`); default as given.
     **dynamics
@@ -62,6 +66,17 @@ def simulate(model: Gearbox | str | Path, *, crack: str | None = None,
     gb = _gearbox(model)
     if crack is not None:
         gb = gb.with_crack(crack)
+    if getattr(gb, "kind", "") == "planetary":  # a stage (gearsim.model.planetary)
+        import dataclasses
+
+        from gearsim.dynamics.compose import simulate_stage_chain
+        from gearsim.dynamics.stage import simulate_stage
+
+        settings = dataclasses.replace(gb.dynamics, **dynamics) if dynamics else gb.dynamics
+        if gb.chain is not None:
+            return simulate_stage_chain(gb.train, gb.chain, gb.members, settings,
+                                        shaft_stiffness=gb.shaft_stiffness)
+        return simulate_stage(gb.train, gb.members, settings)
     if dynamics:
         gb = gb.replace(dynamics=dynamics)
     return _simulate(gb.train, gb.dynamics)

@@ -180,3 +180,12 @@ def test_stage_stiffness_plot(capsys, tmp_path) -> None:
     code, out, err = _run(capsys, "stiffness", "lin-parker-1999", "--plot", png)
     assert code == 0, err
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_python_api_simulates_a_stage() -> None:
+    import gearsim as gs
+
+    box = gs.load("lin-parker-1999")
+    for model in ("lin-parker-1999", box):
+        ds = gs.simulate(model, duration=0.01, fs=20000.0)
+        assert ds.attrs["kind"] == "planetary" and ds.sizes["time"] == 200

@@ -207,8 +207,11 @@ def test_pe_internal_mesh_within_iso_band(measured, key: str) -> None:
 def test_refusals() -> None:
     st = _stage("30-24-78")
     ring_crack = ToothCrack(2, Crack(gear="ring", depth=1e-3), +1)
-    with pytest.raises(InputError, match="ring tooth cracks are not modelled"):
+    with pytest.raises(InputError, match="revolution_of = 2"):
         internal_mesh_stiffness(st, cracks=(ring_crack,))
+    with pytest.raises(InputError, match="the flank the planets load"):
+        internal_mesh_stiffness(st, cracks=(ToothCrack(2, ring_crack.crack, -1),),
+                                revolution_of=2)
     with pytest.raises(InputError, match="must be < 24"):
         internal_mesh_stiffness(st, cracks=(ToothCrack(1, Crack(gear="p", tooth=24,
                                                                 depth=1e-3), 1),))

@@ -152,8 +152,9 @@ def internal_mesh_stiffness(stage: PlanetaryStage, *, cracks: tuple[ToothCrack, 
         The planetary stage.
     cracks
         Cracks as the mesh sees them: ``gear`` 1 the planet (either flank, ``side``
-        +1 when the cracked flank is the one the ring loads), 2 the ring (refused: the
-        ring tooth model has no crack).
+        +1 when the cracked flank is the one the ring loads), 2 the ring (on the flank
+        the planets load, ``side`` +1; :meth:`RingToothModel.compliance` with the
+        crack's depth in each face-width slice; needs ``revolution_of = 2``).
     settings
         Numerical options (positions per cycle, slices, closure, plane, Gauss points);
         ``contact`` must be ``"yang-lin"`` and ``coupling`` ``"none"``.
@@ -207,10 +208,20 @@ def internal_mesh_stiffness(stage: PlanetaryStage, *, cracks: tuple[ToothCrack, 
     require(revolution_of in (1, 2), "revolution_of", revolution_of, "must be 1 or 2")
     planet, ring = stage.planet, stage.ring
     for tc in cracks:
-        require(tc.gear == 1, "crack.gear", "ring",
-                "ring tooth cracks are not modelled (the ring tooth model has no crack)")
-        require(tc.crack.tooth < planet.teeth, "crack.tooth", tc.crack.tooth,
-                f"must be < {planet.teeth} (teeth of the planet)")
+        require(tc.gear in (1, 2), "crack.gear", tc.gear, "must be 1 (planet) or 2 (ring)")
+        z = planet.teeth if tc.gear == 1 else ring.teeth
+        require(tc.crack.tooth < z, "crack.tooth", tc.crack.tooth,
+                f"must be < {z} (teeth of the {'planet' if tc.gear == 1 else 'ring'})")
+        if tc.gear == 2:
+            require(tc.side == 1, "crack.flank", tc.crack.flank,
+                    "a ring crack is modelled on the flank the planets load (the tension "
+                    "side); the other flank's root is in compression")
+            require(ring_tooth is None, "ring_tooth", "given",
+                    "a cracked ring needs the potential-energy ring tooth")
+    ring_cracks = [tc for tc in cracks if tc.gear == 2]
+    require(len(ring_cracks) <= 1, "cracks", len(ring_cracks), "at most one ring crack")
+    require(not ring_cracks or revolution_of == 2, "revolution_of", revolution_of,
+            "a cracked ring needs the table over a ring revolution (revolution_of = 2)")
     geo = InternalMesh(stage)
     tb = math.tan(planet.base_helix_angle)
     lmid, frac, dz, n_age, ns, zfrac = slice_grid(tb, stage.face_width, stage.base_pitch,
@@ -222,7 +233,8 @@ def internal_mesh_stiffness(stage: PlanetaryStage, *, cracks: tuple[ToothCrack, 
     rr = np.where(inside, np.clip(rr, ring.tip_radius, ring.root_radius), ring.tip_radius)
     pe = PotentialEnergyCompliance()
     healthy1 = pe.compliance(planet, rp, None, zfrac, settings)
-    cracked1 = {tc.crack.tooth: pe.compliance(planet, rp, tc, zfrac, settings) for tc in cracks}
+    cracked1 = {tc.crack.tooth: pe.compliance(planet, rp, tc, zfrac, settings) for tc in cracks
+                if tc.gear == 1}
     ring_label = ring_foundation if ring_tooth is None else "user"
     if ring_tooth is None:
         rt = RingToothModel(ring, material=stage.material, plane=settings.plane,
@@ -232,6 +244,15 @@ def internal_mesh_stiffness(stage: PlanetaryStage, *, cracks: tuple[ToothCrack, 
     require(c2r.shape == (rr.size, 4) and bool(np.all(np.isfinite(c2r))), "ring_tooth",
             c2r.shape, f"must return finite compliances of shape ({rr.size}, 4)")
     c2 = np.where(inside[..., None], c2r.reshape(rr.shape + (4,)), 0.0)
+    cracked2: dict[int, np.ndarray] = {}
+    for tc in ring_cracks:  # per face-width slice, the crack's depth there
+        depth = tc.crack.depth_at(zfrac)
+        cc = np.empty(rr.shape + (4,))
+        for j in range(ns):
+            cc[:, :, j] = rt.compliance(rr[:, :, j].ravel(), crack_depth=float(depth[j]),
+                                        crack_angle=tc.crack.angle).reshape(
+                rr.shape[:2] + (4,))
+        cracked2[tc.crack.tooth] = np.where(inside[..., None], cc, 0.0)
     ch = 1.0 / hertz_stiffness(stage.material, stage.material, 1.0)
     width = frac * dz
     z_rev = planet.teeth if revolution_of == 1 else ring.teeth
@@ -246,12 +267,15 @@ def internal_mesh_stiffness(stage: PlanetaryStage, *, cracks: tuple[ToothCrack, 
     for c in range(z_rev):
         sl = slice(c * npc, (c + 1) * npc)
         c1 = np.empty(c2.shape)
+        c2c = np.empty(c2.shape)
         for m in range(n_age):
             i1 = (c - m) % planet.teeth
+            i2 = (c - m) % ring.teeth
             t1[sl, m] = i1
-            t2[sl, m] = (c - m) % ring.teeth
+            t2[sl, m] = i2
             c1[:, m] = cracked1.get(i1, healthy1)[:, m]
-        total = ch + c1.sum(-1) + c2.sum(-1)
+            c2c[:, m] = cracked2.get(i2, c2)[:, m]
+        total = ch + c1.sum(-1) + c2c.sum(-1)
         with np.errstate(divide="ignore", invalid="ignore"):
             ks = np.where(inside, width / total, 0.0)
         kt = ks.sum(axis=(1, 2))
@@ -259,7 +283,7 @@ def internal_mesh_stiffness(stage: PlanetaryStage, *, cracks: tuple[ToothCrack, 
         pair_k[sl] = ks.sum(axis=2)
         share2 = (ks / kt[:, None, None]) ** 2
         parts = [np.full(ks.shape, ch)] + [c1[..., q] for q in range(4)] + [
-            c2[..., q] for q in range(4)]
+            c2c[..., q] for q in range(4)]
         with np.errstate(divide="ignore"):
             for q, part in enumerate(parts):
                 comp[sl, q] = 1.0 / np.sum(share2 * part * inv_w, axis=(1, 2))

@@ -84,8 +84,29 @@ column: against the FE ring segment of :mod:`gearsim.fem.ring` (rim 3.5 m_n clam
 outside) the clamped cantilever misses 3-10e-12 m/N per metre of width (rim and fillet),
 while the Sainsot-form term adds 8 to 19 times that (docs/planetary.md section 4.3).
 
+Crack (``crack_depth`` q, ``crack_angle`` gamma; Tian 2004 for external teeth, Chen &
+Shao 2013 for the ring). A root crack on the loaded flank, the tension side of the ring
+tooth under the planet's load, starts at the flank's point on the root circle,
+P_0 = (X_0, Y_0) = (r_f sin theta_f, r_f cos theta_f), and runs straight into the tooth
+towards its centre line and its tip, at gamma to the centre line, to the tip
+P_1 = (X_0 - q sin gamma, Y_0 - q cos gamma); it must end before the centre line
+(q sin gamma < X_0). The loaded side of a section at height Y then ends at the crack,
+h_c(Y) = X_0 - (Y_0 - Y) tan gamma, for Y_1 <= Y <= Y_0, and tipwards of the crack at
+the limiting line X = X_1 (the material beside the crack's shadow carries no bending
+stress), h_c = min(h(Y), X_1); the section is h(Y) + h_c(Y) thick, with
+
+    I_Y = (h + h_c)^3 L / 12,   A_Y = (h + h_c) L,
+
+in the bending, shear and axial energies, and the same moment M(Y) (the shift of the
+neutral axis is neglected, as in Tian's model). The foundation term is unchanged.
+
 References
 ----------
+.. [Tian2004] X. Tian, Dynamic simulation for system response of gearbox including
+   localized gear faults, M.Sc. thesis, University of Alberta, 2004 (cracked-section
+   model, limiting line).
+.. [ChenShao2013b] Z. Chen, Y. Shao, Dynamic simulation of planetary gear with tooth root
+   crack in ring gear, Eng. Fail. Anal. 31 (2013) 8-18.
 .. [ChenShao2013] Z. Chen, Y. Shao, Mesh stiffness of an internal spur gear pair with ring
    gear rim deformation, Mech. Mach. Theory 69 (2013) 1-12 (ring tooth as a cantilever on
    the root circle, potential energy method).
@@ -323,7 +344,39 @@ class RingToothModel:
         a = self._alpha(r)
         return a + self._beta(r, a)
 
-    def compliance(self, radii, *, width: float = 1.0) -> np.ndarray:
+    def _cracked_half(self, y: np.ndarray, h: np.ndarray, q: float, angle: float
+                      ) -> np.ndarray:
+        """Effective half width h_c of the loaded side at heights Y on a cracked tooth."""
+        theta_f = self.root_half_angle
+        rf = self.ring.root_radius
+        x0, y0 = rf * math.sin(theta_f), rf * math.cos(theta_f)
+        x1, y1 = x0 - q * math.sin(angle), y0 - q * math.cos(angle)
+        on_crack = y >= y1
+        slope = math.tan(angle)
+        line = x0 - (y0 - y) * slope
+        return np.where(on_crack, np.minimum(line, h), np.minimum(h, x1))
+
+    def max_crack_depth(self, angle: float) -> float:
+        """Deepest crack the model takes at ``angle``: its tip on the centre line [m].
+
+        A crack from the loaded flank's root point (X_0 = r_f sin theta_f) at ``angle``
+        to the centre line reaches the centre line at depth X_0 / sin(angle).
+
+        Parameters
+        ----------
+        angle : float
+            Angle between the crack and the tooth centre line [rad], in (0, pi/2].
+
+        Returns
+        -------
+        float
+            X_0 / sin(angle) [m].
+        """
+        rf = self.ring.root_radius
+        return rf * math.sin(self.root_half_angle) / math.sin(angle)
+
+    def compliance(self, radii, *, width: float = 1.0, crack_depth: float = 0.0,
+                   crack_angle: float = math.radians(45.0)) -> np.ndarray:
         """Tooth compliances at contact radii: columns bending, shear, axial, foundation.
 
         Parameters
@@ -332,6 +385,11 @@ class RingToothModel:
             Contact radii on the ring flank, in [r_a, r_f] [m], scalar or 1-D.
         width
             Face width L carried by the tooth [m] (> 0).
+        crack_depth
+            Depth q of a root crack on the loaded flank [m] (0: healthy), below
+            :meth:`max_crack_depth` (module docstring, "Crack").
+        crack_angle
+            Angle between the crack and the tooth centre line [rad], in (0, pi/2].
 
         Returns
         -------
@@ -352,6 +410,12 @@ class RingToothModel:
         require(isinstance(width, (int, float, np.floating, np.integer))
                 and not isinstance(width, bool) and math.isfinite(width) and width > 0.0,
                 "width", width, "must be a positive finite number [m]")
+        require(math.isfinite(crack_angle) and 0.0 < crack_angle <= 0.5 * math.pi,
+                "crack.angle", crack_angle, "must lie in (0, 90] deg")
+        q_max = self.max_crack_depth(crack_angle)
+        require(math.isfinite(crack_depth) and 0.0 <= crack_depth < q_max, "crack.depth",
+                crack_depth, f"must lie in [0, {q_max:.6g}) m: a ring crack ends before the "
+                "tooth centre line (its tip on the loaded side)")
         ring = self.ring
         rf = ring.root_radius
         rc = self._radii(radii, "radii", ring.tip_radius, rf, clip=True)
@@ -382,9 +446,13 @@ class RingToothModel:
             0.5 * (b + b_c[:, None])) * np.sin(0.5 * (b - b_c[:, None]))
         jac = (span[:, None] * wt[None, :]) * dy
         mom = fb[:, None] * y_rel - fa[:, None] * xc[:, None]
-        inv_w = jac / (2.0 * h)
+        # section thickness: 2h, or h + h_c on a cracked tooth (the loaded side ends at
+        # the crack line, then at its limiting line; Tian 2004, Chen & Shao 2013)
+        thick = 2.0 * h if crack_depth == 0.0 else h + self._cracked_half(
+            rho * cb, h, crack_depth, crack_angle)
+        inv_w = jac / thick
         out = np.empty((rc.shape[0], 4))
-        out[:, 0] = 3.0 * np.sum(mom * mom * inv_w / (h * h), axis=1) / e_mod  # 12/(2h)^3
+        out[:, 0] = 12.0 * np.sum(mom * mom * inv_w / (thick * thick), axis=1) / e_mod
         out[:, 1] = 1.2 * fb * fb * np.sum(inv_w, axis=1) / g_mod
         out[:, 2] = fa * fa * np.sum(inv_w, axis=1) / e_mod
 

@@ -55,8 +55,9 @@ import numpy as np
 from gearsim.errors import require
 from gearsim.geometry.pair import GearPair
 from gearsim.geometry.planetary import PlanetaryStage
+from gearsim.geometry.profile import ToothProfile
 from gearsim.stiffness.contacts import ContactGrid, contact_grid
-from gearsim.stiffness.crack import Crack
+from gearsim.stiffness.crack import Crack, crack_geometry
 from gearsim.stiffness.faults import BrokenTooth, ChippedTip, Pitting, Spall, Wear
 from gearsim.stiffness.internal import InternalMesh, internal_mesh_stiffness
 from gearsim.stiffness.mesh import MeshStiffness, mesh_stiffness
@@ -207,8 +208,9 @@ class PlanetaryTrain:
         ring-planet mesh needs ``source = "pe"``, ``contact = "yang-lin"``,
         ``coupling = "none"``.
     cracks
-        Cracks on ``"sun"`` or ``"planet-n"`` teeth (``Crack.gear``); flank as in the
-        module docstring. At most one cracked member per mesh.
+        Cracks on ``"sun"``, ``"ring"`` (its working flank, the one the planets load) or
+        ``"planet-n"`` teeth (``Crack.gear``); flank as in the module docstring. At most
+        one cracked member per mesh.
     name
         Name of the configuration.
     sun_mesh_stiffness, ring_mesh_stiffness
@@ -230,7 +232,7 @@ class PlanetaryTrain:
     ------
     InputError
         A crack on a gear the stage does not have (``planet-5`` of three planets), on
-        the ring (not modelled), on a tooth number the gear does not have, two cracked
+        the ring's non-working flank, on a tooth number the gear does not have, two cracked
         members in one mesh, constant stiffnesses not finite > 0, options the internal
         mesh does not model.
 
@@ -266,14 +268,29 @@ class PlanetaryTrain:
                         f"no such planet: the stage has {n} planets (planet-1 .. planet-{n})")
             require(c.gear in names, "crack.gear", c.gear,
                     f"must be sun or planet-1 .. planet-{n}")
-            require(c.gear != "ring", "crack.gear", "ring",
-                    "ring tooth cracks are not modelled (the ring tooth model has no crack)")
-            z = st.sun_teeth if c.gear == "sun" else st.planet_teeth
+            if c.gear == "ring":
+                require(c.flank == "working", "crack.flank", c.flank,
+                        "a ring crack is modelled on the flank the planets load (its "
+                        "working flank, the tension side)")
+            z = {"sun": st.sun_teeth, "ring": st.ring_teeth}.get(c.gear, st.planet_teeth)
             require(c.tooth < z, "crack.tooth", c.tooth, f"must be < {z} (teeth of {c.gear})")
+            # the crack must fit its tooth (refused here, before any table is computed)
+            if c.gear == "ring":
+                from gearsim.stiffness.ring import RingToothModel
+
+                q_max = RingToothModel(st.ring).max_crack_depth(c.angle)
+                require(c.depth < q_max, "crack.depth", c.depth,
+                        f"must be < {q_max:.6g} m on the ring: a ring crack ends before the "
+                        "tooth centre line (its tip on the loaded side)")
+            else:
+                crack_geometry(ToothProfile(st.sun if c.gear == "sun" else st.planet), c)
             seen[c.gear] = seen.get(c.gear, 0) + 1
             require(seen[c.gear] == 1, "crack.gear", c.gear, "at most one crack per gear")
-        require(not ("sun" in seen and len(seen) > 1), "cracks", ", ".join(seen),
+        planets_cracked = [g for g in seen if g.startswith("planet-")]
+        require(not ("sun" in seen and planets_cracked), "cracks", ", ".join(seen),
                 "a cracked sun and a cracked planet share a mesh: crack one member at a time")
+        require(not ("ring" in seen and planets_cracked), "cracks", ", ".join(seen),
+                "a cracked ring and a cracked planet share a mesh: crack one member at a time")
         for nm in ("sun_mesh_stiffness", "ring_mesh_stiffness"):
             v = getattr(self, nm)
             require(v is None or (isinstance(v, (int, float)) and math.isfinite(v) and v > 0),
@@ -437,6 +454,8 @@ class PlanetaryTrain:
         pair, s = self.sun_pair, self.settings
         out["healthy"] = mesh_stiffness(pair, settings=s, revolution_of=1)
         for c in self.cracks:
+            if c.gear == "ring":  # not in the sun meshes
+                continue
             gear = 1 if c.gear == "sun" else 2
             out[c.gear] = mesh_stiffness(
                 pair, cracks=(ToothCrack(gear, replace(c, gear=pair.driver.name if gear == 1
@@ -485,6 +504,10 @@ class PlanetaryTrain:
                 out[c.gear] = internal_mesh_stiffness(
                     st, cracks=(ToothCrack(1, replace(c, gear="planet"), self._side(c, "ring")),),
                     settings=s, revolution_of=1, ring_foundation=self.ring_foundation)
+            elif c.gear == "ring":  # over a ring revolution relative to the carrier
+                out["ring"] = internal_mesh_stiffness(
+                    st, cracks=(ToothCrack(2, c, 1),), settings=s, revolution_of=2,
+                    ring_foundation=self.ring_foundation)
         return out
 
     def mesh_table(self, mesh: str, planet: int) -> PhasedTable:
@@ -529,8 +552,7 @@ class PlanetaryTrain:
             key = gkey
         else:
             tabs = self._sun_tables if mesh == "sun" else self._ring_tables
-            key = pname if pname in tabs else ("sun" if mesh == "sun" and "sun" in tabs
-                                               else "healthy")
+            key = next(g for g in (pname, mesh, "healthy") if g in tabs)
             ms = tabs[key]
             npc = int(ms.attrs["positions_per_cycle"])
             k = ms.k
@@ -542,6 +564,12 @@ class PlanetaryTrain:
         tau = -self.stage.sun_teeth * psi / (2.0 * math.pi)
         if mesh == "ring":
             tau += self.ring_offset
+        if key == "ring":
+            # a ring table counts ring teeth: the planet psi ahead of planet 1 meshes the
+            # ring tooth planet 1 meets z_r psi / 2 pi teeth later (the ring turns
+            # backwards relative to the carrier); same fraction as -z_s psi / 2 pi for an
+            # assemblable stage ((z_s + z_r) psi / 2 pi whole)
+            tau = self.stage.ring_teeth * psi / (2.0 * math.pi) + self.ring_offset
         d = self.direction
         if d == -1:  # k_rev(c) = k(-c)
             k = np.roll(k[::-1], 1)

@@ -50,6 +50,8 @@ __all__ = [
     "ToothShape",
     "crack_line",
     "element_size",
+    "gmsh_nodes_on",
+    "gmsh_triangles",
     "mesh_sector",
     "sector_outline_check",
     "split_along_crack",
@@ -522,6 +524,71 @@ def _dist_points_segments(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> floa
     return out
 
 
+
+def gmsh_triangles(gmsh, surf: int, parameter: str, what: str
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Nodes and linear triangles of a surface meshed by gmsh.
+
+    Parameters
+    ----------
+    gmsh : module
+        The gmsh module, inside :func:`_gmsh_session`, after ``mesh.generate(2)``.
+    surf : int
+        Tag of the surface.
+    parameter, what : str
+        Names for the message when gmsh produced no triangles.
+
+    Returns
+    -------
+    xy : ndarray, shape (n, 2)
+        Every mesh node [m].
+    index : ndarray of int
+        Map from gmsh node tag to row of ``xy``.
+    tri : ndarray of int, shape (m, 3)
+        Triangles as rows of ``xy``.
+
+    Raises
+    ------
+    InputError
+        If gmsh produced no triangles.
+    """
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    xy = coords.reshape(-1, 3)[:, :2]
+    index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
+    index[tags.astype(np.int64)] = np.arange(tags.size)
+    etypes, _, enodes = gmsh.model.mesh.getElements(2, surf)
+    tri = None
+    for et, en in zip(etypes, enodes, strict=True):
+        if et == 2:
+            tri = index[en.astype(np.int64)].reshape(-1, 3)
+    if tri is None or tri.shape[0] == 0:
+        raise InputError(parameter, what, "gmsh produced no triangles")
+    return xy, index, tri
+
+
+def gmsh_nodes_on(gmsh, index: np.ndarray, dim: int, tags: list[int]) -> np.ndarray:
+    """Rows (of :func:`gmsh_triangles`' ``xy``) of the nodes on gmsh entities.
+
+    Parameters
+    ----------
+    gmsh : module
+        The gmsh module, after meshing.
+    index : ndarray of int
+        Tag-to-row map of :func:`gmsh_triangles`.
+    dim : int
+        Dimension of the entities.
+    tags : list of int
+        Their tags.
+
+    Returns
+    -------
+    ndarray of int
+        Sorted unique rows, boundaries of the entities included.
+    """
+    out = [index[gmsh.model.mesh.getNodes(dim, tg, includeBoundary=True)[0].astype(np.int64)]
+           for tg in tags]
+    return np.unique(np.concatenate(out)) if out else np.zeros(0, dtype=np.int64)
+
 @contextlib.contextmanager
 def _gmsh_session() -> Iterator[object]:
     """Initialise gmsh quietly for one model and always finalise it."""
@@ -866,22 +933,10 @@ def _mesh(gear: Gear, half: np.ndarray, outer: np.ndarray, crack: CrackLine | No
                 gmsh.model.mesh.generate(2)
             finally:
                 gmsh.option.setNumber("Mesh.LcIntegrationPrecision", precision)
-        tags, coords, _ = gmsh.model.mesh.getNodes()
-        xy = coords.reshape(-1, 3)[:, :2]
-        index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
-        index[tags.astype(np.int64)] = np.arange(tags.size)
-        etypes, _, enodes = gmsh.model.mesh.getElements(2, surf)
-        tri = None
-        for et, en in zip(etypes, enodes, strict=True):
-            if et == 2:
-                tri = index[en.astype(np.int64)].reshape(-1, 3)
-        if tri is None or tri.shape[0] == 0:
-            raise InputError(f"{gear.name}.geometry", "sector", "gmsh produced no triangles")
+        xy, index, tri = gmsh_triangles(gmsh, surf, f"{gear.name}.geometry", "sector")
 
         def nodes_on(dim: int, tags_: list[int]) -> np.ndarray:
-            out = [index[gmsh.model.mesh.getNodes(dim, tg, includeBoundary=True)[0]
-                         .astype(np.int64)] for tg in tags_]
-            return np.unique(np.concatenate(out)) if out else np.zeros(0, dtype=np.int64)
+            return gmsh_nodes_on(gmsh, index, dim, tags_)
 
         bore_nodes = nodes_on(1, bore_curves)
         side_nodes = nodes_on(1, side_curves)

@@ -72,9 +72,9 @@ import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
 from gearsim.errors import InputError
-from gearsim.fem.geometry import _gmsh_session
+from gearsim.fem.geometry import _gmsh_session, gmsh_nodes_on, gmsh_triangles
 from gearsim.fem.solve import ElasticModel
-from gearsim.fem.tooth import PATCH_HALF_LENGTH, _patch, deflection_along_load
+from gearsim.fem.tooth import PATCH_HALF_LENGTH, bell_loads, deflection_along_load
 from gearsim.geometry.gear import inv
 from gearsim.geometry.planetary import RingGear
 
@@ -333,26 +333,10 @@ def mesh_ring_segment(ring: RingGear, *, rim_thickness: float, n_teeth: int, lev
         gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
         gmsh.option.setNumber("Mesh.Algorithm", 6)
         gmsh.model.mesh.generate(2)
-        tags, coords, _ = gmsh.model.mesh.getNodes()
-        xy = coords.reshape(-1, 3)[:, :2]
-        index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
-        index[tags.astype(np.int64)] = np.arange(tags.size)
-        etypes, _, enodes = gmsh.model.mesh.getElements(2, surf)
-        tri = None
-        for et, en in zip(etypes, enodes, strict=True):
-            if et == 2:
-                tri = index[en.astype(np.int64)].reshape(-1, 3)
-        if tri is None or tri.shape[0] == 0:
-            raise InputError("ring.geometry", "segment", "gmsh produced no triangles")
-
-        def nodes_on(tags_: list[int]) -> np.ndarray:
-            out = [index[gmsh.model.mesh.getNodes(1, tg, includeBoundary=True)[0]
-                         .astype(np.int64)] for tg in tags_]
-            return np.unique(np.concatenate(out))
-
-        outer_nodes = nodes_on(outer_curves)
-        side_nodes = nodes_on(side_curves)
-        flank_nodes = nodes_on([flank_curve])
+        xy, index, tri = gmsh_triangles(gmsh, surf, "ring.geometry", "segment")
+        outer_nodes = gmsh_nodes_on(gmsh, index, 1, outer_curves)
+        side_nodes = gmsh_nodes_on(gmsh, index, 1, side_curves)
+        flank_nodes = gmsh_nodes_on(gmsh, index, 1, [flank_curve])
     used = np.unique(tri)
     renum = np.full(xy.shape[0], -1, dtype=np.int64)
     renum[used] = np.arange(used.size)
@@ -488,27 +472,8 @@ def fe_ring_tooth_result(ring: RingGear, radii, *, youngs_modulus: float = 2.06e
     fixed = model.dofs_on_facets(model.facets_on_nodes(fixed_nodes))
     flank = model.facets_on_nodes(seg.flank)
     half = PATCH_HALF_LENGTH * ring.normal_module
-    n = r.size
-    loads = np.zeros((model.ndofs, n))
-    dirs = np.zeros((n, 2))
-    qs = np.zeros((2, n))
-    for k, rk in enumerate(r):
-        point, d, q = ring_load_geometry(ring, float(rk))
-        facets = _patch(model, flank, point, half)
-
-        def bell(x, y, point=point, d=d):
-            s2 = ((x - point[0]) ** 2 + (y - point[1]) ** 2) / half**2
-            w = np.where(s2 < 1.0, (1.0 - s2) ** 2, 0.0)
-            return d[0] * w, d[1] * w
-
-        f = model.traction_load(facets, bell, intorder=12)
-        total = float(np.dot(d, [f[0::2].sum(), f[1::2].sum()]))
-        if not total > 0.0:  # the bell fell between quadrature points: uniform fallback
-            f = model.traction_load(facets[:1], d)
-            total = float(np.dot(d, [f[0::2].sum(), f[1::2].sum()]))
-        loads[:, k] = f / total
-        dirs[k] = d
-        qs[:, k] = q
+    loads, dirs, qs = bell_loads(model, flank, [ring_load_geometry(ring, float(rk))
+                                                for rk in r], half)
     u = model.solve(loads, fixed)  # one LU factorisation for all radii
     comp = deflection_along_load(model, u, dirs, qs)
     tip = model.probe(np.array([[0.0], [ring.tip_radius + 0.25 * ring.normal_module]])) @ u

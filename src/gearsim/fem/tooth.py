@@ -49,7 +49,8 @@ from gearsim.fem.solve import ElasticModel
 from gearsim.geometry.gear import Gear
 from gearsim.geometry.profile import ToothProfile
 
-__all__ = ["FINEST_LEVEL", "PATCH_HALF_LENGTH", "FEToothResult", "check_crack_resolved",
+__all__ = ["FINEST_LEVEL", "PATCH_HALF_LENGTH", "FEToothResult", "bell_loads",
+           "check_crack_resolved",
            "fe_tooth_compliance", "load_geometry"]
 
 #: Finest mesh refinement level (:class:`gearsim.fem.geometry.SectorOptions`).
@@ -257,11 +258,45 @@ def flank_loads(gear: Gear, sector: SectorMesh, r: np.ndarray, plane: str,
     fixed = model.dofs_on_facets(model.facets_on_nodes(fixed_nodes))
     flank = model.facets_on_nodes(sector.flank)
     half = PATCH_HALF_LENGTH * gear.normal_module
-    loads = np.zeros((model.ndofs, r.size))
-    dirs = np.zeros((r.size, 2))
-    qs = np.zeros((2, r.size))
-    for k, rk in enumerate(r):
-        point, d, q = load_geometry(prof, float(rk))
+    loads, dirs, qs = bell_loads(model, flank, [load_geometry(prof, float(rk)) for rk in r],
+                                 half)
+    return model, fixed, loads, dirs, qs
+
+
+def bell_loads(model, flank: np.ndarray, geometry: list, half: float
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Unit-resultant bell loads on a flank, one column per contact point.
+
+    Each load is the bell ``(1 - s^2)^2`` (s the distance from the contact point over
+    ``half``) along the load direction on the flank facets within ``half`` of the point,
+    scaled so that its resultant along the direction is 1 N (per metre of face width).
+
+    Parameters
+    ----------
+    model : ElasticModel
+        The assembled model.
+    flank : ndarray of int
+        Facets of the loaded flank.
+    geometry : list of tuple
+        ``(point, direction, q)`` per contact: load point [m], unit direction, the point
+        where the deflection is read [m].
+    half : float
+        Half length of the bell [m].
+
+    Returns
+    -------
+    loads : ndarray, shape (ndofs, n)
+        Load vectors [N].
+    dirs : ndarray, shape (n, 2)
+        Load directions.
+    qs : ndarray, shape (2, n)
+        Read points [m].
+    """
+    n = len(geometry)
+    loads = np.zeros((model.ndofs, n))
+    dirs = np.zeros((n, 2))
+    qs = np.zeros((2, n))
+    for k, (point, d, q) in enumerate(geometry):
         facets = _patch(model, flank, point, half)
 
         def bell(x, y, point=point, d=d):
@@ -279,7 +314,7 @@ def flank_loads(gear: Gear, sector: SectorMesh, r: np.ndarray, plane: str,
         loads[:, k] = f / total
         dirs[k] = d
         qs[:, k] = q
-    return model, fixed, loads, dirs, qs
+    return loads, dirs, qs
 
 
 def deflection_along_load(model, u: np.ndarray, dirs: np.ndarray, qs: np.ndarray

@@ -47,7 +47,7 @@ import numpy as np
 from gearsim.errors import require
 from gearsim.geometry.planetary import PlanetaryStage
 from gearsim.geometry.profile import ToothProfile
-from gearsim.stiffness.mesh import COMPONENTS, MeshStiffness, slice_grid
+from gearsim.stiffness.mesh import COMPONENTS, MeshStiffness, assemble_revolution, slice_grid
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCrack
 from gearsim.stiffness.tooth import hertz_stiffness
@@ -257,36 +257,14 @@ def internal_mesh_stiffness(stage: PlanetaryStage, *, cracks: tuple[ToothCrack, 
     width = frac * dz
     z_rev = planet.teeth if revolution_of == 1 else ring.teeth
     n_pos = z_rev * npc
-    k = np.zeros(n_pos)
-    comp = np.zeros((n_pos, len(COMPONENTS)))
-    pair_k = np.zeros((n_pos, n_age))
-    t1 = np.zeros((n_pos, n_age), dtype=np.int64)
-    t2 = np.zeros((n_pos, n_age), dtype=np.int64)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        inv_w = np.where(width > 0, 1.0 / width, 0.0)
-    for c in range(z_rev):
-        sl = slice(c * npc, (c + 1) * npc)
-        c1 = np.empty(c2.shape)
-        c2c = np.empty(c2.shape)
-        for m in range(n_age):
-            i1 = (c - m) % planet.teeth
-            i2 = (c - m) % ring.teeth
-            t1[sl, m] = i1
-            t2[sl, m] = i2
-            c1[:, m] = cracked1.get(i1, healthy1)[:, m]
-            c2c[:, m] = cracked2.get(i2, c2)[:, m]
-        total = ch + c1.sum(-1) + c2c.sum(-1)
+
+    def pairs(teeth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         with np.errstate(divide="ignore", invalid="ignore"):
-            ks = np.where(inside, width / total, 0.0)
-        kt = ks.sum(axis=(1, 2))
-        k[sl] = kt
-        pair_k[sl] = ks.sum(axis=2)
-        share2 = (ks / kt[:, None, None]) ** 2
-        parts = [np.full(ks.shape, ch)] + [c1[..., q] for q in range(4)] + [
-            c2c[..., q] for q in range(4)]
-        with np.errstate(divide="ignore"):
-            for q, part in enumerate(parts):
-                comp[sl, q] = 1.0 / np.sum(share2 * part * inv_w, axis=(1, 2))
+            return np.where(inside, width / (ch + teeth), 0.0), np.full(teeth.shape, ch)
+
+    k, comp, pair_k, t1, t2 = assemble_revolution(
+        (planet.teeth, ring.teeth), z_rev, npc, (healthy1, c2), (cracked1, cracked2), width,
+        pairs)
     cycles = np.arange(n_pos) / npc
     return MeshStiffness(
         name=name, revolution_of="planet" if revolution_of == 1 else "ring", cycles=cycles,

@@ -34,6 +34,7 @@ References
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -46,7 +47,8 @@ from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance,
 from gearsim.stiffness.tooth import hertz_stiffness, line_contact_compliance
 
 __all__ = ["COMPONENTS", "DEFAULT_SLICES", "MeshStiffness", "StiffnessSettings", "ToothCrack",
-           "centre_line_depth", "in_path_fraction", "mesh_stiffness", "slice_grid"]
+           "assemble_revolution", "centre_line_depth", "in_path_fraction", "mesh_stiffness",
+           "slice_grid"]
 
 COMPONENTS = ("hertz", "bending_1", "shear_1", "axial_1", "foundation_1",
               "bending_2", "shear_2", "axial_2", "foundation_2")
@@ -325,6 +327,75 @@ def _slice_stiffness(diag: np.ndarray, width: np.ndarray, cross: np.ndarray | No
     return np.where(inside, width * np.moveaxis(q, -1, 1), 0.0)
 
 
+def assemble_revolution(teeth: tuple[int, int], z_rev: int, npc: int,
+                        healthy: tuple[np.ndarray, np.ndarray],
+                        cracked: tuple[dict[int, np.ndarray], dict[int, np.ndarray]],
+                        width: np.ndarray, pairs: Callable
+                        ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Mesh stiffness over ``z_rev`` mesh cycles from the tooth compliances of one cycle.
+
+    In cycle c the pair of age m has tooth (c - m) mod z_i of gear i (its cracked
+    compliance when that tooth is cracked); the slices of a pair act in series with the
+    contact and in parallel with each other, the pairs in parallel; a component's share
+    is that of the compliance-weighted sum (module docstring).
+
+    Parameters
+    ----------
+    teeth : tuple of int
+        Tooth counts (z_1, z_2).
+    z_rev : int
+        Mesh cycles to cover.
+    npc : int
+        Positions per cycle.
+    healthy : tuple of ndarray
+        Per-unit-width compliances of a healthy tooth of each gear, (npc, n_age, ns, 4)
+        (bending, shear, axial, foundation) [m^2/N].
+    cracked : tuple of dict
+        The same for cracked teeth, by tooth index.
+    width : ndarray, shape (npc, n_age, ns)
+        In-path width of each slice contact [m] (0 outside the path).
+    pairs : callable
+        ``pairs(teeth_compliance) -> (ks, contact)``: the slice stiffnesses [N/m] and the
+        contact compliance per unit width used, both (npc, n_age, ns), from the summed
+        tooth compliances of both gears.
+
+    Returns
+    -------
+    k, components, pair_k, tooth1, tooth2 : ndarray
+        Shapes (n,), (n, 9), (n, n_age), (n, n_age) twice, n = z_rev npc.
+    """
+    n_age = width.shape[1]
+    n_pos = z_rev * npc
+    k = np.zeros(n_pos)
+    comp = np.zeros((n_pos, len(COMPONENTS)))
+    pair_k = np.zeros((n_pos, n_age))
+    t1 = np.zeros((n_pos, n_age), dtype=np.int64)
+    t2 = np.zeros((n_pos, n_age), dtype=np.int64)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv_w = np.where(width > 0, 1.0 / width, 0.0)
+    for c in range(z_rev):
+        sl = slice(c * npc, (c + 1) * npc)
+        c1 = np.empty(healthy[0].shape)
+        c2 = np.empty(healthy[1].shape)
+        for m in range(n_age):
+            i1 = (c - m) % teeth[0]
+            i2 = (c - m) % teeth[1]
+            t1[sl, m] = i1
+            t2[sl, m] = i2
+            c1[:, m] = cracked[0].get(i1, healthy[0])[:, m]
+            c2[:, m] = cracked[1].get(i2, healthy[1])[:, m]
+        ks, chs = pairs(c1.sum(-1) + c2.sum(-1))
+        kt = ks.sum(axis=(1, 2))
+        k[sl] = kt
+        pair_k[sl] = ks.sum(axis=2)
+        share2 = (ks / kt[:, None, None]) ** 2
+        parts = [chs] + [c1[..., q] for q in range(4)] + [c2[..., q] for q in range(4)]
+        with np.errstate(divide="ignore"):  # a zero component (FE source) -> inf stiffness
+            for q, part in enumerate(parts):
+                comp[sl, q] = 1.0 / np.sum(share2 * part * inv_w, axis=(1, 2))
+    return k, comp, pair_k, t1, t2
+
+
 def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
                    settings: StiffnessSettings | None = None,
                    revolution_of: int = 1,
@@ -417,25 +488,7 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
         x2 = np.where(both, coupling.cross(g2, np.where(both, r2[:, 1:], g2.tip_radius),
                                            np.where(both, r2[:, :-1], g2.tip_radius)), 0.0)
         cross = x1 + x2  # (npc, n_age - 1, ns)
-    z_rev = g1.teeth if revolution_of == 1 else g2.teeth
-    n_pos = z_rev * npc
-    k = np.zeros(n_pos)
-    comp = np.zeros((n_pos, len(COMPONENTS)))
-    pair_k = np.zeros((n_pos, n_age))
-    t1 = np.zeros((n_pos, n_age), dtype=np.int64)
-    t2 = np.zeros((n_pos, n_age), dtype=np.int64)
-    for c in range(z_rev):
-        sl = slice(c * npc, (c + 1) * npc)
-        c1 = np.empty(shape + (4,))
-        c2 = np.empty(shape + (4,))
-        for m in range(n_age):
-            i1 = (c - m) % g1.teeth
-            i2 = (c - m) % g2.teeth
-            t1[sl, m] = i1
-            t2[sl, m] = i2
-            c1[:, m] = cracked1.get(i1, healthy1)[:, m]
-            c2[:, m] = cracked2.get(i2, healthy2)[:, m]
-        teeth = c1.sum(-1) + c2.sum(-1)
+    def pairs(teeth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         chs = np.full(shape, ch)
         ks = _slice_stiffness(chs + teeth, width, cross if coupled else None)
         if line:
@@ -449,16 +502,13 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
                     np.maximum(q, 1e-3), rho1, rho2, dep1, dep2, g1.material, g2.material,
                     settings.plane), ch)
                 ks = _slice_stiffness(chs + teeth, width, cross if coupled else None)
-        kt = ks.sum(axis=(1, 2))
-        k[sl] = kt
-        pair_k[sl] = ks.sum(axis=2)
-        share2 = (ks / kt[:, None, None]) ** 2
-        with np.errstate(divide="ignore", invalid="ignore"):
-            inv_w = np.where(width > 0, 1.0 / width, 0.0)
-        parts = [chs] + [c1[..., q] for q in range(4)] + [c2[..., q] for q in range(4)]
-        with np.errstate(divide="ignore"):  # a zero component (FE source) -> inf stiffness
-            for q, part in enumerate(parts):
-                comp[sl, q] = 1.0 / np.sum(share2 * part * inv_w, axis=(1, 2))
+        return ks, chs
+
+    z_rev = g1.teeth if revolution_of == 1 else g2.teeth
+    k, comp, pair_k, t1, t2 = assemble_revolution(
+        (g1.teeth, g2.teeth), z_rev, npc, (healthy1, healthy2), (cracked1, cracked2), width,
+        pairs)
+    n_pos = z_rev * npc
     cycles = np.arange(n_pos) / npc
     return MeshStiffness(
         name=pair.name,

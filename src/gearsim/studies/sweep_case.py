@@ -28,7 +28,7 @@ from gearsim.signals import analyze
 from gearsim.studies.sweep import PARAMETERS, Case, Study
 from gearsim.system import GearTrain, Operating
 
-__all__ = ["FEATURE_GROUPS", "add_noise", "build_case", "features", "run_group"]
+__all__ = ["FEATURE_GROUPS", "add_noise", "analyse_group", "build_case", "features", "run_group"]
 
 #: Feature-name prefix -> feature group (used by the diagnostic analysis).
 FEATURE_GROUPS = {"td_": "time-domain", "sb_": "sideband", "tsa_": "TSA", "band_": "band energy"}
@@ -230,6 +230,44 @@ def run_group(study: Study, cases: Sequence[Case],
         One row per case along dimension ``case`` (see module docstring). Refused input
         and failed simulations are recorded (status, message), not raised.
     """
+    def record() -> tuple[np.ndarray, float, dict]:
+        train, settings = build_case(study, cases[0])
+        ds = simulate(train, settings)
+        teeth = [g.teeth for g in train.gears]
+        if study.shafts == "reference":
+            teeth = teeth[:1]
+        return (_select_signal(ds, study.signal), float(settings.fs),
+                {"teeth": teeth, "shaft_frequency": train.shaft_frequency(0)})
+
+    return analyse_group(study, cases, record, hook)
+
+
+def analyse_group(study: Study, cases: Sequence[Case],
+                  record: Callable[[], tuple[np.ndarray, float, dict]],
+                  hook: Callable[[Sequence[Case]], None] | None = None):
+    """Simulate a group once (``record``) and analyse every case's noisy copy.
+
+    Shared by the gear trains (:func:`run_group`) and the planetary stages
+    (:func:`gearsim.studies.sweep_planetary.run_stage_group`).
+
+    Parameters
+    ----------
+    study : Study
+        The study.
+    cases : sequence of Case
+        Cases with equal :meth:`Study.simulation_key`.
+    record : callable
+        Runs the simulation: returns the analysed signal, its rate fs [Hz] and the keyword
+        arguments of :func:`gearsim.signals.analyze` (teeth, shaft frequency, ...).
+    hook : callable, optional
+        Called with ``cases`` before the work (tests use it to inject faults).
+
+    Returns
+    -------
+    xarray.Dataset
+        One row per case (:func:`run_group`); refused input and failed simulations are
+        recorded (status, message), not raised.
+    """
     if hook is not None:
         hook(cases)
     n = len(cases)
@@ -238,13 +276,7 @@ def run_group(study: Study, cases: Sequence[Case],
     signals: list[np.ndarray | None] = [None] * n
     fs = None
     try:
-        train, settings = build_case(study, cases[0])
-        ds = simulate(train, settings)
-        fs = float(settings.fs)
-        x = _select_signal(ds, study.signal)
-        teeth = [g.teeth for g in train.gears]
-        if study.shafts == "reference":
-            teeth = teeth[:1]
+        x, fs, kwargs = record()
     except (InputError, SimulationError) as exc:
         return _table(study, cases, rows, ["failed"] * n, [str(exc)] * n, signals, fs)
     except Exception as exc:  # keep the study going; the message says what it was
@@ -253,7 +285,7 @@ def run_group(study: Study, cases: Sequence[Case],
     for i, case in enumerate(cases):
         try:
             xn = add_noise(x, case.noise, int(study.case_key(case), 16))
-            a = analyze(xn, fs, teeth=teeth, shaft_frequency=train.shaft_frequency(0))
+            a = analyze(xn, fs, **kwargs)
             rows[i] = features(a.to_dict())
             signals[i] = xn
         except (InputError, SimulationError) as exc:

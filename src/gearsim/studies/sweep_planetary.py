@@ -63,7 +63,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from gearsim.errors import InputError, SimulationError, require
+from gearsim.errors import InputError, require
 
 if TYPE_CHECKING:
     from gearsim.dynamics.settings import DynamicsSettings
@@ -521,35 +521,13 @@ def run_stage_group(study: Study, cases: Sequence[Case],
         recorded (status, message), not raised.
     """
     from gearsim.dynamics.stage import simulate_stage
-    from gearsim.signals import analyze
-    from gearsim.studies.sweep_case import _table, add_noise, features
+    from gearsim.studies.sweep_case import analyse_group
 
-    if hook is not None:
-        hook(cases)
-    n = len(cases)
-    rows: list[dict] = [{} for _ in range(n)]
-    status, errors = ["ok"] * n, [""] * n
-    signals: list[np.ndarray | None] = [None] * n
-    fs = None
-    try:
+    def record() -> tuple[np.ndarray, float, dict]:
         train, members, settings, box = build_stage_case(study, cases[0])
         ds = simulate_stage(train, members, settings)
-        fs = float(settings.fs)
-        x = _select(ds, study.signal)
         _, f_ref, teeth = stage_reference(train, study.shafts)
-    except (InputError, SimulationError) as exc:
-        return _table(study, cases, rows, ["failed"] * n, [str(exc)] * n, signals, fs)
-    except Exception as exc:  # keep the study going; the message says what it was
-        return _table(study, cases, rows, ["error"] * n,
-                      [f"{type(exc).__name__}: {exc}"] * n, signals, fs)
-    for i, case in enumerate(cases):
-        try:
-            xn = add_noise(x, case.noise, int(study.case_key(case), 16))
-            a = analyze(xn, fs, teeth=teeth, shaft_frequency=f_ref, settings=box.analysis)
-            rows[i] = features(a.to_dict())
-            signals[i] = xn
-        except (InputError, SimulationError) as exc:
-            status[i], errors[i] = "failed", str(exc)
-        except Exception as exc:
-            status[i], errors[i] = "error", f"{type(exc).__name__}: {exc}"
-    return _table(study, cases, rows, status, errors, signals, fs)
+        return (_select(ds, study.signal), float(settings.fs),
+                {"teeth": teeth, "shaft_frequency": f_ref, "settings": box.analysis})
+
+    return analyse_group(study, cases, record, hook)

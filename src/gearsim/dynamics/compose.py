@@ -46,7 +46,7 @@ import numpy as np
 from gearsim.dynamics.lta import build_lta
 from gearsim.dynamics.model import DynamicModel, static_equilibrium
 from gearsim.dynamics.settings import DynamicsSettings
-from gearsim.dynamics.stage import StageDynamics, build_stage_model
+from gearsim.dynamics.stage import StageDynamics, build_stage_model, simulate_stage
 from gearsim.dynamics.tables import MeshTable
 from gearsim.errors import InputError, require
 from gearsim.system import GearTrain
@@ -279,8 +279,6 @@ def simulate_stage_chain(train: PlanetaryTrain, chain: GearTrain,
     SimulationError
         If the integration diverges.
     """
-    from gearsim.dynamics.stage import simulate_stage
-
     settings = settings or DynamicsSettings()
     f_hi = max(train.mesh_frequency, chain.mesh_frequency)
     if not settings.fs > 2.0 * f_hi:

@@ -57,9 +57,9 @@ from gearsim.system.toml import train_to_toml
 from gearsim.system.train import GearTrain
 
 __all__ = ["FORCE_ENV", "MAX_STEPS", "MEMORY_FRACTION", "Raw", "RunCost", "build_model",
-           "check_cost", "cost_bounds_lifted", "decimation_filter", "integration_step",
-           "physical_memory", "reference_mesh_forces",
-           "reference_rhs", "run_kernel", "settings_of", "simulate", "summary"]
+           "check_cost", "cost_bounds_lifted", "integration_step",
+           "physical_memory", "record", "reference_mesh_forces", "reference_rhs", "run_kernel",
+           "settings_of", "simulate", "summary"]
 
 #: |q| limit [m or rad] beyond which a run counts as diverged.
 Q_LIMIT = 1.0
@@ -285,25 +285,6 @@ def run_kernel(model: DynamicModel, *, dt: float, n_steps: int, rec_start: int =
             f"{Q_LIMIT}] or became NaN; reduce dynamics.step or check the inputs")
     t = t0 + (rec_start + rec_every * np.arange(n_rec)) * dt
     return Raw(t=t, q=rq, v=rv, f=rf, q_end=q, v_end=v)
-
-
-def decimation_filter(r: int, fs: float) -> np.ndarray:
-    """Anti-aliasing FIR taps for decimating ``r fs`` to ``fs`` (as :func:`simulate` uses).
-
-    Parameters
-    ----------
-    r : int
-        Oversampling factor (> 1).
-    fs : float
-        Output rate [Hz].
-
-    Returns
-    -------
-    ndarray
-        ``2 FIR_HALF_PER_R r + 1`` Kaiser-window low-pass taps, cut-off ``FIR_CUTOFF fs``
-        (scipy.signal.firwin).
-    """
-    return _fir(r, fs)
 
 
 def _fir(r: int, fs: float) -> np.ndarray:
@@ -559,14 +540,48 @@ def simulate(train: GearTrain, settings: DynamicsSettings | None = None, *,
     else:
         dt, _ = integration_step(settings)
     _, m = integration_step(settings)
-    r = settings.oversample
-    fs = settings.fs
-    t_int = 1.0 / (r * fs)
-    half = FIR_HALF_PER_R * r if r > 1 else 0
     transient = settings.transient
     if transient is None:
         transient = max(12.0 * decay_time(model), 1.0 / model.mesh_frequency)
         check_cost(train, settings, harmonics=harmonics, transient=transient, force=force)
+    t, q, v, f, transient = record(model, settings, dt=dt, m=m, transient=transient)
+    return _dataset(train, settings, model, t, q, v, f, dt=dt, transient=transient)
+
+
+def record(model: DynamicModel, settings: DynamicsSettings, *, dt: float, m: int,
+           transient: float) -> tuple[np.ndarray, ...]:
+    """Run the kernel past the transient and record q, v, f at fs (FIR-decimated).
+
+    The kernel keeps every ``m``-th step (the internal rate ``oversample fs``), from
+    ``FIR_HALF_PER_R oversample`` samples before the end of the transient on, and the
+    records are decimated to ``fs`` by a Kaiser FIR low-pass (``upfirdn``); the first
+    output sample is centred on the end of the transient.
+
+    Parameters
+    ----------
+    model : DynamicModel
+        The equations of motion.
+    settings : DynamicsSettings
+        ``fs``, ``oversample`` and ``duration``.
+    dt : float
+        Step [s], ``1 / (oversample fs m)``.
+    m : int
+        Steps per internal sample.
+    transient : float
+        Time to skip [s] (rounded up to whole internal samples, at least the filter's
+        half length).
+
+    Returns
+    -------
+    t, q, v, f : ndarray
+        Times [s] and the records, shapes (n,), (n, n_dof) twice, (n, n_mesh).
+    transient : float
+        The transient used [s].
+    """
+    r = settings.oversample
+    fs = settings.fs
+    t_int = 1.0 / (r * fs)
+    half = FIR_HALF_PER_R * r if r > 1 else 0
     tr_samples = max(math.ceil(transient / t_int - 1e-9), half)
     transient = tr_samples * t_int
     n_out = int(round(settings.duration * fs))
@@ -578,18 +593,16 @@ def simulate(train: GearTrain, settings: DynamicsSettings | None = None, *,
     if r > 1:
         from scipy.signal import upfirdn
 
-        h = _fir(r, fs)
         x = np.concatenate([raw.q, raw.v, raw.f], axis=1)
         # full-convolution index j = kk r holds the output centred on j - half; the first
         # output sample is centred on internal index half, i.e. kk = 2 half / r
         k0 = 2 * half // r
-        y = upfirdn(h, x, up=1, down=r, axis=0)[k0:k0 + n_out]
+        y = upfirdn(_fir(r, fs), x, up=1, down=r, axis=0)[k0:k0 + n_out]
         n = model.n_dof
         q, v, f = y[:, :n], y[:, n:2 * n], y[:, 2 * n:]
     else:
         q, v, f = raw.q, raw.v, raw.f
-    t = transient + np.arange(n_out) / fs
-    return _dataset(train, settings, model, t, q, v, f, dt=dt, transient=transient)
+    return transient + np.arange(n_out) / fs, q, v, f, transient
 
 
 def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient):

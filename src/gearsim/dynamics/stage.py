@@ -51,8 +51,8 @@ import numpy as np
 from gearsim.dynamics.model import DynamicModel, static_equilibrium
 from gearsim.dynamics.planetary import LinParkerModel
 from gearsim.dynamics.settings import DynamicsSettings
-from gearsim.dynamics.simulate import FIR_HALF_PER_R, decimation_filter, run_kernel
-from gearsim.dynamics.tables import MeshTable
+from gearsim.dynamics.simulate import record
+from gearsim.dynamics.tables import MeshTable, contact_table
 from gearsim.errors import InputError, require
 from gearsim.system.planetary import PlanetaryTrain, planet_name
 
@@ -202,8 +202,6 @@ def lin_parker_of(train: PlanetaryTrain, dyn: StageDynamics,
 def _contact_rows(t, direction: int) -> MeshTable:
     """Kernel table of a phased mesh of contacts, read backwards when ``direction`` is -1
     (sample j of the reversed table is sample -j mod n of the forward one, as for ``k``)."""
-    from gearsim.dynamics.tables import contact_table
-
     tab = contact_table(t.grid)
     if direction == 1:
         return tab
@@ -413,7 +411,6 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
         If the integration diverges.
     """
     import xarray as xr
-    from scipy.signal import upfirdn
 
     dyn = dyn or StageDynamics()
     settings = settings or DynamicsSettings()
@@ -429,28 +426,14 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     step = min(settings.step, STABILITY_FRACTION / _omega_max(model))
     m = max(1, math.ceil(t_int / step * (1 - 1e-12)))
     dt = t_int / m
-    half = FIR_HALF_PER_R * r if r > 1 else 0
     wc = abs(train.speeds["carrier"])
     transient = settings.transient
     if transient is None:
         zeta = min(settings.bearing_damping_ratio, settings.mesh_damping_ratio)
         transient = max(12.0 * _slowest_decay(model, zeta),
                         (2.0 * math.pi / wc) if wc > 0 else 0.0, 1.0 / f_m)
-    tr_samples = max(math.ceil(transient / t_int - 1e-9), half)
-    transient = tr_samples * t_int
-    n_out = int(round(settings.duration * fs))
-    n_rec = (n_out - 1) * r + 1 + 2 * half
-    rec_start = (tr_samples - half) * m
-    n_steps = rec_start + (n_rec - 1) * m
-    raw = run_kernel(model, dt=dt, n_steps=n_steps, rec_start=rec_start, rec_every=m,
-                     n_rec=n_rec)
-    n = model.n_dof
-    x = np.concatenate([raw.q, raw.v, raw.f], axis=1)
-    if r > 1:
-        k0 = 2 * half // r
-        x = upfirdn(decimation_filter(r, fs), x, up=1, down=r, axis=0)[k0:k0 + n_out]
-    q, v, f = x[:, :n], x[:, n:2 * n], x[:, 2 * n:]
-    t = transient + np.arange(n_out) / fs
+    t, q, v, f, transient = record(model, settings, dt=dt, m=m, transient=transient)
+    n_out = t.size
     rows = list(model.info["mesh_rows"])
     names = [model.info["row_names"][i] for i in rows]
     forces = f[:, rows]

@@ -36,11 +36,11 @@ from gearsim.dynamics.settings import parse_dynamics
 from gearsim.errors import InputError
 from gearsim.geometry.gear import Gear, Material
 from gearsim.geometry.pair import require_same_rack
+from gearsim.model.damage import CRACK_KEYS, array_of_tables, parse_cracks, parse_faults
 from gearsim.model.gearbox import Gearbox
+from gearsim.model.planetary import parse_planetary
 from gearsim.sections import as_written, convert
 from gearsim.signals.settings import parse_analysis
-from gearsim.stiffness.crack import Crack
-from gearsim.stiffness.faults import FAULT_KINDS, fault_from_kind
 from gearsim.stiffness.modifications import Modification
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.system.train import GearTrain, Operating
@@ -67,27 +67,6 @@ STIFFNESS_KEYS = {"closure": "str", "slices": "int", "positions_per_cycle": "int
                   "gauss_points": "int", "plane": "str", "source": "str",
                   "corner_contact": "bool", "contact": "str", "coupling": "str",
                   "fe_pair_positions": "int"}
-CRACK_KEYS = {"gear": "str", "tooth": "int", "flank": "str", "depth": "length",
-              "angle": "angle", "extent": "dimensionless", "profile": "str",
-              "start_radius": "length"}
-
-#: Keys of a ``[[faults]]`` table (``kind`` names the fault; the keys each kind takes
-#: are :data:`FAULT_FIELDS`).
-FAULT_KEYS = {"kind": "str", "gear": "str", "tooth": "int", "flank": "str",
-              "radius": "length", "length": "length", "width": "length", "depth": "length",
-              "z": "length", "shape": "str", "area_fraction": "dimensionless",
-              "radius_min": "length", "radius_max": "length", "pit_diameter": "length",
-              "seed": "int", "edge": "str", "break_radius": "length", "radii": "length",
-              "depths": "length", "coefficient": "wear_coefficient",
-              "cycles": "dimensionless"}
-FAULT_FIELDS = {
-    "spall": ("gear", "tooth", "flank", "radius", "length", "width", "depth", "z", "shape"),
-    "pitting": ("gear", "tooth", "flank", "area_fraction", "radius_min", "radius_max",
-                "pit_diameter", "depth", "seed"),
-    "chip": ("gear", "tooth", "flank", "length", "width", "edge"),
-    "broken": ("gear", "tooth", "width", "edge", "break_radius"),
-    "wear": ("gear", "tooth", "flank", "radii", "depths", "coefficient", "cycles"),
-}
 MODIFICATION_KEYS = {"gear": "str", "tip_relief": "length", "tip_relief_length": "length",
                      "root_relief": "length", "root_relief_length": "length",
                      "relief_shape": "str", "crowning": "length", "helix_slope": "length",
@@ -143,9 +122,7 @@ def parse(doc: dict[str, Any]) -> Gearbox:
         The first problem found, naming the parameter, its value and the limit.
     """
     if "stage" in doc:  # a planetary stage (gearsim.model.planetary)
-        from gearsim.model.planetary import parse_planetary
-
-        return parse_planetary(doc, _material(doc.get("material", {}), "material"))
+        return parse_planetary(doc, _material(doc.get("material", {}), "material"), parse)
     for key in doc:
         if key not in TOP_KEYS:
             raise InputError(key, "...", "unknown section; allowed: " + ", ".join(TOP_KEYS))
@@ -186,16 +163,7 @@ def parse(doc: dict[str, Any]) -> Gearbox:
     stiffness = StiffnessSettings(**convert(doc.get("stiffness", {}), STIFFNESS_KEYS,
                                             "stiffness"))
     cracks_raw = doc.get("cracks", [])
-    if not isinstance(cracks_raw, list):
-        raise InputError("cracks", cracks_raw, "must be an array of tables [[cracks]]")
-    cracks = []
-    for i, table in enumerate(cracks_raw):
-        kw = convert(table, CRACK_KEYS, f"cracks[{i}]")
-        if "gear" not in kw:
-            raise InputError(f"cracks[{i}].gear", "missing", "name the cracked gear")
-        with as_written(table, "crack", CRACK_KEYS, sources=[(f"cracks[{i}]", table)],
-                        default=f"cracks[{i}]"):
-            cracks.append(Crack(**kw))
+    cracks = parse_cracks(cracks_raw)
     name = doc.get("name", "gear train")
     if not isinstance(name, str):
         raise InputError("name", name, "must be a string")
@@ -217,52 +185,6 @@ def parse(doc: dict[str, Any]) -> Gearbox:
     return Gearbox(train=train, dynamics=dynamics, analysis=analysis)
 
 
-def _array_of_tables(raw: Any, name: str) -> list:
-    if not isinstance(raw, list) or not all(isinstance(t, dict) for t in raw):
-        raise InputError(name, raw, f"must be an array of tables [[{name}]]")
-    return raw
-
-
-def parse_faults(raw: Any) -> tuple:
-    """Parse the ``[[faults]]`` tables into fault objects (:mod:`gearsim.stiffness.faults`).
-
-    Parameters
-    ----------
-    raw : list of dict
-        The TOML array of tables; each names its ``kind``.
-
-    Returns
-    -------
-    tuple of Fault
-
-    Raises
-    ------
-    InputError
-        Naming ``faults[i].<key>``: unknown kind or key, a key the kind does not take,
-        a bad value.
-    """
-    out = []
-    for i, table in enumerate(_array_of_tables(raw, "faults")):
-        name = f"faults[{i}]"
-        kw = convert(table, FAULT_KEYS, name, list_keys=("radii", "depths"))
-        kind = kw.pop("kind", None)
-        if kind not in FAULT_FIELDS:
-            raise InputError(f"{name}.kind", kind if kind is not None else "missing",
-                             "must be one of " + ", ".join(FAULT_KINDS))
-        for key in kw:
-            if key not in FAULT_FIELDS[kind]:
-                raise InputError(f"{name}.{key}", table[key], f"is not a key of a {kind}; "
-                                 f"allowed: kind, {', '.join(FAULT_FIELDS[kind])}")
-        if "gear" not in kw:
-            raise InputError(f"{name}.gear", "missing", "name the damaged gear")
-        for key in ("radii", "depths"):
-            if key in kw and not isinstance(kw[key], tuple):
-                kw[key] = (kw[key],)
-        with as_written(table, kind, FAULT_KEYS, sources=[(name, table)], default=name):
-            out.append(fault_from_kind(kind, **kw))
-    return tuple(out)
-
-
 def parse_modifications(raw: Any) -> tuple[Modification, ...]:
     """Parse the ``[[modifications]]`` tables (one per gear).
 
@@ -281,7 +203,7 @@ def parse_modifications(raw: Any) -> tuple[Modification, ...]:
         Naming ``modifications[i].<key>``.
     """
     out = []
-    for i, table in enumerate(_array_of_tables(raw, "modifications")):
+    for i, table in enumerate(array_of_tables(raw, "modifications")):
         name = f"modifications[{i}]"
         kw = convert(table, MODIFICATION_KEYS, name, list_keys=("pitch_errors",))
         if "gear" not in kw:

@@ -36,17 +36,19 @@ made: a bad value gives one line naming it, the numbers and the condition.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+from gearsim.dynamics.compose import chain_operating
 from gearsim.dynamics.settings import DynamicsSettings, parse_dynamics
 from gearsim.dynamics.stage import StageDynamics
 from gearsim.errors import InputError
 from gearsim.geometry.gear import Material
 from gearsim.geometry.planetary import PlanetaryStage
+from gearsim.model.damage import parse_cracks, parse_faults
 from gearsim.sections import as_written, convert
 from gearsim.signals.settings import AnalysisSettings, parse_analysis
-from gearsim.stiffness.crack import Crack
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.system import GearTrain
 from gearsim.system.planetary import PlanetaryTrain, StageOperating
@@ -147,7 +149,8 @@ class PlanetaryBox:
                                                                    faults=()), chain=chain)
 
 
-def parse_planetary(doc: dict[str, Any], material: Material) -> PlanetaryBox:
+def parse_planetary(doc: dict[str, Any], material: Material,
+                    parse_train: Callable[[dict[str, Any]], Any]) -> PlanetaryBox:
     """Build a :class:`PlanetaryBox` from a parsed TOML document with a ``[stage]``.
 
     Parameters
@@ -156,6 +159,8 @@ def parse_planetary(doc: dict[str, Any], material: Material) -> PlanetaryBox:
         The document.
     material : Material
         The parsed ``[material]``.
+    parse_train : callable
+        The gear-train parser (:func:`gearsim.model.config.parse`), for a ``[chain]``.
 
     Returns
     -------
@@ -189,25 +194,10 @@ def parse_planetary(doc: dict[str, Any], material: Material) -> PlanetaryBox:
         "gauss_points": "int", "plane": "str", "source": "str", "contact": "str",
         "coupling": "str"}, "stiffness")
     stiffness = StiffnessSettings(**stiffness_kw)
-    cracks_raw = doc.get("cracks", [])
-    if not isinstance(cracks_raw, list) or not all(isinstance(t, dict) for t in cracks_raw):
-        raise InputError("cracks", cracks_raw, "must be an array of tables [[cracks]]")
-    cracks = []
-    from gearsim.model.config import CRACK_KEYS
-
-    for i, table in enumerate(cracks_raw):
-        ckw = convert(table, CRACK_KEYS, f"cracks[{i}]")
-        if "gear" not in ckw:
-            raise InputError(f"cracks[{i}].gear", "missing",
-                             "name the cracked gear (sun, planet-1 ...)")
-        with as_written(table, "crack", CRACK_KEYS, sources=[(f"cracks[{i}]", table)],
-                        default=f"cracks[{i}]"):
-            cracks.append(Crack(**ckw))
+    cracks = parse_cracks(doc.get("cracks", []))
     name = doc.get("name", "planetary stage")
     if not isinstance(name, str):
         raise InputError("name", name, "must be a string")
-    from gearsim.model.config import parse_faults
-
     faults = parse_faults(doc.get("faults", []))
     train = PlanetaryTrain(stage=stage, operating=operating, settings=stiffness,
                            cracks=tuple(cracks), name=name, faults=faults, **consts)
@@ -222,19 +212,16 @@ def parse_planetary(doc: dict[str, Any], material: Material) -> PlanetaryBox:
                             sensor_width=sen.get("width", math.pi), **groups)
     dynamics = parse_dynamics(doc.get("dynamics", {}), "dynamics")
     analysis = parse_analysis(doc.get("analysis", {}), "analysis")
-    chain, shaft = (_parse_chain(doc["chain"], doc.get("material", {}), train)
+    chain, shaft = (_parse_chain(doc["chain"], doc.get("material", {}), train, parse_train)
                     if "chain" in doc else (None, None))
     return PlanetaryBox(train=train, members=members, dynamics=dynamics, analysis=analysis,
                         chain=chain, shaft_stiffness=shaft)
 
 
-def _parse_chain(raw: Any, material: Any, train: PlanetaryTrain
+def _parse_chain(raw: Any, material: Any, train: PlanetaryTrain, parse: Callable
                  ) -> tuple[GearTrain, float | None]:
     """The ``[chain]`` of a stage: a gear train at the stage output's operating point."""
     import dataclasses
-
-    from gearsim.dynamics.compose import chain_operating
-    from gearsim.model.config import parse
 
     if not isinstance(raw, dict):
         raise InputError("chain", raw, "must be a table [chain]")

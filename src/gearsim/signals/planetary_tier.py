@@ -24,8 +24,12 @@ held, three groups of quantities are computed from one record:
 3. **Separated averages** of every planet and of the sun (McFadden 1991;
    :mod:`gearsim.signals.planet_tsa`), Hann windows of ``gcd(z_r, z_p)`` teeth (the
    fewest that reach every planet tooth), when the record holds the carrier revolutions
-   that needs; for each the RMS and the kurtosis of the mean-removed average. A local
-   tooth fault shows as one planet (or the sun) with the largest kurtosis.
+   that needs; for each the RMS of the average and its FM4 (Stewart 1977: the kurtosis
+   of the difference signal, the average without its mesh harmonics k z and their first
+   sidebands k z +- 1, in orders per member revolution; about 3 when healthy). A local
+   tooth fault shows as the planet (or the sun) of largest FM4, provided the sensor hears
+   mainly the planet passing it (McFadden's premise; a wide transfer-path window lets
+   the other planets in).
 
 The carrier angle is zero at the start of the record unless a phase is given (a gearsim
 stage result stores its carrier angle, and the planets are numbered from it).

@@ -48,11 +48,12 @@ from gearsim.errors import require
 from gearsim.geometry.planetary import PlanetaryStage
 from gearsim.geometry.profile import ToothProfile
 from gearsim.stiffness.mesh import COMPONENTS, MeshStiffness, assemble_revolution, slice_grid
+from gearsim.stiffness.ring import RingToothModel
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCrack
 from gearsim.stiffness.tooth import hertz_stiffness
 
-__all__ = ["InternalMesh", "internal_mesh_stiffness"]
+__all__ = ["InternalMesh", "check_internal_settings", "internal_mesh_stiffness"]
 
 
 @dataclass(frozen=True)
@@ -139,6 +140,27 @@ class InternalMesh:
                 np.hypot(self.stage.ring.base_radius, s + self.offset))
 
 
+def check_internal_settings(settings: StiffnessSettings) -> None:
+    """Refuse the stiffness options the internal mesh does not model.
+
+    Parameters
+    ----------
+    settings : StiffnessSettings
+        The options.
+
+    Raises
+    ------
+    InputError
+        Unless ``contact = "yang-lin"``, ``coupling = "none"`` and ``source = "pe"``.
+    """
+    require(settings.contact == "yang-lin", "stiffness.contact", settings.contact,
+            'the internal (ring-planet) mesh has the Yang-Lin contact only: use "yang-lin"')
+    require(settings.coupling == "none", "stiffness.coupling", settings.coupling,
+            'the internal (ring-planet) mesh has no body coupling: use "none"')
+    require(settings.source == "pe", "stiffness.source", settings.source,
+            'the internal (ring-planet) mesh has the potential-energy tooth only: use "pe"')
+
+
 def internal_mesh_stiffness(stage: PlanetaryStage, *, cracks: tuple[ToothCrack, ...] = (),
                             settings: StiffnessSettings | None = None,
                             revolution_of: int = 1, ring_foundation: str = "none",
@@ -196,15 +218,8 @@ def internal_mesh_stiffness(stage: PlanetaryStage, *, cracks: tuple[ToothCrack, 
     >>> ms.k.size, round(ms.mean / 1e9, 2)
     (480, 0.63)
     """
-    from gearsim.stiffness.ring import RingToothModel
-
     settings = settings or StiffnessSettings()
-    require(settings.contact == "yang-lin", "stiffness.contact", settings.contact,
-            'the internal (ring-planet) mesh has the Yang-Lin contact only: use "yang-lin"')
-    require(settings.coupling == "none", "stiffness.coupling", settings.coupling,
-            'the internal (ring-planet) mesh has no body coupling: use "none"')
-    require(settings.source == "pe", "stiffness.source", settings.source,
-            'the internal (ring-planet) mesh has the potential-energy tooth only: use "pe"')
+    check_internal_settings(settings)
     require(revolution_of in (1, 2), "revolution_of", revolution_of, "must be 1 or 2")
     planet, ring = stage.planet, stage.ring
     for tc in cracks:

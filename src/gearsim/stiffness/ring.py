@@ -131,7 +131,12 @@ import numpy as np
 from gearsim.errors import require
 from gearsim.geometry.gear import Material, inv
 from gearsim.geometry.planetary import RingGear
-from gearsim.stiffness.tooth import gauss_rule, sainsot_coefficients, sainsot_range_check
+from gearsim.stiffness.tooth import (
+    beam_moduli,
+    gauss_rule,
+    sainsot_coefficients,
+    sainsot_range_check,
+)
 
 __all__ = ["FOUNDATIONS", "PIECES", "RING_H_F", "RingToothModel"]
 
@@ -255,11 +260,7 @@ class RingToothModel:
     @property
     def beam_moduli(self) -> tuple[float, float]:
         """(E_eff, G) of the beam terms [Pa]: E or E / (1 - nu^2), and G."""
-        mat = self.material
-        e = mat.youngs_modulus
-        if self.plane == "strain":
-            e = e / (1.0 - mat.poisson_ratio**2)
-        return e, mat.shear_modulus
+        return beam_moduli(self.material, self.plane)
 
     @cached_property
     def sainsot(self) -> np.ndarray:

@@ -37,6 +37,7 @@ __all__ = [
     "SAINSOT",
     "SAINSOT_RANGE",
     "ToothModel",
+    "beam_moduli",
     "gauss_rule",
     "hertz_stiffness",
     "line_contact_compliance",
@@ -273,6 +274,26 @@ def gauss_rule(n: int) -> tuple[np.ndarray, np.ndarray]:
     return x, w
 
 
+def beam_moduli(material, plane: str) -> tuple[float, float]:
+    """(E_eff, G) of the beam energies of a tooth [Pa].
+
+    Parameters
+    ----------
+    material : Material
+        The tooth's material.
+    plane : {"stress", "strain"}
+        Plane assumption: E, or E / (1 - nu^2) in plane strain.
+
+    Returns
+    -------
+    tuple of float
+        E_eff and the shear modulus G [Pa].
+    """
+    e = material.youngs_modulus
+    if plane == "strain":
+        e = e / (1.0 - material.poisson_ratio**2)
+    return e, material.shear_modulus
+
 @dataclass(frozen=True)
 class ToothModel:
     """Everything the compliance kernel needs for one gear.
@@ -332,11 +353,7 @@ class ToothModel:
     @property
     def beam_moduli(self) -> tuple[float, float]:
         """(E_eff, G) of the beam terms [Pa]."""
-        mat = self.gear.material
-        e = mat.youngs_modulus
-        if self.plane == "strain":
-            e = e / (1.0 - mat.poisson_ratio**2)
-        return e, mat.shear_modulus
+        return beam_moduli(self.gear.material, self.plane)
 
     @cached_property
     def sainsot(self) -> np.ndarray:

@@ -59,10 +59,18 @@ from gearsim.geometry.profile import ToothProfile
 from gearsim.stiffness.contacts import ContactGrid, contact_grid
 from gearsim.stiffness.crack import Crack, crack_geometry
 from gearsim.stiffness.faults import BrokenTooth, ChippedTip, Pitting, Spall, Wear
-from gearsim.stiffness.internal import InternalMesh, internal_mesh_stiffness
+from gearsim.stiffness.internal import (
+    InternalMesh,
+    check_internal_settings,
+    internal_mesh_stiffness,
+)
+from gearsim.stiffness.iso6336 import internal_mean_mesh_stiffness, mean_mesh_stiffness
 from gearsim.stiffness.mesh import MeshStiffness, mesh_stiffness
+from gearsim.stiffness.ring import RingToothModel
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.stiffness.source import ToothCrack
+from gearsim.system.faults import mesh_flanks
+from gearsim.system.train import GearTrain, tooth_compliance
 
 __all__ = ["MEMBERS", "PhasedTable", "PlanetaryTrain", "StageOperating", "planet_name",
            "stage_stiffness"]
@@ -276,8 +284,6 @@ class PlanetaryTrain:
             require(c.tooth < z, "crack.tooth", c.tooth, f"must be < {z} (teeth of {c.gear})")
             # the crack must fit its tooth (refused here, before any table is computed)
             if c.gear == "ring":
-                from gearsim.stiffness.ring import RingToothModel
-
                 q_max = RingToothModel(st.ring).max_crack_depth(c.angle)
                 require(c.depth < q_max, "crack.depth", c.depth,
                         f"must be < {q_max:.6g} m on the ring: a ring crack ends before the "
@@ -339,13 +345,7 @@ class PlanetaryTrain:
             require(self.sun_mesh_stiffness is None, "stage.sun_mesh_stiffness",
                     self.sun_mesh_stiffness, "a constant mesh stiffness cannot carry faults")
         if self.ring_mesh_stiffness is None:
-            s = self.settings
-            require(s.source == "pe", "stiffness.source", s.source,
-                    'a planetary stage has the potential-energy tooth only: use "pe"')
-            require(s.contact == "yang-lin", "stiffness.contact", s.contact,
-                    'the ring-planet mesh has the Yang-Lin contact only: use "yang-lin"')
-            require(s.coupling == "none", "stiffness.coupling", s.coupling,
-                    'the ring-planet mesh has no body coupling: use "none"')
+            check_internal_settings(self.settings)
             InternalMesh(st)  # tip interference of the internal pair
 
     # ----------------------------------------------------------------- kinematics
@@ -469,9 +469,6 @@ class PlanetaryTrain:
         """Mesh of contacts of the sun-planet mesh of the faulted member (key), if any."""
         if not (self.faults or self.contacts):
             return {}
-        from gearsim.system.faults import mesh_flanks
-        from gearsim.system.train import GearTrain, tooth_compliance
-
         pair, s = self.sun_pair, self.settings
         healthy = contact_grid(pair, settings=s, compliance=tooth_compliance(s.source),
                                corner=s.corner_contact)
@@ -607,8 +604,6 @@ def stage_stiffness(train: PlanetaryTrain) -> tuple[dict, object]:
         ``k_<mesh>`` over ``cycles_<mesh>`` (the forward tables, one period each).
     """
     import xarray as xr
-
-    from gearsim.stiffness.iso6336 import internal_mean_mesh_stiffness, mean_mesh_stiffness
 
     st = train.stage
     iso = {"sun": mean_mesh_stiffness(train.sun_pair), "ring": internal_mean_mesh_stiffness(st)}

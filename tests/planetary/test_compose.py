@@ -176,8 +176,9 @@ def test_bad_chain_input() -> None:
     wrong = dataclasses.replace(ch, operating=dataclasses.replace(ch.operating, torque=1.0))
     with pytest.raises(InputError, match="chain.operating.torque"):
         build_stage_chain_model(tr, wrong)
-    with pytest.raises(InputError, match="chain.shaft_stiffness"):
-        build_stage_chain_model(tr, ch, shaft_stiffness=-1.0)
+    for bad in (-1.0, 0.0, math.inf, math.nan):
+        with pytest.raises(InputError, match="chain.shaft_stiffness"):
+            build_stage_chain_model(tr, ch, shaft_stiffness=bad)
     with pytest.raises(InputError, match="twice the higher mesh frequency"):
         simulate_stage_chain(tr, ch, settings=DynamicsSettings(fs=700.0))
 
@@ -222,6 +223,10 @@ def test_config_and_cli(capsys, tmp_path) -> None:
 @pytest.mark.parametrize("extra,parameter", [
     ('[chain]\nspeed = "100 rpm"\n', "chain.speed"),
     ('[chain]\nshaft_stiffness = "-1 N*m/rad"\n[[chain.gears]]\nteeth = 30\n'
+     '[[chain.gears]]\nteeth = 40\n', "chain.shaft_stiffness"),
+    ('[chain]\nshaft_stiffness = "inf N*m/rad"\n[[chain.gears]]\nteeth = 30\n'
+     '[[chain.gears]]\nteeth = 40\n', "chain.shaft_stiffness"),
+    ('[chain]\nshaft_stiffness = "nan N*m/rad"\n[[chain.gears]]\nteeth = 30\n'
      '[[chain.gears]]\nteeth = 40\n', "chain.shaft_stiffness"),
     ('[chain]\n[chain.common]\nnormal_module = "2 mm"\n[[chain.gears]]\nteeth = 3\n'
      '[[chain.gears]]\nteeth = 40\n', "chain.gears[0].teeth"),

@@ -16,6 +16,7 @@ import pytest
 
 from gearsim import cli
 from gearsim.dynamics.settings import DynamicsSettings
+from gearsim.errors import InputError
 from gearsim.dynamics.stage import StageDynamics, simulate_stage
 from gearsim.geometry.planetary import PlanetaryStage
 from gearsim.signals.planetary_tier import StageSpec, planetary_tier
@@ -151,7 +152,34 @@ def test_cli_stage_option_refusals(capsys, tmp_path) -> None:
     f = tmp_path / "r.csv"
     f.write_text("# fs: 1000\nx\n" + "\n".join(str(math.sin(i)) for i in range(2000)))
     for args, msg in (([f, "--stage", "21,39,99"], "must be ZS,ZP,ZR,N"),
+                      ([f, "--stage", "21,39,nan,3"], "must be ZS,ZP,ZR,N"),
+                      ([f, "--stage", "21,39,inf,3"], "must be ZS,ZP,ZR,N"),
+                      ([f, "--stage", "21,0,99,3"], "must be ZS,ZP,ZR,N"),
                       ([f, "--stage", "21,39,99,3"], "needs the carrier speed")):
         code = cli.run(["analyze", *map(str, args)])
         err = capsys.readouterr().err
         assert code == 2 and msg in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("kw,parameter", [
+    (dict(carrier_frequency=math.nan), "carrier frequency"),
+    (dict(carrier_frequency=math.inf), "carrier frequency"),
+    (dict(carrier_frequency=-5.0), "carrier frequency"),
+    (dict(carrier_frequency=5.0, carrier_phase=math.nan), "carrier_phase"),
+    (dict(carrier_frequency=5.0, sensor_angle=math.inf), "sensor_angle"),
+])
+def test_bad_stage_spec_refused(kw, parameter) -> None:
+    with pytest.raises(InputError) as err:
+        StageSpec(30, 24, 78, 4, **kw)
+    assert err.value.parameter == parameter
+
+
+@pytest.mark.parametrize("fs", [math.nan, math.inf, 0.0])
+def test_bad_rate_refused(fs) -> None:
+    with pytest.raises(InputError):
+        planetary_tier(np.ones(100), fs, StageSpec(30, 24, 78, 4, carrier_frequency=5.0))
+
+
+def test_mesh_above_nyquist_refused() -> None:
+    with pytest.raises(InputError, match="Nyquist"):
+        planetary_tier(np.ones(1000), 500.0, StageSpec(30, 24, 78, 4, carrier_frequency=5.0))

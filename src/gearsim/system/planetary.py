@@ -608,7 +608,8 @@ def stage_stiffness(train: PlanetaryTrain) -> tuple[dict, object]:
     st = train.stage
     iso = {"sun": mean_mesh_stiffness(train.sun_pair), "ring": internal_mean_mesh_stiffness(st)}
     meshes, data = [], {}
-    for t in train.tables():
+    tables = train.tables()
+    for t in tables:
         kind = t.mesh.split("-")[0]
         k = t.table.k
         meshes.append({"mesh": t.mesh, "k_mean": float(np.mean(t.k)), "k_min": float(t.k.min()),
@@ -617,7 +618,7 @@ def stage_stiffness(train: PlanetaryTrain) -> tuple[dict, object]:
                        "ratio_to_iso6336": float(np.mean(t.k)) / iso[kind]})
         data[f"k_{t.mesh}"] = (f"cycles_{t.mesh}", k, {"units": "N/m"})
     coords = {f"cycles_{t.mesh}": (f"cycles_{t.mesh}", t.table.cycles, {"units": "1"})
-              for t in train.tables()}
+              for t in tables}
     ds = xr.Dataset(data, coords=coords, attrs={"kind": "planetary", "name": train.name,
                                                 "mesh_frequency": train.mesh_frequency})
     summary = {"kind": "planetary", "name": train.name, "meshes": meshes,

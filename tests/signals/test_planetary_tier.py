@@ -16,8 +16,8 @@ import pytest
 
 from gearsim import cli
 from gearsim.dynamics.settings import DynamicsSettings
-from gearsim.errors import InputError
 from gearsim.dynamics.stage import StageDynamics, simulate_stage
+from gearsim.errors import InputError
 from gearsim.geometry.planetary import PlanetaryStage
 from gearsim.signals.planetary_tier import StageSpec, planetary_tier
 from gearsim.signals.tiers import analyze_record

@@ -39,8 +39,10 @@ $(STAMP): pyproject.toml constraints.txt
 run: sysdeps
 	$(BIN)/gearsim reproduce --out $(OUT)
 
+# Every core (pytest-xdist, work stealing: the FE and sweep tests are long); the 20 slowest
+# tests are printed at the end.
 test: sysdeps browser
-	$(BIN)/python -m pytest -q tests --doctest-modules src/gearsim
+	$(BIN)/python -m pytest -q -n auto --dist worksteal --durations=20 tests --doctest-modules src/gearsim
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks

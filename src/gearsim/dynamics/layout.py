@@ -56,27 +56,30 @@ import numpy as np
 from gearsim.errors import InputError
 from gearsim.system import GearTrain
 
-__all__ = ["Layout", "layout"]
+__all__ = ["Layout", "idlers", "layout"]
 
 
 @dataclass(frozen=True)
 class Layout:
-    """Planar layout of a chain (conventions in the module docstring).
+    """Planar layout of a gearbox (conventions in the module docstring).
 
     Parameters
     ----------
-    centres : ndarray, shape (n_gears, 2)
-        Gear centres in the global axes [m]; gear 0 at the origin.
-    senses : ndarray, shape (n_gears,)
-        Sense of rotation s_j = (-1)^j (+1: counter-clockwise) [-].
+    centres : ndarray, shape (n_shafts, 2)
+        Shaft centres in the global axes [m]; the input shaft at the origin.
+    senses : ndarray, shape (n_shafts,)
+        Sense of rotation s_j of each shaft (+1: counter-clockwise) [-].
     line_angle : ndarray, shape (n_meshes,)
-        Global angle phi_i of centre line i, from gear i to gear i+1 [rad]; phi_0 = 0.
+        Global angle phi_i of centre line i, from the driver's shaft to the driven
+        gear's [rad]; phi_0 = 0.
     normal : ndarray, shape (n_meshes, 2)
         Unit vector n_i of the transverse line of action of mesh i, pointing along the
         force on the driven gear [-].
     phase : ndarray, shape (n_meshes,)
-        Offset of the cycle coordinate of each mesh against mesh 0 (cumulative sum of
-        the Delta_j of the module docstring; phase[0] = 0) [mesh cycles].
+        Offset of the cycle coordinate of each mesh [mesh cycles]: through an idler the
+        cumulative Delta_j of the module docstring; 0 for a mesh whose driver was not
+        driven in an earlier mesh (the first mesh of each shaft: tooth 0 of every gear
+        of a shaft enters contact at t = 0).
     """
 
     centres: np.ndarray
@@ -86,22 +89,42 @@ class Layout:
     phase: np.ndarray
 
 
-def layout(train: GearTrain, idler_angles: tuple[float, ...]) -> Layout:
-    """Centres, line-of-action vectors and mesh phases of ``train``.
-
-    Centre line i has the global angle ``phi_i = phi_{i-1} + pi + s_i gamma_i`` (phi_0 =
-    0), the line of action ``n_i = s_i cos(alpha_wt) e_perp + sin(alpha_wt) e`` and the
-    mesh phase ``c_i = c_{i-1} + Delta_i`` with Delta_i of the module docstring (derived
-    there; the idler phase is the fractional part of z gamma / (2 pi) as in Parker & Lin
-    2004, applied to an idler train as in Kahraman 1994).
+def idlers(train: GearTrain) -> list[str]:
+    """Names of the idlers: gears driven in one mesh and driving the next.
 
     Parameters
     ----------
     train : GearTrain
-        The gear chain (gear i drives gear i+1).
+        The gearbox.
+
+    Returns
+    -------
+    list of str
+        In power-flow order (the order of ``dynamics.idler_angle``).
+    """
+    return [g.name for g in train.gears if len(train.flow.meshes_of(g.name)) == 2
+            and len(train.flow.shafts[train.flow.shaft_of[g.name]].gears) == 1]
+
+
+def layout(train: GearTrain, idler_angles: tuple[float, ...]) -> Layout:
+    """Centres, line-of-action vectors and mesh phases of ``train``.
+
+    Centre line i has the global angle given in ``[[meshes]]``, or through an idler
+    ``phi_i = phi_{i-1} + pi + s_i gamma_i``, or else the angle of the line that brought
+    power to the driver's shaft (0 on the input shaft: the shafts in a row); the line of
+    action ``n_i = s_i cos(alpha_wt) e_perp + sin(alpha_wt) e`` (s_i the driver's
+    sense) and, through an idler, the mesh phase ``c_i = c_{i-1} + Delta_i`` with
+    Delta_i of the module docstring (derived there; the idler phase is the fractional
+    part of z gamma / (2 pi) as in Parker & Lin 2004, applied to an idler train as in
+    Kahraman 1994).
+
+    Parameters
+    ----------
+    train : GearTrain
+        The gearbox (its power flow orients the meshes).
     idler_angles : tuple of float
-        Idler angle gamma_j for each idler j = 1 .. n_gears-2 [rad] (see the module
-        docstring); pi puts the three centres on a line. Empty for a single pair.
+        Idler angle gamma_j for each idler (:func:`idlers`) [rad] (see the module
+        docstring); pi puts the three centres on a line. Empty without idlers.
 
     Returns
     -------
@@ -112,8 +135,8 @@ def layout(train: GearTrain, idler_angles: tuple[float, ...]) -> Layout:
     Raises
     ------
     InputError
-        (parameter ``dynamics.idler_angle``) if two gears that are not in mesh would
-        overlap (centre distance <= sum of their tip radii).
+        (parameter ``dynamics.idler_angle``) if two gears on single-gear shafts that are
+        not in mesh would overlap (centre distance <= sum of their tip radii).
 
     References
     ----------
@@ -137,37 +160,49 @@ def layout(train: GearTrain, idler_angles: tuple[float, ...]) -> Layout:
     >>> round(float(lay.phase[1]), 3)
     -28.958
     """
-    gears, pairs = train.gears, train.pairs
-    ng = len(gears)
-    senses = np.array([(-1.0) ** j for j in range(ng)])
-    phi = np.zeros(ng - 1)
-    centres = np.zeros((ng, 2))
-    normal = np.zeros((ng - 1, 2))
-    phase = np.zeros(ng - 1)
+    fl, pairs = train.flow, train.pairs
+    ns, nm = len(fl.shafts), len(pairs)
+    senses = np.array(fl.sense, dtype=float)
+    phi = np.zeros(nm)
+    centres = np.zeros((ns, 2))
+    normal = np.zeros((nm, 2))
+    phase = np.zeros(nm)
+    gamma_of = dict(zip(idlers(train), idler_angles, strict=False))
+    into: dict[int, int] = {}  # shaft -> the mesh that drives it
     for i, pair in enumerate(pairs):
-        if i > 0:
-            phi[i] = phi[i - 1] + math.pi + senses[i] * idler_angles[i - 1]
+        a, b = fl.shaft_of[pair.driver.name], fl.shaft_of[pair.driven.name]
+        prev = into.get(a)
+        idler = pair.driver.name in gamma_of
+        if fl.angles[i] is not None:
+            phi[i] = fl.angles[i]
+        elif prev is not None:
+            phi[i] = phi[prev] + (math.pi + senses[a] * gamma_of[pair.driver.name]
+                                  if idler else 0.0)
         e = np.array([math.cos(phi[i]), math.sin(phi[i])])
         ep = np.array([-e[1], e[0]])
         aw = pair.working_pressure_angle
-        normal[i] = senses[i] * math.cos(aw) * ep + math.sin(aw) * e
-        centres[i + 1] = centres[i] + pair.centre_distance * e
-        if i > 0:
-            prev = pairs[i - 1]
-            idler = gears[i]
-            pb = pair.base_pitch
-            gamma = idler_angles[i - 1]
-            delta = idler.teeth / (2 * math.pi) * (
-                2 * idler.base_half_thickness_angle + prev.working_pressure_angle + aw - gamma)
-            delta -= (prev.line_length - prev.start_of_contact) / prev.base_pitch
-            delta -= pair.start_of_contact / pb
-            phase[i] = phase[i - 1] + delta
-    for a in range(ng):
-        for b in range(a + 2, ng):
-            d = float(np.hypot(*(centres[b] - centres[a])))
-            lim = gears[a].tip_radius + gears[b].tip_radius
+        normal[i] = senses[a] * math.cos(aw) * ep + math.sin(aw) * e
+        centres[b] = centres[a] + pair.centre_distance * e
+        if idler:
+            pp, g = pairs[prev], pair.driver
+            gamma = gamma_of[g.name] if fl.angles[i] is None else \
+                senses[a] * (phi[i] - phi[prev] - math.pi)
+            delta = g.teeth / (2 * math.pi) * (
+                2 * g.base_half_thickness_angle + pp.working_pressure_angle + aw - gamma)
+            delta -= (pp.line_length - pp.start_of_contact) / pp.base_pitch
+            delta -= pair.start_of_contact / pair.base_pitch
+            phase[i] = phase[prev] + delta
+        into[b] = i
+    single = [g for g in train.gears if len(fl.shafts[fl.shaft_of[g.name]].gears) == 1]
+    meshed = set(fl.meshes)
+    for j, ga in enumerate(single):
+        for gb in single[j + 1:]:
+            if (ga.name, gb.name) in meshed or (gb.name, ga.name) in meshed:
+                continue
+            d = float(np.hypot(*(centres[fl.shaft_of[gb.name]] - centres[fl.shaft_of[ga.name]])))
+            lim = ga.tip_radius + gb.tip_radius
             if d <= lim:
                 raise InputError("dynamics.idler_angle", [math.degrees(g) for g in idler_angles],
-                                 f"puts {gears[a].name} and {gears[b].name} {d:.6g} m apart, "
+                                 f"puts {ga.name} and {gb.name} {d:.6g} m apart, "
                                  f"closer than their tip radii sum {lim:.6g} m")
     return Layout(centres=centres, senses=senses, line_angle=phi, normal=normal, phase=phase)

@@ -54,7 +54,7 @@ import math
 
 import numpy as np
 
-from gearsim.dynamics.layout import layout
+from gearsim.dynamics.layout import idlers, layout
 from gearsim.dynamics.model import DynamicModel, static_equilibrium
 from gearsim.dynamics.settings import DynamicsSettings
 from gearsim.dynamics.tables import MeshTable, centre_distance_derivative, mesh_tables
@@ -200,7 +200,7 @@ def ste_harmonics(train: GearTrain, settings: DynamicsSettings, phase: np.ndarra
         amp[i, 0] = pm[i]
         om[i, 0] = 2 * math.pi * fm
         ph[i, 0] = 2 * math.pi * phase[i] + 0.5 * math.pi
-        for col, j in ((1, i), (2, i + 1)):
+        for col, j in ((1, _gi(train, i, 0)), (2, _gi(train, i, 1))):
             sgn = signs[i, col - 1]
             amp[i, col] = ro[j]
             om[i, col] = senses[j] * train.speed(j)
@@ -230,7 +230,7 @@ def centre_distance_harmonics(train: GearTrain, settings: DynamicsSettings,
     settings : DynamicsSettings
         ``runout`` [m] and ``runout_phase`` [rad] per gear.
     centres : ndarray, shape (n_gears, 2)
-        Gear centres of the layout [m].
+        Gear centres (their shafts' in the layout) [m].
     senses : ndarray, shape (n_gears,)
         Sense of rotation of each gear [-].
     signs : ndarray, shape (n_mesh, 2)
@@ -253,93 +253,182 @@ def centre_distance_harmonics(train: GearTrain, settings: DynamicsSettings,
     om = np.zeros((nm, 2))
     ph = np.zeros((nm, 2))
     for i in range(nm):
-        d = centres[i + 1] - centres[i]
+        j1, j2 = _gi(train, i, 0), _gi(train, i, 1)
+        d = centres[j2] - centres[j1]
         ang = math.atan2(d[1], d[0])
-        for col, j in ((0, i), (1, i + 1)):
+        for col, j in ((0, j1), (1, j2)):
             amp[i, col] = ro[j]
             om[i, col] = senses[j] * train.speed(j)
             ph[i, col] = rph[j] - ang - signs[i, col] * 0.5 * math.pi
     return amp, om, ph
 
 
+def _gi(train: GearTrain, mesh: int, which: int) -> int:
+    """Index of the driver (``which`` 0) or driven gear (1) of ``mesh`` in ``train.gears``."""
+    return train.gear_index(train.flow.meshes[mesh][which])
+
+
+def dof_map(train: GearTrain, model: str) -> tuple[list[str], dict, np.ndarray]:
+    """Coordinates of a gearbox: labels, rotation coordinate of each gear, bearings.
+
+    Each shaft has the translations x, y, z of its centre (``model = "lta"``) and one
+    rotation for a rigid shaft, or one per gear when it has a torsional stiffness.
+
+    Parameters
+    ----------
+    train : GearTrain
+        The gearbox.
+    model : {"lta", "torsional"}
+        Fidelity level.
+
+    Returns
+    -------
+    labels : list of str
+        ``"<shaft>.x"`` ... ``"<shaft>.theta"`` or ``"<gear>.theta"``.
+    theta : dict
+        Gear name -> index of its rotation coordinate.
+    bearing_dofs : ndarray of int, shape (n_shafts, 3 or 0)
+        Translations of each shaft.
+    """
+    labels: list[str] = []
+    theta: dict[str, int] = {}
+    bearings = []
+    for sh in train.flow.shafts:
+        if model == "lta":
+            bearings.append([len(labels) + a for a in range(3)])
+            labels += [f"{sh.name}.{a}" for a in AXES]
+        if sh.torsional_stiffness is None or len(sh.gears) == 1:
+            theta.update({g: len(labels) for g in sh.gears})
+            labels.append(f"{sh.name}.theta")
+        else:
+            for g in sh.gears:
+                theta[g] = len(labels)
+                labels.append(f"{g}.theta")
+    return labels, theta, np.array(bearings, dtype=np.int64).reshape(len(train.flow.shafts), -1)
+
+
 def build_lta(train: GearTrain, settings: DynamicsSettings | None = None, *,
               tables: tuple[MeshTable, ...] | None = None) -> DynamicModel:
-    """Assemble the LTA equations of motion of ``train``.
+    """Assemble the equations of motion of a gearbox from its shafts, gears and meshes.
+
+    ``settings.model = "lta"``: lateral-torsional-axial (module docstring);
+    ``"torsional"``: the rotations only (the mesh rows keep their base-radius entries,
+    the bearings and the lateral coupling go). Each element adds its rows: a shaft its
+    mass, inertia and bearings (diagonal), a shaft with a torsional stiffness k_t one
+    spring row per pair of consecutive gears, theta_a - theta_b, with a constant table
+    and damping 2 zeta_b sqrt(k_t J_eq) (``bearing_damping_ratio``), a mesh its
+    projection vector V_i. The axial entry of a mesh is sigma tan(beta_b)(z_drv - z_dvn)
+    with sigma = h s the driver's hand (sign of its helix angle) times its sense: the
+    thrusts of a mesh are opposite on its two gears, in the direction set by the
+    driver's hand and rotation (+1 on every mesh of a chain of external gears).
 
     Parameters
     ----------
     train
-        Gear chain with operating point and cracks.
+        Gearbox with operating point and cracks.
     settings
-        Dynamics options (bearings, damping, backlash, layout, STE).
+        Dynamics options (fidelity, bearings, damping, backlash, layout, STE).
     tables
         Precomputed stiffness tables (default: :func:`mesh_tables`).
 
     Returns
     -------
     DynamicModel
-        Coordinates ``(x, y, z, theta)`` per gear [m, rad]; forces [N], torques [N m].
+        Coordinates of :func:`dof_map` [m, rad]; forces [N], torques [N m]; rows: the
+        meshes, then the shaft springs (``info["shaft_rows"]``).
     """
     settings = settings or DynamicsSettings()
     tables = tables or mesh_tables(train)
-    gears, pairs = train.gears, train.pairs
-    ng, nm = len(gears), len(pairs)
-    n = 4 * ng
-    lay = layout(train, settings.per_item("idler_angle", ng - 2, "idler") if ng > 2 else ())
+    gears, pairs, fl = train.gears, train.pairs, train.flow
+    lateral = settings.model == "lta"
+    labels, theta, bearing_dofs = dof_map(train, settings.model)
+    n, nm = len(labels), len(pairs)
+    n_id = len(idlers(train))
+    lay = layout(train, settings.per_item("idler_angle", n_id, "idler") if n_id else ())
     mass = np.zeros(n)
     kb = np.zeros(n)
     cb = np.zeros(n)
-    kr = settings.bearing_stiffness
-    ka = settings.bearing_axial_stiffness or kr
-    labels = []
-    for j, g in enumerate(gears):
-        mass[4 * j:4 * j + 3] = g.mass
-        mass[4 * j + 3] = g.polar_inertia
-        kb[4 * j:4 * j + 3] = (kr, kr, ka)
-        for a, k in enumerate((kr, kr, ka)):
-            cb[4 * j + a] = (settings.bearing_damping if settings.bearing_damping is not None
-                             else 2 * settings.bearing_damping_ratio * math.sqrt(k * g.mass))
-        labels += [f"{g.name}.x", f"{g.name}.y", f"{g.name}.z", f"{g.name}.theta"]
-    V = np.zeros((nm, n))
+    springs = []  # (gear a, gear b, k_t, shaft)
+    for s_i, sh in enumerate(fl.shafts):
+        gs_ = [train.gear(g) for g in sh.gears]
+        rot = sorted({theta[g] for g in sh.gears})
+        for g in gs_:
+            mass[theta[g.name]] += g.polar_inertia
+        mass[rot] += sh.inertia / len(rot)
+        springs += [(a, b, sh.torsional_stiffness, sh) for a, b in
+                    zip(sh.gears, sh.gears[1:], strict=False) if theta[a] != theta[b]]
+        if not lateral:
+            continue
+        m = sh.mass + sum(g.mass for g in gs_)
+        kr = sh.bearing_stiffness or settings.bearing_stiffness
+        ka = sh.axial_stiffness or settings.bearing_axial_stiffness or kr
+        for a, k in zip(bearing_dofs[s_i], (kr, kr, ka), strict=True):
+            mass[a], kb[a] = m, k
+            cb[a] = (settings.bearing_damping if settings.bearing_damping is not None
+                     else 2 * settings.bearing_damping_ratio * math.sqrt(k * m))
+    rows = nm + len(springs)
+    V = np.zeros((rows, n))
     for i, pair in enumerate(pairs):
-        nx, ny = lay.normal[i]
-        tb = math.tan(pair.driver.base_helix_angle)
-        a, b = 4 * i, 4 * (i + 1)
-        V[i, a:a + 4] = (nx, ny, tb, pair.driver.base_radius)
-        V[i, b:b + 4] = (-nx, -ny, -tb, -pair.driven.base_radius)
+        drv, dvn = pair.driver, pair.driven
+        V[i, theta[drv.name]] = drv.base_radius
+        V[i, theta[dvn.name]] = -dvn.base_radius
+        if lateral:
+            a, b = bearing_dofs[fl.shaft_of[drv.name]], bearing_dofs[fl.shaft_of[dvn.name]]
+            sigma = math.copysign(1.0, drv.helix_angle) * lay.senses[fl.shaft_of[drv.name]]
+            tb = sigma * math.tan(drv.base_helix_angle)
+            V[i, a] = (*lay.normal[i], tb)
+            V[i, b] = (*(-lay.normal[i]), -tb)
+    for r, (a, b, _, _) in enumerate(springs, start=nm):
+        V[r, theta[a]], V[r, theta[b]] = 1.0, -1.0
     fext = np.zeros(n)
     t_in = train.operating.torque
-    fext[3] = t_in
-    fext[4 * (ng - 1) + 3] = -t_in * gears[-1].base_radius / gears[0].base_radius
+    fext[theta[gears[0].name]] = t_in
+    fext[theta[gears[-1].name]] = -train.torque(len(gears) - 1)
     kmean = np.array([t.mean for t in tables])
     meq = np.array([1.0 / (p.driver.base_radius ** 2 / p.driver.polar_inertia
                            + p.driven.base_radius ** 2 / p.driven.polar_inertia) for p in pairs])
     cm = 2 * settings.mesh_damping_ratio * np.sqrt(kmean * meq)
+    kt = np.array([k for _, _, k, _ in springs])
+    jeq = np.array([1.0 / (1.0 / mass[theta[a]] + 1.0 / mass[theta[b]]) for a, b, _, _ in springs])
+    ct = 2 * settings.bearing_damping_ratio * np.sqrt(kt * jeq)
+    g_sense = np.array([lay.senses[fl.shaft_of[g.name]] for g in gears])
+    g_centre = np.array([lay.centres[fl.shaft_of[g.name]] for g in gears])
     signs = np.tile([1.0, -1.0], (nm, 1))
     e0, amp, om, ph = ste_harmonics(train, settings, lay.phase,
                                     np.arctan2(lay.normal[:, 1], lay.normal[:, 0]),
-                                    lay.senses, signs)
-    a_amp, a_om, a_ph = centre_distance_harmonics(train, settings, lay.centres, lay.senses,
-                                                  signs)
+                                    g_sense, signs)
+    a_amp, a_om, a_ph = centre_distance_harmonics(train, settings, g_centre, g_sense, signs)
     if np.any(a_amp != 0):
         tables = tuple(
             dataclasses.replace(t, dk_da=centre_distance_derivative(
                 train, i, t, float(np.sum(a_amp[i])))) if np.any(a_amp[i] != 0) else t
             for i, t in enumerate(tables))
+        a_amp, a_om, a_ph = (np.vstack([x, np.zeros((len(springs), 2))])
+                             for x in (a_amp, a_om, a_ph))
     else:
         a_amp = a_om = a_ph = None
-    q_static = static_equilibrium(mass, kb, V, kmean, fext, e0)
-    bearing_dofs = np.array([[4 * j, 4 * j + 1, 4 * j + 2] for j in range(ng)], dtype=np.int64)
+    pad = np.zeros(len(springs))
+    e0 = np.concatenate([e0, pad])
+    amp, om, ph = (np.vstack([x, np.zeros((len(springs), x.shape[1]))]) for x in (amp, om, ph))
+    tables = tuple(tables) + tuple(MeshTable(k=np.array([k]), positions_per_cycle=1, period=1)
+                                   for k in kt)
+    q_static = static_equilibrium(mass, kb, V, np.concatenate([kmean, kt]), fext, e0)
+    f_m = train.mesh_frequency
+    rate = np.concatenate([np.array(train.mesh_frequencies) / f_m, pad + 1.0])
     return DynamicModel(
-        kind="lta", gear_names=tuple(g.name for g in gears), dof_labels=tuple(labels),
-        mass=mass, kb=kb, cb=cb, fext=fext, V=V, kappa=np.ones(nm), kscale=np.ones(nm),
-        cm=cm, clearance=backlash_values(train, settings), tables=tables,
-        phase=lay.phase.copy(), mesh_frequency=train.mesh_frequency, e0=e0, h_amp=amp,
-        h_omega=om, h_phase=ph, a_amp=a_amp, a_omega=a_om, a_phase=a_ph,
-        to_transverse=np.ones(nm), dte_offset=np.zeros(nm),
-        static_force=np.array([train.static_mesh_force(i) for i in range(nm)]),
-        bearing_dofs=bearing_dofs, axes=AXES, q_static=q_static,
+        kind=settings.model, gear_names=tuple(sh.name for sh in fl.shafts),
+        dof_labels=tuple(labels), mass=mass, kb=kb, cb=cb, fext=fext, V=V,
+        kappa=np.ones(rows), kscale=np.ones(rows), cm=np.concatenate([cm, ct]),
+        clearance=np.concatenate([backlash_values(train, settings), pad + np.inf]),
+        tables=tables, phase=np.concatenate([lay.phase, pad]), mesh_frequency=f_m, e0=e0,
+        h_amp=amp, h_omega=om, h_phase=ph, a_amp=a_amp, a_omega=a_om, a_phase=a_ph,
+        to_transverse=np.ones(rows), dte_offset=np.zeros(rows),
+        static_force=np.concatenate([[train.static_mesh_force(i) for i in range(nm)],
+                                     [train.torque(train.gear_index(a)) for a, *_ in springs]]),
+        bearing_dofs=bearing_dofs, axes=AXES if lateral else (), q_static=q_static,
+        rate=None if np.all(rate == 1.0) else rate,
         info={"equivalent_mass": meq, "mesh_damping_ratio": settings.mesh_damping_ratio,
               "centres": lay.centres, "line_of_action": lay.normal,
-              "rotation_sense": lay.senses},
+              "rotation_sense": lay.senses, "shaft_rows": tuple(range(nm, rows)),
+              "shaft_springs": tuple(f"{sh.name}:{a}-{b}" for a, b, _, sh in springs)},
     )

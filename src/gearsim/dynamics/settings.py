@@ -7,7 +7,7 @@ newtons per metre, radians.
 Example section::
 
     [dynamics]
-    model = "lta"                 # or "seed"
+    model = "lta"                 # or "torsional", "seed"
     step = "10 us"                # largest integration step (the run uses a divisor)
     duration = "1 s"              # recorded window, after the transient
     fs = "50 kHz"                 # output sampling rate
@@ -38,7 +38,7 @@ __all__ = ["DEFAULT_STEP", "KEYS", "LIST_KEYS", "MAX_DURATION", "MAX_FS", "MAX_T
 #: change two orders below the 0.5 % requirement and is 1/80 of a mesh period.
 DEFAULT_STEP = 1e-5
 
-MODELS = ("lta", "seed")
+MODELS = ("lta", "torsional", "seed")
 
 #: Sane bounds of the time and rate options. They keep a run finite and its arrays in
 #: memory; whether a run is affordable is decided by the cost check of
@@ -77,7 +77,8 @@ class DynamicsSettings:
     Parameters
     ----------
     model
-        ``"lta"`` (lateral-torsional-axial, 4 DOF per gear) or ``"seed"`` (the seed's
+        ``"lta"`` (lateral-torsional-axial: x, y, z per shaft, rotations), ``"torsional"``
+        (the rotations only) or ``"seed"`` (the seed's
         3-DOF translational model, eqs. 1-2, with the static load added).
     step
         Largest integration step [s]. The step used is the largest ``dt <= step`` with
@@ -156,7 +157,8 @@ class DynamicsSettings:
                      "runout", "runout_phase", "assembly_error"):
             object.__setattr__(self, name, _as_tuple(getattr(self, name)))
         p = "dynamics"
-        require(self.model in MODELS, f"{p}.model", self.model, 'must be "lta" or "seed"')
+        require(self.model in MODELS, f"{p}.model", self.model,
+                'must be "lta", "torsional" or "seed"')
         require(_number(self.step) and MIN_STEP <= self.step <= MAX_STEP, f"{p}.step",
                 self.step, f"must be a finite number in [{MIN_STEP:g}, {MAX_STEP:g}] s")
         require(_number(self.duration) and 0 < self.duration <= MAX_DURATION,

@@ -102,7 +102,7 @@ def settings_of(train: GearTrain, settings: DynamicsSettings | None = None) -> D
 
 def build_model(train: GearTrain, settings: DynamicsSettings | None = None, *,
                 tables: tuple[MeshTable, ...] | None = None) -> DynamicModel:
-    """Equations of motion of ``train`` for ``settings.model`` ("lta" or "seed").
+    """Equations of motion of ``train`` for ``settings.model`` ("lta", "torsional", "seed").
 
     Parameters
     ----------
@@ -117,7 +117,7 @@ def build_model(train: GearTrain, settings: DynamicsSettings | None = None, *,
     -------
     DynamicModel
         :func:`gearsim.dynamics.seed3dof.build_seed` for ``"seed"``, else
-        :func:`gearsim.dynamics.lta.build_lta`.
+        :func:`gearsim.dynamics.lta.build_lta` (both fidelity levels of a gearbox).
 
     Raises
     ------
@@ -424,7 +424,7 @@ def check_cost(train: GearTrain, settings: DynamicsSettings | None = None, *,
         raise InputError("dynamics.duration", s.duration,
                          f"must be >= {t_rev:.6g} s (one revolution of the slowest gear, "
                          f"{train.gears[slow].name})")
-    f_m = train.mesh_frequency
+    f_m = max(train.mesh_frequencies)
     n = max(1, int(harmonics))
     if not s.fs > 2.0 * n * f_m:
         which = "the mesh frequency f_m" if n == 1 else \
@@ -613,7 +613,7 @@ def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient)
     dte = q @ model.V.T + model.dte_offset
     ste = model.ste(t)
     data = {}
-    for i in range(model.n_mesh):
+    for i in range(len(train.pairs)):
         name = i + 1
         pair = train.pairs[i]
         data[f"mesh_force_{name}"] = (
@@ -627,15 +627,20 @@ def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient)
             "relative displacement along the transverse line of action"})
         data[f"ste_{name}"] = ("time", ste[:, i], {
             "units": "m", "long_name": f"static transmission error input, mesh {pair.name}"})
+    springs = model.info.get("shaft_rows", ())
+    if springs:
+        data["shaft_torque"] = (("time", "spring"), f[:, list(springs)], {
+            "units": "N m", "long_name": "torque in each shaft spring between two gears"})
     bd = model.bearing_dofs
     data["bearing_force"] = (("time", "gear", "axis"), model.kb[bd] * q[:, bd]
                              + model.cb[bd] * v[:, bd],
-                             {"units": "N", "long_name": "force of each gear on its bearing"})
+                             {"units": "N", "long_name": "force of each shaft on its bearings"})
     data["acceleration"] = (("time", "gear", "axis"), acc[:, bd],
-                            {"units": "m/s^2", "long_name": "acceleration of the gear centre"})
-    if model.kind == "lta":
-        rot = np.arange(3, model.n_dof, 4)
-        data["angular_acceleration"] = (("time", "gear"), acc[:, rot], {
+                            {"units": "m/s^2", "long_name": "acceleration of the shaft centre"})
+    rot = [j for j, lab in enumerate(model.dof_labels)
+           if lab.endswith(".theta") and model.kind != "seed"]
+    if rot:
+        data["angular_acceleration"] = (("time", "rotation"), acc[:, rot], {
             "units": "rad/s^2", "long_name": "angular acceleration (own sense of rotation)"})
     md = modes(model)
     attrs = {
@@ -645,6 +650,7 @@ def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient)
         "step": float(dt),
         "transient": float(transient),
         "mesh_frequency": float(model.mesh_frequency),
+        "mesh_frequencies": [float(x) for x in train.mesh_frequencies],
         "shaft_frequency": [float(train.shaft_frequency(j)) for j in range(len(train.gears))],
         "static_force": [float(x) for x in model.static_force],
         "natural_frequencies": [float(x) for x in md.frequencies],
@@ -657,8 +663,11 @@ def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient)
                           if settings.oversample > 1 else "none (instantaneous samples)"),
     }
     coords = {"time": ("time", t, {"units": "s"}),
-              "gear": ("gear", list(model.gear_names)),
-              "axis": ("axis", list(model.axes))}
+              "gear": ("gear", list(model.gear_names)),  # the shafts (a chain: its gears)
+              "axis": ("axis", list(model.axes)),
+              "rotation": ("rotation", [model.dof_labels[j][:-6] for j in rot])}
+    if springs:
+        coords["spring"] = ("spring", list(model.info["shaft_springs"]))
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 

@@ -10,7 +10,11 @@ line says "SI units") reads plain numbers as SI throughout. Layout::
     name = "..."
     [material]            # default material of every gear
     [common]              # default gear data (any key of [[gears]])
-    [[gears]]             # one table per gear, in the order of the power flow
+    [[shafts]]            # optional: name, mass, inertia, torsional/bearing stiffness;
+                          # the first is the input shaft (gearsim.system.graph)
+    [[gears]]             # one table per gear (with shafts: ``shaft = "..."``, ``hand``);
+                          # without [[shafts]]: a chain in the order of the power flow
+    [[meshes]]            # with shafts: ``gears = ["a", "b"]``, optional ``angle``
     [operating]           # speed and torque of the first gear
     [stiffness]           # closure, slices, positions_per_cycle, gauss_points, plane, source
     [[cracks]]            # gear, tooth, flank, depth, angle, extent, profile, start_radius
@@ -43,6 +47,7 @@ from gearsim.sections import as_written, convert
 from gearsim.signals.settings import parse_analysis
 from gearsim.stiffness.modifications import Modification
 from gearsim.stiffness.settings import StiffnessSettings
+from gearsim.system.graph import MeshSpec, Shaft, power_flow
 from gearsim.system.train import GearTrain, Operating
 from gearsim.units import plain_numbers_are_si
 
@@ -60,8 +65,12 @@ GEAR_KEYS = {
     "normal_pressure_angle": "angle", "helix_angle": "angle", "face_width": "length",
     "addendum_coefficient": "dimensionless", "dedendum_coefficient": "dimensionless",
     "fillet_radius_coefficient": "dimensionless", "profile_shift": "dimensionless",
-    "bore_radius": "length", "material": "table",
+    "bore_radius": "length", "material": "table", "shaft": "str", "hand": "str",
 }
+SHAFT_KEYS = {"name": "str", "mass": "mass", "inertia": "inertia",
+              "torsional_stiffness": "torsional_stiffness", "bearing_stiffness": "stiffness",
+              "axial_stiffness": "stiffness"}
+MESH_KEYS = {"gears": "str", "angle": "angle"}
 OPERATING_KEYS = {"speed": "speed", "torque": "torque"}
 STIFFNESS_KEYS = {"closure": "str", "slices": "int", "positions_per_cycle": "int",
                   "gauss_points": "int", "plane": "str", "source": "str",
@@ -72,8 +81,8 @@ MODIFICATION_KEYS = {"gear": "str", "tip_relief": "length", "tip_relief_length":
                      "relief_shape": "str", "crowning": "length", "helix_slope": "length",
                      "pitch_errors": "length", "pitch_grade": "int", "pitch_seed": "int"}
 
-TOP_KEYS = ("name", "material", "common", "gears", "operating", "stiffness", "cracks",
-            "faults", "modifications", "dynamics", "analysis")
+TOP_KEYS = ("name", "material", "common", "shafts", "gears", "meshes", "operating",
+            "stiffness", "cracks", "faults", "modifications", "dynamics", "analysis")
 
 
 #: First line of the effective configuration written by
@@ -132,9 +141,9 @@ def parse(doc: dict[str, Any]) -> Gearbox:
     if not isinstance(gear_tables, list) or len(gear_tables) < 2:
         raise InputError("gears", gear_tables if gear_tables is not None else "missing",
                          "need at least 2 [[gears]] tables")
-    gears = []
     raw_common = doc.get("common", {})
-    previous: dict[str, Any] | None = None
+    graph = "shafts" in doc or "meshes" in doc
+    kws = []
     for i, table in enumerate(gear_tables):
         kw = {**common, **convert(table, GEAR_KEYS, f"gears[{i}]")}
         kw.setdefault("name", f"gear{i + 1}")
@@ -146,16 +155,27 @@ def parse(doc: dict[str, Any]) -> Gearbox:
         mat = kw.pop("material", None)
         at = f"gears[{i}].material" if "material" in table else "common.material"
         kw["material"] = material if mat is None else _material(mat, at, material)
-        if "helix_angle" in kw:  # consecutive external gears have opposite hands
-            kw["helix_angle"] = abs(kw["helix_angle"]) * (-1) ** i
+        if graph == ("shaft" not in kw) or ("hand" in kw and not graph):
+            key = "shaft" if graph or "shaft" in kw else "hand"
+            raise InputError(f"gears[{i}].{key}", kw.get(key, "missing"),
+                             "every gear names its shaft in a gearbox with [[shafts]] and "
+                             "[[meshes]]; a chain has neither")
+        kw["helix_angle"] = abs(kw.get("helix_angle", 0.0))
+        kws.append(kw)
+    shafts, meshes = _graph(doc, kws) if graph else ((), ())
+    signs = _hands(doc, kws, shafts, meshes)
+    gears = []
+    for i, (kw, table) in enumerate(zip(kws, gear_tables, strict=True)):
+        kw = {k: v for k, v in kw.items() if k not in ("shaft", "hand")}
+        if kw["helix_angle"]:
+            kw["helix_angle"] *= signs[i]
         where = f"gears[{i}]"
         with as_written(None, kw["name"], GEAR_KEYS, default=where,
                         sources=[("common", raw_common), (where, table)],
                         label=f"for {where}, {kw['name']!r}"):
-            if previous is not None:  # before the gear's own checks: name the mismatch
-                require_same_rack(f"gears[{i - 1}]", *_rack(previous), kw["name"], *_rack(kw))
+            if not graph and i > 0:  # before the gear's own checks: name the mismatch
+                require_same_rack(f"gears[{i - 1}]", *_rack(kws[i - 1]), kw["name"], *_rack(kw))
             gears.append(Gear(**kw))
-        previous = kw
     op_raw = doc.get("operating", {})
     op_kw = convert(op_raw, OPERATING_KEYS, "operating")
     with as_written(op_raw, "operating"):
@@ -168,6 +188,7 @@ def parse(doc: dict[str, Any]) -> Gearbox:
     if not isinstance(name, str):
         raise InputError("name", name, "must be a string")
     kw = {"gears": tuple(gears), "operating": operating, "stiffness": stiffness, "name": name,
+          "shafts": shafts, "meshes": meshes,
           "faults": parse_faults(doc.get("faults", [])),
           "modifications": parse_modifications(doc.get("modifications", []))}
     try:
@@ -183,6 +204,82 @@ def parse(doc: dict[str, Any]) -> Gearbox:
     dynamics = parse_dynamics(doc.get("dynamics", {}), "dynamics")
     analysis = parse_analysis(doc.get("analysis", {}), "analysis")
     return Gearbox(train=train, dynamics=dynamics, analysis=analysis)
+
+
+def _graph(doc: dict[str, Any], kws: list[dict[str, Any]]
+           ) -> tuple[tuple[Shaft, ...], tuple[MeshSpec, ...]]:
+    """``[[shafts]]`` and ``[[meshes]]`` with each gear's ``shaft``, checked as written."""
+    shafts_raw = array_of_tables(doc.get("shafts", []), "shafts")
+    require_tables = [("shafts", shafts_raw), ("meshes", doc.get("meshes"))]
+    for key, raw in require_tables:
+        if not raw:
+            raise InputError(key, "missing", "a gearbox of shafts needs [[shafts]] and "
+                             "[[meshes]] (or neither: a chain)")
+    specs = [convert(t, SHAFT_KEYS, f"shafts[{i}]") for i, t in enumerate(shafts_raw)]
+    names = [sp.get("name", f"shaft{i + 1}") for i, sp in enumerate(specs)]
+    for i, kw in enumerate(kws):
+        if kw["shaft"] not in names:
+            raise InputError(f"gears[{i}].shaft", kw["shaft"],
+                             "no such shaft; shafts: " + ", ".join(names))
+    shafts = []
+    for i, (sp, table) in enumerate(zip(specs, shafts_raw, strict=True)):
+        sp["name"] = names[i]
+        sp["gears"] = tuple(kw["name"] for kw in kws if kw["shaft"] == names[i])
+        with as_written(table, "shafts", SHAFT_KEYS, sources=[(f"shafts[{i}]", table)],
+                        default=f"shafts[{i}]"):
+            shafts.append(Shaft(**sp))
+    meshes = []
+    gear_names = [kw["name"] for kw in kws]
+    for i, table in enumerate(array_of_tables(doc["meshes"], "meshes")):
+        at = f"meshes[{i}]"
+        pair = table.get("gears") if isinstance(table, dict) else None
+        if not (isinstance(pair, list) and len(pair) == 2 and all(g in gear_names for g in pair)):
+            raise InputError(f"{at}.gears", pair, "must name two gears of [[gears]]: "
+                             + ", ".join(gear_names))
+        kw = convert({k: v for k, v in table.items() if k != "gears"}, MESH_KEYS, at)
+        first, second = (kws[gear_names.index(g)] for g in pair)
+        require_same_rack(pair[0], *_rack(first), pair[1], *_rack(second), mesh=at)
+        meshes.append(MeshSpec(gears=tuple(pair), **kw))
+    return tuple(shafts), tuple(meshes)
+
+
+def _hands(doc: dict[str, Any], kws: list[dict[str, Any]], shafts: tuple[Shaft, ...],
+           meshes: tuple[MeshSpec, ...]) -> list[int]:
+    """Sign of each gear's helix angle: its ``hand`` (right +1, left -1), or from the flow.
+
+    A chain alternates (-1)^i. In a gearbox the input gear is right-handed unless given,
+    the driven gear of an external mesh has the driver's opposite hand, and a gear that
+    drives from a shaft has the hand of the gear that brought the power to that shaft
+    (their thrusts on the shaft oppose). Two given hands that cannot mesh are refused.
+    """
+    if not shafts:
+        return [(-1) ** i for i in range(len(kws))]
+    names = [kw["name"] for kw in kws]
+    sign: dict[str, int] = {}
+    for i, kw in enumerate(kws):
+        if "hand" in kw:
+            if kw["hand"] not in ("right", "left"):
+                raise InputError(f"gears[{i}].hand", kw["hand"], 'must be "right" or "left"')
+            sign[kw["name"]] = 1 if kw["hand"] == "right" else -1
+    flow = power_flow(dict(zip(names, (_Teeth(kw["teeth"]) for kw in kws), strict=True)),
+                      shafts, meshes)
+    on_shaft: dict[int, int] = {}
+    for drv, dvn in flow.meshes:
+        s_drv = sign.setdefault(drv, on_shaft.get(flow.shaft_of[drv], 1))
+        on_shaft.setdefault(flow.shaft_of[drv], s_drv)
+        if sign.setdefault(dvn, -s_drv) == s_drv and kws[names.index(drv)]["helix_angle"]:
+            m = next(i for i, m in enumerate(meshes) if set(m.gears) == {drv, dvn})
+            raise InputError(f"meshes[{m}].gears", [drv, dvn], "both gears have the same "
+                             "hand: external helical gears mesh with opposite hands")
+        on_shaft.setdefault(flow.shaft_of[dvn], sign[dvn])
+    return [sign[n] for n in names]
+
+
+class _Teeth:
+    """The tooth count of a gear before it is made (the power flow needs only that)."""
+
+    def __init__(self, teeth: int) -> None:
+        self.teeth = teeth
 
 
 def parse_modifications(raw: Any) -> tuple[Modification, ...]:

@@ -37,6 +37,9 @@ __all__ = ["active_roll_range", "check_faults", "flank_side", "mesh_flanks"]
 def flank_side(train: GearTrain, gear: str, flank: str, mesh: int) -> int:
     """+1 if mesh ``mesh`` loads ``flank`` of ``gear``, -1 if it loads the other flank.
 
+    The working flank is the one loaded in the gear's first mesh of the power flow
+    (:meth:`gearsim.system.graph.PowerFlow.flank_side`).
+
     Parameters
     ----------
     train : GearTrain
@@ -52,20 +55,7 @@ def flank_side(train: GearTrain, gear: str, flank: str, mesh: int) -> int:
     -------
     int
     """
-    gi = train.gear_index(gear)
-    first_mesh = 0 if gi == 0 else gi - 1
-    loaded_is_working = mesh == first_mesh
-    return 1 if (flank == "working") == loaded_is_working else -1
-
-
-def _meshes_of(train: GearTrain, gi: int) -> list[tuple[int, int]]:
-    """(mesh, 1 driver / 2 driven) of the meshes gear ``gi`` takes part in."""
-    out = []
-    if gi > 0:
-        out.append((gi - 1, 2))
-    if gi < len(train.gears) - 1:
-        out.append((gi, 1))
-    return out
+    return train.flow.flank_side(gear, flank, mesh)
 
 
 def active_roll_range(train: GearTrain, gear: str, flank: str | None = None
@@ -86,9 +76,8 @@ def active_roll_range(train: GearTrain, gear: str, flank: str | None = None
     (float, float)
         Smallest and largest roll length sqrt(r^2 - r_b^2) in contact [m].
     """
-    gi = train.gear_index(gear)
     lo, hi = math.inf, -math.inf
-    for mesh, which in _meshes_of(train, gi):
+    for mesh, which in train.flow.meshes_of(gear):
         if flank is not None and flank_side(train, gear, flank, mesh) != 1:
             continue
         p = train.pairs[mesh]
@@ -322,8 +311,7 @@ def mesh_flanks(train: GearTrain, mesh: int) -> tuple[FlankState, FlankState]:
         Driver, driven.
     """
     out = []
-    for which, gi in ((1, mesh), (2, mesh + 1)):
-        g = train.gears[gi]
+    for which, g in ((1, train.pairs[mesh].driver), (2, train.pairs[mesh].driven)):
         mod = next((m for m in train.modifications if m.gear == g.name), None)
         positions = None
         if mod is not None and mod.has_pitch_errors:

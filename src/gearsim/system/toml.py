@@ -56,9 +56,16 @@ def train_to_toml(train: GearTrain, dynamics: dict[str, Any] | None = None) -> s
     """
     lines = ["# gearsim effective configuration (SI units: m, rad, rad/s, N m, Pa, s, Hz)",
              f"name = {_value(train.name)}"]
+    chain = train.is_chain
+    if not chain:
+        for sh in train.flow.shafts:
+            _table(lines, "[[shafts]]", {k: v for k, v in dataclasses.asdict(sh).items()
+                                         if k != "gears"})
     for g in train.gears:
+        where = {} if chain else {"shaft": train.flow.shafts[train.flow.shaft_of[g.name]].name,
+                                  "hand": "right" if g.helix_angle >= 0 else "left"}
         _table(lines, "[[gears]]", {
-            "name": g.name, "teeth": g.teeth, "normal_module": g.normal_module,
+            "name": g.name, **where, "teeth": g.teeth, "normal_module": g.normal_module,
             "normal_pressure_angle": g.normal_pressure_angle,
             "helix_angle": abs(g.helix_angle), "face_width": g.face_width,
             "addendum_coefficient": g.addendum_coefficient,
@@ -68,6 +75,9 @@ def train_to_toml(train: GearTrain, dynamics: dict[str, Any] | None = None) -> s
         _table(lines, "[gears.material]", {
             "youngs_modulus": g.material.youngs_modulus,
             "poisson_ratio": g.material.poisson_ratio, "density": g.material.density})
+    for (a, b), angle in zip(() if chain else train.flow.meshes, train.flow.angles,
+                             strict=False):
+        _table(lines, "[[meshes]]", {"gears": [a, b], "angle": angle})
     # the speed with its unit: a bare number would be ambiguous (rpm or rad/s) and is
     # refused when a configuration is read
     _table(lines, "[operating]", {"speed": f"{train.operating.speed!r} rad/s",

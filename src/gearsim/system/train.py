@@ -1,11 +1,13 @@
-"""A chain of gears in mesh (input, idler(s), output) with its operating point and cracks.
+"""A gearbox of parallel shafts (gears on shafts, meshes between them) in operation.
 
-Gear i drives gear i+1; power enters at gear 0. Consecutive external helical gears have
-opposite hands (gear i has the sign (-1)^i on its helix angle). Which flank a mesh
-loads follows from the power flow: the driver's front face (facing the direction of
-rotation) and the driven gear's rear face. The *working* flank of a gear is the flank
-loaded in the first mesh it takes part in; for an idler the second mesh loads the other
-flank (reversed bending).
+The gears sit on shafts and mesh in pairs (:mod:`gearsim.system.graph`); power enters at
+the first shaft with the operating speed and torque and leaves at the last. Without
+``shafts`` and ``meshes`` the gears form a chain: each on its own shaft (named after
+it), gear i driving gear i+1 (input, idler(s), output), consecutive external helical
+gears of opposite hands. Which flank a mesh loads follows from the power flow: the
+driver's front face (facing the direction of rotation) and the driven gear's rear face.
+The *working* flank of a gear is the flank loaded in the first mesh it takes part in;
+for an idler the second mesh loads the other flank (reversed bending).
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ from gearsim.stiffness.modifications import Modification
 from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance
 from gearsim.system.faults import check_faults, flank_side, mesh_flanks
 from gearsim.system.fe_pair import fe_pair_train_stiffness
+from gearsim.system.graph import MeshSpec, PowerFlow, Shaft, power_flow
 
 __all__ = ["CRACK_CHOICES", "DEFAULT_CRACK", "GearTrain", "Operating", "body_coupling",
            "tooth_compliance"]
@@ -133,17 +136,20 @@ def _positive(v: object) -> bool:
 
 @dataclass(frozen=True)
 class GearTrain:
-    """A chain of gears, its operating point, stiffness options and cracks.
+    """A gearbox of parallel shafts, its operating point, stiffness options and faults.
 
-    Every check runs where the train is made: at least two gears with unique names,
-    every mesh valid (interference, contact ratio; :class:`GearPair`), every crack on an
+    Every check runs where the train is made: at least two gears with unique names, a
+    graph whose power flows in one path from the first shaft to the last
+    (:func:`gearsim.system.graph.power_flow`), every mesh valid (interference, contact
+    ratio; :class:`GearPair`), every crack on an
     existing gear and tooth and fitting its tooth (:func:`crack_geometry`). Variants made
     with :meth:`with_cracks` or :meth:`with_crack` are checked the same way.
 
     Parameters
     ----------
     gears : tuple of Gear
-        Gears in the order of the power flow (gear i drives gear i + 1).
+        The gears; put in the order of the power flow where the train is made (shaft by
+        shaft from the input, in each shaft's listed order).
     operating : Operating
         Speed and torque of the input gear.
     stiffness : StiffnessSettings
@@ -159,6 +165,10 @@ class GearTrain:
     modifications : tuple of Modification
         Profile and lead modifications and pitch errors, at most one per gear
         (:mod:`gearsim.stiffness.modifications`).
+    shafts : tuple of Shaft
+        The shafts, the input first; empty: one shaft per gear, named after it (a chain).
+    meshes : tuple of MeshSpec
+        The meshes; empty: gear i with gear i + 1 (a chain).
     """
 
     gears: tuple[Gear, ...]
@@ -168,11 +178,23 @@ class GearTrain:
     name: str = "gear train"
     faults: tuple[Fault, ...] = ()
     modifications: tuple[Modification, ...] = ()
+    shafts: tuple[Shaft, ...] = ()
+    meshes: tuple[MeshSpec, ...] = ()
 
     def __post_init__(self) -> None:
         require(len(self.gears) >= 2, "gears", len(self.gears), "need at least 2 gears")
         names = [g.name for g in self.gears]
         require(len(set(names)) == len(names), "gears.name", names, "names must be unique")
+        if not self.shafts and not self.meshes:  # a chain
+            object.__setattr__(self, "shafts", tuple(Shaft(n, (n,)) for n in names))
+            object.__setattr__(self, "meshes", tuple(MeshSpec((a, b)) for a, b
+                                                     in zip(names, names[1:], strict=False)))
+        by_name = {g.name: g for g in self.gears}
+        flow = power_flow(by_name, tuple(self.shafts), tuple(self.meshes))
+        object.__setattr__(self, "gears", tuple(by_name[n] for s in flow.shafts
+                                                for n in s.gears))
+        self.__dict__["flow"] = flow  # the cached property, solved once
+        names = [g.name for g in self.gears]
         for c in self.cracks:
             require(c.gear in names, "crack.gear", c.gear, f"must be one of {names}")
             z = self.gear(c.gear).teeth
@@ -223,14 +245,36 @@ class GearTrain:
         return [g.name for g in self.gears].index(name)
 
     @cached_property
+    def flow(self) -> PowerFlow:
+        """The solved graph: meshes oriented, shaft speed ratios and senses."""
+        return power_flow({g.name: g for g in self.gears}, tuple(self.shafts),
+                          tuple(self.meshes))
+
+    @property
+    def is_chain(self) -> bool:
+        """True when every shaft carries one gear and gear i drives gear i + 1."""
+        names = [g.name for g in self.gears]
+        return (all(len(s.gears) == 1 and s.name == s.gears[0] for s in self.shafts)
+                and self.flow.meshes == tuple(zip(names, names[1:], strict=False)))
+
+    @cached_property
     def pairs(self) -> tuple[GearPair, ...]:
-        """The meshes of the chain, named I, II, ... (gear i drives gear i + 1)."""
+        """The meshes in power-flow order, named I, II, ... (driver, driven)."""
         roman = ("I", "II", "III", "IV", "V", "VI", "VII", "VIII")
         return tuple(
-            GearPair(self.gears[i], self.gears[i + 1],
-                     name=roman[i] if i < len(roman) else str(i + 1))
-            for i in range(len(self.gears) - 1)
+            GearPair(self.gear(a), self.gear(b), name=roman[i] if i < len(roman) else str(i + 1))
+            for i, (a, b) in enumerate(self.flow.meshes)
         )
+
+    @cached_property
+    def _shaft_torque(self) -> tuple[float, ...]:
+        """Static torque of each shaft of the flow (received, passed on) [N m], eq. (1)."""
+        fl = self.flow
+        out = [self.operating.torque] + [0.0] * (len(fl.shafts) - 1)
+        for a, b in fl.meshes:
+            force = out[fl.shaft_of[a]] / self.gear(a).base_radius
+            out[fl.shaft_of[b]] = force * self.gear(b).base_radius
+        return tuple(out)
 
     # ------------------------------------------------------------------- kinematics
     def speed(self, i: int) -> float:
@@ -245,10 +289,11 @@ class GearTrain:
         -------
         float
         """
-        return self.operating.speed * self.gears[0].teeth / self.gears[i].teeth
+        return self.operating.speed * self.flow.ratio[self.flow.shaft_of[self.gears[i].name]]
 
     def torque(self, i: int) -> float:
-        """Torque on gear ``i`` for loss-free transmission [N m].
+        """Torque on gear ``i`` for loss-free transmission [N m] (its shaft's, eq. (1) of
+        :mod:`gearsim.system.graph`).
 
         Parameters
         ----------
@@ -259,7 +304,7 @@ class GearTrain:
         -------
         float
         """
-        return self.operating.torque * self.gears[i].teeth / self.gears[0].teeth
+        return self._shaft_torque[self.flow.shaft_of[self.gears[i].name]]
 
     def shaft_frequency(self, i: int) -> float:
         """Shaft frequency f_r of gear ``i`` [Hz].
@@ -277,8 +322,14 @@ class GearTrain:
 
     @property
     def mesh_frequency(self) -> float:
-        """f_m = z_1 f_r1 (common to all meshes of a chain) [Hz]."""
-        return self.gears[0].teeth * self.shaft_frequency(0)
+        """f_m of mesh I, z_1 f_r1 [Hz] (common to all meshes of a chain)."""
+        return self.mesh_frequencies[0]
+
+    @property
+    def mesh_frequencies(self) -> tuple[float, ...]:
+        """Mesh frequency z_driver f_driver of each mesh [Hz]."""
+        return tuple(p.driver.teeth * self.shaft_frequency(self.gear_index(p.driver.name))
+                     for p in self.pairs)
 
     @property
     def power(self) -> float:
@@ -297,7 +348,8 @@ class GearTrain:
         -------
         float
         """
-        return self.torque(mesh) / self.gears[mesh].base_radius
+        drv = self.pairs[mesh].driver
+        return self.torque(self.gear_index(drv.name)) / drv.base_radius
 
     # ------------------------------------------------------------------- flanks
     def crack_side(self, crack: Crack, mesh: int) -> int:
@@ -328,13 +380,10 @@ class GearTrain:
         -------
         tuple of ToothCrack
         """
-        out = []
-        for c in self.cracks:
-            gi = self.gear_index(c.gear)
-            if gi in (mesh, mesh + 1):
-                out.append(ToothCrack(gear=1 if gi == mesh else 2, crack=c,
-                                      side=self.crack_side(c, mesh)))
-        return tuple(out)
+        pair = self.pairs[mesh]
+        return tuple(ToothCrack(gear=1 if c.gear == pair.driver.name else 2, crack=c,
+                                side=self.crack_side(c, mesh))
+                     for c in self.cracks if c.gear in (pair.driver.name, pair.driven.name))
 
     def mesh_stiffness(self, mesh: int, *, revolution_of: int = 1,
                        settings: StiffnessSettings | None = None) -> MeshStiffness:

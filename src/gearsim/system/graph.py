@@ -1,0 +1,288 @@
+"""A gearbox as a graph: shafts carry gears, meshes join gears of two shafts.
+
+Power enters at the input shaft and leaves at the output shaft. Walking the meshes from
+the input orients each one (driver -> driven) and gives, for loss-free transmission,
+
+    omega_B = omega_A z_a / z_b,   s_B = -s_A (external mesh),   F = T_a / r_b,a,
+    T_b = F r_b,b                                                                 (1)
+
+for a mesh between gear a on shaft A (driver) and gear b on shaft B: speeds from the
+kinematics, the static mesh force from the torque the driver carries (equilibrium of the
+driver gear), the torque received by the driven gear from the equilibrium of the driven
+gear. A shaft that receives power through one gear passes it on through its other gears;
+an idler (one gear, two meshes) passes the mesh force on unchanged. Which flank a mesh
+loads follows from the power flow: a driver is loaded on its front face, a driven gear on
+its rear face; the *working* flank of a gear is the one loaded in its first mesh, so an
+idler's second mesh loads its other flank (reversed bending).
+
+The flow must be one path from the input shaft to the output shaft: a shaft driving two
+meshes would split the power in a ratio the statics of a graph does not give (refused),
+and a loop of meshes is refused (with disagreeing ratios it cannot turn; with agreeing
+ratios its torques are statically indeterminate).
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass
+
+from gearsim.errors import InputError, require
+
+__all__ = ["MAX_INERTIA", "MAX_MASS", "MAX_SHAFT_STIFFNESS", "MIN_SHAFT_STIFFNESS",
+           "MeshSpec", "PowerFlow", "Shaft", "power_flow"]
+
+#: Bounds of a shaft's own mass [kg] and polar inertia [kg m^2]: the rotor of a 10 MW
+#: wind turbine gearbox's largest shaft is below 1e5 kg and 1e5 kg m^2; 0 (the gears'
+#: own masses only) is allowed.
+MAX_MASS = 1e6
+MAX_INERTIA = 1e6
+#: Bounds of a shaft's torsional stiffness between its gears [N m/rad]: a 1 mm steel wire
+#: 1 m long is ~1e-2 N m/rad, the stiffest multi-MW shafts ~1e9; outside, a unit mistake.
+MIN_SHAFT_STIFFNESS = 1e-3
+MAX_SHAFT_STIFFNESS = 1e12
+
+
+def _number(v: object) -> bool:
+    return isinstance(v, numbers.Real) and not isinstance(v, bool) and math.isfinite(v)
+
+
+@dataclass(frozen=True)
+class Shaft:
+    """A shaft carrying gears, on bearings.
+
+    Parameters
+    ----------
+    name : str
+        Name of the shaft.
+    gears : tuple of str
+        Names of the gears it carries, in axial order (the torsional springs join
+        consecutive gears).
+    mass : float
+        The shaft's own mass [kg], in [0, 1e6]; the gears add theirs.
+    inertia : float
+        The shaft's own polar moment of inertia [kg m^2], in [0, 1e6]; the gears add
+        theirs.
+    torsional_stiffness : float or None
+        Torsional stiffness between consecutive gears [N m/rad], in [1e-3, 1e12];
+        ``None``: a rigid shaft (its gears turn as one body).
+    bearing_stiffness, axial_stiffness : float or None
+        Radial and axial stiffness of its bearings [N/m]; ``None``: the ``[dynamics]``
+        defaults.
+
+    Raises
+    ------
+    InputError
+        A value outside its range, no gear, or a gear listed twice.
+    """
+
+    name: str
+    gears: tuple[str, ...]
+    mass: float = 0.0
+    inertia: float = 0.0
+    torsional_stiffness: float | None = None
+    bearing_stiffness: float | None = None
+    axial_stiffness: float | None = None
+
+    def __post_init__(self) -> None:
+        p = f"shafts.{self.name}"
+        require(isinstance(self.name, str) and self.name != "", "shafts.name", self.name,
+                "must be a non-empty string")
+        require(len(self.gears) >= 1, f"{p}.gears", list(self.gears), "carries no gear")
+        require(len(set(self.gears)) == len(self.gears), f"{p}.gears", list(self.gears),
+                "names a gear twice")
+        for key, hi in (("mass", MAX_MASS), ("inertia", MAX_INERTIA)):
+            v = getattr(self, key)
+            require(_number(v) and 0.0 <= v <= hi, f"{p}.{key}", v, f"must be in [0, {hi:g}]")
+        kt = self.torsional_stiffness
+        require(kt is None or (_number(kt) and MIN_SHAFT_STIFFNESS <= kt <= MAX_SHAFT_STIFFNESS),
+                f"{p}.torsional_stiffness", kt,
+                f"must be in [{MIN_SHAFT_STIFFNESS:g}, {MAX_SHAFT_STIFFNESS:g}] N*m/rad")
+        for key in ("bearing_stiffness", "axial_stiffness"):
+            v = getattr(self, key)
+            require(v is None or (_number(v) and 1e3 <= v <= 1e13), f"{p}.{key}", v,
+                    "must be in [1e3, 1e13] N/m")
+
+
+@dataclass(frozen=True)
+class MeshSpec:
+    """Two gears in mesh, as written (the power flow decides which one drives).
+
+    Parameters
+    ----------
+    gears : tuple of str
+        The two gears.
+    angle : float or None
+        Global angle of the centre line from the driver's centre to the driven gear's
+        [rad] (the planar layout of the lateral model); ``None``: from the idler angle
+        when the driver is an idler, else 0 (the shafts in a row).
+    """
+
+    gears: tuple[str, str]
+    angle: float | None = None
+
+    def __post_init__(self) -> None:
+        require(len(self.gears) == 2, "meshes.gears", list(self.gears), "must name two gears")
+        require(self.angle is None or _number(self.angle), "meshes.angle", self.angle,
+                "must be a finite angle")
+
+
+@dataclass(frozen=True)
+class PowerFlow:
+    """The solved graph (equations (1) of the module docstring).
+
+    Parameters
+    ----------
+    shafts : tuple of Shaft
+        The shafts, input first, in power-flow order (output last).
+    meshes : tuple of (str, str)
+        (driver, driven) gear names of each mesh, in power-flow order.
+    angles : tuple of float or None
+        Centre-line angle of each mesh as written (:class:`MeshSpec`), same order.
+    shaft_of : dict
+        Gear name -> index of its shaft in ``shafts``.
+    ratio : tuple of float
+        omega_shaft / omega_input of each shaft [-].
+    sense : tuple of int
+        Sense of rotation of each shaft (+1 as the input) [-].
+    """
+
+    shafts: tuple[Shaft, ...]
+    meshes: tuple[tuple[str, str], ...]
+    angles: tuple[float | None, ...]
+    shaft_of: dict
+    ratio: tuple[float, ...]
+    sense: tuple[int, ...]
+
+    def meshes_of(self, gear: str) -> list[tuple[int, int]]:
+        """(mesh index, 1 driver / 2 driven) of the meshes ``gear`` takes part in.
+
+        Parameters
+        ----------
+        gear : str
+            Gear name.
+
+        Returns
+        -------
+        list of (int, int)
+            In power-flow order.
+        """
+        return [(i, 1 if m[0] == gear else 2) for i, m in enumerate(self.meshes) if gear in m]
+
+    def flank_side(self, gear: str, flank: str, mesh: int) -> int:
+        """+1 if mesh ``mesh`` loads ``flank`` of ``gear``, -1 if it loads the other flank.
+
+        Parameters
+        ----------
+        gear : str
+            Gear name.
+        flank : {"working", "non-working"}
+            The flank asked about (working: the one loaded in the gear's first mesh).
+        mesh : int
+            Mesh index.
+
+        Returns
+        -------
+        int
+        """
+        roles = dict(self.meshes_of(gear))
+        first = self.meshes_of(gear)[0][1]
+        return 1 if (flank == "working") == (roles[mesh] == first) else -1
+
+
+def power_flow(gears: dict, shafts: tuple[Shaft, ...], meshes: tuple[MeshSpec, ...]
+               ) -> PowerFlow:
+    """Orient the meshes from the input shaft (``shafts[0]``) and check the graph.
+
+    Parameters
+    ----------
+    gears : dict
+        Gear name -> :class:`~gearsim.geometry.gear.Gear` (its ``teeth``).
+    shafts : tuple of Shaft
+        The shafts; the first is the input.
+    meshes : tuple of MeshSpec
+        The meshes as written.
+
+    Returns
+    -------
+    PowerFlow
+
+    Raises
+    ------
+    InputError
+        A gear on no shaft or on two, a shaft naming an unknown gear, a mesh of an
+        unknown gear or of two gears on one shaft, a gear meshing nothing, a shaft the
+        power does not reach, a shaft driving two meshes, a loop of meshes; the message
+        names the element (``gears[3].shaft``, ``meshes[1].gears``, ...).
+
+    Examples
+    --------
+    A two-stage reducer 32/80 then 48/64: the output turns at 32 48 / (80 64) = 0.3 of
+    the input, in the input's sense.
+
+    >>> from types import SimpleNamespace as G
+    >>> gears = {n: G(teeth=z) for n, z in (("p1", 32), ("g1", 80), ("p2", 48), ("g2", 64))}
+    >>> flow = power_flow(gears, (Shaft("in", ("p1",)), Shaft("mid", ("g1", "p2")),
+    ...                           Shaft("out", ("g2",))),
+    ...                   (MeshSpec(("g1", "p1")), MeshSpec(("p2", "g2"))))
+    >>> flow.meshes, [round(r, 12) for r in flow.ratio], flow.sense
+    ((('p1', 'g1'), ('p2', 'g2')), [1.0, 0.4, 0.3], (1, -1, 1))
+    """
+    shaft_of: dict[str, int] = {}
+    for s_i, s in enumerate(shafts):
+        for g in s.gears:
+            require(g in gears, f"shafts[{s_i}].gears", g,
+                    "no such gear; gears: " + ", ".join(gears))
+            if g in shaft_of:
+                raise InputError(f"gears.{g}.shaft", f"{shafts[shaft_of[g]].name}, {s.name}",
+                                 "a gear sits on one shaft only")
+            shaft_of[g] = s_i
+    for g in gears:
+        require(g in shaft_of, f"gears.{g}.shaft", "missing", "every gear sits on a shaft")
+    names = [s.name for s in shafts]
+    require(len(set(names)) == len(names), "shafts.name", names, "names must be unique")
+    for m_i, m in enumerate(meshes):
+        for g in m.gears:
+            require(g in gears, f"meshes[{m_i}].gears", list(m.gears),
+                    f"{g!r}: no such gear; gears: " + ", ".join(gears))
+        a, b = m.gears
+        require(shaft_of[a] != shaft_of[b], f"meshes[{m_i}].gears", list(m.gears),
+                f"both sit on shaft {shafts[shaft_of[a]].name!r}")
+    meshed = {g for m in meshes for g in m.gears}
+    for g in gears:
+        require(g in meshed, f"gears.{g}", "meshes nothing", "every gear takes part in a mesh")
+    ratio: dict[int, float] = {0: 1.0}
+    sense: dict[int, int] = {0: 1}
+    order, oriented, angles = [0], [], []
+    done: set[int] = set()
+    k = 0
+    while k < len(order):
+        s_i = order[k]
+        k += 1
+        out = [(m_i, m) for m_i, m in enumerate(meshes) if m_i not in done
+               and any(shaft_of[g] == s_i for g in m.gears)]
+        if len(out) > 1 and len({shaft_of[g] for m_i, m in out for g in m.gears} - {s_i}) > 1:
+            raise InputError(f"shafts.{shafts[s_i].name}", "drives " + ", ".join(
+                "-".join(m.gears) for _, m in out), "a shaft drives one mesh only (a split of "
+                "the power between two outputs is not determined by the statics)")
+        for m_i, m in out:
+            done.add(m_i)
+            drv, dvn = m.gears if shaft_of[m.gears[0]] == s_i else m.gears[::-1]
+            t_i = shaft_of[dvn]
+            r = ratio[s_i] * gears[drv].teeth / gears[dvn].teeth
+            if t_i in ratio:
+                why = "ratios disagree" if not math.isclose(r, ratio[t_i], rel_tol=1e-9) else \
+                    "its torques are statically indeterminate"
+                raise InputError(f"meshes[{m_i}].gears", list(m.gears),
+                                 f"closes a loop of meshes ({why}): not supported")
+            ratio[t_i], sense[t_i] = r, -sense[s_i]
+            order.append(t_i)
+            oriented.append((drv, dvn))
+            angles.append(m.angle)
+    for s_i, s in enumerate(shafts):
+        require(s_i in ratio, f"shafts.{s.name}", "not driven",
+                f"no path of meshes from the input shaft {shafts[0].name!r}")
+    return PowerFlow(shafts=tuple(shafts[i] for i in order), meshes=tuple(oriented),
+                     angles=tuple(angles),
+                     shaft_of={g: order.index(i) for g, i in shaft_of.items()},
+                     ratio=tuple(ratio[i] for i in order), sense=tuple(sense[i] for i in order))

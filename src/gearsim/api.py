@@ -33,14 +33,15 @@ def _gearbox(model: Gearbox | str | Path) -> Gearbox:
     return model if isinstance(model, (Gearbox, PlanetaryBox)) else load(model)
 
 
-def simulate(model: Gearbox | str | Path, *, crack: str | None = None,
+def simulate(gearbox: Gearbox | str | Path, /, *, crack: str | None = None,
              **dynamics: Any) -> xr.Dataset:
     """Simulate the vibration of a gearbox.
 
     Parameters
     ----------
-    model : Gearbox, PlanetaryBox, str or Path
-        A gearbox (:func:`gearsim.load`), a TOML file or a built-in example name; a
+    gearbox : Gearbox, PlanetaryBox, str or Path
+        A gearbox (:func:`gearsim.load`), a TOML file or a built-in example name
+        (positional: ``model`` is the dynamics option, e.g. ``model="torsional"``); a
         planetary stage (``[stage]``) runs :func:`gearsim.dynamics.stage.simulate_stage`
         (with its ``[chain]``, :func:`gearsim.dynamics.compose.simulate_stage_chain`).
     crack : {"none", "working", "non-working"}, optional
@@ -63,7 +64,7 @@ def simulate(model: Gearbox | str | Path, *, crack: str | None = None,
     >>> ds["mesh_force_1"].attrs["units"]  # doctest: +SKIP
     'N'
     """
-    gb = _gearbox(model)
+    gb = _gearbox(gearbox)
     if crack is not None:
         gb = gb.with_crack(crack)
     if getattr(gb, "kind", "") == "planetary":  # a stage (gearsim.model.planetary)

@@ -135,7 +135,7 @@ def layout(train: GearTrain, idler_angles: tuple[float, ...]) -> Layout:
     Raises
     ------
     InputError
-        (parameter ``dynamics.idler_angle``) if two gears on single-gear shafts that are
+        (parameter ``dynamics.idler_angle``) if two gears of a chain (one plane) that are
         not in mesh would overlap (centre distance <= sum of their tip radii).
 
     References
@@ -193,7 +193,7 @@ def layout(train: GearTrain, idler_angles: tuple[float, ...]) -> Layout:
             delta -= pair.start_of_contact / pair.base_pitch
             phase[i] = phase[prev] + delta
         into[b] = i
-    single = [g for g in train.gears if len(fl.shafts[fl.shaft_of[g.name]].gears) == 1]
+    single = list(train.gears) if train.is_chain else []  # a chain lies in one plane
     meshed = set(fl.meshes)
     for j, ga in enumerate(single):
         for gb in single[j + 1:]:

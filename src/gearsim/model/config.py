@@ -54,9 +54,9 @@ from gearsim.units import plain_numbers_are_si
 __all__ = ["EXAMPLES", "example", "example_text", "load", "loads", "parse",
            "read_file_or_builtin"]
 
-#: Built-in examples: the seed's Table-1 helical idler train, Tian's spur pair, and two
-#: planetary stages (the Lin & Parker 1999 example system, the NREL GRC stage).
-EXAMPLES = ("idler-table1", "spur-19-48", "lin-parker-1999", "nrel-grc")
+#: Built-in examples: the seed's Table-1 helical idler train, Tian's spur pair, the
+#: two-stage reducer of the UConn / SpectraQuest test rig, and two planetary stages (the Lin & Parker 1999 example system, the NREL GRC stage).
+EXAMPLES = ("idler-table1", "spur-19-48", "two-stage-reducer", "lin-parker-1999", "nrel-grc")
 
 MATERIAL_KEYS = {"youngs_modulus": "pressure", "poisson_ratio": "dimensionless",
                  "density": "density"}
@@ -225,8 +225,8 @@ def _graph(doc: dict[str, Any], kws: list[dict[str, Any]]
     for i, (sp, table) in enumerate(zip(specs, shafts_raw, strict=True)):
         sp["name"] = names[i]
         sp["gears"] = tuple(kw["name"] for kw in kws if kw["shaft"] == names[i])
-        with as_written(table, "shafts", SHAFT_KEYS, sources=[(f"shafts[{i}]", table)],
-                        default=f"shafts[{i}]"):
+        with as_written(table, f"shafts.{names[i]}", SHAFT_KEYS,
+                        sources=[(f"shafts[{i}]", table)], default=f"shafts[{i}]"):
             shafts.append(Shaft(**sp))
     meshes = []
     gear_names = [kw["name"] for kw in kws]

@@ -67,8 +67,8 @@ class Shaft:
         Torsional stiffness between consecutive gears [N m/rad], in [1e-3, 1e12];
         ``None``: a rigid shaft (its gears turn as one body).
     bearing_stiffness, axial_stiffness : float or None
-        Radial and axial stiffness of its bearings [N/m]; ``None``: the ``[dynamics]``
-        defaults.
+        Radial and axial stiffness of its bearings [N/m], in [1e3, 1e15] (a rubber mount
+        to a practically rigid support); ``None``: the ``[dynamics]`` defaults.
 
     Raises
     ------
@@ -100,8 +100,8 @@ class Shaft:
                 f"must be in [{MIN_SHAFT_STIFFNESS:g}, {MAX_SHAFT_STIFFNESS:g}] N*m/rad")
         for key in ("bearing_stiffness", "axial_stiffness"):
             v = getattr(self, key)
-            require(v is None or (_number(v) and 1e3 <= v <= 1e13), f"{p}.{key}", v,
-                    "must be in [1e3, 1e13] N/m")
+            require(v is None or (_number(v) and 1e3 <= v <= 1e15), f"{p}.{key}", v,
+                    "must be in [1e3, 1e15] N/m")
 
 
 @dataclass(frozen=True)
@@ -190,6 +190,28 @@ class PowerFlow:
         return 1 if (flank == "working") == (roles[mesh] == first) else -1
 
 
+def _refuse_loops(gears: dict, shaft_of: dict, meshes: tuple[MeshSpec, ...]) -> None:
+    """Refuse the first mesh that joins two shafts already joined by earlier meshes.
+
+    The speed ratios of the shafts along the earlier meshes (a spanning tree, walked
+    breadth first) tell whether the loop could turn at all.
+    """
+    ratio: dict[int, dict[int, float]] = {}  # component root -> shaft -> speed ratio
+    root: dict[int, int] = {}
+    for m_i, m in enumerate(meshes):
+        (a, b), (za, zb) = ((shaft_of[g] for g in m.gears), (gears[g].teeth for g in m.gears))
+        ra, rb = root.setdefault(a, a), root.setdefault(b, b)
+        ca, cb = ratio.setdefault(ra, {a: 1.0}), ratio.setdefault(rb, {b: 1.0})
+        if ra == rb:
+            agree = math.isclose(ca[a] * za / zb, ca[b], rel_tol=1e-9)
+            raise InputError(f"meshes[{m_i}].gears", list(m.gears), "closes a loop of meshes ("
+                             + ("its torques are statically indeterminate" if agree
+                                else "ratios disagree") + "): not supported")
+        scale = ca[a] * za / zb / cb[b]  # speed ratios of b's component in a's terms
+        for s, r in ratio.pop(rb).items():
+            ca[s], root[s] = r * scale, ra
+
+
 def power_flow(gears: dict, shafts: tuple[Shaft, ...], meshes: tuple[MeshSpec, ...]
                ) -> PowerFlow:
     """Orient the meshes from the input shaft (``shafts[0]``) and check the graph.
@@ -251,6 +273,7 @@ def power_flow(gears: dict, shafts: tuple[Shaft, ...], meshes: tuple[MeshSpec, .
     meshed = {g for m in meshes for g in m.gears}
     for g in gears:
         require(g in meshed, f"gears.{g}", "meshes nothing", "every gear takes part in a mesh")
+    _refuse_loops(gears, shaft_of, meshes)
     ratio: dict[int, float] = {0: 1.0}
     sense: dict[int, int] = {0: 1}
     order, oriented, angles = [0], [], []
@@ -269,13 +292,8 @@ def power_flow(gears: dict, shafts: tuple[Shaft, ...], meshes: tuple[MeshSpec, .
             done.add(m_i)
             drv, dvn = m.gears if shaft_of[m.gears[0]] == s_i else m.gears[::-1]
             t_i = shaft_of[dvn]
-            r = ratio[s_i] * gears[drv].teeth / gears[dvn].teeth
-            if t_i in ratio:
-                why = "ratios disagree" if not math.isclose(r, ratio[t_i], rel_tol=1e-9) else \
-                    "its torques are statically indeterminate"
-                raise InputError(f"meshes[{m_i}].gears", list(m.gears),
-                                 f"closes a loop of meshes ({why}): not supported")
-            ratio[t_i], sense[t_i] = r, -sense[s_i]
+            ratio[t_i] = ratio[s_i] * gears[drv].teeth / gears[dvn].teeth
+            sense[t_i] = -sense[s_i]
             order.append(t_i)
             oriented.append((drv, dvn))
             angles.append(m.angle)

@@ -184,7 +184,9 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
     require(t_model != 0.0, "stage", out, "the output member carries no torque")
     s = -math.copysign(1.0, t_model)  # the output turns against its load in the model frame
     g1 = chain.gears[0]
-    i_theta = n1 + 3  # theta of the chain's first gear (x, y, z, theta per gear)
+    i_theta = n1 + cm_.dof_labels.index(f"{chain.flow.shafts[0].name}.theta"
+                                        if f"{chain.flow.shafts[0].name}.theta" in cm_.dof_labels
+                                        else f"{g1.name}.theta")  # the driven shaft's rotation
     if shaft_stiffness is None:
         shaft_stiffness = SHAFT_FACTOR * cm_.tables[0].mean * g1.base_radius ** 2
     kt = shaft_stiffness
@@ -219,7 +221,8 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
     kmean = np.concatenate([[t.mean for t in sm.tables], [t.mean for t in cm_.tables], [kt]])
     e0 = np.concatenate([sm.e0, cm_.e0, [0.0]])
     q0 = static_equilibrium(mass, kb, V, kmean, fext, e0)
-    chain_rows = tuple(range(r1, r1 + r2))
+    chain_rows = tuple(range(r1, r1 + len(chain.pairs)))  # its meshes (then its springs)
+    chain_rate = np.ones(r2) if cm_.rate is None else np.asarray(cm_.rate)
     return DynamicModel(
         kind="stage+chain", gear_names=sm.gear_names + cm_.gear_names,
         dof_labels=sm.dof_labels + cm_.dof_labels, mass=mass, kb=kb, cb=cb, fext=fext, V=V,
@@ -237,11 +240,13 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
         static_force=np.concatenate([sm.static_force, cm_.static_force,
                                      [abs(train.torques[out])]]),
         bearing_dofs=sm.bearing_dofs, axes=sm.axes, q_static=q0,
-        rate=np.concatenate([np.ones(r1), np.full(r2, f_m2 / f_m), [1.0]]),
+        rate=np.concatenate([np.ones(r1), chain_rate * (f_m2 / f_m), [1.0]]),
         info={**sm.info, "chain_rows": chain_rows, "shaft_row": rows - 1,
               "chain_mesh_names": tuple(p.name for p in chain.pairs),
               "chain_mesh_frequency": f_m2, "shaft_stiffness": kt,
-              "chain_dofs": (n1, n), "output_member": out, "chain_name": chain.name})
+              "chain_dofs": (n1, n), "output_member": out, "chain_name": chain.name,
+              "chain_bearing_dofs": cm_.bearing_dofs + n1, "chain_axes": cm_.axes,
+              "chain_shafts": cm_.gear_names})
 
 
 def simulate_stage_chain(train: PlanetaryTrain, chain: GearTrain,

@@ -453,6 +453,13 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
         crow = list(model.info["chain_rows"])
         extra["chain_mesh_force"] = (("time", "chain_mesh"), f[:, crow], {"units": "N"})
         extra["shaft_torque"] = ("time", f[:, model.info["shaft_row"]], {"units": "N*m"})
+        bd = model.info["chain_bearing_dofs"]
+        acc_c = (model.fext[bd] - model.kb[bd] * q[:, bd] - model.cb[bd] * v[:, bd]
+                 - np.einsum("ti,ijk->tjk", f, model.V[:, bd])) / model.mass[bd]
+        extra["chain_acceleration"] = (("time", "chain_shaft", "chain_axis"), acc_c, {
+            "units": "m/s^2", "long_name": "acceleration of each chain shaft's centre"})
+        extra_coords["chain_shaft"] = list(model.info["chain_shafts"])
+        extra_coords["chain_axis"] = list(model.info["chain_axes"])
         extra_coords["chain_mesh"] = list(model.info["chain_mesh_names"])
         extra_attrs = {"chain_mesh_frequency": model.info["chain_mesh_frequency"],
                        "shaft_stiffness": model.info["shaft_stiffness"],

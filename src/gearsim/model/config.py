@@ -56,9 +56,9 @@ __all__ = ["EXAMPLES", "example", "example_text", "load", "loads", "parse",
 
 #: Built-in examples: the seed's Table-1 helical idler train, Tian's spur pair, the
 #: two-stage reducer of the UConn / SpectraQuest test rig, and two planetary stages (the
-#: Lin & Parker 1999 example system, the NREL GRC stage).
+#: Lin & Parker 1999 example system, the NREL GRC stage) and the whole GRC gearbox.
 EXAMPLES = ("idler-table1", "spur-19-48", "two-stage-reducer", "lin-parker-1999",
-            "nrel-grc")
+            "nrel-grc", "wind-turbine-grc")
 
 MATERIAL_KEYS = {"youngs_modulus": "pressure", "poisson_ratio": "dimensionless",
                  "density": "density"}

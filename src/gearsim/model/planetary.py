@@ -24,7 +24,9 @@ have ``[[gears]]`` instead). Values take units as strings like the gear trains'
     [chain]           # optional: parallel gears on the output shaft (dynamics.compose)
     shaft_stiffness = "2e7 N*m/rad"      # optional; default 10 x the first mesh's
     [chain.common]    # as a gear train's [common]; [[chain.gears]], [[chain.cracks]],
-                      # [[chain.faults]], [[chain.modifications]], [chain.stiffness]
+                      # [[chain.faults]], [[chain.modifications]], [chain.stiffness];
+                      # [[chain.shafts]] and [[chain.meshes]] for parallel stages
+                      # (the first shaft is the one the stage drives)
 
 The chain runs at the stage output's speed and torque (no ``[operating]`` of its own).
 
@@ -72,8 +74,8 @@ SENSOR_KEYS = {"angle": "angle", "width": "angle"}
 PLANETARY_TOP_KEYS = ("name", "material", "stage", "operating", "members", "sensor",
                       "stiffness", "cracks", "faults", "dynamics", "analysis", "chain")
 #: Keys of ``[chain]``: the shaft and a gear train's sections (no operating point).
-CHAIN_KEYS = ("name", "shaft_stiffness", "common", "gears", "stiffness", "cracks", "faults",
-              "modifications")
+CHAIN_KEYS = ("name", "shaft_stiffness", "common", "shafts", "gears", "meshes", "stiffness",
+              "cracks", "faults", "modifications")
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,96 @@
+"""The NREL GRC wind-turbine gearbox: a planetary stage driving two parallel stages (issue 23).
+
+Expected numbers are built here from the tooth counts (Willis for the stage, z ratios for
+the parallel stages) and the gears' base radii, not read from the model.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import gearsim as gs
+from gearsim.dynamics.compose import build_stage_chain_model
+from gearsim.model import example_text, loads
+
+#: Static balance of the assembled model (a least-squares solve of the mean system).
+STATIC_RTOL = 1e-8
+
+
+@pytest.fixture(scope="module")
+def box():
+    return gs.example("wind-turbine-grc")
+
+
+def test_overall_ratio_is_the_reports(box):
+    ratio = (1 + 99 / 21) * 82 / 23 * 88 / 22
+    assert ratio == pytest.approx(81.49, abs=0.005)  # NREL/TP-5000-47773: 1:81.49
+    hs = box.chain.speed(box.chain.gear_index("high-speed-pinion"))
+    assert box.train.speeds["carrier"] / hs == pytest.approx(1 / ratio, rel=1e-12)
+
+
+def test_static_torque_balance_at_every_shaft(box):
+    model = build_stage_chain_model(box.train, box.chain, box.members, box.dynamics)
+    f = model.mean_stiffness() * (model.V @ model.q_static)
+    t_in = 324e3
+    t_sun = t_in / (1 + 99 / 21)
+    assert f[model.info["shaft_row"]] == pytest.approx(t_sun, rel=STATIC_RTOL)
+    rows = model.info["chain_rows"]
+    ch = box.chain
+    g = {n: ch.gear(n) for n in ("low-speed-gear", "intermediate-pinion", "intermediate-gear",
+                                 "high-speed-pinion")}
+    f1, f2 = f[rows[0]], f[rows[1]]
+    assert f1 * g["low-speed-gear"].base_radius == pytest.approx(t_sun, rel=STATIC_RTOL)
+    # intermediate shaft: torque in from mesh I = torque out to mesh II
+    assert f1 * g["intermediate-pinion"].base_radius == pytest.approx(
+        f2 * g["intermediate-gear"].base_radius, rel=STATIC_RTOL)
+    ratio = (1 + 99 / 21) * 82 / 23 * 88 / 22
+    assert f2 * g["high-speed-pinion"].base_radius == pytest.approx(t_in / ratio, rel=1e-6)
+
+
+def _amplitude(x: np.ndarray, fs: float, f: float) -> float:
+    """Amplitude of the line at f from a Hann-windowed FFT (nearest bin)."""
+    x = x - x.mean()
+    spec = np.abs(np.fft.rfft(x * np.hanning(x.size))) * 4 / x.size
+    return float(spec[np.argmin(np.abs(np.fft.rfftfreq(x.size, 1 / fs) - f))])
+
+
+@pytest.fixture(scope="module")
+def run(box):
+    return gs.simulate(box, duration=3.0)
+
+
+def test_every_stage_mesh_line_is_in_the_spectrum(box, run):
+    fs = run.attrs["fs"]
+    f_p = run.attrs["mesh_frequency"]
+    f_i, f_h = box.chain.mesh_frequencies
+    assert f_p == pytest.approx(99 * 22.1 / 60, rel=1e-12)
+    assert f_i == pytest.approx(82 * 22.1 / 60 * (1 + 99 / 21), rel=1e-12)
+    assert f_h == pytest.approx(88 * 22.1 / 60 * (1 + 99 / 21) * 82 / 23, rel=1e-12)
+    acc = run["chain_acceleration"].sel(chain_shaft="intermediate", chain_axis="y").values
+    for f in (f_i, f_h):  # the intermediate bearing hears both parallel meshes
+        line = _amplitude(acc, fs, f)
+        off = max(_amplitude(acc, fs, f * 1.07), _amplitude(acc, fs, f * 0.93))
+        assert line > 20 * off, (f, line, off)
+    sensor = run["sensor"].values  # the ring sensor hears the planetary mesh
+    assert _amplitude(sensor, fs, f_p) > 20 * _amplitude(sensor, fs, f_p * 1.07)
+
+
+def test_cracked_intermediate_pinion_sidebands_at_the_intermediate_shaft(box, run):
+    cracked = loads(example_text("wind-turbine-grc") + """
+[[chain.cracks]]
+gear = "intermediate-pinion"
+depth = "4 mm"
+""")
+    ds = gs.simulate(cracked, duration=3.0)
+    fs = ds.attrs["fs"]
+    # what the crack adds: same run otherwise (deterministic), so the difference is its own
+    x = (ds["chain_mesh_force"] - run["chain_mesh_force"]).sel(chain_mesh="I").values
+    f_i = box.chain.mesh_frequencies[0]
+    f_int = box.chain.shaft_frequency(box.chain.gear_index("intermediate-pinion"))
+    f_sun = box.train.speeds["sun"] / (2 * math.pi)
+    own = [_amplitude(x, fs, f_i + k * f_int) for k in (-2, -1, 1, 2)]
+    sun = [_amplitude(x, fs, f_i + k * f_sun) for k in (-1, 1)]
+    assert min(own) > 10 * max(sun), (own, sun)

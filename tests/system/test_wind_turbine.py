@@ -6,13 +6,16 @@ the parallel stages) and the gears' base radii, not read from the model.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 import pytest
+import scipy.linalg
 
 import gearsim as gs
 from gearsim.dynamics.compose import build_stage_chain_model
+from gearsim.dynamics.modal import modes
 from gearsim.model import example_text, loads
 
 #: Static balance of the assembled model (a least-squares solve of the mean system).
@@ -94,3 +97,31 @@ depth = "4 mm"
     own = [_amplitude(x, fs, f_i + k * f_int) for k in (-2, -1, 1, 2)]
     sun = [_amplitude(x, fs, f_i + k * f_sun) for k in (-1, 1)]
     assert min(own) > 10 * max(sun), (own, sun)
+
+
+def test_torsional_stage_equals_a_hand_assembled_torsional_planetary_model():
+    """Purely torsional planetary model (Kahraman 1994): u = r theta of carrier, ring, sun
+    and each planet; planet centres ride on the carrier, delta_sn = u_s + u_n - u_c cos
+    alpha_s, delta_rn = u_r - u_n - u_c cos alpha_r (Lin & Parker's deflections with the
+    translations held); the carrier's coordinate carries the planets' masses."""
+    from gearsim.dynamics.stage import build_stage_model
+
+    gb = gs.example("nrel-grc").with_crack("none")
+    dyn = dataclasses.replace(gb.dynamics, model="torsional")
+    model = build_stage_model(gb.train, gb.members, dyn)
+    lp = build_stage_model(gb.train, gb.members, gb.dynamics).info["lin_parker"]
+    n = lp.planets
+    M = np.diag([lp.carrier_inertia + n * lp.planet_mass, lp.ring_inertia, lp.sun_inertia]
+                + [lp.planet_inertia] * n)
+    K = np.diag([lp.carrier_torsional, lp.ring_torsional, lp.sun_torsional] + [0.0] * n)
+    for j in range(n):
+        for k, alpha, v in ((lp.sun_mesh, lp.sun_pressure_angle, (2, 1.0, 1.0)),
+                            (lp.ring_mesh, lp.ring_pressure_angle, (1, 1.0, -1.0))):
+            b = np.zeros(3 + n)
+            b[0], b[v[0]], b[3 + j] = -math.cos(alpha), v[1], v[2]
+            K += k * np.outer(b, b)
+    w2 = scipy.linalg.eigh(K, M, eigvals_only=True)
+    expected = np.sqrt(w2[w2 > 1e-12 * w2.max()]) / (2 * math.pi)
+    assert model.dof_labels == ("carrier.u", "ring.u", "sun.u", "planet-1.u", "planet-2.u",
+                                "planet-3.u")
+    np.testing.assert_allclose(modes(model).frequencies, expected, rtol=1e-9)

@@ -59,7 +59,7 @@ __all__ = ["SHAFT_FACTOR", "STAGE_ONLY", "build_stage_chain_model", "chain_opera
 #: Default shaft: this many times the torsional stiffness of the chain's first mesh.
 SHAFT_FACTOR = 10.0
 #: Dynamics options of the chain that the stage model refuses: reset for the stage.
-STAGE_ONLY = {"model": "lta", "profile_modification": (0.0,), "crowning": (0.0,),
+STAGE_ONLY = {"profile_modification": (0.0,), "crowning": (0.0,),
               "runout": (0.0,), "runout_phase": (0.0,), "assembly_error": (0.0,),
               "contact_mesh": False, "bearing_damping": None, "bearing_axial_stiffness": None,
               "idler_angle": (math.pi,)}

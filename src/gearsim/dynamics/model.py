@@ -26,6 +26,7 @@ kappa_i (s_i k_i (V_i.q - e_i) + c_mi (V_i.q' - e_i')) for all deflections.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -33,7 +34,7 @@ import numpy as np
 from gearsim.dynamics.tables import MeshTable
 from gearsim.errors import InputError
 
-__all__ = ["DynamicModel", "mean_stiffness_matrix"]
+__all__ = ["DynamicModel", "constrain", "mean_stiffness_matrix"]
 
 
 @dataclass(frozen=True)
@@ -232,6 +233,87 @@ def mean_stiffness_matrix(model: DynamicModel, *, which: str = "mean") -> np.nda
     for i in range(model.n_mesh):
         K += k[i] * np.outer(model.V[i], model.V[i])
     return K
+
+
+def constrain(model: DynamicModel, follow: dict[str, tuple[str, float]],
+              kind: str) -> DynamicModel:
+    """The model with coordinates tied to others: q = T q_r (a kinematic reduction).
+
+    Each coordinate is kept, follows one kept coordinate with a factor (``follow[label] =
+    (kept label, factor)``) or is held at zero (``factor`` 0). With at most one entry per
+    row of T the reduced mass T^T M T, bearings T^T K_b T and T^T C_b T stay diagonal;
+    V_r = V T and F_r = T^T F (virtual work); rows of V that become zero (springs whose
+    ends the constraint ties together) are dropped with their tables.
+
+    Parameters
+    ----------
+    model : DynamicModel
+        The full model.
+    follow : dict
+        Label of a removed coordinate -> (label of the kept coordinate, factor).
+    kind : str
+        ``kind`` of the reduced model.
+
+    Returns
+    -------
+    DynamicModel
+        Kept coordinates in their order; ``bearing_dofs`` of the members whose
+        translations are all kept, ``q_static`` of the reduced mean system.
+
+    Examples
+    --------
+    Two discs on a shaft spring, the second tied to the first: one disc with the summed
+    inertia, the spring row (now zero) dropped.
+
+    >>> import numpy as np
+    >>> from gearsim.dynamics.tables import MeshTable
+    >>> o, z = np.ones(1), np.zeros(2)
+    >>> m = DynamicModel(
+    ...     kind="lta", gear_names=("a", "b"), dof_labels=("a.theta", "b.theta"),
+    ...     mass=np.array([0.5, 0.25]), kb=z, cb=z, fext=np.array([2.0, -2.0]),
+    ...     V=np.array([[1.0, -1.0]]), kappa=o, kscale=o, cm=o, clearance=np.inf * o,
+    ...     tables=(MeshTable(k=np.array([1e6]), positions_per_cycle=1, period=1),),
+    ...     phase=0 * o, mesh_frequency=1.0, e0=0 * o, h_amp=np.zeros((1, 1)),
+    ...     h_omega=np.zeros((1, 1)), h_phase=np.zeros((1, 1)), to_transverse=o,
+    ...     dte_offset=0 * o, static_force=0 * o,
+    ...     bearing_dofs=np.zeros((2, 0), dtype=np.int64), axes=(), q_static=z)
+    >>> r = constrain(m, {"b.theta": ("a.theta", 1.0)}, "torsional")
+    >>> r.dof_labels, r.mass.tolist(), r.fext.tolist(), r.n_mesh
+    (('a.theta',), [0.75], [0.0], 0)
+    """
+    labels = model.dof_labels
+    kept = [lab for lab in labels if lab not in follow]
+    T = np.zeros((len(labels), len(kept)))
+    for i, lab in enumerate(labels):
+        target, factor = (lab, 1.0) if lab not in follow else follow[lab]
+        if factor != 0.0:
+            T[i, kept.index(target)] = factor
+    mass, kb, cb = (np.einsum("i,ij->j", x, T * T) for x in (model.mass, model.kb, model.cb))
+    V = model.V @ T
+    rows = [i for i in range(model.n_mesh) if np.any(V[i] != 0.0)]
+
+    def sub(a):
+        return None if a is None else np.asarray(a)[rows]
+
+    fext = T.T @ model.fext
+    kmean = np.array([model.tables[i].mean for i in rows]) * model.kappa[rows] * \
+        model.kscale[rows]
+    index = {lab: j for j, lab in enumerate(kept)}
+    bd = [[index[labels[k]] for k in b] for b in model.bearing_dofs
+          if all(labels[k] in index for k in b)]
+    return dataclasses.replace(
+        model, kind=kind, dof_labels=tuple(kept), mass=mass, kb=kb, cb=cb, fext=fext,
+        V=V[rows], kappa=model.kappa[rows], kscale=model.kscale[rows], cm=model.cm[rows],
+        clearance=model.clearance[rows], tables=tuple(model.tables[i] for i in rows),
+        phase=model.phase[rows], e0=model.e0[rows], h_amp=model.h_amp[rows],
+        h_omega=model.h_omega[rows], h_phase=model.h_phase[rows],
+        to_transverse=model.to_transverse[rows], dte_offset=model.dte_offset[rows],
+        static_force=model.static_force[rows],
+        bearing_dofs=np.array(bd, dtype=np.int64).reshape(len(bd), len(bd[0]) if bd else 0),
+        axes=model.axes if bd and len(bd[0]) else (),
+        q_static=static_equilibrium(mass, kb, V[rows], kmean, fext, model.e0[rows]),
+        a_amp=sub(model.a_amp), a_omega=sub(model.a_omega), a_phase=sub(model.a_phase),
+        rate=sub(model.rate), info={**model.info, "rows_kept": tuple(rows)})
 
 
 def static_equilibrium(mass: np.ndarray, kb: np.ndarray, V: np.ndarray, kmean: np.ndarray,

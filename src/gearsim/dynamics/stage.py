@@ -43,13 +43,15 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from gearsim.dynamics.model import DynamicModel, static_equilibrium
-from gearsim.dynamics.planetary import LinParkerModel
+from gearsim.dynamics.modal import modes
+from gearsim.dynamics.model import DynamicModel, constrain, static_equilibrium
+from gearsim.dynamics.planetary import LinParkerModel, PlanetaryMode
 from gearsim.dynamics.settings import DynamicsSettings
 from gearsim.dynamics.simulate import record
 from gearsim.dynamics.tables import MeshTable, contact_table
@@ -219,7 +221,9 @@ def _contact_rows(t, direction: int) -> MeshTable:
 
 def _check_settings(s: DynamicsSettings) -> None:
     """Refuse the gear-train options a stage does not model (one line each)."""
-    for name, default in (("model", "lta"), ("profile_modification", (0.0,)),
+    require(s.model in ("lta", "torsional"), "dynamics.model", s.model,
+            'a planetary stage is modelled "lta" (Lin & Parker, planar) or "torsional"')
+    for name, default in (("profile_modification", (0.0,)),
                           ("crowning", (0.0,)), ("runout", (0.0,)),
                           ("assembly_error", (0.0,)), ("contact_mesh", False),
                           ("bearing_damping", None), ("bearing_axial_stiffness", None)):
@@ -315,7 +319,7 @@ def build_stage_model(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     for j in range(st.planets):
         p = planet_name(j)
         row_names += [f"sun-{p}", f"ring-{p}", f"bearing-{p}.radial", f"bearing-{p}.tangential"]
-    return DynamicModel(
+    model = DynamicModel(
         kind="planetary", gear_names=_MEMBERS + tuple(planet_name(j) for j in range(st.planets)),
         dof_labels=tuple(labels), mass=mass, kb=kb, cb=cb, fext=fext, V=V,
         kappa=np.ones(n_planet_rows), kscale=np.ones(n_planet_rows), cm=cm, clearance=clear,
@@ -328,6 +332,17 @@ def build_stage_model(train: PlanetaryTrain, dyn: StageDynamics | None = None,
         axes=("x", "y"), q_static=q0,
         info={"lin_parker": lp, "mesh_rows": tuple(mesh_rows), "row_names": tuple(row_names),
               "backlash": b2})
+    if settings.model != "torsional":
+        return model
+    # purely torsional: members and planet centres fixed in translation, each planet's
+    # centre carried by the carrier (rigid bearings: eta_n = u_c) (Kahraman 1994)
+    follow = {f"{m}.{a}": ("", 0.0) for m in _MEMBERS for a in "xy"}
+    for j in range(st.planets):
+        follow |= {f"{planet_name(j)}.xi": ("", 0.0), f"{planet_name(j)}.eta": ("carrier.u", 1.0)}
+    red = constrain(model, follow, "planetary")
+    kept = list(red.info["rows_kept"])
+    return dataclasses.replace(red, info={**red.info, "mesh_rows": tuple(
+        kept.index(r) for r in mesh_rows), "row_names": tuple(row_names[r] for r in kept)})
 
 
 def sensor_window(phi: np.ndarray, width: float) -> np.ndarray:
@@ -438,14 +453,21 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     names = [model.info["row_names"][i] for i in rows]
     forces = f[:, rows]
     # ring acceleration from the equation of motion of its x, y coordinates
-    acc = np.gradient(v[:, 3:5], t, axis=0) if n_out > 2 else np.zeros((n_out, 2))
+    ring = [model.dof_labels.index(f"ring.{a}") for a in "xy" if f"ring.{a}" in model.dof_labels]
+    acc = (np.gradient(v[:, ring], t, axis=0) if n_out > 2 and ring
+           else np.zeros((n_out, 2)))
     theta_c = train.speeds["carrier"] * t
     psi = train.stage.planet_angles_value
     ring_f = forces[:, 1::2]
     dyn_f = ring_f - ring_f.mean(axis=0)
     w = sensor_window(theta_c[:, None] + psi[None, :] - dyn.sensor_angle, dyn.sensor_width)
     sensor = np.sum(w * dyn_f, axis=1)
-    groups = model.info["lin_parker"].modes().groups
+    if model.axes:
+        groups = model.info["lin_parker"].modes().groups
+    else:  # the torsional model's own modes (of the whole assembly)
+        md = modes(model)
+        groups = [PlanetaryMode(frequency=float(f), multiplicity=1, kind="torsional",
+                                shapes=md.shapes[:, [i]]) for i, f in enumerate(md.frequencies)]
     extra: dict = {}
     extra_coords: dict = {}
     extra_attrs: dict = {}

@@ -5,14 +5,20 @@ The equations are those of :mod:`gearsim.dynamics.model`; the Python wrapper
 
 Packed arguments (built by :func:`gearsim.dynamics.simulate._kernel_args`):
 
-* ``dof`` (4, n): 1/M, K_b, C_b, F_ext of each coordinate;
+* ``dof`` (5, n): 1/M, K_b, C_b, F_ext of each coordinate and its inertial load per unit
+  nominal acceleration g (speed profiles);
 * ``mp`` (n_mesh, 9): kappa, kscale, c_m, clearance 2b, phase, e0, positions per
-  cycle and period of each mesh's table, and its mesh frequency f_i [Hz] (the table is
-  read at c_i = f_i t + phase_i; the argument ``fm`` is kept for the call signature);
+  cycle and period of each mesh's table, and its mesh frequency f_i [Hz] at the
+  reference speed (the table is read at c_i = f_i tau(t) + phase_i);
+* ``prof`` (n_seg, 4): the speed profile as segments (t_k, tau_k, tau'_k, tau''_k):
+  nominal time tau(t) = tau_k + tau'_k (t - t_k) + tau''_k (t - t_k)^2 / 2 on
+  [t_k, t_k+1), tau' = omega(t) / omega_ref (constant speed: one segment (0, 0, 1, 0),
+  tau = t); ``lam`` (n_l, 2): load factor lambda(t) on F_ext, piecewise linear in t;
 * ``mi`` (n_mesh, 4) int: table offset and length in ``tab``, mesh-of-contacts flag,
   offset of its rows in ``ptr``;
-* ``harm`` (6, n_mesh, n_h): amplitude, angular frequency and phase of the STE
-  harmonics (rows 0-2) and of the centre-distance change (rows 3-5);
+* ``harm`` (6, n_mesh, n_h): amplitude, angular frequency (at the reference speed: the
+  argument is omega tau + phase) and phase of the STE harmonics (rows 0-2) and of the
+  centre-distance change (rows 3-5);
 * ``tabd``: dk/da on the samples of ``tab`` (zeros where not used): the stiffness is
   k(c) + Delta a(t) dk/da(c);
 * ``tab``: the tables k (every contact); ``tabz``: k_zero of the meshes of contacts
@@ -31,7 +37,7 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["integrate_rk4", "integrate_rk4_contacts", "mesh_forces", "rhs"]
+__all__ = ["integrate_rk4", "integrate_rk4_contacts", "mesh_forces", "nominal", "rhs"]
 
 # columns of mp
 KAPPA, KSCALE, CM, CLEAR, PHASE, E0, NPC, PERIOD, FREQ = range(9)
@@ -52,6 +58,26 @@ def _table_index(length, npc, period, c):
     if j >= length:
         j -= length
     return i, j, w
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def nominal(t, prof, lam):
+    """(tau, tau', tau'', lambda) at time ``t``: nominal time of the speed profile and the
+    load factor (layout of ``prof`` and ``lam`` in the module docstring)."""
+    k = max(np.searchsorted(prof[:, 0], t, side="right") - 1, 0)
+    d = t - prof[k, 0]
+    tau = prof[k, 1] + prof[k, 2] * d + 0.5 * prof[k, 3] * d * d
+    taud = prof[k, 2] + prof[k, 3] * d
+    n = lam.shape[0]
+    if n == 1 or t <= lam[0, 0]:
+        load = lam[0, 1]
+    elif t >= lam[n - 1, 0]:
+        load = lam[n - 1, 1]
+    else:
+        j = np.searchsorted(lam[:, 0], t, side="right") - 1
+        w = (t - lam[j, 0]) / (lam[j + 1, 0] - lam[j, 0])
+        load = lam[j, 1] * (1.0 - w) + lam[j + 1, 1] * w
+    return tau, taud, prof[k, 3], load
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -88,9 +114,10 @@ def _contact_force(x, xd, b2, cm, ks, tab, tabz, dk, off, i, j, w, ptr, row0, cx
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def mesh_forces(t, q, v, V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx, contacts, f_out,
+def mesh_forces(tau, taud, q, v, V, mp, mi, tab, tabz, tabd, harm, ptr, cx, contacts, f_out,
                 d_out):
-    """Mesh forces f_i [N] (into ``f_out``) and deflections V_i.q [m] (into ``d_out``).
+    """Mesh forces f_i [N] (into ``f_out``) and deflections V_i.q [m] (into ``d_out``) at
+    nominal time ``tau`` (rate ``taud`` = tau').
 
     ``contacts`` is a literal at each call site: with ``False`` the meshes-of-contacts
     branch is dead code."""
@@ -108,21 +135,21 @@ def mesh_forces(t, q, v, V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx, contacts
         for h in range(harm.shape[2]):
             a = harm[0, i, h]
             if a != 0.0:
-                arg = harm[1, i, h] * t + harm[2, i, h]
+                arg = harm[1, i, h] * tau + harm[2, i, h]
                 e += a * math.sin(arg)
-                ed += a * harm[1, i, h] * math.cos(arg)
+                ed += a * harm[1, i, h] * taud * math.cos(arg)
         x = d - e
         xd = dd - ed
         b2 = mp[i, CLEAR]
         cmi = mp[i, CM]
         off = mi[i, TOFF]
         i0, j0, w = _table_index(mi[i, TLEN], mp[i, NPC], mp[i, PERIOD],
-                                 mp[i, FREQ] * t + mp[i, PHASE])
+                                 mp[i, FREQ] * tau + mp[i, PHASE])
         dk = 0.0
         for h in range(harm.shape[2]):  # centre-distance change (eccentric gears)
             a = harm[3, i, h]
             if a != 0.0:
-                dk += a * math.sin(harm[4, i, h] * t + harm[5, i, h])
+                dk += a * math.sin(harm[4, i, h] * tau + harm[5, i, h])
         if dk != 0.0:
             dk *= tabd[off + i0] * (1.0 - w) + tabd[off + j0] * w
         if contacts and mi[i, CON] != 0:
@@ -142,15 +169,17 @@ def mesh_forces(t, q, v, V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx, contacts
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def rhs(t, q, v, dof, V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx, contacts, a_out, f_out,
-        d_out):
-    """Accelerations M^-1 (F_ext - K_b q - C_b q' - sum V_i f_i) into ``a_out``."""
-    mesh_forces(t, q, v, V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx, contacts, f_out,
+def rhs(t, q, v, dof, V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam, contacts, a_out,
+        f_out, d_out):
+    """Accelerations M^-1 (lambda F_ext + g tau'' - K_b q - C_b q' - sum V_i f_i) into
+    ``a_out``."""
+    tau, taud, taudd, load = nominal(t, prof, lam)
+    mesh_forces(tau, taud, q, v, V, mp, mi, tab, tabz, tabd, harm, ptr, cx, contacts, f_out,
                 d_out)
     n = q.size
     nm = V.shape[0]
     for j in range(n):
-        s = dof[3, j] - dof[1, j] * q[j] - dof[2, j] * v[j]
+        s = load * dof[3, j] + taudd * dof[4, j] - dof[1, j] * q[j] - dof[2, j] * v[j]
         for i in range(nm):
             s -= V[i, j] * f_out[i]
         a_out[j] = s * dof[0, j]
@@ -158,7 +187,7 @@ def rhs(t, q, v, dof, V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx, contacts, a
 
 @njit(cache=True, inline="always", error_model="numpy")
 def _rk4(contacts, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof, V, mp,
-         mi, tab, tabz, tabd, fm, harm, ptr, cx):
+         mi, tab, tabz, tabd, prof, harm, ptr, cx, lam):
     """Classical fixed-step RK4 (body of both integrators; see :func:`integrate_rk4`)."""
     n = q0.size
     nm = V.shape[0]
@@ -184,7 +213,7 @@ def _rk4(contacts, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, d
     next_rec = rec_start
     for s in range(n_steps + 1):
         t = t0 + s * dt
-        rhs(t, q, v, dof, V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx, contacts, k1v, f, d)
+        rhs(t, q, v, dof, V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam, contacts, k1v, f, d)
         if s == next_rec and r < n_rec:
             for j in range(n):
                 rec_q[r, j] = q[j]
@@ -199,20 +228,20 @@ def _rk4(contacts, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, d
             k1q[j] = v[j]
             qt[j] = q[j] + h2 * v[j]
             vt[j] = v[j] + h2 * k1v[j]
-        rhs(t + h2, qt, vt, dof, V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx, contacts, k2v,
-            f, d)
+        rhs(t + h2, qt, vt, dof, V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam, contacts,
+            k2v, f, d)
         for j in range(n):
             k2q[j] = vt[j]
             qt[j] = q[j] + h2 * vt[j]
             vt[j] = v[j] + h2 * k2v[j]
-        rhs(t + h2, qt, vt, dof, V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx, contacts, k3v,
-            f, d)
+        rhs(t + h2, qt, vt, dof, V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam, contacts,
+            k3v, f, d)
         for j in range(n):
             k3q[j] = vt[j]
             qt[j] = q[j] + dt * vt[j]
             vt[j] = v[j] + dt * k3v[j]
-        rhs(t + dt, qt, vt, dof, V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx, contacts, k4v,
-            f, d)
+        rhs(t + dt, qt, vt, dof, V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam, contacts,
+            k4v, f, d)
         bad = False
         for j in range(n):
             q[j] += h6 * (k1q[j] + 2.0 * k2q[j] + 2.0 * k3q[j] + vt[j])
@@ -226,7 +255,7 @@ def _rk4(contacts, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, d
 
 @njit(cache=True, error_model="numpy")
 def integrate_rk4(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof, V, mp,
-                  mi, tab, tabz, tabd, fm, harm, ptr, cx):
+                  mi, tab, tabz, tabd, prof, harm, ptr, cx, lam):
     """Classical fixed-step RK4 from t0 over ``n_steps`` steps of ``dt`` (stiffness tables).
 
     Records q, q' and the mesh forces at steps ``rec_start + r rec_every`` (r < n_rec),
@@ -242,12 +271,12 @@ def integrate_rk4(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, do
     q, v : final state
     """
     return _rk4(False, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof, V,
-                mp, mi, tab, tabz, tabd, fm, harm, ptr, cx)
+                mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)
 
 
 @njit(cache=True, error_model="numpy")
 def integrate_rk4_contacts(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof,
-                           V, mp, mi, tab, tabz, tabd, fm, harm, ptr, cx):
+                           V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam):
     """:func:`integrate_rk4` with meshes of contacts (same arguments and returns)."""
     return _rk4(True, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof, V,
-                mp, mi, tab, tabz, tabd, fm, harm, ptr, cx)
+                mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)

@@ -311,6 +311,10 @@ def build_lta(train: GearTrain, settings: DynamicsSettings | None = None, *,
               tables: tuple[MeshTable, ...] | None = None) -> DynamicModel:
     """Assemble the equations of motion of a gearbox from its shafts, gears and meshes.
 
+    With a speed profile the mesh-cycle coordinates follow the input shaft's nominal
+    angle (:meth:`DynamicModel.nominal`) and each rotation carries the inertia load of
+    the nominal rotation, -J_j Omega_j tau'', the input the whole train's (so the rigid
+    rotation is not forced); a load profile scales the input and load torques.
     ``settings.model = "lta"``: lateral-torsional-axial (module docstring);
     ``"torsional"``: the rotations only (the mesh rows keep their base-radius entries,
     the bearings and the lateral coupling go). Each element adds its rows: a shaft its
@@ -414,6 +418,14 @@ def build_lta(train: GearTrain, settings: DynamicsSettings | None = None, *,
                                    for k in kt)
     q_static = static_equilibrium(mass, kb, V, np.concatenate([kmean, kt]), fext, e0)
     f_m = train.mesh_frequency
+    profile, load = settings.profiles(train.operating.speed)
+    inertial = None
+    if profile is not None:  # the nominal rotation's inertia, driven by the input
+        omega = np.zeros(n)
+        for g in gears:
+            omega[theta[g.name]] = train.speed(train.gear_index(g.name))
+        inertial = -mass * omega
+        inertial[theta[gears[0].name]] += np.sum(mass * omega ** 2) / omega[theta[gears[0].name]]
     rate = np.concatenate([np.array(train.mesh_frequencies) / f_m, pad + 1.0])
     return DynamicModel(
         kind=settings.model, gear_names=tuple(sh.name for sh in fl.shafts),
@@ -426,7 +438,8 @@ def build_lta(train: GearTrain, settings: DynamicsSettings | None = None, *,
         static_force=np.concatenate([[train.static_mesh_force(i) for i in range(nm)],
                                      [train.torque(train.gear_index(a)) for a, *_ in springs]]),
         bearing_dofs=bearing_dofs, axes=AXES if lateral else (), q_static=q_static,
-        rate=None if np.all(rate == 1.0) else rate,
+        rate=None if np.all(rate == 1.0) else rate, profile=profile, load=load,
+        inertial=inertial,
         info={"equivalent_mass": meq, "mesh_damping_ratio": settings.mesh_damping_ratio,
               "centres": lay.centres, "line_of_action": lay.normal,
               "rotation_sense": lay.senses, "shaft_rows": tuple(range(nm, rows)),

@@ -96,9 +96,19 @@ class DynamicModel:
     info : dict, optional
         Further descriptive data (mesh damping ratio, equivalent masses, ...).
     rate : ndarray, shape (n_mesh,), optional
-        Mesh i reads its table at c_i = rate_i f_m t + phase_i [-]: a system with two
-        mesh frequencies (a planetary stage and a chain, :mod:`gearsim.dynamics.compose`).
+        Mesh i reads its table at c_i = rate_i f_m tau + phase_i [-]: a system with
+        several mesh frequencies (a gearbox graph, a planetary stage and its chain).
         ``None``: 1 for every mesh.
+    profile : ndarray, shape (n_seg, 4), optional
+        Speed profile as segments (t_k, tau_k, tau'_k, tau''_k) of the nominal time tau(t)
+        (:meth:`nominal`); ``None``: constant speed, tau = t.
+    load : ndarray, shape (n_l, 2), optional
+        Load factor lambda(t) on ``fext`` as (time [s], factor) points, linear between;
+        ``None``: 1.
+    inertial : ndarray, shape (n,), optional
+        Load g on each coordinate per unit tau'' [N or N m per s/s^2 ...]: the inertia of
+        the nominal rotation, -J_j Omega_j, with the input taking the whole train's
+        inertia torque so that the rigid rotation stays at rest.
     a_amp, a_omega, a_phase : ndarray, shape (n_mesh, n_h), optional
         Harmonics ``a_amp sin(a_omega t + a_phase)`` of the centre-distance change of each
         mesh by eccentric gears [m], [rad/s], [rad]; the stiffness becomes
@@ -135,6 +145,37 @@ class DynamicModel:
     a_omega: np.ndarray | None = None
     a_phase: np.ndarray | None = None
     rate: np.ndarray | None = None
+    profile: np.ndarray | None = None
+    load: np.ndarray | None = None
+    inertial: np.ndarray | None = None
+
+    def nominal(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Nominal time tau, tau', tau'' [s, -, 1/s] and load factor lambda at times ``t``.
+
+        tau(t) = tau_k + tau'_k (t - t_k) + tau''_k (t - t_k)^2 / 2 on segment k of
+        ``profile`` (tau' = omega(t) / omega_ref, the speed relative to the operating
+        speed); the mesh-cycle coordinate is c_i = f_i tau + phase_i, so it follows the
+        driving shaft's angle. lambda: linear in ``load`` (the same as the kernel's
+        :func:`gearsim.dynamics._kernels.nominal`, written with numpy).
+
+        Parameters
+        ----------
+        t : array_like
+            Times [s].
+
+        Returns
+        -------
+        tau, taud, taudd, lam : ndarray
+            Same shape as ``t``.
+        """
+        t = np.asarray(t, dtype=float)
+        prof = np.array([[0.0, 0.0, 1.0, 0.0]]) if self.profile is None else self.profile
+        k = np.clip(np.searchsorted(prof[:, 0], t, side="right") - 1, 0, None)
+        d = t - prof[k, 0]
+        tau = prof[k, 1] + prof[k, 2] * d + 0.5 * prof[k, 3] * d * d
+        lam = (np.ones_like(t) if self.load is None
+               else np.interp(t, self.load[:, 0], self.load[:, 1]))
+        return tau, prof[k, 2] + prof[k, 3] * d, prof[k, 3] + 0.0 * t, lam
 
     @property
     def mesh_frequencies(self) -> np.ndarray:

@@ -25,6 +25,8 @@ import numbers
 from dataclasses import dataclass, fields
 from typing import Any
 
+import numpy as np
+
 from gearsim.errors import InputError, require
 from gearsim.sections import as_written, convert
 
@@ -52,6 +54,9 @@ MAX_FS = 1e7  # Hz (10 MHz)
 #: values overflow the static solve).
 MAX_BEARING_STIFFNESS = 1e15  # N/m
 MAX_BEARING_DAMPING = 1e12  # N s/m
+#: Largest load factor of a load profile: ten times the rated torque (a short-circuit
+#: torque of a generator is 5-8 times rated); above, a unit or typing mistake.
+MAX_LOAD_FACTOR = 10.0
 #: Ceiling of backlash, profile modification, crowning, runout and assembly error [m]:
 #: micrometre quantities; 10 mm means a unit mistake.
 MAX_ERROR = 1e-2
@@ -129,6 +134,14 @@ class DynamicsSettings:
         Run every mesh as a mesh of contacts (:mod:`gearsim.stiffness.contacts`), also
         those without faults or modifications; a mesh with faults, modifications or pitch
         errors always runs so.
+    speed_times, speed_values
+        Input speed profile: times [s] (>= 0, increasing, from the start of the run,
+        transient included) and speeds [rad/s] (>= 0, finite), linear between points and
+        held outside (two points: a run-up or coast-down); ``None``: the operating speed
+        throughout. The mesh-cycle coordinates follow the input shaft's angle.
+    load_times, load_values
+        Load profile: times [s] and factors on the operating torque (input and load
+        torques alike, in [0, 10]), linear between points; ``None``: 1.
     """
 
     model: str = "lta"
@@ -151,8 +164,29 @@ class DynamicsSettings:
     runout_phase: tuple[float, ...] = (0.0,)
     assembly_error: tuple[float, ...] = (0.0,)
     contact_mesh: bool = False
+    speed_times: tuple[float, ...] | None = None
+    speed_values: tuple[float, ...] | None = None
+    load_times: tuple[float, ...] | None = None
+    load_values: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
+        for name in ("speed_times", "speed_values", "load_times", "load_values"):
+            object.__setattr__(self, name, _as_tuple(getattr(self, name)))
+        for kind, hi in (("speed", 1e5), ("load", MAX_LOAD_FACTOR)):
+            times, vals = getattr(self, f"{kind}_times"), getattr(self, f"{kind}_values")
+            p = f"dynamics.{kind}"
+            require((times is None) == (vals is None), f"{p}_times", times,
+                    f"give {kind}_times and {kind}_values together")
+            if times is None:
+                continue
+            require(len(times) == len(vals) and len(times) >= 1, f"{p}_values", list(vals),
+                    f"give one value per time ({len(times)})")
+            require(all(_number(t) and 0 <= t <= MAX_DURATION for t in times), f"{p}_times",
+                    list(times), f"must be finite times in [0, {MAX_DURATION:g}] s")
+            require(all(b > a for a, b in zip(times, times[1:], strict=False)), f"{p}_times",
+                    list(times), "must increase")
+            require(all(_number(v) and 0 <= v <= hi for v in vals), f"{p}_values", list(vals),
+                    f"must be finite and in [0, {hi:g}]" + (" rad/s" if kind == "speed" else ""))
         for name in ("backlash", "idler_angle", "profile_modification", "crowning",
                      "runout", "runout_phase", "assembly_error"):
             object.__setattr__(self, name, _as_tuple(getattr(self, name)))
@@ -205,6 +239,51 @@ class DynamicsSettings:
         require(all(_number(v) and abs(v) <= MAX_ERROR for v in self.assembly_error),
                 f"{p}.assembly_error", self.assembly_error,
                 f"must be finite with |e| <= {MAX_ERROR:g} m (plain numbers are metres)")
+
+    def profiles(self, speed: float) -> tuple[np.ndarray | None, np.ndarray | None]:
+        """Segments of the nominal time and the load points for the kernel.
+
+        With the speed omega(t) linear between the given points, tau' = omega / omega_ref
+        and tau(t) = integral of tau' (exact, quadratic on each segment); a constant
+        segment from t = 0 to the first point and after the last.
+
+        Parameters
+        ----------
+        speed : float
+            Reference (operating) speed omega_ref [rad/s].
+
+        Returns
+        -------
+        profile : ndarray, shape (n_seg, 4), or None
+            (t_k, tau_k, tau'_k, tau''_k) (:attr:`DynamicModel.profile`); None: constant.
+        load : ndarray, shape (n, 2), or None
+            (t, lambda) points; None: 1.
+
+        Examples
+        --------
+        A run-up from 0.5 to 1.5 times the reference speed over 2 s: tau(2) = 2 s.
+
+        >>> st = DynamicsSettings(speed_times=(0.0, 2.0), speed_values=(50.0, 150.0))
+        >>> prof, _ = st.profiles(100.0)
+        >>> prof.tolist()
+        [[0.0, 0.0, 0.5, 0.5], [2.0, 2.0, 1.5, 0.0]]
+        """
+        prof = None
+        if self.speed_times is not None:
+            t = np.array(self.speed_times)
+            w = np.array(self.speed_values) / speed
+            rows = [] if t[0] == 0.0 else [[0.0, 0.0, w[0], 0.0]]
+            tau = w[0] * t[0]
+            for k in range(t.size):
+                acc = (w[k + 1] - w[k]) / (t[k + 1] - t[k]) if k + 1 < t.size else 0.0
+                rows.append([t[k], tau, w[k], acc])
+                if k + 1 < t.size:
+                    d = t[k + 1] - t[k]
+                    tau += w[k] * d + 0.5 * acc * d * d
+            prof = np.array(rows)
+        load = None if self.load_times is None else np.stack(
+            [np.array(self.load_times), np.array(self.load_values)], axis=1)
+        return prof, load
 
     def per_item(self, name: str, count: int, what: str) -> tuple[float, ...]:
         """The option ``name`` as one value per item (mesh, gear or idler).
@@ -261,9 +340,12 @@ KEYS = {
     "backlash": "length", "nonlinear": "bool", "idler_angle": "angle",
     "profile_modification": "length", "crowning": "length", "runout": "length",
     "runout_phase": "angle", "assembly_error": "length", "contact_mesh": "bool",
+    "speed_times": "time", "speed_values": "speed", "load_times": "time",
+    "load_values": "dimensionless",
 }
 LIST_KEYS = ("backlash", "idler_angle", "profile_modification", "crowning", "runout",
-             "runout_phase", "assembly_error")
+             "runout_phase", "assembly_error", "speed_times", "speed_values", "load_times",
+             "load_values")
 
 
 def parse_dynamics(table: Any, section: str = "dynamics") -> DynamicsSettings:

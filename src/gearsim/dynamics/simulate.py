@@ -195,7 +195,8 @@ def _kernel_args(model: DynamicModel):
     tabs = model.tables
     lens = np.array([t.k.size for t in tabs], dtype=np.int64)
     offs = np.concatenate([[0], np.cumsum(lens)[:-1]]).astype(np.int64)
-    dof = np.ascontiguousarray(np.stack([1.0 / model.mass, model.kb, model.cb, model.fext]),
+    g = np.zeros(model.n_dof) if model.inertial is None else model.inertial
+    dof = np.ascontiguousarray(np.stack([1.0 / model.mass, model.kb, model.cb, model.fext, g]),
                                dtype=float)
     mp = np.ascontiguousarray(np.stack(
         [model.kappa, model.kscale, model.cm, model.clearance, model.phase, model.e0,
@@ -215,9 +216,12 @@ def _kernel_args(model: DynamicModel):
         [np.stack([model.h_amp, model.h_omega, model.h_phase]), a]), dtype=float)
     tabd = np.concatenate([t.dk_da if t.dk_da is not None else np.zeros(t.k.size)
                            for t in tabs])
+    prof = np.array([[0.0, 0.0, 1.0, 0.0]]) if model.profile is None else model.profile
+    lam = np.array([[0.0, 1.0]]) if model.load is None else model.load
     return (dof, np.ascontiguousarray(model.V, dtype=float), mp, mi,
-            np.concatenate([t.k for t in tabs]), tabz, np.ascontiguousarray(tabd), float(
-                model.mesh_frequency), harm, ptr, cx)
+            np.concatenate([t.k for t in tabs]), tabz, np.ascontiguousarray(tabd),
+            np.ascontiguousarray(prof, dtype=float), harm, ptr, cx,
+            np.ascontiguousarray(lam, dtype=float))
 
 
 def _contact_args(tabs):
@@ -424,7 +428,8 @@ def check_cost(train: GearTrain, settings: DynamicsSettings | None = None, *,
         raise InputError("dynamics.duration", s.duration,
                          f"must be >= {t_rev:.6g} s (one revolution of the slowest gear, "
                          f"{train.gears[slow].name})")
-    f_m = max(train.mesh_frequencies)
+    f_m = max(train.mesh_frequencies) * max(1.0, *(np.array(s.speed_values or (0.0,))
+                                                   / train.operating.speed))
     n = max(1, int(harmonics))
     if not s.fs > 2.0 * n * f_m:
         which = "the mesh frequency f_m" if n == 1 else \
@@ -605,6 +610,12 @@ def record(model: DynamicModel, settings: DynamicsSettings, *, dt: float, m: int
     return transient + np.arange(n_out) / fs, q, v, f, transient
 
 
+#: The simulated tacho: a pulse of TACHO_VOLTS while a shaft's angle is within
+#: TACHO_WIDTH rad after each whole revolution (a TTL-level once-per-revolution pulse).
+TACHO_VOLTS = 5.0
+TACHO_WIDTH = 0.2 * math.pi
+
+
 def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient):
     import xarray as xr
 
@@ -642,6 +653,20 @@ def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient)
     if rot:
         data["angular_acceleration"] = (("time", "rotation"), acc[:, rot], {
             "units": "rad/s^2", "long_name": "angular acceleration (own sense of rotation)"})
+    tau = model.nominal(t)[0]
+    angles = []
+    for sh in train.flow.shafts:
+        own = [lab for lab in (f"{sh.name}.theta", f"{sh.gears[0]}.theta")
+               if lab in model.dof_labels and model.kind != "seed"]
+        elastic = q[:, model.dof_labels.index(own[0])] if own else 0.0
+        angles.append(train.speed(train.gear_index(sh.gears[0])) * tau + elastic)
+    angles = np.stack(angles, axis=1)
+    data["shaft_angle"] = (("time", "shaft"), angles, {
+        "units": "rad", "long_name": "angle of each shaft in its own sense of rotation"})
+    data["tacho"] = (("time", "shaft"), np.where(np.mod(angles, 2 * np.pi) < TACHO_WIDTH,
+                                                 TACHO_VOLTS, 0.0), {
+        "units": "V", "long_name": "once-per-revolution tacho pulse of each shaft",
+        "pulses_per_rev": 1})
     md = modes(model)
     attrs = {
         "title": f"gearsim train dynamics: {train.name}",
@@ -665,7 +690,8 @@ def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient)
     coords = {"time": ("time", t, {"units": "s"}),
               "gear": ("gear", list(model.gear_names)),  # the shafts (a chain: its gears)
               "axis": ("axis", list(model.axes)),
-              "rotation": ("rotation", [model.dof_labels[j][:-6] for j in rot])}
+              "rotation": ("rotation", [model.dof_labels[j][:-6] for j in rot]),
+              "shaft": ("shaft", [sh.name for sh in train.flow.shafts])}
     if springs:
         coords["spring"] = ("spring", list(model.info["shaft_springs"]))
     return xr.Dataset(data, coords=coords, attrs=attrs)
@@ -726,13 +752,14 @@ def reference_mesh_forces(model: DynamicModel, t: float, q: np.ndarray,
     ndarray, shape (n_mesh,)
         f_i including the factor kappa_i [N].
     """
-    arg = model.h_omega * t + model.h_phase
+    tau, taud, _, _ = model.nominal(t)
+    arg = model.h_omega * tau + model.h_phase
     e = model.e0 + np.sum(model.h_amp * np.sin(arg), axis=1)
-    ed = np.sum(model.h_amp * model.h_omega * np.cos(arg), axis=1)
+    ed = np.sum(model.h_amp * model.h_omega * np.cos(arg), axis=1) * taud
     if any(tab.has_contacts or tab.dk_da is not None for tab in model.tables):
-        return _reference_contact_forces(model, t, q, v, e, ed)
+        return _reference_contact_forces(model, tau, q, v, e, ed)
     fr = model.mesh_frequencies
-    k = np.array([model.kscale[i] * float(tab(fr[i] * t + model.phase[i]))
+    k = np.array([model.kscale[i] * float(tab(fr[i] * tau + model.phase[i]))
                   for i, tab in enumerate(model.tables)])
     x = model.V @ q - e
     xd = model.V @ v - ed
@@ -746,8 +773,8 @@ def reference_mesh_forces(model: DynamicModel, t: float, q: np.ndarray,
 
 def _reference_contact_forces(model: DynamicModel, t: float, q: np.ndarray, v: np.ndarray,
                               e: np.ndarray, ed: np.ndarray) -> np.ndarray:
-    """Mesh forces with meshes of contacts, written from the force law of
-    docs/contacts.md: F = sum_j k_j max(0, x - s_j) over every contact of the two
+    """Mesh forces with meshes of contacts (``t``: the nominal time), written from the
+    force law of docs/contacts.md: F = sum_j k_j max(0, x - s_j) over every contact of the two
     samples around c (zero-separation contacts included), interpolated linearly."""
     x_all = model.V @ q - e
     xd_all = model.V @ v - ed
@@ -808,7 +835,8 @@ def reference_rhs(model: DynamicModel):
     Returns
     -------
     callable
-        ``fun(t, y) -> [q', q'']`` with ``q'' = M^-1 (F_ext - K_b q - C_b q' - V^T f)``.
+        ``fun(t, y) -> [q', q'']`` with ``q'' = M^-1 (lambda F_ext + g tau'' - K_b q -
+        C_b q' - V^T f)`` (speed and load profiles: :meth:`DynamicModel.nominal`).
     """
     n = model.n_dof
     minv = 1.0 / model.mass
@@ -816,7 +844,9 @@ def reference_rhs(model: DynamicModel):
     def fun(t: float, y: np.ndarray) -> np.ndarray:
         q, v = y[:n], y[n:]
         f = reference_mesh_forces(model, t, q, v)
-        a = minv * (model.fext - model.kb * q - model.cb * v - model.V.T @ f)
+        _, _, taudd, lam = model.nominal(t)
+        g = 0.0 if model.inertial is None else model.inertial * taudd
+        a = minv * (lam * model.fext + g - model.kb * q - model.cb * v - model.V.T @ f)
         return np.concatenate([v, a])
 
     return fun

@@ -230,6 +230,9 @@ def _check_settings(s: DynamicsSettings) -> None:
         v = getattr(s, name)
         require(v == default, f"dynamics.{name}", v,
                 f"is not modelled for a planetary stage (leave it at {default!r})")
+    require(s.speed_times is None and s.load_times is None, "dynamics.speed_times",
+            s.speed_times or s.load_times, "speed and load profiles are not modelled for a "
+            "planetary stage yet (constant speed and torque only)")
     require(s.backlash is None or len(s.backlash) == 1, "dynamics.backlash", s.backlash,
             "a planetary stage takes one backlash for all its meshes")
 

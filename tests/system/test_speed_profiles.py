@@ -1,0 +1,134 @@
+"""Speed and load that change (issue 23, item 3): run-ups, coast-downs and the tacho."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.signal import stft
+
+import gearsim as gs
+from gearsim.dynamics.settings import DynamicsSettings
+from gearsim.dynamics.simulate import build_model, reference_rhs, run_kernel
+from gearsim.errors import InputError
+from gearsim.signals.ordertrack import order_spectrum
+from gearsim.signals.speed import speed_from_tacho
+
+TWO_PI = 2 * math.pi
+#: RK4 at 2.5 us against DOP853 at rtol 1e-10 over 20 ms of a run-up, relative to the
+#: largest elastic displacement: measured 1.1e-6 (1.8e-4 at 10 us, 7.9e-6 at 5 us: the
+#: kernel converges to the reference at fourth order).
+KERNEL_RTOL = 1e-5
+
+
+@pytest.fixture(scope="module")
+def box():
+    return gs.example("two-stage-reducer")
+
+
+def _runup(**kw):
+    return DynamicsSettings(speed_times=(0.0, 2.0), speed_values=(10 * TWO_PI, 30 * TWO_PI), **kw)
+
+
+def test_nominal_time_integrates_the_speed_profile():
+    st = DynamicsSettings(speed_times=(0.5, 1.5, 2.0), speed_values=(60.0, 120.0, 90.0))
+    train = gs.example("spur-19-48").train
+    ref = train.operating.speed
+    prof, _ = st.profiles(ref)
+    m = build_model(train, st)
+    t = np.linspace(0, 3, 3001)
+    tau, taud, _, _ = m.nominal(t)
+    omega = np.interp(t, st.speed_times, st.speed_values)  # held outside the points
+    assert np.allclose(taud, omega / ref, rtol=0, atol=1e-12)
+    # the angle is the integral of the speed (trapezoid on a fine grid, exact for linear)
+    expected = np.concatenate([[0], np.cumsum(0.5 * (omega[1:] + omega[:-1]) * np.diff(t))])
+    np.testing.assert_allclose(tau * ref, expected, rtol=1e-9, atol=1e-9)
+    assert prof.shape == (4, 4)
+
+
+def test_kernel_follows_the_profile_like_solve_ivp(box):
+    m = build_model(box.train, _runup(model="torsional"))
+    dt, n = 2.5e-6, 8000
+    raw = run_kernel(m, dt=dt, n_steps=n, rec_every=n)
+    sol = solve_ivp(reference_rhs(m), (0.0, n * dt), np.concatenate([m.q_static,
+                    np.zeros(m.n_dof)]), rtol=1e-10, atol=1e-15, method="DOP853")
+    q_ref = sol.y[:m.n_dof, -1]
+    scale = np.max(np.abs(q_ref - m.q_static))
+    assert np.max(np.abs(raw.q_end - q_ref)) < KERNEL_RTOL * scale
+
+
+def test_rigid_rotation_stays_at_rest_during_a_run_up(box):
+    """The input takes the whole train's inertia torque: the rigid rotation (theta_j
+    proportional to the speed ratios) is not forced, so its momentum stays zero."""
+    m = build_model(box.train, _runup(model="torsional"))
+    raw = run_kernel(m, dt=1e-5, n_steps=20000, rec_every=20000)
+    ratios = np.array([box.train.speed(box.train.gear_index(sh.gears[0]))
+                       for sh in box.train.flow.shafts]) / box.train.operating.speed
+    momentum = np.sum(m.mass * ratios * raw.v_end)
+    typical = np.sum(m.mass * ratios * ratios) * np.max(np.abs(raw.v_end))
+    assert abs(momentum) < 1e-9 * typical
+
+
+@pytest.fixture(scope="module")
+def runup(box):
+    return gs.simulate(box, duration=2.0, transient=0.05, fs=20e3, speed_times=[0.05, 2.05],
+                       speed_values=[10 * TWO_PI, 30 * TWO_PI])
+
+
+def test_mesh_lines_sweep_with_the_speed(box, runup):
+    fs = runup.attrs["fs"]
+    for mesh, order in ((1, 32.0), (2, 48 * 32 / 80)):
+        x = runup[f"mesh_force_{mesh}"].values
+        f, t, z = stft(x - x.mean(), fs=fs, nperseg=2000, noverlap=1000)
+        t = t + float(runup.time[0])
+        for j in range(2, t.size - 2, 4):
+            expected = order * (10 + 10 * (t[j] - 0.05))  # input shaft 10 -> 30 Hz in 2 s
+            band = (f > 0.6 * expected) & (f < 1.4 * expected)
+            peak = f[band][np.argmax(np.abs(z[band, j]))]
+            assert abs(peak - expected) < 2 * fs / 2000, (mesh, t[j], peak, expected)
+
+
+def test_order_spectrum_from_the_own_tacho_has_every_stage_mesh_order(runup):
+    fs = runup.attrs["fs"]
+    prof = speed_from_tacho(runup["tacho"].sel(shaft="input").values, fs)
+    assert prof.mean_frequency == pytest.approx(20.0, rel=0.02)
+    x = runup["acceleration"].sel(gear="intermediate", axis="y").values
+    orders, amp = order_spectrum(x, fs, prof, samples_per_rev=256)
+    for order in (32.0, 48 * 32 / 80):  # 32 and 19.2 input-shaft orders
+        near = np.abs(orders - order) < 0.3
+        away = (np.abs(orders - order) > 1.5) & (np.abs(orders - order) < 4)
+        assert amp[near].max() > 10 * np.median(amp[away]), order
+
+
+@pytest.mark.parametrize("kw, match", [
+    ({"speed_times": (0.0, 1.0), "speed_values": (-1.0, 10.0)}, r"speed_values = \[-1.0"),
+    ({"speed_times": (0.0, 1.0), "speed_values": (math.inf, 10.0)}, r"speed_values"),
+    ({"speed_times": (1.0, 0.5), "speed_values": (5.0, 10.0)}, r"speed_times .*must increase"),
+    ({"speed_times": (0.0, math.nan), "speed_values": (5.0, 10.0)}, r"speed_times"),
+    ({"speed_times": (0.0, 1.0)}, r"speed_times .*together"),
+    ({"speed_times": (0.0, 1.0), "speed_values": (5.0,)}, r"speed_values .*one value per"),
+    ({"load_times": (0.0,), "load_values": (1e300,)}, r"load_values = \[1e\+300\]"),
+])
+def test_bad_profiles_are_refused(kw, match):
+    with pytest.raises(InputError, match=match):
+        DynamicsSettings(**kw)
+
+
+def test_cli_refuses_a_decreasing_profile_in_one_line(tmp_path):
+    import subprocess
+    import sys
+
+    from gearsim.model import example_text
+
+    cfg = tmp_path / "box.toml"
+    cfg.write_text(example_text("two-stage-reducer").replace(
+        '[dynamics]\nfs = "20 kHz"', '[dynamics]\nfs = "20 kHz"\nspeed_times = [1.0, 0.5]\n'
+        'speed_values = ["600 rpm", "1800 rpm"]'))
+    out = tmp_path / "run.nc"
+    r = subprocess.run([sys.executable, "-m", "gearsim.cli", "simulate", str(cfg), "--out",
+                        str(out)], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    assert "dynamics.speed_times = [1.0, 0.5]: must increase" in r.stderr
+    assert not out.exists()

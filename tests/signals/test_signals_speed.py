@@ -1,4 +1,5 @@
-"""Speed from the signal: tacho, tacholess estimate, order tracking, tracked TSA.
+"""Speed from the signal: tacho, tacholess tracking estimate, order tracking, tracked TSA,
+given-speed check (the constant-speed estimate of short records: test_speed_short.py).
 
 The synthetic truth: a shaft runs up smoothly from 10 to 30 Hz in 4 s
 (``f = 10 + 10 (1 - cos(pi t / T))``) with a 1 % RMS jitter (sum of five sines of
@@ -283,6 +284,18 @@ def test_tracked_tsa_keeps_mesh_where_constant_speed_tsa_loses_it(run_up, estima
 
 
 # -- given speed check -----------------------------------------------------------------
+
+
+def test_given_speed_checked_on_half_a_second(constant_speed_record):
+    """Eight periods suffice (the demodulation filter of the tracking estimate would need
+    0.7 s); fewer are refused."""
+    f_r, x = constant_speed_record
+    half = x[: int(0.5 * FS)]
+    assert sp.check_given_speed(half, FS, f_r, order=TEETH) is None
+    assert "disagrees" in sp.check_given_speed(half, FS, f_r * 1.005, order=TEETH)
+    with pytest.raises(InputError) as exc:
+        sp.check_given_speed(x[: int(7 * FS / f_r)], FS, f_r, order=TEETH)
+    assert exc.value.parameter == "x.length"
 
 
 def test_given_speed_warning(constant_speed_record):

@@ -65,18 +65,35 @@ def _teeth(values: list[str] | None, extra: list[str], problems: list[str]) -> t
 
 
 def _speed_search(text: str | None, problems: list[str]) -> tuple[float, float] | None:
-    """``LO,HI`` in rpm to ``(lo, hi)`` in Hz."""
+    """``LO,HI`` with an optional unit to ``(lo, hi)`` in Hz: bare numbers are Hz (the unit
+    of the API); ``Hz`` (``hertz``, ``1/s``) or ``rpm`` (``r/min``, ``rev/min``,
+    ``revolutions_per_minute``, as pint spells them) after HI applies to both, after
+    each to each: ``20,40``, ``20,40Hz``, ``1200,2400rpm``, ``20 Hz, 2400 rpm``."""
+    import re
+
     if text is None:
         return None
-    try:
-        lo, hi = (float(v) for v in text.split(","))
-    except ValueError:
-        problems.append(f"--speed-search = {text}: must be LO,HI in rpm (e.g. 1500,2100)")
+    units = {"hz": 1.0, "hertz": 1.0, "1/s": 1.0, "rpm": 1 / 60, "r/min": 1 / 60,
+             "rev/min": 1 / 60, "revolutions_per_minute": 1 / 60}
+    form = "must be LO,HI in Hz, or with a unit: 20,40Hz or 1200,2400rpm"
+    parts = []
+    for item in text.split(","):
+        m = re.fullmatch(r"\s*(.*?)\s*(hz|hertz|1/s|rpm|r/min|rev/min|revolutions_per_minute)?\s*",
+                         item, flags=re.IGNORECASE)
+        try:
+            parts.append((float(m.group(1)), m.group(2) and units[m.group(2).lower()]))
+        except ValueError:
+            parts = []
+            break
+    if len(parts) != 2:
+        problems.append(f"--speed-search = {text}: {form}")
         return None
+    (lo, u_lo), (hi, u_hi) = parts
+    lo, hi = lo * (u_lo or u_hi or 1.0), hi * (u_hi or u_lo or 1.0)
     if not 0 < lo < hi < float("inf"):
-        problems.append(f"--speed-search = {text}: must be 0 < LO < HI (rpm)")
+        problems.append(f"--speed-search = {text}: must be 0 < LO < HI ({lo:g}, {hi:g} Hz)")
         return None
-    return lo / 60.0, hi / 60.0
+    return lo, hi
 
 
 def _stage(text: str | None, problems: list[str]) -> tuple[int, int, int, int] | None:
@@ -177,8 +194,9 @@ def analyze(
                                               "(speed read from the file)")] = None,
     pulses_per_rev: Annotated[int, typer.Option(help="tacho pulses per revolution [-]")] = 1,
     speed_search: Annotated[str | None, typer.Option(
-        help="estimate the shaft speed from the signal within LO,HI [rpm] (labelled "
-             "estimate)")] = None,
+        help="estimate the measured shaft's constant speed from the signal within LO,HI: "
+             "Hz when bare, or with a unit, 20,40Hz or 1200,2400rpm (labelled estimate, "
+             "with the dominant mesh family's tooth count)")] = None,
     teeth: Annotated[list[str] | None, typer.Option(
         help="tooth counts [-], gear on the measured shaft first: --teeth 32 80, "
              "--teeth 32,80 or --teeth 32 --teeth 80")] = None,

@@ -30,12 +30,28 @@ from one of three sources:
      Boashash 1992).
 
   The origin of an estimated angle is the start of the record: a harmonic of order
-  ``q`` fixes the shaft angle only modulo ``1 / q`` revolution.
+  ``q`` fixes the shaft angle only modulo ``1 / q`` revolution. The ridge and the
+  demodulation filter need records of many periods; they are for a speed that varies.
 * ``"given"`` -- :meth:`SpeedProfile.constant`: a known constant speed.
 
-:func:`check_given_speed` compares a given constant speed with the estimate from the
-data. Computed order tracking and the tracked TSA are in
-:mod:`gearsim.signals.ordertrack`.
+**Constant speed from short records** (:func:`estimate_constant_speed`): every line
+the shaft causes (its harmonics, the mesh harmonics :math:`k Z f_r`, their sidebands
+:math:`k Z f_r \pm m f_r`) lies at a multiple of :math:`f_r`. The lines of the whitened
+Welch spectrum are sifted through the harmonic comb of every speed of the range
+(harmonic sieve, Duifhuis, Willems & Sluyter 1982; harmonic sum, Schroeder 1968; Hermes
+1988), each scored by the likelihood ratio (G) of its count of lines against the
+Poisson mean of randomly placed lines on its comb: a sub-multiple :math:`f_r / k`
+holds the same lines on a denser comb, a multiple or a rational :math:`Z f_r / m` the
+mesh lines without the sidebands, so the best score is the shaft speed. Weighted least
+squares of line frequency against harmonic number on the whole record's periodogram
+refine it (the error falls with the record length and the harmonic number); the
+sideband spacing around the strongest mesh line and the power cepstrum's rahmonic at
+:math:`1/f_r` check it (Randall 2011, sec. 3.5-3.6); the dominant mesh family
+(tooth count) comes with it, labelled an estimate.
+
+:func:`check_given_speed` compares a given constant speed with the speed of the
+harmonics of a known order in the data. Computed order tracking and the tracked TSA are
+in :mod:`gearsim.signals.ordertrack`.
 
 References
 ----------
@@ -57,6 +73,12 @@ References
 .. [dB78] C. de Boor, *A Practical Guide to Splines*, Springer, 1978.
 .. [F97] K. R. Fyfe, E. D. S. Munck, "Analysis of computed order tracking", *Mech. Syst.
    Signal Process.* 11 (1997) 187-205.
+.. [S68] M. R. Schroeder, *J. Acoust. Soc. Am.* 43 (1968) 829-834 (product spectrum).
+.. [D82] H. Duifhuis, L. F. Willems, R. J. Sluyter, *J. Acoust. Soc. Am.* 71 (1982)
+   1568-1580 (harmonic sieve).
+.. [H88] D. J. Hermes, *J. Acoust. Soc. Am.* 83 (1988) 257-264 (subharmonic summation).
+.. [W67] P. D. Welch, *IEEE Trans. Audio Electroacoust.* 15 (1967) 70-73.
+.. [R11] R. B. Randall, *Vibration-based Condition Monitoring*, Wiley, 2011.
 """
 
 from __future__ import annotations
@@ -70,8 +92,9 @@ import scipy.fft
 from numpy.lib.stride_tricks import sliding_window_view
 from scipy.integrate import cumulative_trapezoid
 from scipy.interpolate import CubicSpline
-from scipy.signal import ShortTimeFFT, firwin, hilbert, kaiserord, oaconvolve
+from scipy.signal import ShortTimeFFT, find_peaks, firwin, hilbert, kaiserord, oaconvolve, welch
 from scipy.signal.windows import hann
+from scipy.special import gammainccinv, gammaincinv
 
 from gearsim.errors import InputError
 from gearsim.signals._checks import (
@@ -82,6 +105,7 @@ from gearsim.signals._checks import (
     check_positive,
 )
 from gearsim.signals._stft import stft as _stft
+from gearsim.signals.periodicity import periodogram
 from gearsim.signals.tsa import pulse_times
 
 __all__ = [
@@ -94,9 +118,22 @@ __all__ = [
     "DEMOD_PASSES",
     "STOPBAND_DB",
     "GIVEN_SPEED_TOLERANCE",
+    "MIN_PERIODS",
+    "SEGMENT_PERIODS",
+    "MIN_HARMONICS",
+    "MAX_ORDER",
+    "LINE_FALSE_ALARM",
+    "LINE_TOLERANCE",
+    "EXPLAINED",
+    "TEETH_RANGE",
+    "CEPSTRUM_Z",
+    "MIN_CONFIDENCE",
     "SpeedProfile",
+    "SpeedEstimate",
     "speed_from_tacho",
     "estimate_speed",
+    "check_speed_search",
+    "estimate_constant_speed",
     "check_given_speed",
 ]
 
@@ -126,10 +163,44 @@ STOPBAND_DB = 60.0
 #: Relative disagreement above which :func:`check_given_speed` warns (0.2 %): at the
 #: mesh order ``Z = 20`` over 100 revolutions it drifts the mesh phase by 4 cycles.
 GIVEN_SPEED_TOLERANCE = 0.002
+#: Shortest record of a constant-speed search, in periods of the lowest searched speed:
+#: the Hann main lobe is +-2 bins, so 8 periods resolve lines half that speed apart (the
+#: sidebands of a shaft turning at half the speed).
+MIN_PERIODS = 8.0
+#: Welch segment length in periods of the lowest searched speed, when the record holds
+#: more: lines 1/16 of that speed apart are resolved, and averaging steadies the floor.
+SEGMENT_PERIODS = 16.0
+#: Harmonics of the top searched speed that must lie below the Nyquist frequency.
+MIN_HARMONICS = 3
+#: Highest harmonic of a searched speed that is sifted (mesh harmonics 1-3 of gears up
+#: to 60 teeth and beyond; it bounds the sieve's work).
+MAX_ORDER = 200
+#: Probability that noise exceeds the height a line must have above the local noise
+#: mean (gamma law of the average of the Welch segments; exponential for a periodogram,
+#: where the height is ln(1000) = 6.9): a few false lines per spectrum, placed at random.
+LINE_FALSE_ALARM = 1e-3
+#: Largest distance of a line from a comb tooth [Welch bins]: the parabolic
+#: interpolation of a Hann peak is off by < 0.1 bin, the rest is room for noise.
+LINE_TOLERANCE = 0.3
+#: Share of the best family's line power the dominant mesh family (the largest tooth
+#: count) must hold: every divisor of a tooth count holds as much, plus stray lines
+#: (on the SpectraQuest records a line at order 16 holds 7-12 % beside a 32-tooth mesh).
+EXPLAINED = 0.8
+#: Tooth counts considered for the dominant mesh family (as ``estimate_teeth``).
+TEETH_RANGE = (10, 199)
+#: Robust z-score of the power cepstrum at ``1 / f_r`` that confirms the speed: the
+#: median + 3 x 1.48 MAD of the searched quefrencies is exceeded by 0.13 % of Gaussian noise.
+CEPSTRUM_Z = 3.0
+#: Confidence below which the analysis tiers do not use a searched speed: half of it
+#: is the two cross-checks, so both failing, or a margin under 0.7 Np, fall below.
+MIN_CONFIDENCE = 0.5
 
 _HOP_FRACTION = 8  # STFT hop = window / 8
 _BLOCK = 256  # STFT frames per block
 _ZERO_PAD = 4  # FFT length = 4 x window (finer frequency grid for the ridge)
+_FLOOR_BLOCK = 4.0  # noise-floor blocks [multiples of the top searched speed]
+_SIDEBANDS = 6  # sidebands per side sifted around the strongest mesh line
+_MAX_GRID = 1 << 20  # most speeds on the sieve's grid
 
 
 @dataclass(frozen=True, eq=False)
@@ -652,6 +723,338 @@ def estimate_speed(
                         edge=(taps.size // 2) / fs)
 
 
+@dataclass(frozen=True)
+class SpeedEstimate:
+    """Constant shaft speed from the record's lines (built by :func:`estimate_constant_speed`).
+
+    Parameters
+    ----------
+    frequency : float
+        Shaft frequency [Hz].
+    confidence : float
+        Figure of merit in [0, 1], not a probability: ``(1 - exp(-margin)) (2 + n) / 4``,
+        ``n`` the checks that agree (sidebands, cepstrum), halved when ``|drift|`` exceeds
+        :data:`GIVEN_SPEED_TOLERANCE` (the speed is not constant).
+    margin : float
+        G statistic [Np] of this speed's comb beyond that of the best speed of the range
+        that is neither a multiple nor a sub-multiple of it.
+    lines : int
+        Lines of the record's periodogram in the final fit.
+    order : int
+        Harmonic number of the strongest line.
+    teeth : int or None
+        Dominant mesh family: the largest ``Z`` in :data:`TEETH_RANGE` whose multiples
+        hold :data:`EXPLAINED` of the line power of the best ``Z`` (None: no such line).
+    teeth_confidence : float
+        ``1 - P' / P``: ``P`` that family's line power, ``P'`` the largest power of a
+        family neither a multiple nor a divisor of it on lines outside it.
+    sideband_spacing : float
+        Spacing [Hz] of the lines around the family's strongest line (NaN if none).
+    sidebands_agree : bool
+        The spacing is a multiple of ``frequency``.
+    cepstrum_z : float
+        Robust z-score of the cepstrum at ``1 / frequency`` among the searched
+        quefrencies (agrees from :data:`CEPSTRUM_Z`).
+    drift : float
+        ``(f_2 - f_1) / frequency`` of fresh estimates on the first and the last piece
+        of ``2 MIN_PERIODS`` periods of ``lo`` (NaN for shorter records or unsure pieces).
+    search : tuple of float
+        The searched range ``(lo, hi)`` [Hz].
+    estimate : bool
+        Always True: the value is inferred from the signal.
+    """
+
+    frequency: float
+    confidence: float
+    margin: float
+    lines: int
+    order: int
+    teeth: int | None
+    teeth_confidence: float
+    sideband_spacing: float
+    sidebands_agree: bool
+    cepstrum_z: float
+    drift: float
+    search: tuple[float, float]
+    estimate: bool = True
+
+    def to_dict(self) -> dict:
+        """JSON-ready dict (NaN as None).
+
+        Returns
+        -------
+        dict
+            Field name to value.
+        """
+        return {k: (None if isinstance(v, float) and not math.isfinite(v) else v)
+                for k, v in self.__dict__.items()} | {"search": list(self.search)}
+
+
+def check_speed_search(n_samples: int, fs: float | None, search: tuple[float, float], *,
+                       name: str = "search") -> tuple[float, float]:
+    """Refuse, before any work, a constant-speed search the record cannot resolve.
+
+    Parameters
+    ----------
+    n_samples : int
+        Record length [samples].
+    fs : float or None
+        Sampling rate [Hz]; None checks the range alone.
+    search : tuple of float
+        Shaft speed range ``(lo, hi)`` [Hz].
+    name : str
+        Parameter name used in the error (e.g. ``"speed_search"``).
+
+    Returns
+    -------
+    tuple of float
+        ``(lo, hi)`` [Hz].
+
+    Raises
+    ------
+    InputError
+        If not ``0 < lo < hi``, :data:`MIN_HARMONICS` harmonics of ``hi`` pass Nyquist,
+        or the record is shorter than :data:`MIN_PERIODS` periods of ``lo``, naming the
+        range or the length that would work.
+
+    References
+    ----------
+    Harris (1978), *Proc. IEEE* 66:51-83: the Hann main lobe (+-2 bins) sets the
+    resolution of neighbouring lines.
+    """
+    try:
+        lo, hi = _search_band(None, search)
+    except InputError as exc:
+        raise InputError(name, exc.value, exc.limit) from None
+    if fs is None:
+        return lo, hi
+    fs = check_fs(fs)
+    top = 0.5 * fs / MIN_HARMONICS
+    if hi >= top:
+        raise InputError(name, f"{lo:g}-{hi:g} Hz", f"must end below {top:.4g} Hz ({MIN_HARMONICS} "
+                         f"harmonics of the top speed below the Nyquist frequency of fs = {fs:g} Hz)")
+    need = math.ceil(MIN_PERIODS * fs / lo)
+    if n_samples < need:
+        raise InputError(
+            name, f"{lo:g}-{hi:g} Hz on a record of {n_samples} samples ({n_samples / fs:.4g} s)",
+            f"speeds down to {lo:g} Hz need >= {need} samples ({need / fs:.4g} s, "
+            f"{MIN_PERIODS:g} periods): search above {MIN_PERIODS * fs / n_samples:.4g} Hz "
+            "or give a longer record")
+    return lo, hi
+
+
+def _whiten(power: np.ndarray, df: float, width: float, k: int = 1) -> np.ndarray:
+    """Power over the local noise mean: medians of ``width`` Hz blocks (interpolated)
+    divided by the median of the mean-1 gamma law of an average of ``k`` periodograms."""
+    b = min(max(16, int(width / df)), power.size)
+    nb = power.size // b
+    med = np.median(power[: nb * b].reshape(nb, b), axis=1) / (gammaincinv(k, 0.5) / k)
+    floor = np.interp(np.arange(power.size), (np.arange(nb) + 0.5) * b, med)
+    return np.maximum(power, 1e-300) / np.maximum(floor, 1e-300)
+
+
+def _lines(pw: np.ndarray, df: float, f_top: float, k: int = 1):
+    """Peaks of the whitened spectrum ``pw`` (average of ``k``) below ``f_top`` that noise
+    exceeds with probability :data:`LINE_FALSE_ALARM`: frequencies [Hz] (parabolic
+    interpolation of the log), whitened powers and weights ``min(1, ln(power / threshold))``
+    (the false lines of noise lie just above the threshold)."""
+    thr = gammainccinv(k, LINE_FALSE_ALARM) / k
+    idx = find_peaks(pw[: int(f_top / df)], height=thr)[0]
+    y0, y1, y2 = np.log(pw[idx - 1]), np.log(pw[idx]), np.log(pw[idx + 1])
+    den = y0 - 2.0 * y1 + y2
+    d = np.clip(np.where(den < 0.0, 0.5 * (y0 - y2) / np.where(den < 0.0, den, -1.0), 0.0),
+                -0.5, 0.5)
+    return (idx + d) * df, pw[idx], np.minimum(1.0, y1 - math.log(thr))
+
+
+def _sieve(nu: np.ndarray, w: np.ndarray, lo: float, hi: float,
+           tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """Speeds on a grid over [lo, hi] and their score: the likelihood-ratio (G) statistic
+    ``c ln(c / m) - (c - m)`` of the (weighted) count ``c`` of lines within ``tol`` of
+    harmonics 1..MAX_ORDER against the Poisson mean ``m = 2 tol N / f`` that chance puts
+    on the comb (``N`` the weighted count of the lines within its reach). Interval sums
+    on a difference array; the work is bounded by MAX_ORDER per line."""
+    order = np.argsort(nu)
+    nu, w = nu[order], w[order]
+    step = max(tol * lo / (2.0 * nu[-1]), (hi - lo) / _MAX_GRID)
+    m = int((hi - lo) / step) + 1
+    h0 = np.maximum(np.ceil((nu - tol) / hi), 1).astype(np.int64)
+    h1 = np.minimum(np.floor((nu + tol) / lo).astype(np.int64), MAX_ORDER)
+    cnt = np.maximum(h1 - h0 + 1, 0)
+    li = np.repeat(np.arange(nu.size), cnt)
+    h = np.repeat(h0, cnt) + np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+    a = np.clip(np.floor(((nu[li] - tol) / h - lo) / step + 0.5), 0, m).astype(np.int64)
+    b = np.clip(np.floor(((nu[li] + tol) / h - lo) / step + 0.5) + 1, 0, m).astype(np.int64)
+    grid = lo + step * np.arange(m)
+    c = np.cumsum(np.bincount(a, w[li], m + 1) - np.bincount(b, w[li], m + 1))[:-1]
+    reach = np.searchsorted(nu, MAX_ORDER * grid + tol, side="right")
+    mean = 2.0 * tol * np.r_[0.0, np.cumsum(w)][reach] / grid
+    with np.errstate(divide="ignore", invalid="ignore"):
+        g = c * np.log(np.maximum(c, mean) / mean) - (c - mean)
+    return grid, np.where(c > mean, g, 0.0)
+
+
+def _peaks(score: np.ndarray) -> tuple[int, np.ndarray]:
+    """Index of the best score and of every local maximum (plateaus at their centre)."""
+    pk = find_peaks(np.r_[-np.inf, score, -np.inf])[0] - 1
+    return int(pk[np.argmax(score[pk])]), pk
+
+
+def _fit(nu: np.ndarray, w: np.ndarray, f: float, half,
+         keep: np.ndarray | None = None) -> tuple[float, np.ndarray]:
+    """Weighted least squares of ``nu = h f`` over the strongest line within ``half(h)``
+    of each harmonic ``h`` (of those in ``keep``): the speed [Hz] and harmonics used."""
+    h = np.rint(nu / f)
+    ok = (h >= 1) & (np.abs(nu - h * f) <= half(h))
+    idx = np.flatnonzero(ok if keep is None else ok & np.isin(h, keep))
+    idx = idx[np.argsort(-w[idx], kind="stable")]
+    idx = idx[np.unique(h[idx], return_index=True)[1]]
+    if idx.size == 0:
+        return f, idx
+    hh, ww = h[idx], w[idx]
+    return float(np.sum(ww * hh * nu[idx]) / np.sum(ww * hh * hh)), hh
+
+
+def _record_lines(a: np.ndarray, fs: float, width: float, f_top: float):
+    """Lines (frequency [Hz], whitened power) of a record's periodogram, and its bin [Hz]."""
+    df = fs / a.size
+    return *_lines(_whiten(periodogram(a), df, width), df, f_top)[:2], df
+
+
+def estimate_constant_speed(x: np.ndarray, fs: float, *,
+                            search: tuple[float, float]) -> SpeedEstimate:
+    r"""Constant shaft speed in a range from the record's lines: harmonic sieve, refined.
+
+    Method in the module docstring. Lines: peaks of the Welch spectrum (Hann segments of
+    :data:`SEGMENT_PERIODS` periods of ``lo``) over the local median, which noise exceeds
+    with probability :data:`LINE_FALSE_ALARM` (a line counts ``min(1, ln(height /
+    threshold))``: false lines barely pass). Sieve tolerance :data:`LINE_TOLERANCE`
+    bins; least squares first on the Welch lines, then twice on the same harmonics in
+    the record's periodogram. Checks: the spacing of the lines around the strongest line
+    of the dominant family, sifted the same way, is a multiple of the speed; the
+    cepstrum of the whitened Welch spectrum at ``1 / f_r`` reaches :data:`CEPSTRUM_Z`.
+
+    Parameters
+    ----------
+    x : array_like
+        Vibration record (any units), at least :data:`MIN_PERIODS` periods of ``lo``.
+    fs : float
+        Sampling rate [Hz].
+    search : tuple of float
+        Shaft speed range ``(lo, hi)`` [Hz]; :data:`MIN_HARMONICS` harmonics of ``hi``
+        must lie below Nyquist. A range holding two shafts' speeds returns the one whose
+        comb explains more lines (with a low confidence when they are close).
+
+    Returns
+    -------
+    SpeedEstimate
+        Speed [Hz], confidence, dominant mesh family (``teeth``), checks, ``drift``;
+        ``estimate=True``.
+
+    Raises
+    ------
+    InputError
+        If ``x``, ``fs`` or ``search`` is invalid or unresolvable
+        (:func:`check_speed_search`), or no line of the spectrum lies at a harmonic of
+        a speed in the range.
+
+    References
+    ----------
+    Schroeder (1968), *JASA* 43:829-834 (harmonic product/sum spectrum); Duifhuis,
+    Willems & Sluyter (1982), *JASA* 71:1568-1580 (harmonic sieve); Hermes (1988), *JASA*
+    83:257-264 (subharmonic summation); Welch (1967); Randall (2011), sec. 3.5-3.6
+    (cepstrum and sideband spacing of gear signals).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> fs, f_r = 8000.0, 24.3
+    >>> t = np.arange(int(fs)) / fs  # 1 s, a 31-tooth mesh modulated by its shaft
+    >>> x = (1 + 0.3 * np.cos(2 * np.pi * f_r * t)) * np.cos(2 * np.pi * 31 * f_r * t)
+    >>> x += np.random.default_rng(0).normal(size=t.size)
+    >>> est = estimate_constant_speed(x, fs, search=(15.0, 40.0))
+    >>> round(est.frequency, 2), est.teeth, est.estimate
+    (24.3, 31, True)
+    """
+    a = as_signal(x, name="x", min_length=16)
+    lo, hi = check_speed_search(a.size, fs, search)
+    fs = float(fs)
+    a = a - a.mean()
+    f_top, width = min(0.5 * fs, MAX_ORDER * hi), _FLOOR_BLOCK * hi
+    nper = min(a.size, round(SEGMENT_PERIODS * fs / lo))
+    fw, pw = welch(a, fs, window="hann", nperseg=nper)
+    dfw, k_avg = float(fw[1]), a.size // nper
+    pw = _whiten(pw, dfw, width, k_avg)
+    nu, p, wt = _lines(pw, dfw, f_top, k_avg)
+    tol = LINE_TOLERANCE * dfw
+    if nu.size == 0:
+        raise InputError("x", "no spectral line", f"no line stands out of the noise below "
+                         f"{f_top:g} Hz: no speed to estimate")
+    grid, score = _sieve(nu, wt, lo, hi, tol)
+    best, pk = _peaks(score)
+    f0 = float(grid[best])
+    g = grid[pk]
+    k1, k2 = np.maximum(np.rint(g / f0), 1), np.maximum(np.rint(f0 / g), 1)
+    unrelated = (np.abs(g - k1 * f0) > 2 * tol) & (np.abs(g - f0 / k2) > 2 * tol)
+    margin = float(score[best] - (score[pk][unrelated].max() if unrelated.any() else 0.0))
+    # refinement: Welch lines on the comb (twice), then the record's lines at their harmonics
+    f = f0
+    for _ in range(2):
+        f, h = _fit(nu, p, f, lambda h: tol + 0 * h)
+    hn = np.rint(nu / f)
+    on = (hn >= 1) & (np.abs(nu - hn * f) <= tol)
+    if h.size == 0 or not on.any():
+        raise InputError("x", f"{nu.size} spectral lines", f"none lies at a harmonic of a "
+                         f"speed in [{lo:g}, {hi:g}] Hz: no speed to estimate")
+    rn, rw, df = _record_lines(a, fs, width, f_top)
+    sigma = tol / h.max()  # uncertainty of the Welch fit
+    for half in (lambda k: np.maximum(1.5 * df, 3 * k * sigma), lambda k: 0.5 * df + 0 * k):
+        f, used = _fit(rn, rw, f, half, h)
+    # the dominant mesh family among the Welch lines on the comb (line power)
+    hn, pn, nn = hn[on].astype(np.int64), p[on], nu[on]
+    zs = np.arange(TEETH_RANGE[0], TEETH_RANGE[1] + 1)
+    div = hn[None, :] % zs[:, None] == 0
+    fam = div @ pn
+    teeth, teeth_conf, centre = None, 0.0, nn[np.argmax(pn)]
+    if fam.max() > 0:
+        teeth = int(zs[fam >= EXPLAINED * fam.max()].max())
+        mine = hn % teeth == 0
+        other = (teeth % zs != 0) & (zs % teeth != 0)
+        rest = (div[other] & ~mine).astype(float) @ pn  # other families' power off this one
+        teeth_conf = float(1.0 - rest.max(initial=0.0) / fam[zs == teeth][0])
+        centre = nn[mine][np.argmax(pn[mine])]
+    # checks: sideband spacing around that line, cepstral rahmonic at 1 / f
+    d = np.abs(nu - centre)
+    near = (d > 2 * tol) & (d <= (_SIDEBANDS + 0.5) * f)
+    spacing = math.nan
+    if near.any():
+        sg, ss = _sieve(d[near], wt[near], lo, hi, tol)
+        spacing = float(sg[_peaks(ss)[0]])
+    m = round(spacing / f) if math.isfinite(spacing) else 0
+    sb_ok = bool(m >= 1 and abs(spacing - m * f) <= 2 * tol)
+    c = scipy.fft.irfft(np.log(pw))
+    band = c[int(fs / hi):int(math.ceil(fs / lo)) + 1]
+    med = float(np.median(band))
+    mad = 1.4826 * float(np.median(np.abs(band - med)))
+    i = int(round(fs / f))
+    cz = float((c[i - 1:i + 2].max() - med) / mad) if mad > 0 else 0.0
+    drift, n = math.nan, 2 * math.ceil(MIN_PERIODS * fs / lo)
+    if a.size >= 2 * n:  # fresh estimates on the first and the last piece
+        try:
+            ends = [estimate_constant_speed(piece, fs, search=(lo, hi)) for piece in (a[:n], a[-n:])]
+        except InputError:
+            ends = []
+        if ends and min(e.confidence for e in ends) >= MIN_CONFIDENCE:
+            drift = (ends[1].frequency - ends[0].frequency) / f
+    n_ok = int(sb_ok) + int(cz >= CEPSTRUM_Z)
+    steady = 0.5 if abs(drift) > GIVEN_SPEED_TOLERANCE else 1.0
+    return SpeedEstimate(
+        frequency=f, confidence=steady * (1.0 - math.exp(-max(margin, 0.0))) * (2 + n_ok) / 4,
+        margin=margin, lines=int(used.size), order=int(hn[np.argmax(pn)]),
+        teeth=teeth, teeth_confidence=max(teeth_conf, 0.0), sideband_spacing=spacing,
+        sidebands_agree=sb_ok, cepstrum_z=cz, drift=float(drift), search=(lo, hi))
+
+
 def check_given_speed(
     x: np.ndarray,
     fs: float,
@@ -662,9 +1065,10 @@ def check_given_speed(
 ) -> str | None:
     """Warning text when a given constant shaft speed disagrees with the data.
 
-    The speed is estimated from the harmonic of order ``order`` (:func:`estimate_speed`
-    with ``rough = given_hz``); its mean over the record without the filter edges,
-    angle travelled over time, is compared with ``given_hz``.
+    The strongest line within half a shaft order of order ``order`` of ``given_hz`` is
+    taken for that harmonic; the speed is then fitted by weighted least squares to the
+    lines at the multiples of that order (within 1.5 bins; parabolic peak interpolation,
+    as :func:`estimate_constant_speed`) and compared with ``given_hz``.
 
     Parameters
     ----------
@@ -689,12 +1093,13 @@ def check_given_speed(
     Raises
     ------
     InputError
-        If an argument is out of range or the estimate fails (:func:`estimate_speed`).
+        If an argument is out of range, the record holds fewer than
+        :data:`MIN_PERIODS` periods of ``given_hz``, or no line lies near the harmonic.
 
     References
     ----------
     Combet & Gelman (2007): a mean-speed error smears the synchronous average;
-    Bonnardot et al. (2005).
+    Randall (2011), sec. 3.6 (mesh harmonics and their sidebands).
 
     Examples
     --------
@@ -707,14 +1112,21 @@ def check_given_speed(
     >>> print(check_given_speed(x, fs, 15.1, order=20))  # doctest: +ELLIPSIS
     given speed 15.1 Hz disagrees with the speed estimated from order 20 ... (-0.66... %, ...)
     """
+    a = as_signal(x, name="x", min_length=16)
+    fs = check_fs(fs)
     given = check_positive("given_hz", given_hz)
+    q = check_positive("order", order)
     tol = check_positive("tolerance", tolerance)
-    p = estimate_speed(x, fs, order=order, rough=given)
-    t0, t1 = p.time[0] + p.edge, p.time[-1] - p.edge
-    if t1 <= t0:
-        t0, t1 = p.time[0], p.time[-1]
-    th0, th1 = p.angle_at(np.array([t0, t1]))
-    f_est = float((th1 - th0) / (t1 - t0))
+    check_below_nyquist(fs, q * given, f"harmonic order {q:g} of the given speed")
+    if a.size < MIN_PERIODS * fs / given:
+        raise InputError("x.length", f"{a.size} samples ({a.size / fs:.4g} s)",
+                         f"must hold >= {MIN_PERIODS:g} periods of {given:g} Hz")
+    nu, w, df = _record_lines(a - a.mean(), fs, _FLOOR_BLOCK * given, 0.5 * fs)
+    f_q, h = _fit(nu, w, q * given, lambda h: np.where(h == 1, 0.5 * given, 0.0))
+    if h.size == 0:
+        raise InputError("x", f"no line near order {q:g} of {given:g} Hz",
+                         "the harmonic is too weak to check the speed against")
+    f_est = _fit(nu, w, f_q, lambda h: 1.5 * df + 0 * h)[0] / q
     dev = f_est / given - 1.0
     if abs(dev) <= tol:
         return None

@@ -486,71 +486,65 @@ def _kurtogram(a: np.ndarray, fs: float | None, skipped: list) -> dict | None:
 
 
 def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov):
-    """(speed Hz, provenance, pulses or None) or (None, None, None) with a skip reason."""
+    """(speed Hz, provenance, profile or None, SpeedEstimate or None); speed None with a
+    skip reason when it cannot be had."""
+    from gearsim.signals import speed as sp
+
     if speed is not None:
         # checked against the mesh order only: with no tooth count the shaft line (order 1)
         # may be absent from a healthy gear signal, and a missing line is no disagreement
-        check = _optional("speed", "check_given_speed") if order > 1 else None
-        if check is not None:
+        if order > 1:
             try:
-                warn = check(a, fs, float(speed), order=order)
+                warn = sp.check_given_speed(a, fs, float(speed), order=order)
             except InputError as exc:
                 warn = f"not checked: {_first_line(exc)}"
             if warn:
                 skipped.append({"tier": "shaft.speed_check", "reason": str(warn)})
-        return float(speed), prov or "given", None
+        return float(speed), prov or "given", None, None
     if tacho is not None:
         tach = as_signal(tacho, name="tacho")
         if tach.size != a.size:
             raise InputError("tacho.length", tach.size, f"must equal the signal length {a.size}")
-        sft = _optional("speed", "speed_from_tacho")
         try:
-            if sft is not None:
-                prof = sft(tach, fs, pulses_per_rev=ppr)
-                f = _mean_speed(prof)
-                pulses = prof
-            else:
-                from gearsim.signals.tsa import pulse_times
-
-                pulses = pulse_times(tach, fs)
-                n_rev = (pulses.size - 1) // ppr
-                if n_rev < 1:
-                    raise InputError("tacho", f"{pulses.size} pulses",
-                                     f"must hold at least {ppr + 1} pulses (one revolution)")
-                f = n_rev / (pulses[n_rev * ppr] - pulses[0])
+            prof = sp.speed_from_tacho(tach, fs, pulses_per_rev=ppr)
         except InputError as exc:
             skipped.append({"tier": "shaft", "reason": f"tacho unusable: {_first_line(exc)}"})
-            return None, None, None
-        return f, "file", pulses
-    if search is not None:
-        est = _optional("speed", "estimate_speed")
-        if est is None:
-            skipped.append({"tier": "shaft", "reason": "speed search asked, but "
-                            "gearsim.signals.speed (estimate_speed) is not available"})
-            return None, None, None
-        lo, hi = search
+            return None, None, None, None
+        return prof.mean_frequency, "file", prof, None
+    if search is None:
+        skipped.append({"tier": "shaft", "reason": "needs a shaft speed: give one (--shaft-rpm), "
+                        "a tacho channel (--tacho) or a search range to estimate it "
+                        "(--speed-search)"})
+        return None, None, None, None
+    # constant speed from the line families; where the first and last pieces of the record
+    # disagree, the constant model holds on a short central piece, whose dominant line (or
+    # the given tooth count's mesh line when no line family is found) is tracked by the
+    # ridge and phase demodulation, if the record is long enough for them
+    est = why = None
+    varies = False
+    try:
+        est = sp.estimate_constant_speed(a, fs, search=search)
+        varies = abs(est.drift) > sp.GIVEN_SPEED_TOLERANCE
+        if varies:
+            n = min(a.size, 2 * math.ceil(sp.MIN_PERIODS * fs / search[0]))
+            est = sp.estimate_constant_speed(a[(a.size - n) // 2:][:n], fs, search=search)
+    except InputError as exc:
+        est, why = None, f"no constant-speed estimate: {_first_line(exc)}"
+    if est is not None and est.confidence < sp.MIN_CONFIDENCE:
+        why = (f"speed estimate {est.frequency:.6g} Hz has confidence {est.confidence:.2f} < "
+               f"{sp.MIN_CONFIDENCE} (narrow --speed-search or give --shaft-rpm)")
+        est = None
+    if (varies and est is not None) or (est is None and order > 1):
         try:
-            prof = est(a, fs, order=order, search=(lo, hi))
+            prof = sp.estimate_speed(a, fs, order=est.order if est else order, search=search)
+            return prof.mean_frequency, "estimate", prof, est
         except InputError as exc:
-            skipped.append({"tier": "shaft", "reason": f"speed estimate failed: "
+            skipped.append({"tier": "shaft.tracking", "reason": f"speed not tracked: "
                             f"{_first_line(exc)}"})
-            return None, None, None
-        return _mean_speed(prof), "estimate", prof
-    skipped.append({"tier": "shaft", "reason": "needs a shaft speed: give one (--shaft-rpm), "
-                    "a tacho channel (--tacho) or a search range to estimate it "
-                    "(--speed-search)"})
-    return None, None, None
-
-
-def _mean_speed(prof: Any) -> float:
-    for k in ("mean_frequency", "mean", "shaft_frequency", "frequency"):
-        v = getattr(prof, k, None)
-        if v is None and isinstance(prof, dict):
-            v = prof.get(k)
-        if v is not None:
-            v = np.asarray(v, dtype=float)
-            return float(v.mean()) if v.ndim else float(v)
-    return float(prof)
+    if est is None:
+        skipped.append({"tier": "shaft", "reason": why})
+        return None, None, None, None
+    return est.frequency, "estimate", None, est
 
 
 def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
@@ -756,6 +750,9 @@ def _provenance(name: str, value: str | None) -> str | None:
 #: Confidence an estimated tooth count needs before the gear tier uses it (the share of
 #: the dominant line's evidence that points to one integer count, signals.estimate).
 TEETH_CONFIDENCE = 0.9
+#: Share of the line power by which the dominant mesh family found with a searched speed
+#: must lead every unrelated family before the gear tier uses its tooth count.
+TEETH_SHARE = 0.5
 
 
 def analyze_record(
@@ -795,7 +792,10 @@ def analyze_record(
         Tacho pulses per revolution (>= 1).
     speed_search : tuple of float, optional
         ``(low, high)`` [Hz]: estimate the shaft speed from the signal in this range
-        (:func:`gearsim.signals.speed.estimate_speed`); provenance ``"estimate"``.
+        (:func:`gearsim.signals.speed.estimate_constant_speed`; tracked by
+        :func:`~gearsim.signals.speed.estimate_speed` when it varies); provenance
+        ``"estimate"``, with the dominant mesh family as an estimated tooth count when
+        no ``teeth`` are given.
     teeth : sequence of int, optional
         Tooth counts, gear on the measured shaft first; enables the gear tier.
     settings : AnalysisSettings, optional
@@ -828,8 +828,9 @@ def analyze_record(
     ------
     InputError
         An unusable signal (fewer than 2 samples, non-finite), an invalid ``fs``,
-        ``speed``, ``teeth``, ``pulses_per_rev``, ``speed_search`` or provenance, more
-        than one speed source, a tacho of another length, or invalid settings.
+        ``speed``, ``teeth``, ``pulses_per_rev``, ``speed_search`` (also one the record
+        cannot resolve: too short, or too close to Nyquist) or provenance, more than one
+        speed source, a tacho of another length, or invalid settings.
     """
     from gearsim.signals._checks import check_fs, check_int, check_positive, check_teeth
 
@@ -843,14 +844,10 @@ def analyze_record(
     if speed is not None:
         speed = check_positive("speed", speed)
     ppr = check_int("pulses_per_rev", pulses_per_rev, minimum=1)
-    if speed_search is not None:
-        try:
-            lo, hi = (float(v) for v in speed_search)
-        except (TypeError, ValueError):
-            raise InputError("speed_search", speed_search, "must be (low, high) in Hz") from None
-        if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
-            raise InputError("speed_search", speed_search, "must be 0 < low < high (Hz)")
-        speed_search = (lo, hi)
+    if speed_search is not None:  # refused before any work when the record cannot resolve it
+        from gearsim.signals.speed import check_speed_search
+
+        speed_search = check_speed_search(a.size, fs, speed_search, name="speed_search")
     zs = check_teeth(teeth) if teeth is not None else None
     if settings is not None:
         from gearsim.signals.settings import AnalysisSettings
@@ -906,7 +903,7 @@ def analyze_record(
     rec.timings["spectrum"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    f_r = None
+    f_r = est_speed = None
     pulses_tacho = None
     if fs is None:
         for tier in ("shaft", "gear"):
@@ -914,8 +911,10 @@ def analyze_record(
                             "file that stores it)"})
     else:
         order = zs[0] if zs else 1
-        f_r, prov_speed, profile = _resolve_speed(a, fs, speed, tacho, ppr, speed_search, order,
-                                            skipped, speed_provenance)
+        f_r, prov_speed, profile, est_speed = _resolve_speed(a, fs, speed, tacho, ppr, speed_search,
+                                                             order, skipped, speed_provenance)
+        if est_speed is not None:
+            rec.tiers.setdefault("estimates", {})["speed"] = est_speed.to_dict()
         if f_r is not None:
             rec.speed, rec.speed_provenance = f_r, prov_speed
             if tacho is not None:
@@ -935,7 +934,16 @@ def analyze_record(
     rec.timings["shaft"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    if f_r is not None and not zs and fs is not None:
+    if f_r is not None and not zs and est_speed is not None and est_speed.teeth is not None:
+        # the dominant mesh family found with the searched speed (labelled an estimate)
+        if est_speed.teeth_confidence >= TEETH_SHARE:
+            zs, prov_teeth = (est_speed.teeth,), "estimate"
+            rec.teeth, rec.teeth_provenance = zs, prov_teeth
+        else:
+            skipped.append({"tier": "estimate.teeth", "reason": f"mesh family {est_speed.teeth} "
+                            f"has confidence {est_speed.teeth_confidence:.2f} < {TEETH_SHARE} "
+                            "(give --teeth)"})
+    elif f_r is not None and not zs and fs is not None:
         # tooth count of the measured shaft's gear from the dominant tone (signals.estimate);
         # used only when the evidence is clear, and labelled as an estimate
         from gearsim.signals.estimate import estimate_teeth

@@ -240,3 +240,22 @@ def test_cli_refuses_a_bad_graph_in_one_line(tmp_path):
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and 'gears[3].shaft = idler2: no such shaft' in lines[0], r.stderr
     assert not out.exists()
+
+
+def test_layout_verb_reports_the_graph_and_draws_it(tmp_path):
+    png = tmp_path / "layout.png"
+    r = subprocess.run([sys.executable, "-m", "gearsim.cli", "layout", "wind-turbine-grc",
+                        "--json", "--plot", str(png)], capture_output=True, text=True,
+                       timeout=120)
+    assert r.returncode == 0, r.stderr
+    import json
+
+    out = json.loads(r.stdout)
+    rpm = {s["name"]: s["speed_rpm"] for s in out["shafts"]}
+    sun = 22.1 * (1 + 99 / 21)
+    assert rpm["low-speed"] == pytest.approx(sun, rel=1e-12)
+    assert rpm["high-speed"] == pytest.approx(sun * 82 / 23 * 88 / 22, rel=1e-12)
+    torque = {s["name"]: s["torque_Nm"] for s in out["shafts"]}
+    assert torque["high-speed"] * rpm["high-speed"] == pytest.approx(324e3 * 22.1, rel=1e-9)
+    assert [m["driver"] for m in out["meshes"]] == ["low-speed-gear", "intermediate-gear"]
+    assert png.stat().st_size > 10_000

@@ -1,4 +1,4 @@
-"""CLI verbs: ``example``, ``stiffness`` and ``contact``."""
+"""CLI verbs: ``example``, ``layout``, ``stiffness`` and ``contact``."""
 
 from __future__ import annotations
 
@@ -17,9 +17,82 @@ __all__ = ["register"]
 
 
 def example(name: Annotated[str, typer.Argument(
-        help="idler-table1, spur-19-48, lin-parker-1999 or nrel-grc")]) -> None:
+        help="idler-table1, spur-19-48, two-stage-reducer, lin-parker-1999, nrel-grc or "
+             "wind-turbine-grc")]) -> None:
     """Print a built-in example configuration (TOML)."""
     typer.echo(example_text(name), nl=False)
+
+
+def layout(
+    config: Annotated[str, typer.Argument(help="TOML file or built-in example name")],
+    plot: Annotated[str | None, typer.Option(help="figure of the layout (.png, .pdf, .svg)")]
+    = None,
+    json_: Annotated[bool, typer.Option("--json", help="print a JSON summary")] = False,
+) -> None:
+    """The gearbox as a graph: shafts (speed, torque), gears, meshes (driver -> driven,
+    mesh frequency, static force) and the planetary stage, with a plan-view figure."""
+    import math
+
+    from gearsim.dynamics.layout import idlers
+    from gearsim.dynamics.layout import layout as plan
+
+    if plot is not None:
+        plot = check_plot_file(plot, "--plot")
+    gb = load(config)
+    stage = getattr(gb.train, "stage", None)
+    train = gb.chain if stage is not None else gb.train
+    out: dict = {"name": train.name if stage is None else gb.train.name, "shafts": [],
+                 "meshes": []}
+    if stage is not None:
+        tr = gb.train
+        out["stage"] = {"teeth": [stage.sun_teeth, stage.planet_teeth, stage.ring_teeth],
+                        "planets": stage.planets, "fixed": tr.operating.fixed,
+                        "input": tr.operating.input, "mesh_frequency_hz": tr.mesh_frequency,
+                        "speeds_rpm": {m: w * 30 / math.pi for m, w in tr.speeds.items()}}
+    if train is not None:
+        fl = train.flow
+        for sh in fl.shafts:
+            i = train.gear_index(sh.gears[0])
+            out["shafts"].append({"name": sh.name, "gears": list(sh.gears),
+                                  "speed_rpm": train.speed(i) * 30 / math.pi,
+                                  "torque_Nm": train.torque(i)})
+        for m, p in enumerate(train.pairs):
+            out["meshes"].append({"mesh": p.name, "driver": p.driver.name,
+                                  "driven": p.driven.name,
+                                  "mesh_frequency_hz": train.mesh_frequencies[m],
+                                  "static_force_N": train.static_mesh_force(m)})
+    if plot is not None:
+        from gearsim.viz.layout import plot_layout
+
+        shafts, gears, links, st = [], [], [], None
+        if train is not None:
+            n_id = len(idlers(train))
+            lay = plan(train, gb.dynamics.per_item("idler_angle", n_id, "idler") if n_id else ())
+            shafts = [(sh.name, tuple(c)) for sh, c in zip(fl.shafts, lay.centres, strict=True)]
+            gears = [(g.name, fl.shaft_of[g.name], g.pitch_radius, g.teeth) for g in train.gears]
+            links = [(p.driver.name, p.driven.name, p.name) for p in train.pairs]
+        if stage is not None:
+            st = {"sun": stage.sun.pitch_radius, "ring": stage.ring.pitch_radius,
+                  "planet": stage.planet.pitch_radius, "centre": stage.centre_distance,
+                  "angles": list(stage.planet_angles_value),
+                  "teeth": (stage.sun_teeth, stage.planet_teeth, stage.ring_teeth)}
+        save(plot_layout(shafts, gears, links, title=out["name"], stage=st), plot,
+             parameter="--plot")
+    if json_:
+        typer.echo(json.dumps(out, indent=2))
+        return
+    typer.echo(out["name"])
+    if "stage" in out:
+        s_ = out["stage"]
+        typer.echo(f"stage {s_['teeth'][0]}/{s_['teeth'][1]}/{s_['teeth'][2]} x "
+                   f"{s_['planets']}: {s_['input']} in, {s_['fixed']} held; f_m "
+                   f"{s_['mesh_frequency_hz']:.6g} Hz")
+    for sh in out["shafts"]:
+        typer.echo(f"shaft {sh['name']}: {', '.join(sh['gears'])}; {sh['speed_rpm']:.6g} rpm, "
+                   f"{sh['torque_Nm']:.6g} N m")
+    for m in out["meshes"]:
+        typer.echo(f"mesh {m['mesh']}: {m['driver']} -> {m['driven']}; f_m "
+                   f"{m['mesh_frequency_hz']:.6g} Hz, static force {m['static_force_N']:.6g} N")
 
 
 def stiffness(
@@ -170,10 +243,11 @@ def register(app: typer.Typer) -> None:
     Parameters
     ----------
     app : typer.Typer
-        The ``gearsim`` application (:mod:`gearsim.cli`); ``example``, ``stiffness`` and
-        ``contact`` are registered on it.
+        The ``gearsim`` application (:mod:`gearsim.cli`); ``example``, ``layout``,
+        ``stiffness`` and ``contact`` are registered on it.
     """
     app.command("example")(example)
+    app.command("layout")(layout)
     app.command("stiffness")(stiffness)
     app.command("contact")(contact)
 

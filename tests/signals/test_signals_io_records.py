@@ -238,10 +238,14 @@ def test_one_message_lists_every_problem(tmp_path, data):
     assert "\n" not in msg
     parts = msg.split("; ")
     assert parts[0] == "channel = speed: not in rec.csv"
-    assert parts[1].startswith("channel = rpm: not in rec.csv (available: ['acc', 'tacho'])")
-    assert parts[2] == "fs = None: must be given: rec.csv stores no sampling rate"
+    assert parts[1] == "channel = rpm: not in rec.csv (available: ['acc', 'tacho'])"
     assert isinstance(e.value, InputError)
-    assert [q.parameter for q in e.value.problems] == ["channel", "channel", "fs"]
+    assert [q.parameter for q in e.value.problems] == ["channel", "channel"]
+    # a record needs no rate (fs None); one signal does, reported with the other problems
+    assert read_record(p).fs is read_record(p).fs_source is None
+    with pytest.raises(ReadProblems, match=r"^channel = speed: .*; fs = None: must be given: "
+                       r"rec.csv stores no sampling rate$"):
+        read_signal(p, channel="speed")
     # bad user values are reported with the file's problems
     with pytest.raises(ReadProblems, match=r"^fs = -1: must be a finite number > 0 \(Hz\); "
                        r"channel = x: not in rec.csv; available"):
@@ -336,3 +340,49 @@ def test_mixed_rates_need_a_choice(tmp_path, data):
         read_record(q)
     r = read_record(q, channels=["tacho"])
     assert r.fs == pytest.approx(1000.0) and r.data["tacho"].size == 64
+
+
+def _analyze(capsys, *args) -> tuple[int, str, str]:
+    from gearsim import cli
+
+    code = cli.run(["analyze", *map(str, args)])
+    got = capsys.readouterr()
+    return code, got.out, got.err.strip()
+
+
+def test_analyze_a_record_without_a_rate(tmp_path, capsys, data):
+    """Statistics need nothing, the spectrum is in cycles/sample: no --fs is no refusal."""
+    a, b = data
+    p = tmp_path / "rec.csv"
+    np.savetxt(p, np.column_stack([a, b]), delimiter=",", header="acc,tacho", comments="")
+    code, out, err = _analyze(capsys, p, "--channel", "acc")
+    assert code == 0, err
+    assert "fs unknown (frequencies in cycles/sample)" in out and "skipped shaft: needs a " \
+        "sampling rate" in out
+    assert f"RMS {np.sqrt(np.mean((a - a.mean()) ** 2)):.5g}" in out
+
+
+@pytest.mark.parametrize("args,message", [
+    (["--tacho", "speed"], "--tacho = speed: not in rec.csv; available: ['acc', 'tacho']"),
+    (["--tacho", "speed", "--channel", "acc"], "--tacho = speed: not in rec.csv; available"),
+    (["--tacho", "acc", "--channel", "acc"], "--tacho = acc: is also a --channel"),
+    (["--max-order", "1001"], "--max-order = 1001: must be 1 to 1000"),
+    (["--format", "xls"], "--format = xls: must be one of ['csv', 'mat', 'netcdf'"),
+])
+def test_analyze_bad_tacho_and_orders_refused_in_one_line(tmp_path, capsys, data, args, message):
+    a, b = data
+    p = tmp_path / "rec.csv"
+    np.savetxt(p, np.column_stack([a, b]), delimiter=",", header="acc,tacho", comments="")
+    out = tmp_path / "t.csv"
+    code, text, err = _analyze(capsys, p, "--fs", FS, *args, "--out", out)
+    assert code == 2 and text == "" and not out.exists()
+    assert err.startswith(f"gearsim: error: {message}") and "\n" not in err, err
+
+
+def test_analyze_tacho_as_the_only_channel_refused(tmp_path, capsys, data):
+    p = tmp_path / "one.csv"
+    np.savetxt(p, data[1], header="tacho", comments="")
+    code, text, err = _analyze(capsys, p, "--fs", FS, "--tacho", "tacho")
+    assert code == 2 and text == ""
+    assert err == "gearsim: error: --tacho = tacho: is the only channel of one.csv: no " \
+        "vibration channel is left to analyse"

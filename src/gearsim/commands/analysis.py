@@ -25,6 +25,9 @@ from gearsim.errors import InputError
 
 __all__ = ["register"]
 
+#: Most mesh harmonics ``--max-order`` may ask for (each is listed; the gear tier skips
+#: those above Nyquist, and a million of them would only fill the memory).
+MAX_ORDER = 1000
 #: Files ``analyze --report DIR`` writes; an existing DIR may hold only these.
 REPORT_FILES = frozenset({"separability.json", "separability.csv"})
 
@@ -268,16 +271,24 @@ def analyze(
                         "speed source")
     elif shaft_rpm is not None:
         _collect(problems, _speed, shaft_rpm, None)
+    if tacho is not None and channel and tacho in channel:
+        problems.append(f"--tacho = {tacho}: is also a --channel: a tacho is not analysed as "
+                        "vibration")
     if fs is not None and not (0 < fs < float("inf")):
         problems.append(f"--fs = {fs:g}: must be a finite rate > 0 Hz")
+    if format_ is not None:
+        from gearsim.io.measured import FORMATS
+
+        if format_ not in FORMATS:
+            problems.append(f"--format = {format_}: must be one of {sorted(FORMATS)}")
     if workers < 1:
         problems.append(f"--workers = {workers}: must be an integer >= 1")
     if scheduler is not None:
         from gearsim.studies.sweep_run import check_scheduler
 
         _collect(problems, check_scheduler, scheduler)
-    if max_order < 1:
-        problems.append(f"--max-order = {max_order}: must be >= 1")
+    if not 1 <= max_order <= MAX_ORDER:
+        problems.append(f"--max-order = {max_order}: must be 1 to {MAX_ORDER}")
     # typer gives "--teeth 32 80" the 80 as a file: bare integers that are not files
     ints = [f for f in files if f.strip().isdigit() and not Path(f).exists()] if teeth else []
     files = [f for f in files if f not in ints]
@@ -289,7 +300,7 @@ def analyze(
     search = _speed_search(speed_search, problems)
     threshold = _collect(problems, _emd_threshold, emd, emd_threshold)
     settings = None
-    if max_order >= 1 and threshold is not None:
+    if 1 <= max_order <= MAX_ORDER and threshold is not None:
         from gearsim.signals.settings import AnalysisSettings
 
         settings = _collect(problems, AnalysisSettings, orders=tuple(range(1, max_order + 1)),
@@ -472,8 +483,8 @@ def compare(
     _speed(shaft_rpm, None)
     if teeth is None or teeth < 1:
         raise InputError("--teeth", teeth, "must be given as an integer >= 1")
-    if max_order < 1:
-        raise InputError("--max-order", max_order, "must be >= 1")
+    if not 1 <= max_order <= MAX_ORDER:
+        raise InputError("--max-order", max_order, f"must be 1 to {MAX_ORDER}")
     s = read_signal(simulated, channel=channel_sim, fs=fs_sim)
     m = read_signal(measured, channel=channel_meas, fs=fs_meas)
     f_r = shaft_rpm / 60.0

@@ -14,17 +14,27 @@ csv        .csv, .txt      columns (header row names them, else ``"0", "1", ...`
 wav        .wav            ``"0", "1", ...``; fs from the header; integer PCM scaled
                            to full scale 1.0
 mat        .mat            numeric vectors (``"name"``) and matrix columns
-                           (``"name:j"``); fs from a scalar ``fs``/``Fs``/``FS``/
-                           ``sampling_rate`` or a time vector ``t``/``time``
+                           (``"name:j"``); fs from a scalar (``fs``, ``SampleRate``,
+                           ``dt``, ...), a time vector ``t``/``time`` or header
+                           structs: ``Head_1.SampFreq`` (or ``XInc``) for ``Data1``,
+                           whose ``Unit``/``Name`` fields give units and name
 tdms       .tdms           ``"channel"`` when unique (alias ``"group/channel"``), else
-                           ``"group/channel"``; fs from the ``wf_increment`` property
+                           ``"group/channel"``; fs from ``wf_increment`` (or a rate
+                           property) of the channel, else of its group or the file
 uff        .uff, .unv      type-58 data sets by ``id1`` when unique (alias: index
                            ``"0", "1", ...``); fs from ``abscissa_inc``
 netcdf     .nc, .h5, .nc4  data variables along ``time`` (``"name"``; with more
-                           dimensions ``"name[gear=G1,axis=x]"``); fs from attribute
-                           ``fs`` or the ``time`` coordinate (s), e.g. gearsim
-                           simulator output
+                           dimensions ``"name[gear=G1,axis=x]"``); fs from a rate
+                           attribute (``fs``, ``sampling_rate``, ``dt``, ...) or the
+                           ``time`` coordinate (s), e.g. gearsim simulator output; a
+                           file of one dimension needs no ``time`` with a rate
 =========  ==============  ==========================================================
+
+Rate names are matched in any case: rates ``fs``, ``SampFreq``, ``SampleRate``,
+``sampling_rate``, ...; intervals (rate = 1 / value) ``dt``, ``XInc``, ``Increment``,
+``wf_increment``, ... A MAT file that holds a variable more than once (some exporters
+write every variable twice, the first copy all zeros) is read using the last copy that
+is not all zeros, with one warning; scipy's warnings come out as one line each.
 
 **Compressed files.** Every format is also read gzip-, bz2-, xz-compressed or as the
 single member of a zip archive, recognised from the first bytes (not the name), see
@@ -35,9 +45,10 @@ Text is parsed in memory; a binary format (or UFF, whose library reads only file
 written to a private temporary file that is removed at once.
 
 **All channels.** :func:`read_record` returns every channel (or the chosen ones) with
-the sampling rate, its source, per-channel units and the file's metadata;
-:func:`read_signal` returns one channel. A sampling rate given by the user is used when
-the file holds none; when both exist they must agree within :data:`FS_MATCH_RTOL`.
+the sampling rate (None when neither the file nor the user gives one), its source,
+per-channel units and the file's metadata; :func:`read_signal` returns one channel and
+needs a rate. A sampling rate given by the user is used when the file holds none; when
+both exist they must agree within :data:`FS_MATCH_RTOL`.
 
 **Problems.** A missing or unreadable file raises :class:`gearsim.errors.InputError` at
 once. Otherwise every problem of the call (each missing channel, a missing or
@@ -110,7 +121,17 @@ FORMATS: dict[str, tuple[str, ...]] = {
 
 _TIME_NAMES = ("time", "t", "time_s", "times", "time [s]", "time(s)")
 _TIME_UNITS = {"s": 1.0, "sec": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "μs": 1e-6}
-_FS_NAMES = ("fs", "Fs", "FS", "sampling_rate", "samplerate", "sample_rate")
+#: Names (any case) of a stored sampling rate [Hz], and of a sampling interval [s] whose
+#: inverse is the rate, in MAT variables and header structs (``Head_1.SampFreq``,
+#: ``XInc``), TDMS properties (``wf_increment``) and NetCDF attributes.
+_RATE_KEYS = frozenset({"fs", "sampfreq", "samplerate", "sample_rate", "sampling_rate",
+                        "samplingrate", "samplefrequency", "samplingfrequency",
+                        "sampling_frequency"})
+_STEP_KEYS = frozenset({"dt", "xinc", "x_inc", "increment", "wf_increment", "deltat", "delta_t",
+                        "sampleinterval", "sample_interval", "samplinginterval"})
+#: Header fields (any case) naming a channel's units and the channel.
+_UNIT_KEYS = frozenset({"unit", "units", "unit_string", "engunit", "yunit", "y_unit"})
+_NAME_KEYS = frozenset({"name", "channelname", "channel_name", "chname"})
 #: Leading bytes of the binary formats, used when the extension is unknown.
 _FORMAT_MAGIC = (
     (b"RIFF", "wav"), (b"RIFX", "wav"), (b"MATLAB 5.0 MAT-file", "mat"),
@@ -133,6 +154,26 @@ class _Raw:
 def _fail(path: Path, fmt: str, reason: object) -> InputError:
     text = str(reason).strip().splitlines()[0] if str(reason).strip() else type(reason).__name__
     return InputError("file", str(path), f"cannot be read as {fmt.upper()}: {text}")
+
+
+def _rate_of(fields: dict) -> float | None:
+    """Sampling rate [Hz] stored in metadata: a rate key, else a step key (rate = 1 / step),
+    else the same in a nested mapping (``x_values.increment``); None if none holds one."""
+    items = {str(k).lower(): v for k, v in fields.items()}
+    for keys, step in ((_RATE_KEYS, False), (_STEP_KEYS, True)):
+        for k, v in items.items():
+            a = np.asarray(v)
+            if k in keys and a.size == 1 and a.dtype.kind in "iuf":
+                x = float(a.ravel()[0])
+                return (1.0 / x if x else math.inf) if step else x
+    return next((r for v in items.values() if isinstance(v, dict)
+                 and (r := _rate_of(v)) is not None), None)
+
+
+def _text_of(fields: dict, keys: frozenset) -> str | None:
+    """The first non-empty text field of ``fields`` whose name (any case) is in ``keys``."""
+    return next((v.strip() for k, v in fields.items() if str(k).lower() in keys
+                 and isinstance(v, str) and v.strip()), None)
 
 
 def _fs_from_time(path: Path, t: np.ndarray) -> float:
@@ -212,13 +253,58 @@ def _read_wav(path: Path, shown: Path) -> _Raw:
 def _read_mat(path: Path, shown: Path) -> _Raw:
     from scipy.io import loadmat
 
+    twice: list[str] = []
     try:
-        content = loadmat(path, squeeze_me=False)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            content = loadmat(path, squeeze_me=False)
+            if any("Duplicate variable" in str(w.message) for w in caught):
+                content, twice = _mat_copies(path)
     except NotImplementedError:
         return _read_mat73(path, shown)
     except Exception as exc:
         raise _fail(shown, "mat", exc) from None
+    for w in caught:  # scipy's warnings, each as one line naming the file
+        if "Duplicate variable" not in str(w.message):
+            warnings.warn(f"{shown.name}: {' '.join(str(w.message).split())}", stacklevel=2)
+    if twice:
+        warnings.warn(f"{shown.name}: {', '.join(twice)} stored more than once; of each, the "
+                      "last copy that is not all zeros is read", stacklevel=2)
     return _mat_channels(shown, {k: v for k, v in content.items() if not k.startswith("__")})
+
+
+def _mat_copies(path: Path) -> tuple[dict, list[str]]:
+    """Variables of a MAT file that holds some more than once (as some acquisition exporters
+    write it, the first copy all zeros): of each, the last copy that is not all zeros."""
+    from scipy.io import loadmat
+    from scipy.io.matlab import varmats_from_mat
+
+    copies: dict[str, list] = {}
+    with open(path, "rb") as fh:
+        for name, stream in varmats_from_mat(fh):
+            copies.setdefault(name, []).append(loadmat(stream, squeeze_me=False)[name])
+
+    def filled(v: np.ndarray) -> bool:
+        return v.size > 0 and (v.dtype.kind not in "biufc" or bool(np.any(v != 0)))
+
+    content = {n: next((v for v in reversed(vs) if filled(v)), vs[-1]) for n, vs in copies.items()}
+    return content, [n for n, vs in copies.items() if len(vs) > 1]
+
+
+def _struct(arr: np.ndarray) -> dict:
+    """A 1x1 MAT struct as a dict of its numbers, texts and nested structs."""
+    out: dict = {}
+    for k in arr.dtype.names if arr.size == 1 else ():
+        v = np.asarray(arr.ravel()[0][k])
+        while v.dtype == object and v.size == 1:
+            v = np.asarray(v.ravel()[0])
+        if v.dtype.names is not None:
+            out[k] = _struct(v)
+        elif v.dtype.kind in "US" and v.size == 1:
+            out[k] = str(v.ravel()[0])
+        elif v.dtype.kind in "iuf" and v.size == 1:
+            out[k] = v.ravel()[0]
+    return out
 
 
 def _read_mat73(path: Path, shown: Path) -> _Raw:
@@ -232,16 +318,26 @@ def _read_mat73(path: Path, shown: Path) -> _Raw:
     return _mat_channels(shown, content)
 
 
+def _number(name: str) -> str | None:
+    """The last group of digits in a variable name: ``Head_1`` and ``Data1`` share ``1``."""
+    digits = re.findall(r"\d+", name)
+    return digits[-1] if digits else None
+
+
 def _mat_channels(shown: Path, content: dict) -> _Raw:
     fs = None
     time = None
     channels: dict[str, np.ndarray] = {}
+    heads: dict[str | None, dict] = {}  # header structs by the number in their name
     for name, val in content.items():
         arr = np.asarray(val)
+        if arr.dtype.names is not None:
+            heads.setdefault(_number(name), {}).update(_struct(arr))
+            continue
         if not np.issubdtype(arr.dtype, np.number):
             continue
-        if arr.size == 1 and name in _FS_NAMES:
-            fs = float(arr.ravel()[0])
+        if arr.size == 1 and (rate := _rate_of({name: arr})) is not None:
+            fs = rate
             continue
         if arr.ndim > 2 or arr.size < 2:
             continue
@@ -263,7 +359,26 @@ def _mat_channels(shown: Path, content: dict) -> _Raw:
                 f"{shown.name}: fs", fs, f"disagrees with the time vector ({fs_t:g} Hz)"
             )
         fs = fs_t
-    return _Raw(channels=channels, fs=fs)
+    rates = {r for h in heads.values() if (r := _rate_of(h)) is not None}
+    if fs is None and len(rates) == 1:  # the headers agree: one rate for the file
+        fs = rates.pop()
+    # a header struct numbered like a variable (Head_1, Data1) gives its rate, units, name
+    raw = _Raw(channels={}, fs=fs)
+    for key, v in channels.items():
+        num = _number(key.split(":")[0])
+        head = heads.get(num, {}) if num is not None else {}
+        label = _text_of(head, _NAME_KEYS) if ":" not in key else None
+        names = [key] if label in (None, key) or label in channels or label in raw.channels \
+            else [label, key]
+        raw.aliases.update(names[1:])
+        rate, unit = _rate_of(head), _text_of(head, _UNIT_KEYS)
+        for n in names:
+            raw.channels[n] = v
+            if rate is not None:
+                raw.fs_per_channel[n] = rate
+            if unit:
+                raw.units[n] = unit
+    return raw
 
 
 class _LogCatcher(logging.Handler):
@@ -283,8 +398,9 @@ def _read_tdms(path: Path, shown: Path) -> _Raw:
     logger.addHandler(catcher)
     try:
         f = TdmsFile.read(path)
-        groups = [(g.name, [(c.name, c[:], dict(c.properties)) for c in g.channels()])
-                  for g in f.groups()]
+        # a channel's properties over its group's over the file's (a rate on the group)
+        groups = [(g.name, [(c.name, c[:], {**f.properties, **g.properties, **c.properties})
+                            for c in g.channels()]) for g in f.groups()]
     except Exception as exc:
         raise _fail(shown, "tdms", exc) from None
     finally:
@@ -295,7 +411,7 @@ def _read_tdms(path: Path, shown: Path) -> _Raw:
     names = [c for _, chans in groups for c, _, _ in chans]
     channels: dict[str, np.ndarray] = {}
     units: dict[str, str] = {}
-    incs: dict[str, float] = {}
+    fs_per: dict[str, float] = {}
     aliases: set[str] = set()
     for gname, chans in groups:
         for cname, data, props in chans:
@@ -305,11 +421,11 @@ def _read_tdms(path: Path, shown: Path) -> _Raw:
                 aliases.add(keys[1])
             for key in keys:
                 channels[key] = np.asarray(data, dtype=np.float64)
-                if "unit_string" in props:
-                    units[key] = str(props["unit_string"])
-                if "wf_increment" in props:
-                    incs[key] = float(props["wf_increment"])
-    fs_per = {k: 1.0 / v for k, v in incs.items() if v > 0}
+                if _text_of(props, _UNIT_KEYS):
+                    units[key] = _text_of(props, _UNIT_KEYS)
+                rate = _rate_of(props)
+                if rate is not None and 0 < rate < math.inf:  # wf_increment 0: no waveform
+                    fs_per[key] = rate
     return _Raw(channels=channels, fs=None, units=units, fs_per_channel=fs_per,
                 aliases=aliases)
 
@@ -363,13 +479,12 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
             ds = ds.load()
     except Exception as exc:
         raise _fail(shown, "netcdf", exc) from None
-    if "time" not in ds.coords and "time" not in ds.dims:
-        raise InputError(
-            f"{shown.name}: time", "absent", "a NetCDF record needs a 'time' coordinate (s)"
-        )
-    fs = None
-    if "fs" in ds.attrs:
-        fs = float(np.asarray(ds.attrs["fs"]).ravel()[0])
+    fs = _rate_of(ds.attrs)
+    tdim = "time" if "time" in ds.coords or "time" in ds.dims else \
+        next(iter(ds.dims)) if len(ds.dims) == 1 and fs is not None else None
+    if tdim is None:
+        raise InputError(f"{shown.name}: time", "absent", "a NetCDF record needs a 'time' "
+                         "coordinate (s), or one dimension and a rate attribute ('fs')")
     if "time" in ds.coords:
         tvals = ds["time"].values
         if np.issubdtype(tvals.dtype, np.datetime64) or np.issubdtype(tvals.dtype, np.timedelta64):
@@ -377,16 +492,17 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
         if tvals.size >= 2 or fs is None:  # one time gives no rate; attrs['fs'] may
             fs_t = _fs_from_time(shown, tvals)
             if fs is not None and abs(fs_t - fs) > FS_MATCH_RTOL * fs:
-                raise InputError(f"{shown.name}: attrs['fs']", fs,
+                raise InputError(f"{shown.name}: rate attribute", fs,
                                  f"disagrees with the time coordinate ({fs_t:g} Hz)")
             fs = fs_t
     channels: dict[str, np.ndarray] = {}
     units: dict[str, str] = {}
+    fs_per: dict[str, float] = {}
     for name, var in ds.data_vars.items():
-        if "time" not in var.dims or not np.issubdtype(var.dtype, np.number):
+        if tdim not in var.dims or not np.issubdtype(var.dtype, np.number):
             continue
-        var = var.transpose("time", ...)
-        others = [d for d in var.dims if d != "time"]
+        var = var.transpose(tdim, ...)
+        others = [d for d in var.dims if d != tdim]
         if not others:
             keys = {str(name): var.values}
         else:
@@ -402,6 +518,8 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
             channels[key] = np.asarray(values, dtype=np.float64)
             if "units" in var.attrs:
                 units[key] = str(var.attrs["units"])
+            if "time" not in ds.coords and (rate := _rate_of(var.attrs)) is not None:
+                fs_per[key] = rate
     meta: dict = {}
     if ds.attrs.get("kind") == "planetary" and "carrier_angle" in ds:
         # a gearsim stage result: the stage and its carrier angle for the planetary tier
@@ -415,7 +533,7 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
                 "sensor_angle": float(ds.attrs["sensor_angle"])}
         except (KeyError, TypeError, ValueError, IndexError):
             pass  # an incomplete stage result is analysed as a plain record
-    return _Raw(channels=channels, fs=fs, units=units, metadata=meta)
+    return _Raw(channels=channels, fs=fs, units=units, metadata=meta, fs_per_channel=fs_per)
 
 
 _READERS: dict[str, Callable[[Path, Path], _Raw]] = {
@@ -644,7 +762,7 @@ def _read(path: str | Path, channels: Sequence[str] | None, fs: float | None,
                                        f"disagrees with the {fs_file:g} Hz stored in {p.name}"))
         if fs_file is None:
             rate, source = fs_user, "user"
-    elif fs_file is None and fs is None:
+    elif fs_file is None and fs is None and single:  # a record may have none
         problems.append(InputError("fs", None, f"must be given: {p.name} stores no "
                                    "sampling rate"))
     # samples
@@ -666,7 +784,8 @@ def _read(path: str | Path, channels: Sequence[str] | None, fs: float | None,
                                                    interior=False))
     raise_all(problems)
     units = {c: raw.units.get(c) for c in data}
-    return Record(data=data, fs=float(rate), path=str(p), fmt=kind, fs_source=source,
+    return Record(data=data, fs=None if rate is None else float(rate), path=str(p), fmt=kind,
+                  fs_source=None if rate is None else source,
                   units=units, metadata=dict(raw.metadata), available=tuple(raw.channels),
                   compression=compression, dropped=dropped)
 
@@ -691,8 +810,8 @@ def read_record(
         channel of the file, in file order, without aliases (e.g. the TDMS
         ``"group/channel"`` of a unique ``"channel"``).
     fs : float, optional
-        Sampling rate (Hz); required when the file stores none, checked against the file
-        (:data:`FS_MATCH_RTOL`) when it does.
+        Sampling rate (Hz), used when the file stores none (else the record's ``fs`` is
+        None), checked against the file (:data:`FS_MATCH_RTOL`) when it does.
     fmt : str, optional
         Format key of :data:`FORMATS`; by default from the extension of the (inner)
         file name.
@@ -710,7 +829,7 @@ def read_record(
     InputError
         Missing, empty, corrupt or unreadable file; a zip of several members; unknown
         format. :class:`ReadProblems` (an ``InputError``) when several of these are
-        found together: missing channels, no or a disagreeing sampling rate, channels of
+        found together: missing channels, a disagreeing sampling rate, channels of
         different rates, a channel of zero samples, non-finite samples.
 
     Examples

@@ -152,14 +152,15 @@ class Record:
     data : dict
         Channel name -> samples (float64 ndarray, units of the file), in the order
         asked for (file order by default). Channels may differ in length (TDMS, UFF).
-    fs : float
-        Sampling rate of every channel [Hz].
+    fs : float or None
+        Sampling rate of every channel [Hz]; None when neither the file nor the user
+        gives one.
     path : str
         File path.
     fmt : str
         Format key of :data:`FORMATS` (of the inner record when compressed).
-    fs_source : str
-        ``"file"`` or ``"user"``.
+    fs_source : str or None
+        ``"file"`` or ``"user"``; None without a rate.
     units : dict
         Channel name -> units stored with it, or None.
     metadata : dict, optional
@@ -175,10 +176,10 @@ class Record:
     """
 
     data: dict[str, np.ndarray]
-    fs: float
+    fs: float | None
     path: str
     fmt: str
-    fs_source: str
+    fs_source: str | None
     units: dict[str, str | None]
     metadata: dict = field(default_factory=dict)
     available: tuple[str, ...] = field(default=())
@@ -205,10 +206,12 @@ class Record:
         Raises
         ------
         InputError
-            If the channel was not read.
+            If the channel was not read, or the record has no sampling rate.
         """
         if channel not in self.data:
             raise InputError("channel", channel, f"not read; the record holds {list(self.data)}")
+        if self.fs is None:
+            raise InputError("fs", None, f"must be given: {self.path} stores no sampling rate")
         return MeasuredSignal(
             data=self.data[channel], fs=self.fs, channel=channel, path=self.path,
             fmt=self.fmt, fs_source=self.fs_source, channels=self.available,

@@ -186,45 +186,34 @@ def _label_of(labels: Mapping | None, file: str, channel: str) -> str | None:
 
 
 def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho) -> list[dict]:
-    """Channels of one file: ``{"channel", "data", "fs", "fs_source", "units", "tacho"}``."""
-    from gearsim.io import measured
+    """Channels of one file (one :func:`~gearsim.io.measured.read_record`): per channel
+    ``{"channel", "data", "fs", "fs_source", "units", "tacho", "planetary", "rpm",
+    "dropped"}``; ``fs`` None when neither the file nor the user gives a rate."""
+    from gearsim.io.measured import read_record
+    from gearsim.io.record import raise_all
 
-    if hasattr(measured, "read_record"):
-        want = None if channels is None else list(dict.fromkeys(
-            [*channels, *([tacho] if tacho else [])]))
-        rec = measured.read_record(path, channels=want, fs=fs, fmt=fmt,
-                                   drop_nonfinite=drop_nonfinite)  # one message for all
-        return _from_record(rec, channels, tacho)
-    names = measured.list_channels(path, fmt=fmt)
-    chosen = list(channels) if channels is not None else [n for n in names if n != tacho]
-    missing = [c for c in [*chosen, *([tacho] if tacho else [])] if c not in names]
-    if missing:
-        raise InputError("channel", ", ".join(missing),
-                         f"not in {Path(path).name}; available: {list(names)}")
-    out = []
-    tach = measured.read_signal(path, channel=tacho, fs=fs, fmt=fmt).data if tacho else None
-    for c in chosen:
-        s = measured.read_signal(path, channel=c, fs=fs, fmt=fmt)
-        out.append({"channel": c, "data": s.data, "fs": s.fs,
-                    "fs_source": "file" if s.fs_source == "file" else "given",
-                    "units": s.units, "tacho": tach})
-    return out
-
-
-def _from_record(rec, channels, tacho) -> list[dict]:
-    """Channels of a :class:`gearsim.io.measured.Record` (``read_record``)."""
-    data = rec.data
-    units = rec.units or {}
-    meta = getattr(rec, "metadata", None) or {}
-    rpm = meta.get("rpm")
+    extra = [tacho] if tacho else []
+    want = None if channels is None else list(dict.fromkeys([*channels, *extra]))
+    try:  # one message for every problem; a missing tacho named as such
+        rec = read_record(path, channels=want, fs=fs, fmt=fmt, drop_nonfinite=drop_nonfinite)
+    except InputError as exc:
+        raise_all([InputError("tacho", p.value, p.limit) if p.parameter == "channel"
+                   and p.value == tacho else p for p in getattr(exc, "problems", None) or (exc,)])
+        raise
+    data, meta, name = rec.data, rec.metadata, Path(path).name
+    if tacho is not None and tacho not in data:
+        raise InputError("tacho", tacho, f"not in {name}; available: {list(data)}")
     chosen = list(channels) if channels is not None else [n for n in data if n != tacho]
-    tach = data.get(tacho) if tacho else None
-    src = "file" if rec.fs_source == "file" else "given"
-    dropped = getattr(rec, "dropped", None) or {}
-    return [{"channel": c, "data": data[c], "fs": rec.fs, "fs_source": src,
-             "units": units.get(c), "tacho": tach, "planetary": meta.get("planetary"),
+    if tacho is not None and (tacho in chosen or not chosen):
+        raise InputError("tacho", tacho, "is also a channel to analyse: a tacho is not "
+                         "analysed as vibration" if chosen else f"is the only channel of "
+                         f"{name}: no vibration channel is left to analyse")
+    rpm = meta.get("rpm")
+    return [{"channel": c, "data": data[c], "fs": rec.fs,
+             "fs_source": {"file": "file", "user": "given"}.get(rec.fs_source),
+             "units": rec.units.get(c), "tacho": data.get(tacho), "planetary": meta.get("planetary"),
              "rpm": float(rpm) if isinstance(rpm, (int, float)) and rpm > 0 else None,
-             "dropped": str(dropped[c]) if c in dropped else None} for c in chosen]
+             "dropped": str(rec.dropped[c]) if c in rec.dropped else None} for c in chosen]
 
 
 def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float | None = None,
@@ -295,7 +284,7 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
                 ch["data"], ch["fs"], speed=file_rpm / 60.0 if file_rpm else speed,
                 speed_provenance="file" if file_rpm else None, tacho=ch["tacho"],
                 pulses_per_rev=pulses_per_rev, speed_search=speed_search, teeth=teeth,
-                settings=settings, fs_provenance=ch["fs_source"] if ch["fs"] else None,
+                settings=settings, fs_provenance=ch["fs_source"],
                 source=src, units=ch["units"], stage=spec,
             )
         except InputError as exc:
@@ -329,7 +318,8 @@ def _stage_spec(stage: Sequence[int] | None, ch: dict, speed: float | None):
 
 #: Reader parameters -> the options of ``gearsim analyze`` that set them: a problem found
 #: while reading a file names the option the user typed.
-READER_OPTIONS = {"channel": "--channel", "fs": "--fs", "fmt": "--format", "teeth": "--teeth"}
+READER_OPTIONS = {"channel": "--channel", "fs": "--fs", "fmt": "--format", "teeth": "--teeth",
+                  "tacho": "--tacho"}
 
 
 def _problem(where: str, exc: InputError) -> str:

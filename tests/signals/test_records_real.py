@@ -1,0 +1,79 @@
+"""Real records as they come: the SpectraQuest gearbox fault simulator records of the OpenEI
+"Gearbox Fault Diagnosis Data" set (CC BY 4.0; gzip CSV, channels a1..a4, no stored rate),
+read from the shared data folder beside the repository and never copied into it."""
+
+import csv
+import gzip
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gearsim import cli
+
+DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "spectraquest-gfd"
+FOUR = ("h30hz0", "h30hz90", "b30hz0", "b30hz90")
+
+pytestmark = pytest.mark.skipif(
+    len(list(DATA.glob("*30hz*.csv.gz"))) != 20,
+    reason=f"the 20 SpectraQuest records (OpenEI Gearbox Fault Diagnosis Data) are not in {DATA}")
+
+
+def _columns(name: str) -> dict[str, np.ndarray]:
+    """The file read by the standard library and numpy alone (independent of gearsim)."""
+    with gzip.open(DATA / f"{name}.csv.gz", "rt") as fh:
+        rows = list(csv.reader(fh))
+    values = np.array(rows[1:], dtype=float)
+    return {c: values[:, j] for j, c in enumerate(rows[0])}
+
+
+@pytest.mark.parametrize("name", FOUR)
+def test_every_channel_statistics_without_a_rate(name, capsys):
+    assert cli.run(["analyze", str(DATA / f"{name}.csv.gz"), "--json"]) == 0
+    recs = json.loads(capsys.readouterr().out)["records"]
+    ref = _columns(name)
+    assert [r["source"]["channel"] for r in recs] == list(ref) == ["a1", "a2", "a3", "a4"]
+    for r in recs:
+        x = ref[r["source"]["channel"]]
+        d = x - x.mean()
+        st = r["tiers"]["statistics"]
+        assert r["fs_hz"] is None and r["n_samples"] == x.size
+        assert st["rms"] == pytest.approx(np.sqrt(np.mean(d * d)), rel=1e-12)
+        assert st["kurtosis"] == pytest.approx(np.mean(d**4) / np.mean(d * d) ** 2, rel=1e-9)
+        assert st["peak"] == pytest.approx(np.abs(d).max(), rel=1e-12)
+        assert r["tiers"]["spectrum"]["frequency_unit"] == "cycles/sample"
+        assert 0 < r["tiers"]["spectrum"]["lines"][0]["frequency"] < 0.5
+        reasons = {s["tier"]: s["reason"] for s in r["skipped"]}
+        assert "needs a sampling rate" in reasons["shaft"]
+
+
+def test_text_and_report_without_a_rate(tmp_path, capsys):
+    files = [str(DATA / f"{n}.csv.gz") for n in FOUR]
+    assert cli.run(["analyze", *files, "--channel", "a1", "--label-pattern", "^([hb])30",
+                    "--report", str(tmp_path / "rep")]) == 0
+    out = capsys.readouterr().out
+    assert out.count("fs unknown (frequencies in cycles/sample)") == 4
+    rep = json.loads((tmp_path / "rep" / "separability.json").read_text())
+    assert rep["counts"] == {"b": 2, "h": 2}
+    assert "spectral_centroid_cps" in {r["indicator"] for r in rep["indicators"]}
+
+
+@pytest.mark.slow
+def test_batch_of_all_twenty_files_with_labels_from_names(tmp_path, capsys):
+    table, rep = tmp_path / "table.csv", tmp_path / "rep"
+    assert cli.run(["analyze", str(DATA / "*30hz*.csv.gz"), "--fs", "12800", "--shaft-rpm",
+                    "1800", "--teeth", "32", "--label-pattern", "^([hb])30hz",
+                    "--out", str(table), "--report", str(rep)]) == 0
+    assert "table:" in capsys.readouterr().out
+    with table.open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 20 * 4
+    assert {(Path(r["file"]).name, r["channel"]) for r in rows} == {
+        (f"{c}30hz{load}.csv.gz", f"a{j}") for c in "hb" for load in range(0, 100, 10)
+        for j in range(1, 5)}
+    assert all(r["label"] == Path(r["file"]).name[0] for r in rows)
+    assert {r["fs_provenance"] for r in rows} == {"given"}
+    assert all(float(r["mesh_frequency_hz [Hz]"]) == 960.0 for r in rows)
+    sep = json.loads((rep / "separability.json").read_text())
+    assert sep["counts"] == {"b": 40, "h": 40}

@@ -75,6 +75,10 @@ MIN_REVOLUTIONS = 2.0
 N_LINES = 5
 #: Shaft orders reported by the shaft tier.
 SHAFT_ORDERS = (1, 2, 3)
+#: Strongest lines reported from the order spectrum of a tracked record (local maxima
+#: standing 6 dB above their neighbourhood's median, at most one per half order: the
+#: mesh orders of every stage and their harmonics).
+ORDER_LINES = 8
 
 CPS = "cycles/sample"
 
@@ -363,6 +367,10 @@ class RecordAnalysis:
                          f"{sh['shaft_frequency_hz']:.6g} Hz; orders "
                          + ", ".join(f"{o['order']}x {o['amplitude']:.4g}{u}"
                                      for o in sh["orders"]))
+            osp = sh.get("order_spectrum")
+            if osp:
+                lines.append("    order spectrum: " + ", ".join(
+                    f"{o['order']:.4g}x {o['amplitude']:.4g}{u}" for o in osp["lines"]))
             env = sh.get("envelope")
             if env:
                 lines.append("    envelope at shaft orders: " + ", ".join(
@@ -547,6 +555,25 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov):
     return est.frequency, "estimate", None, est
 
 
+def _order_lines(a, fs, profile) -> dict[str, Any]:
+    """Strongest lines of the order spectrum of the order-tracked record (orders of the
+    tracked shaft: every stage's mesh shows at its own order, z times its speed ratio)."""
+    from scipy.ndimage import median_filter
+    from scipy.signal import find_peaks
+
+    from gearsim.signals.ordertrack import default_samples_per_rev, order_spectrum
+
+    orders, amp = order_spectrum(a, fs, profile,
+                                 samples_per_rev=default_samples_per_rev(fs, profile))
+    floor = median_filter(amp, size=31, mode="nearest")
+    # one line per half order: a line smeared by the tacho's angle error (it grows with
+    # the order) splits into neighbouring maxima
+    peaks, _ = find_peaks(amp, height=2.0 * floor, distance=max(1, int(0.5 / orders[1])))
+    top = peaks[np.argsort(amp[peaks])[::-1][:ORDER_LINES]]
+    return {"resolution_orders": float(orders[1]),
+            "lines": [{"order": float(orders[i]), "amplitude": float(amp[i])} for i in top]}
+
+
 def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
                 amp=None) -> dict[str, Any]:
     out: dict[str, Any] = {"rests_on": rests, "shaft_frequency_hz": f_r,
@@ -563,6 +590,10 @@ def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
                                       "quality": _f(q)}
             except InputError as exc:
                 skipped.append({"tier": "shaft.tracked_tsa", "reason": _first_line(exc)})
+        try:
+            out["order_spectrum"] = _order_lines(a, fs, profile)
+        except InputError as exc:
+            skipped.append({"tier": "shaft.order_spectrum", "reason": _first_line(exc)})
     n = a.size
     if amp is None:
         amp = _hann_amplitude(a)

@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 import numbers
 from dataclasses import dataclass
+from fractions import Fraction
 
 from gearsim.errors import InputError, require
 
@@ -141,8 +142,9 @@ class PowerFlow:
         Centre-line angle of each mesh as written (:class:`MeshSpec`), same order.
     shaft_of : dict
         Gear name -> index of its shaft in ``shafts``.
-    ratio : tuple of float
-        omega_shaft / omega_input of each shaft [-].
+    ratio : tuple of Fraction
+        omega_shaft / omega_input of each shaft [-], exact (products of tooth ratios;
+        the static torque ratio is its inverse).
     sense : tuple of int
         Sense of rotation of each shaft (+1 as the input) [-].
     """
@@ -151,7 +153,7 @@ class PowerFlow:
     meshes: tuple[tuple[str, str], ...]
     angles: tuple[float | None, ...]
     shaft_of: dict
-    ratio: tuple[float, ...]
+    ratio: tuple[Fraction, ...]
     sense: tuple[int, ...]
 
     def meshes_of(self, gear: str) -> list[tuple[int, int]]:
@@ -247,8 +249,8 @@ def power_flow(gears: dict, shafts: tuple[Shaft, ...], meshes: tuple[MeshSpec, .
     >>> flow = power_flow(gears, (Shaft("in", ("p1",)), Shaft("mid", ("g1", "p2")),
     ...                           Shaft("out", ("g2",))),
     ...                   (MeshSpec(("g1", "p1")), MeshSpec(("p2", "g2"))))
-    >>> flow.meshes, [round(r, 12) for r in flow.ratio], flow.sense
-    ((('p1', 'g1'), ('p2', 'g2')), [1.0, 0.4, 0.3], (1, -1, 1))
+    >>> flow.meshes, [str(r) for r in flow.ratio], flow.sense
+    ((('p1', 'g1'), ('p2', 'g2')), ['1', '2/5', '3/10'], (1, -1, 1))
     """
     shaft_of: dict[str, int] = {}
     for s_i, s in enumerate(shafts):
@@ -274,7 +276,7 @@ def power_flow(gears: dict, shafts: tuple[Shaft, ...], meshes: tuple[MeshSpec, .
     for g in gears:
         require(g in meshed, f"gears.{g}", "meshes nothing", "every gear takes part in a mesh")
     _refuse_loops(gears, shaft_of, meshes)
-    ratio: dict[int, float] = {0: 1.0}
+    ratio: dict[int, Fraction] = {0: Fraction(1)}
     sense: dict[int, int] = {0: 1}
     order, oriented, angles = [0], [], []
     done: set[int] = set()
@@ -292,7 +294,7 @@ def power_flow(gears: dict, shafts: tuple[Shaft, ...], meshes: tuple[MeshSpec, .
             done.add(m_i)
             drv, dvn = m.gears if shaft_of[m.gears[0]] == s_i else m.gears[::-1]
             t_i = shaft_of[dvn]
-            ratio[t_i] = ratio[s_i] * gears[drv].teeth / gears[dvn].teeth
+            ratio[t_i] = ratio[s_i] * Fraction(gears[drv].teeth, gears[dvn].teeth)
             sense[t_i] = -sense[s_i]
             order.append(t_i)
             oriented.append((drv, dvn))

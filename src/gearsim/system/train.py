@@ -266,16 +266,6 @@ class GearTrain:
             for i, (a, b) in enumerate(self.flow.meshes)
         )
 
-    @cached_property
-    def _shaft_torque(self) -> tuple[float, ...]:
-        """Static torque of each shaft of the flow (received, passed on) [N m], eq. (1)."""
-        fl = self.flow
-        out = [self.operating.torque] + [0.0] * (len(fl.shafts) - 1)
-        for a, b in fl.meshes:
-            force = out[fl.shaft_of[a]] / self.gear(a).base_radius
-            out[fl.shaft_of[b]] = force * self.gear(b).base_radius
-        return tuple(out)
-
     # ------------------------------------------------------------------- kinematics
     def speed(self, i: int) -> float:
         """Speed of gear ``i`` [rad/s] (magnitude), from the input speed and tooth counts.
@@ -289,11 +279,13 @@ class GearTrain:
         -------
         float
         """
-        return self.operating.speed * self.flow.ratio[self.flow.shaft_of[self.gears[i].name]]
+        r = self.flow.ratio[self.flow.shaft_of[self.gears[i].name]]
+        return self.operating.speed * r.numerator / r.denominator
 
     def torque(self, i: int) -> float:
-        """Torque on gear ``i`` for loss-free transmission [N m] (its shaft's, eq. (1) of
-        :mod:`gearsim.system.graph`).
+        """Torque on gear ``i`` for loss-free transmission [N m]: its shaft's, T_in
+        omega_in / omega_shaft (eq. (1) of :mod:`gearsim.system.graph`; r_b is
+        proportional to z within a mesh).
 
         Parameters
         ----------
@@ -304,7 +296,8 @@ class GearTrain:
         -------
         float
         """
-        return self._shaft_torque[self.flow.shaft_of[self.gears[i].name]]
+        r = self.flow.ratio[self.flow.shaft_of[self.gears[i].name]]
+        return self.operating.torque * r.denominator / r.numerator
 
     def shaft_frequency(self, i: int) -> float:
         """Shaft frequency f_r of gear ``i`` [Hz].

@@ -36,6 +36,13 @@ def _writable_parent(path: Path, parameter: str) -> None:
         raise InputError(parameter, str(path), f"{probe} is not a folder")
     if not os.access(probe, os.W_OK | os.X_OK):
         raise InputError(parameter, str(path), f"folder {probe} is not writable")
+    try:  # permissions do not tell (root, read-only or pseudo file systems): try it
+        fd, tmp = tempfile.mkstemp(prefix=".gearsim-probe-", dir=probe)
+        os.close(fd)
+        os.unlink(tmp)
+    except OSError as exc:
+        raise InputError(parameter, str(path), f"folder {probe} cannot be written "
+                         f"({exc.strerror or exc})") from None
 
 
 def _one_of(suffixes: Sequence[str]) -> str:

@@ -207,3 +207,14 @@ def test_sigint_during_simulate_exit_130_no_output(tmp_path):
     assert _one_line(err) == "gearsim: interrupted"
     assert out == ""
     assert list(tmp_path.iterdir()) == []  # neither x.nc nor a temporary file
+
+
+def test_a_multi_line_warning_is_printed_as_one_line(capsys):
+    """A library's warning with line breaks (scipy's loadmat, numpy) must not spill over
+    several ``gearsim: warning:`` lines (issue 24)."""
+    seen: list[str] = []
+    for _ in range(2):  # collected once
+        cli._keep_warning(seen, "first line\n    second line\n\tthird", UserWarning, "x.py", 1)
+    cli._show_warnings(seen)
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["gearsim: warning: first line second line third"], err

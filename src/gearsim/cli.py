@@ -232,8 +232,9 @@ def _finish(exc: BaseException, debug: bool, args: list[str]) -> int:
 
 def _keep_warning(seen: list[str], message, category, filename, lineno, file=None,
                   line=None) -> None:
-    """Collect a warning's text once (printed when the run ends, see :func:`run`)."""
-    text = str(message)
+    """Collect a warning's text once, folded to one line (printed when the run ends, see
+    :func:`run`)."""
+    text = " ".join(str(message).split())
     if text not in seen:
         seen.append(text)
 

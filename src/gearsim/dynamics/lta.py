@@ -387,7 +387,13 @@ def build_lta(train: GearTrain, settings: DynamicsSettings | None = None, *,
     fext = np.zeros(n)
     t_in = train.operating.torque
     fext[theta[gears[0].name]] = t_in
-    fext[theta[gears[-1].name]] = -train.torque(len(gears) - 1)
+    # T_out = T_in r_b,out / r_b,in times r_b,b / r_b,a of each compound shaft (gear b
+    # receives, gear a passes on; an idler passes the force unchanged)
+    t_out = t_in * gears[-1].base_radius / gears[0].base_radius
+    for (_, b), (a, _) in zip(fl.meshes, fl.meshes[1:], strict=False):
+        if a != b:
+            t_out *= train.gear(b).base_radius / train.gear(a).base_radius
+    fext[theta[gears[-1].name]] = -t_out
     kmean = np.array([t.mean for t in tables])
     meq = np.array([1.0 / (p.driver.base_radius ** 2 / p.driver.polar_inertia
                            + p.driven.base_radius ** 2 / p.driven.polar_inertia) for p in pairs])

@@ -321,8 +321,10 @@ class GearTrain:
     @property
     def mesh_frequencies(self) -> tuple[float, ...]:
         """Mesh frequency z_driver f_driver of each mesh [Hz]."""
-        return tuple(p.driver.teeth * self.shaft_frequency(self.gear_index(p.driver.name))
-                     for p in self.pairs)
+        f_in = self.operating.speed / (2 * math.pi)
+        orders = [p.driver.teeth * self.flow.ratio[self.flow.shaft_of[p.driver.name]]
+                  for p in self.pairs]  # mesh orders of the input shaft, exact
+        return tuple(o.numerator * f_in / o.denominator for o in orders)
 
     @property
     def power(self) -> float:

@@ -259,3 +259,18 @@ def test_layout_verb_reports_the_graph_and_draws_it(tmp_path):
     assert torque["high-speed"] * rpm["high-speed"] == pytest.approx(324e3 * 22.1, rel=1e-9)
     assert [m["driver"] for m in out["meshes"]] == ["low-speed-gear", "intermediate-gear"]
     assert png.stat().st_size > 10_000
+
+
+def test_a_chain_through_the_graph_uses_the_chain_formulas_exactly():
+    """The idler train read as a graph: speeds omega z_0 / z_i, torques T z_i / z_0, one
+    mesh frequency z_0 f_0 and the load T r_b,N / r_b,0, to the last bit (the numbers of
+    every result of the seed's train stay as they were)."""
+    tr = gs.example("idler-table1").train
+    w, t = tr.operating.speed, tr.operating.torque
+    z = [g.teeth for g in tr.gears]
+    assert [tr.speed(i) for i in range(3)] == [w * z[0] / zi for zi in z]
+    assert [tr.torque(i) for i in range(3)] == [t * zi / z[0] for zi in z]
+    assert tr.mesh_frequencies == (z[0] * (w / (2 * math.pi)),) * 2
+    m = build_model(tr, gs.example("idler-table1").dynamics)
+    assert m.rate is None
+    assert m.fext[-1] == -t * tr.gears[-1].base_radius / tr.gears[0].base_radius

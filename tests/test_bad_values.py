@@ -195,7 +195,7 @@ def test_material_of_one_gear_is_named_by_its_table():
         parse(doc)
     doc["gears"][1]["material"] = {"youngs_modulus": "20000 GPa"}
     with pytest.raises(InputError, match=r"^gears\[1\]\.material\.youngs_modulus = 20000 GPa: "
-                                         r"must be a finite number in \(0, 1e\+13\) Pa"):
+                                         r"must be a finite number in \[1e\+08, 1e\+13\) Pa"):
         parse(doc)
 
 

@@ -67,7 +67,7 @@ def layout(
         shafts, gears, links, st = [], [], [], None
         if train is not None:
             n_id = len(idlers(train))
-            lay = plan(train, gb.dynamics.per_item("idler_angle", n_id, "idler") if n_id else ())
+            lay = plan(train, gb.dynamics.per_item("idler_angle", n_id, "idler"))
             shafts = [(sh.name, tuple(c)) for sh, c in zip(fl.shafts, lay.centres, strict=True)]
             gears = [(g.name, fl.shaft_of[g.name], g.pitch_radius, g.teeth) for g in train.gears]
             links = [(p.driver.name, p.driven.name, p.name) for p in train.pairs]

@@ -50,6 +50,7 @@ from gearsim.dynamics.stage import StageDynamics, build_stage_model, simulate_st
 from gearsim.dynamics.tables import MeshTable
 from gearsim.errors import InputError, require
 from gearsim.system import GearTrain
+from gearsim.system.graph import MAX_SHAFT_STIFFNESS, MIN_SHAFT_STIFFNESS
 from gearsim.system.planetary import MEMBERS, PlanetaryTrain
 from gearsim.system.train import Operating
 
@@ -62,7 +63,7 @@ SHAFT_FACTOR = 10.0
 STAGE_ONLY = {"profile_modification": (0.0,), "crowning": (0.0,),
               "runout": (0.0,), "runout_phase": (0.0,), "assembly_error": (0.0,),
               "contact_mesh": False, "bearing_damping": None, "bearing_axial_stiffness": None,
-              "idler_angle": (math.pi,)}
+              "idler_angle": ()}
 #: Relative agreement required between the chain's operating point and the stage output.
 OPERATING_RTOL = 1e-9
 
@@ -190,8 +191,9 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
     if shaft_stiffness is None:
         shaft_stiffness = SHAFT_FACTOR * cm_.tables[0].mean * g1.base_radius ** 2
     kt = shaft_stiffness
-    if not (isinstance(kt, (int, float)) and math.isfinite(kt) and kt > 0):
-        raise InputError("chain.shaft_stiffness", kt, "must be a finite number > 0 N*m/rad")
+    if not (isinstance(kt, (int, float)) and MIN_SHAFT_STIFFNESS <= kt <= MAX_SHAFT_STIFFNESS):
+        raise InputError("chain.shaft_stiffness", kt, f"must be a finite number in "
+                         f"[{MIN_SHAFT_STIFFNESS:g}, {MAX_SHAFT_STIFFNESS:g}] N*m/rad")
     mass = np.concatenate([sm.mass, cm_.mass])
     kb = np.concatenate([sm.kb, cm_.kb])
     cb = np.concatenate([sm.cb, cm_.cb])

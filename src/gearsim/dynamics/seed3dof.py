@@ -112,7 +112,7 @@ def build_seed(train: GearTrain, settings: DynamicsSettings | None = None, *,
                                          np.ones(ng), signs)
     # mesh phase of a straight chain in the seed model: the LTA layout phases
 
-    lay = layout(train, settings.per_item("idler_angle", ng - 2, "idler") if ng > 2 else ())
+    lay = layout(train, settings.per_item("idler_angle", ng - 2, "idler"))
     amp_pm_phase = 2 * math.pi * lay.phase + 0.5 * math.pi
     ph[:, 0] = amp_pm_phase
     offset = wn / kn_mean - V @ ys + e_const

@@ -29,6 +29,7 @@ import numpy as np
 
 from gearsim.errors import InputError, require
 from gearsim.sections import as_written, convert
+from gearsim.system.graph import MAX_BEARING_STIFFNESS, MIN_BEARING_STIFFNESS
 
 __all__ = ["DEFAULT_STEP", "KEYS", "LIST_KEYS", "MAX_DURATION", "MAX_FS", "MAX_TRANSIENT",
            "MIN_STEP", "MODELS", "DynamicsSettings", "parse_dynamics"]
@@ -50,9 +51,8 @@ MAX_STEP = 1.0  # s
 MAX_DURATION = 1e4  # s
 MAX_TRANSIENT = 1e4  # s
 MAX_FS = 1e7  # Hz (10 MHz)
-#: Ceilings of the bearing data (a stiffer support is rigid for every gear train; larger
-#: values overflow the static solve).
-MAX_BEARING_STIFFNESS = 1e15  # N/m
+#: Ceiling of the bearing damping (the bearing stiffness is bounded by
+#: :data:`gearsim.system.graph.MIN_BEARING_STIFFNESS` and ``MAX_BEARING_STIFFNESS``).
 MAX_BEARING_DAMPING = 1e12  # N s/m
 #: Largest load factor of a load profile: ten times the rated torque (a short-circuit
 #: torque of a generator is 5-8 times rated); above, a unit or typing mistake.
@@ -118,7 +118,8 @@ class DynamicsSettings:
     idler_angle
         Angle between the centre lines at each idler [rad], measured at the idler in its
         sense of rotation from the line to the driving gear to the line to the driven
-        gear; one value or one per idler. 180 deg: centres on a straight line.
+        gear; one value or one per idler; empty (default): 180 deg, centres on a straight
+        line. Refused on a train without idlers (it would have no effect).
     profile_modification
         Amplitude of the mesh-frequency harmonic of the static transmission error
         caused by profile modification (tip relief) [m], one value or one per mesh.
@@ -157,7 +158,7 @@ class DynamicsSettings:
     mesh_damping_ratio: float = 0.07
     backlash: tuple[float, ...] | None = None
     nonlinear: bool = True
-    idler_angle: tuple[float, ...] = (math.pi,)
+    idler_angle: tuple[float, ...] = ()
     profile_modification: tuple[float, ...] = (0.0,)
     crowning: tuple[float, ...] = (0.0,)
     runout: tuple[float, ...] = (0.0,)
@@ -210,8 +211,9 @@ class DynamicsSettings:
         for name in ("bearing_stiffness", "bearing_axial_stiffness"):
             v = getattr(self, name)
             require((v is None and name != "bearing_stiffness")
-                    or (_number(v) and 0 < v <= MAX_BEARING_STIFFNESS), f"{p}.{name}", v,
-                    f"must be a finite number in (0, {MAX_BEARING_STIFFNESS:g}] N/m")
+                    or (_number(v) and MIN_BEARING_STIFFNESS <= v <= MAX_BEARING_STIFFNESS),
+                    f"{p}.{name}", v, f"must be a finite number in [{MIN_BEARING_STIFFNESS:g}, "
+                    f"{MAX_BEARING_STIFFNESS:g}] N/m")
         require(self.bearing_damping is None
                 or (_number(self.bearing_damping)
                     and 0 <= self.bearing_damping <= MAX_BEARING_DAMPING),
@@ -306,9 +308,13 @@ class DynamicsSettings:
         ------
         InputError
             (parameter ``dynamics.<name>``) if more than one value is given and their
-            number is not ``count``.
+            number is not ``count``, or values are given for no item (``count`` 0).
         """
-        vals = getattr(self, name)
+        vals = getattr(self, name) or ((math.pi,) if name == "idler_angle" else ())
+        if count == 0 and getattr(self, name):
+            shown = [f"{math.degrees(v):.6g} deg" for v in vals] if what == "idler" else list(vals)
+            raise InputError(f"dynamics.{name}", shown, f"the train has no {what}: "
+                             "the option would have no effect, leave it out")
         if len(vals) == 1:
             return vals * count
         if len(vals) != count:
@@ -326,7 +332,7 @@ class DynamicsSettings:
         out: dict[str, Any] = {}
         for f in fields(self):
             v = getattr(self, f.name)
-            if v is None:
+            if v is None or v == ():
                 continue
             out[f.name] = list(v) if isinstance(v, tuple) else v
         return out

@@ -46,6 +46,7 @@ import numpy as np
 
 from gearsim._version import __version__
 from gearsim.dynamics import _kernels
+from gearsim.dynamics.layout import idlers
 from gearsim.dynamics.lta import build_lta
 from gearsim.dynamics.modal import decay_time, modes, stable_step
 from gearsim.dynamics.model import DynamicModel
@@ -403,7 +404,8 @@ def check_cost(train: GearTrain, settings: DynamicsSettings | None = None, *,
     ------
     InputError
         ``dynamics.duration`` shorter than one revolution of the slowest gear;
-        ``dynamics.fs`` not above ``2 n f_m``; more than :data:`MAX_STEPS` steps or an
+        ``dynamics.fs`` not above ``2 n f_m``; ``dynamics.idler_angle`` given for a train
+        without idlers; more than :data:`MAX_STEPS` steps or an
         estimated memory above :data:`MEMORY_FRACTION` of the physical memory (the
         parameter named is the one that contributes most: ``dynamics.fs``,
         ``dynamics.step``, ``dynamics.duration`` or ``dynamics.transient``).
@@ -422,6 +424,7 @@ def check_cost(train: GearTrain, settings: DynamicsSettings | None = None, *,
     gearsim.errors.InputError: dynamics.duration = 10000.0: the run needs 2e+10 ...
     """
     s = settings_of(train, settings)
+    s.per_item("idler_angle", len(idlers(train)), "idler")  # refused without idlers
     slow = min(range(len(train.gears)), key=train.shaft_frequency)
     t_rev = 1.0 / train.shaft_frequency(slow)
     if s.duration < t_rev * (1 - 1e-9):

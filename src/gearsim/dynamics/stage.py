@@ -53,9 +53,10 @@ from gearsim.dynamics.modal import modes
 from gearsim.dynamics.model import DynamicModel, constrain, static_equilibrium
 from gearsim.dynamics.planetary import LinParkerModel, PlanetaryMode
 from gearsim.dynamics.settings import DynamicsSettings
-from gearsim.dynamics.simulate import record
+from gearsim.dynamics.simulate import MAX_STEPS, cost_bounds_lifted, record
 from gearsim.dynamics.tables import MeshTable, contact_table
 from gearsim.errors import InputError, require
+from gearsim.system import graph as bounds
 from gearsim.system.planetary import PlanetaryTrain, planet_name
 
 __all__ = ["StageDynamics", "build_stage_model", "lin_parker_of", "sensor_window",
@@ -103,7 +104,9 @@ class StageDynamics:
     Raises
     ------
     InputError
-        Unknown member names, values not finite > 0, sensor width outside (0, pi].
+        Unknown member names, masses, inertias, stiffnesses outside the bounds of
+        :mod:`gearsim.system.graph` (``MIN_MASS`` .. ``MAX_MASS`` etc.), sensor width
+        outside (0, pi].
     """
 
     masses: dict[str, float] = field(default_factory=dict)
@@ -115,12 +118,18 @@ class StageDynamics:
 
     def __post_init__(self) -> None:
         names = ("sun", "planet", "ring", "carrier")
-        for group in ("masses", "inertias", "bearings"):
+        b = bounds
+        for group, q, lo, hi, unit in (
+                ("masses", "mass", b.MIN_MASS, b.MAX_MASS, "kg"),
+                ("inertias", "inertia", b.MIN_INERTIA, b.MAX_INERTIA, "kg*m^2"),
+                ("bearings", "bearing", b.MIN_BEARING_STIFFNESS, b.MAX_BEARING_STIFFNESS, "N/m")):
             for k, v in getattr(self, group).items():
                 require(k in names, f"stage.{group}", k, "must be sun, planet, ring or carrier")
-                require(_positive(v), f"stage.{group}.{k}", v, "must be a finite number > 0")
-        require(self.held_torsional is None or _positive(self.held_torsional),
-                "stage.held_torsional", self.held_torsional, "must be a finite number > 0 N*m/rad")
+                require(_positive(v) and lo <= v <= hi, f"members.{k}_{q}", v,
+                        f"must be a finite number in [{lo:g}, {hi:g}] {unit}")
+        kt, lo, hi = self.held_torsional, b.MIN_SHAFT_STIFFNESS, b.MAX_SHAFT_STIFFNESS
+        require(kt is None or (_positive(kt) and lo <= kt <= hi), "members.held_torsional", kt,
+                f"must be a finite number in [{lo:g}, {hi:g}] N*m/rad")
         require(isinstance(self.sensor_angle, (int, float)) and math.isfinite(self.sensor_angle),
                 "stage.sensor_angle", self.sensor_angle, "must be a finite angle")
         require(_positive(self.sensor_width) and self.sensor_width <= math.pi + 1e-12,
@@ -226,7 +235,8 @@ def _check_settings(s: DynamicsSettings) -> None:
     for name, default in (("profile_modification", (0.0,)),
                           ("crowning", (0.0,)), ("runout", (0.0,)),
                           ("assembly_error", (0.0,)), ("contact_mesh", False),
-                          ("bearing_damping", None), ("bearing_axial_stiffness", None)):
+                          ("bearing_damping", None), ("bearing_axial_stiffness", None),
+                          ("idler_angle", ())):
         v = getattr(s, name)
         require(v == default, f"dynamics.{name}", v,
                 f"is not modelled for a planetary stage (leave it at {default!r})")
@@ -424,7 +434,8 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     Raises
     ------
     InputError
-        If fs does not exceed twice the mesh frequency or options not modelled are set.
+        If fs does not exceed twice the mesh frequency, options not modelled are set or
+        the run needs more than :data:`gearsim.dynamics.simulate.MAX_STEPS` steps.
     SimulationError
         If the integration diverges.
     """
@@ -441,8 +452,9 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     r = settings.oversample
     fs = settings.fs
     t_int = 1.0 / (r * fs)
-    step = min(settings.step, STABILITY_FRACTION / _omega_max(model))
-    m = max(1, math.ceil(t_int / step * (1 - 1e-12)))
+    w_max = _omega_max(model)
+    step = min(settings.step, STABILITY_FRACTION / w_max)
+    m = max(1, math.ceil(min(t_int / step * (1 - 1e-12), 1e18)))
     dt = t_int / m
     wc = abs(train.speeds["carrier"])
     transient = settings.transient
@@ -450,6 +462,15 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
         zeta = min(settings.bearing_damping_ratio, settings.mesh_damping_ratio)
         transient = max(12.0 * _slowest_decay(model, zeta),
                         (2.0 * math.pi / wc) if wc > 0 else 0.0, 1.0 / f_m)
+    steps = (transient + settings.duration) / dt
+    if steps > MAX_STEPS and not cost_bounds_lifted():
+        name = "transient" if transient > settings.duration else "duration"
+        raise InputError(f"dynamics.{name}", getattr(settings, name) or transient,
+                         f"the run needs {steps:.3g} integration steps (transient {transient:.4g} "
+                         f"s + duration {settings.duration:.4g} s at dt = {dt:.3g} s, set by the "
+                         f"highest natural frequency {w_max / (2 * math.pi):.4g} Hz of the "
+                         "stage: check the members' masses, inertias and stiffnesses), above the "
+                         f"limit of {MAX_STEPS:.0e}; GEARSIM_FORCE=1 runs it anyway")
     t, q, v, f, transient = record(model, settings, dt=dt, m=m, transient=transient)
     n_out = t.size
     rows = list(model.info["mesh_rows"])

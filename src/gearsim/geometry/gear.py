@@ -20,12 +20,17 @@ from dataclasses import dataclass, field
 
 from gearsim.errors import InputError, require
 
-__all__ = ["MAX_DENSITY", "MAX_YOUNGS_MODULUS", "Material", "Gear", "inv", "inv_inverse"]
+__all__ = ["MAX_DENSITY", "MAX_YOUNGS_MODULUS", "MIN_DENSITY", "MIN_YOUNGS_MODULUS", "Material", "Gear",
+           "inv", "inv_inverse"]
 
-#: Ceiling of Young's modulus [Pa]: 10 TPa, ten times the stiffest solids (diamond,
-#: graphene ~1 TPa); a larger value is a unit mistake.
+#: Bounds of Young's modulus [Pa]: 10 TPa, ten times the stiffest solids (diamond,
+#: graphene ~1 TPa); 0.1 GPa, below the softest gear plastic (polyethylene, 0.2-1 GPa);
+#: outside, a unit mistake (206 for 206 GPa).
+MIN_YOUNGS_MODULUS = 1e8
 MAX_YOUNGS_MODULUS = 1e13
-#: Ceiling of the mass density [kg/m^3]: the densest element (osmium) has 22 600.
+#: Bounds of the mass density [kg/m^3]: the densest element (osmium) has 22 600; rigid
+#: foams and balsa ~100-200; below, a unit mistake (7.85 for 7.85 g/cm^3).
+MIN_DENSITY = 100.0
 MAX_DENSITY = 1e5
 #: Ranges of the basic-rack coefficients and the profile shift (ISO 53 profiles use
 #: h_a* 1, h_f* 1.25-1.4, rho_f* 0.25-0.4; high-contact-ratio racks reach h_a* ~1.5).
@@ -124,8 +129,8 @@ class Material:
     Raises
     ------
     InputError
-        If E is outside (0, 1e13) Pa, nu outside (-1, 0.5) or the density outside
-        (0, 1e5) kg/m^3 (NaN and inf are outside every range).
+        If E is outside [1e8, 1e13) Pa, nu outside (-1, 0.5) or the density outside
+        [100, 1e5) kg/m^3 (NaN and inf are outside every range).
 
     References
     ----------
@@ -142,12 +147,13 @@ class Material:
     density: float = 7850.0
 
     def __post_init__(self) -> None:
-        require(0.0 < self.youngs_modulus < MAX_YOUNGS_MODULUS, "material.youngs_modulus",
-                self.youngs_modulus, f"must be a finite number in (0, {MAX_YOUNGS_MODULUS:g}) Pa")
+        require(MIN_YOUNGS_MODULUS <= self.youngs_modulus < MAX_YOUNGS_MODULUS,
+                "material.youngs_modulus", self.youngs_modulus,
+                f"must be a finite number in [{MIN_YOUNGS_MODULUS:g}, {MAX_YOUNGS_MODULUS:g}) Pa")
         require(-1.0 < self.poisson_ratio < 0.5, "material.poisson_ratio", self.poisson_ratio,
                 "must be in (-1, 0.5)")
-        require(0.0 < self.density < MAX_DENSITY, "material.density", self.density,
-                f"must be a finite number in (0, {MAX_DENSITY:g}) kg/m^3")
+        require(MIN_DENSITY <= self.density < MAX_DENSITY, "material.density", self.density,
+                f"must be a finite number in [{MIN_DENSITY:g}, {MAX_DENSITY:g}) kg/m^3")
 
     @property
     def shear_modulus(self) -> float:

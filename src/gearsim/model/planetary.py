@@ -53,6 +53,7 @@ from gearsim.sections import as_written, convert
 from gearsim.signals.settings import AnalysisSettings, parse_analysis
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.system import GearTrain
+from gearsim.system.graph import MAX_SHAFT_STIFFNESS, MIN_SHAFT_STIFFNESS
 from gearsim.system.planetary import PlanetaryTrain, StageOperating
 
 __all__ = ["PLANETARY_TOP_KEYS", "PlanetaryBox", "parse_planetary"]
@@ -210,8 +211,9 @@ def parse_planetary(doc: dict[str, Any], material: Material,
     for key, v in mem.items():
         member, q = key.split("_", 1)
         groups[{"mass": "masses", "inertia": "inertias", "bearing": "bearings"}[q]][member] = v
-    members = StageDynamics(held_torsional=held, sensor_angle=sen.get("angle", 0.0),
-                            sensor_width=sen.get("width", math.pi), **groups)
+    with as_written(doc.get("members", {}), "members"):
+        members = StageDynamics(held_torsional=held, sensor_angle=sen.get("angle", 0.0),
+                                sensor_width=sen.get("width", math.pi), **groups)
     dynamics = parse_dynamics(doc.get("dynamics", {}), "dynamics")
     analysis = parse_analysis(doc.get("analysis", {}), "analysis")
     chain, shaft = (_parse_chain(doc["chain"], doc.get("material", {}), train, parse_train)
@@ -238,9 +240,10 @@ def _parse_chain(raw: Any, material: Any, train: PlanetaryTrain, parse: Callable
     if "shaft_stiffness" in raw:
         shaft = convert({"shaft_stiffness": raw["shaft_stiffness"]},
                         {"shaft_stiffness": "torsional_stiffness"}, "chain")["shaft_stiffness"]
-        if not (math.isfinite(shaft) and shaft > 0):
+        if not (MIN_SHAFT_STIFFNESS <= shaft <= MAX_SHAFT_STIFFNESS):
             raise InputError("chain.shaft_stiffness", raw["shaft_stiffness"],
-                             "must be a finite stiffness > 0 N*m/rad")
+                             f"must be a finite stiffness in [{MIN_SHAFT_STIFFNESS:g}, "
+                             f"{MAX_SHAFT_STIFFNESS:g}] N*m/rad")
     op = chain_operating(train)
     sub = {k: v for k, v in raw.items() if k != "shaft_stiffness"}
     sub.setdefault("name", "chain")

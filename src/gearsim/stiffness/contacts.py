@@ -296,11 +296,14 @@ def corner_separation(pair: GearPair, l: np.ndarray) -> np.ndarray:
     return np.where(l > le, out_, out)
 
 
-def _grid_geometry(pair: GearPair, settings: StiffnessSettings, corner: bool):
-    """Slice contact points, in-path fractions and raw slice-centre positions."""
+def _grid_geometry(pair: GearPair, settings: StiffnessSettings, corner: bool, lead: bool):
+    """Slice contact points, in-path fractions and raw slice-centre positions.
+
+    A spur face is one slice unless a lead modification (``lead``) varies along it.
+    """
     tb = math.tan(pair.driver.base_helix_angle)
     b = pair.face_width
-    ns = settings.slices if tb > 0 else 1
+    ns = settings.slices if tb > 0 or lead else 1
     npc = settings.positions_per_cycle
     pb = pair.base_pitch
     la, le = pair.start_of_contact, pair.end_of_contact
@@ -375,7 +378,9 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     period = natural if period is None else period
     require(isinstance(period, int) and period >= 1 and period % natural == 0, "period",
             period, f"must be a multiple of {natural} mesh cycles (the contacts' period)")
-    lmid, frac, centre, dz, n_age, first, ns, z0, z1_ = _grid_geometry(pair, settings, corner)
+    lead = any(f.modification is not None and (f.modification.crowning or f.modification.helix_slope)
+               for f in (flank1, flank2))
+    lmid, frac, centre, dz, n_age, first, ns, z0, z1_ = _grid_geometry(pair, settings, corner, lead)
     npc = settings.positions_per_cycle
     layers = 2
     size = period * npc * n_age * ns * layers

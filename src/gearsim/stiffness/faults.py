@@ -53,6 +53,8 @@ from gearsim.errors import InputError, require
 
 __all__ = [
     "FAULT_KINDS",
+    "MAX_PITS",
+    "MIN_PIT_DIAMETER",
     "SHAPES",
     "BrokenTooth",
     "ChippedTip",
@@ -69,6 +71,11 @@ FAULT_KINDS = ("spall", "pitting", "chip", "broken", "wear")
 SHAPES = ("rectangular", "elliptical")
 FLANKS = ("working", "non-working")
 EDGES = ("start", "end")
+#: Smallest pit diameter [m]: micropits (micropitting, ISO/TR 15144) are 10-50 um across.
+MIN_PIT_DIAMETER = 1e-5
+#: Most pits of one pitting fault: 10 um pits at half coverage of a 2 x 16 mm band are
+#: 2e5 (7 s); the pits are flank patches, each costs memory and time.
+MAX_PITS = 500_000
 
 
 def _num(v: object) -> bool:
@@ -235,10 +242,28 @@ class Pitting:
                 "pitting.area_fraction", self.area_fraction, "must be in (0, 1]")
         for name in ("radius_min", "radius_max", "pit_diameter", "depth"):
             _pos(f"pitting.{name}", getattr(self, name))
+        require(self.pit_diameter >= MIN_PIT_DIAMETER, "pitting.pit_diameter", self.pit_diameter,
+                f"must be >= {MIN_PIT_DIAMETER:g} m (micropits, the smallest fatigue craters)")
         require(self.radius_max > self.radius_min, "pitting.radius_max", self.radius_max,
                 f"must be > radius_min = {self.radius_min:g} m")
         require(isinstance(self.seed, numbers.Integral) and not isinstance(self.seed, bool)
                 and self.seed >= 0, "pitting.seed", self.seed, "must be an integer >= 0")
+
+    def count(self, face_width: float, base_radius: float) -> int:
+        """Number of pits: ``area_fraction`` x band area / pit area, at least 1.
+
+        Parameters
+        ----------
+        face_width, base_radius : float
+            Face width and base radius of the gear [m].
+
+        Returns
+        -------
+        int
+        """
+        area = (arc_at_radius(self.radius_max, base_radius)
+                - arc_at_radius(self.radius_min, base_radius)) * face_width
+        return max(1, round(self.area_fraction * area / (math.pi * self.pit_diameter ** 2 / 4)))
 
     def patches(self, face_width: float, base_radius: float, rng=None) -> tuple[Patch, ...]:
         """The pits as round flank patches (positions from ``seed``).
@@ -256,11 +281,9 @@ class Pitting:
         -------
         tuple of Patch
         """
+        n = self.count(face_width, base_radius)
         s_lo = arc_at_radius(self.radius_min, base_radius)
         s_hi = arc_at_radius(self.radius_max, base_radius)
-        area = (s_hi - s_lo) * face_width
-        pit = math.pi * self.pit_diameter ** 2 / 4
-        n = max(1, round(self.area_fraction * area / pit))
         gen = np.random.default_rng(self.seed)
         s = gen.uniform(s_lo, s_hi, n)
         z = gen.uniform(0.0, face_width, n)

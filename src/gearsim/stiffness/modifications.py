@@ -37,7 +37,13 @@ import numpy as np
 
 from gearsim.errors import require
 
-__all__ = ["RELIEF_SHAPES", "Modification", "single_pitch_tolerance"]
+__all__ = ["MAX_DEVIATION_MODULES", "RELIEF_SHAPES", "Modification", "single_pitch_tolerance"]
+
+#: Largest relief, crowning, helix slope deviation and pitch deviation, in normal modules
+#: (checked with the gear, :func:`gearsim.system.faults.check_faults`): reliefs and
+#: crowning are ~0.005-0.02 m_n, ISO 1328-1 grade 11 (the coarsest) allows cumulative
+#: pitch deviations of ~0.2 m_n on small modules; a larger value is a unit mistake.
+MAX_DEVIATION_MODULES = 0.25
 
 #: Shapes of tip and root relief.
 RELIEF_SHAPES = ("linear", "parabolic")

@@ -36,7 +36,8 @@ class StiffnessSettings:
     closure
         Crack-face model, ``"contact"`` (default) or ``"open"`` (seed as printed).
     slices
-        Number of slices of the face width for helical gears (spur: always 1).
+        Number of slices of the face width for helical gears and for spur gears with
+        crowning or helix slope (else a spur face is one slice).
     positions_per_cycle
         Mesh positions per mesh cycle (base pitch).
     gauss_points

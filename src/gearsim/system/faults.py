@@ -20,6 +20,7 @@ from gearsim.errors import InputError, require
 from gearsim.geometry.profile import ToothProfile
 from gearsim.stiffness.contacts import FlankState
 from gearsim.stiffness.faults import (
+    MAX_PITS,
     BrokenTooth,
     ChippedTip,
     Pitting,
@@ -27,6 +28,7 @@ from gearsim.stiffness.faults import (
     Wear,
     arc_at_radius,
 )
+from gearsim.stiffness.modifications import MAX_DEVIATION_MODULES
 
 if TYPE_CHECKING:
     from gearsim.system.train import GearTrain
@@ -127,6 +129,10 @@ def _check_patch_fault(train: GearTrain, f, name: str) -> None:
         require(f.pit_diameter < min(b, f.radius_max - f.radius_min) * 4,
                 f"{name}.pit_diameter", f"{f.pit_diameter * 1e3:.4g} mm",
                 "must be smaller than the pitted band")
+        n = f.count(b, rb)
+        require(n <= MAX_PITS, f"{name}.pit_diameter", f"{f.pit_diameter * 1e3:.4g} mm",
+                f"makes {n:.3g} pits (area_fraction x band / pit area), above {MAX_PITS:g}: "
+                "give larger pits")
         half = 0.5 * prof.thickness_at_radius(f.radius_max)
         require(f.depth < half, f"{name}.depth", f"{f.depth * 1e3:.4g} mm",
                 f"must be < half the tooth thickness ({half * 1e3:.4g} mm)")
@@ -217,6 +223,11 @@ def check_faults(train: GearTrain) -> None:
                 f"{m.root_relief_length * 1e3:.4g} mm",
                 f"tip and root relief together must fit the active profile of {m.gear} "
                 f"({span * 1e3:.4g} mm of roll length)")
+        lim = MAX_DEVIATION_MODULES * g.normal_module
+        for key in ("tip_relief", "root_relief", "crowning", "helix_slope", "pitch_errors"):
+            v = max(np.atleast_1d(getattr(m, key)), key=abs, default=0.0)
+            require(abs(v) <= lim, f"{name}.{key}", f"{v * 1e3:.4g} mm", f"must be <= "
+                    f"{MAX_DEVIATION_MODULES:g} x the module of {m.gear} = {lim * 1e3:.4g} mm")
         if m.pitch_errors:
             require(len(m.pitch_errors) == g.teeth, f"{name}.pitch_errors",
                     f"{len(m.pitch_errors)} values", f"need one per tooth ({g.teeth} teeth "

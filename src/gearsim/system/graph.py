@@ -30,7 +30,8 @@ from fractions import Fraction
 
 from gearsim.errors import InputError, require
 
-__all__ = ["MAX_INERTIA", "MAX_MASS", "MAX_SHAFT_STIFFNESS", "MIN_SHAFT_STIFFNESS",
+__all__ = ["MAX_BEARING_STIFFNESS", "MAX_INERTIA", "MAX_MASS", "MAX_SHAFT_STIFFNESS",
+           "MIN_BEARING_STIFFNESS", "MIN_INERTIA", "MIN_MASS", "MIN_SHAFT_STIFFNESS",
            "MeshSpec", "PowerFlow", "Shaft", "power_flow"]
 
 #: Bounds of a shaft's own mass [kg] and polar inertia [kg m^2]: the rotor of a 10 MW
@@ -38,6 +39,14 @@ __all__ = ["MAX_INERTIA", "MAX_MASS", "MAX_SHAFT_STIFFNESS", "MIN_SHAFT_STIFFNES
 #: own masses only) is allowed.
 MAX_MASS = 1e6
 MAX_INERTIA = 1e6
+#: Floors of a given member mass [kg] and inertia [kg m^2] (planetary members): a watch
+#: wheel weighs ~1 mg, with ~1e-12 kg m^2 at its 1 mm radius; below, a unit mistake.
+MIN_MASS = 1e-6
+MIN_INERTIA = 1e-12
+#: Bounds of a bearing stiffness [N/m]: 1e5 is an elastomer mount, 100 times softer than
+#: the softest rolling bearing (~1e7); 1e15 is rigid for every gear train.
+MIN_BEARING_STIFFNESS = 1e5
+MAX_BEARING_STIFFNESS = 1e15
 #: Bounds of a shaft's torsional stiffness between its gears [N m/rad]: a 1 mm steel wire
 #: 1 m long is ~1e-2 N m/rad, the stiffest multi-MW shafts ~1e9; outside, a unit mistake.
 MIN_SHAFT_STIFFNESS = 1e-3
@@ -68,7 +77,7 @@ class Shaft:
         Torsional stiffness between consecutive gears [N m/rad], in [1e-3, 1e12];
         ``None``: a rigid shaft (its gears turn as one body).
     bearing_stiffness, axial_stiffness : float or None
-        Radial and axial stiffness of its bearings [N/m], in [1e3, 1e15] (a rubber mount
+        Radial and axial stiffness of its bearings [N/m], in [1e5, 1e15] (an elastomer mount
         to a practically rigid support); ``None``: the ``[dynamics]`` defaults.
 
     Raises
@@ -101,8 +110,9 @@ class Shaft:
                 f"must be in [{MIN_SHAFT_STIFFNESS:g}, {MAX_SHAFT_STIFFNESS:g}] N*m/rad")
         for key in ("bearing_stiffness", "axial_stiffness"):
             v = getattr(self, key)
-            require(v is None or (_number(v) and 1e3 <= v <= 1e15), f"{p}.{key}", v,
-                    "must be in [1e3, 1e15] N/m")
+            require(v is None or (_number(v) and MIN_BEARING_STIFFNESS <= v <= MAX_BEARING_STIFFNESS),
+                    f"{p}.{key}", v, f"must be in [{MIN_BEARING_STIFFNESS:g}, "
+                    f"{MAX_BEARING_STIFFNESS:g}] N/m")
 
 
 @dataclass(frozen=True)

@@ -39,10 +39,11 @@ $(STAMP): pyproject.toml constraints.txt
 run: sysdeps
 	$(BIN)/gearsim reproduce --out $(OUT)
 
-# Every core (pytest-xdist, work stealing: the FE and sweep tests are long); the 20 slowest
+# Every core (pytest-xdist; whole files to one worker, so an expensive module fixture such
+# as the reproduction is built once, not once per worker); the 20 slowest
 # tests are printed at the end.
 test: sysdeps browser
-	$(BIN)/python -m pytest -q -n auto --dist worksteal --durations=20 tests --doctest-modules src/gearsim
+	$(BIN)/python -m pytest -q -n auto --dist loadfile --durations=20 tests --doctest-modules src/gearsim
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks

@@ -278,8 +278,12 @@ def run_kernel(model: DynamicModel, *, dt: float, n_steps: int, rec_start: int =
         n_rec = (n_steps - rec_start) // rec_every + 1
     q0 = model.q_static.copy() if q0 is None else np.asarray(q0, dtype=float).copy()
     v0 = np.zeros(model.n_dof) if v0 is None else np.asarray(v0, dtype=float).copy()
-    integrate = (_kernels.integrate_rk4_contacts
-                 if any(t.has_contacts for t in model.tables) else _kernels.integrate_rk4)
+    contacts = any(t.has_contacts for t in model.tables)
+    profiled = model.profile is not None or model.load is not None
+    integrate = {(False, False): _kernels.integrate_rk4,
+                 (True, False): _kernels.integrate_rk4_contacts,
+                 (False, True): _kernels.integrate_rk4_profile,
+                 (True, True): _kernels.integrate_rk4_contacts_profile}[contacts, profiled]
     status, step, rq, rv, rf, q, v = integrate(
         q0, v0, float(t0), float(dt), int(n_steps), int(rec_start), int(rec_every), int(n_rec),
         Q_LIMIT, *_kernel_args(model))

@@ -7,7 +7,10 @@ from contextlib import contextmanager
 
 from gearsim.errors import InputError
 
-__all__ = ["as_options", "with_torque"]
+__all__ = ["MIN_TORQUE", "as_options", "with_torque"]
+
+#: Smallest ``--torque`` [N m] (5e-324 gave a zero mesh force: infinite stiffness, / 0).
+MIN_TORQUE = 1e-9
 
 
 @contextmanager
@@ -44,7 +47,8 @@ def with_torque(train, torque: str | None):
     Returns
     -------
     GearTrain
-        The train at that torque (refusals name ``--torque``).
+        The train at that torque (refusals name ``--torque``; below
+        :data:`MIN_TORQUE` refused).
     """
     if torque is None:
         return train
@@ -54,6 +58,9 @@ def with_torque(train, torque: str | None):
     from gearsim.units import to_si
 
     t = to_si(torque, "torque", "--torque")
+    if 0 < t < MIN_TORQUE:
+        raise InputError("--torque", torque, f"must be >= {MIN_TORQUE:g} N*m (a smaller torque can "
+                         "only be a slip of unit or exponent)")
     with as_options({"operating.torque": "--torque"}):
         return dataclasses.replace(train, operating=Operating(speed=train.operating.speed,
                                                               torque=t))

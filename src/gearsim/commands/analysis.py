@@ -14,6 +14,7 @@ xarray, matplotlib, dask, scikit-learn) are imported only where a run needs them
 
 from __future__ import annotations
 
+import math
 from contextlib import ExitStack
 from pathlib import Path
 from typing import Annotated, Any
@@ -30,6 +31,12 @@ __all__ = ["register"]
 MAX_ORDER = 1000
 #: Files ``analyze --report DIR`` writes; an existing DIR may hold only these.
 REPORT_FILES = frozenset({"separability.json", "separability.csv"})
+#: Teeth by which ``--stage`` may miss z_r = z_s + 2 z_p (profile shifts of about +-1 close
+#: a centre-distance gap of one module; a stage file checks the exact shifted geometry).
+SHIFT_TEETH = 2
+#: Lowest speed ``--speed-search`` may start at [Hz] (0.06 rpm; a slower shaft turns
+#: too seldom to be heard in any record).
+MIN_SEARCH_HZ = 1e-3
 
 
 def _figure_files() -> frozenset[str]:
@@ -93,14 +100,21 @@ def _speed_search(text: str | None, problems: list[str]) -> tuple[float, float] 
         return None
     (lo, u_lo), (hi, u_hi) = parts
     lo, hi = lo * (u_lo or u_hi or 1.0), hi * (u_hi or u_lo or 1.0)
-    if not 0 < lo < hi < float("inf"):
-        problems.append(f"--speed-search = {text}: must be 0 < LO < HI ({lo:g}, {hi:g} Hz)")
+    if not MIN_SEARCH_HZ <= lo < hi < float("inf"):  # LO 5e-324 Hz overflowed the estimator
+        problems.append(f"--speed-search = {text}: must be {MIN_SEARCH_HZ:g} Hz <= LO < HI "
+                        f"({lo:g}, {hi:g} Hz)")
         return None
     return lo, hi
 
 
 def _stage(text: str | None, problems: list[str]) -> tuple[int, int, int, int] | None:
-    """``ZS,ZP,ZR,N`` to four integers >= 1."""
+    """``ZS,ZP,ZR,N`` to four integers, checked as a stage file is where tooth counts
+    suffice (:class:`~gearsim.geometry.planetary.PlanetaryStage`): 7 to MAX_TEETH teeth,
+    coaxiality (within ``SHIFT_TEETH`` teeth, which profile shifts can absorb), equal
+    spacing, and neighbouring planets clear at the standard addendum (tip radius
+    (z_p + 2) m / 2 on centres (z_s + z_p) m / 2 apart: sin(pi / N) > (z_p + 2)/(z_s + z_p))."""
+    from gearsim.geometry.gear import MAX_TEETH
+
     if text is None:
         return None
     try:
@@ -110,6 +124,20 @@ def _stage(text: str | None, problems: list[str]) -> tuple[int, int, int, int] |
     if len(vals) != 4 or min(vals) < 1:
         problems.append(f"--stage = {text}: must be ZS,ZP,ZR,N (sun, planet and ring teeth, "
                         "planets; integers >= 1, e.g. 21,39,99,3)")
+        return None
+    zs, zp, zr, n = vals
+    clear = (zp + 2) / (zs + zp)
+    why = (f"sun and planet need 7 to {MAX_TEETH} teeth, the ring at most {MAX_TEETH}"
+           if min(zs, zp) < 7 or max(vals[:3]) > MAX_TEETH else
+           f"not coaxial: z_r must be z_s + 2 z_p = {zs + 2 * zp} (within {SHIFT_TEETH} with "
+           "profile shifts)" if abs(zr - zs - 2 * zp) > SHIFT_TEETH else
+           f"equal spacing needs (z_s + z_r)/N integer: ({zs} + {zr})/{n} = {(zs + zr) / n:.6g}"
+           if (zs + zr) % n else
+           f"neighbouring planets collide: N must be < pi / asin((z_p + 2)/(z_s + z_p)) = "
+           f"{math.pi / math.asin(clear):.4g} (standard addendum)"
+           if n > 1 and not math.sin(math.pi / n) > clear else None)
+    if why is not None:
+        problems.append(f"--stage = {text}: {why}")
         return None
     return vals  # type: ignore[return-value]
 

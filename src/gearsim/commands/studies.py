@@ -36,9 +36,10 @@ def _depth(text: str, option: str) -> float:
 
 
 def _depths(text: str) -> tuple[float, ...]:
-    parts = [p.strip() for p in text.split(",") if p.strip()]
-    if not parts:
-        raise InputError("--depths", text, "must list at least one depth, e.g. '2 mm, 6 mm'")
+    parts = [p.strip() for p in text.split(",")]
+    if not all(parts):
+        raise InputError("--depths", text, "must list depths without empty items, e.g. '2 mm, "
+                         "6 mm'")
     return tuple(_depth(p, "--depths") for p in parts)
 
 
@@ -86,7 +87,7 @@ def reproduce(
     folder: Path = check_output(out, "--out")  # every output target before any work
     d = _depth(depth, "--depth")
     names = {"revolutions": "--revolutions", "model": "--model", "depth": "--depth",
-             "depths": "--depths", "fault_severities": "--fault-severities"}
+             "depths": "--depths", "fault_severities": "--fault-severities", "config": "--config"}
     sev = _severities(fault_severities)
     with as_options(names):
         opt = ReproduceOptions(config=config, depth=d, depths=_depths(depths),

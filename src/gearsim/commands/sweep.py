@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from collections import Counter
 from pathlib import Path
 from typing import Annotated
 
@@ -49,11 +50,18 @@ def sweep(
         check_output_folder(report, "--report")
         what, order = ("fault", FAULT_CLASSES) if "fault" in st.parameters else ("flank",
                                                                                 CLASSES)
-        classes = sorted({getattr(c, what) for c in expand(st)}, key=order.index)
+        n = Counter((getattr(c, what), c.noise) for c in expand(st))
+        classes = sorted({k for k, _ in n}, key=order.index)
         if len(classes) < 2:
             raise InputError("--report", str(report), f"the study has {len(classes)} {what} "
                              f"class ({', '.join(classes)}); the diagnostic report compares "
                              "at least two of " + ", ".join(order))
+        z = max({z for _, z in n}, key=lambda z: min(n[c, z] for c in classes))
+        if min(n[c, z] for c in classes) < 2:  # the report's rows are per noise level
+            raise InputError("--report", str(report), "the study is too small to cross-"
+                             "validate: every noise level has a class of < 2 cases (at noise "
+                             f"{z:g}: " + ", ".join(f"{c} {n[c, z]}" for c in classes)
+                             + "); add replicates, depths or loads")
     res = run_study(st, out, scheduler=scheduler, workers=workers, progress=progress,
                     note=lambda line: typer.echo(line, err=True))
     typer.echo(f"gearsim: {res.n_cases} cases ({res.computed} computed, {res.skipped} resumed,"

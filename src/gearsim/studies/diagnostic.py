@@ -28,13 +28,14 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
 
 from gearsim._version import __version__
-from gearsim.errors import InputError
+from gearsim.errors import InputError, require
 from gearsim.io.targets import atomic_folder, check_output_folder
 from gearsim.model.variants import FAULT_CLASSES
 from gearsim.studies.sweep_case import FEATURE_GROUPS
@@ -461,7 +462,13 @@ def diagnostic_report(store: str | Path, out: str | Path, *,
     ------
     InputError
         An output folder that cannot be written, a file that is not a sweep store, no
-        successful case, or fewer than two classes among the successful cases.
+        successful case, fewer than two classes among the successful cases, or no noise
+        level with two successful cases of every class (too few to cross-validate).
+
+    Warns
+    -----
+    UserWarning
+        When some rows cannot be scored (a subset with fewer than two cases of a class).
     """
     out = check_output_folder(out, out_parameter)
     store = Path(store)
@@ -477,7 +484,19 @@ def diagnostic_report(store: str | Path, out: str | Path, *,
                          f"{'es' if len(present) != 1 else ''} among its successful cases "
                          f"({', '.join(present) or 'none'}); the report compares at least two"
                          " of " + ", ".join(order))
+    counts = {c: int(np.sum(labels == c)) for c in present}
+    noise = ds["noise"].values[ok]  # rows are per noise level: one must have 2 of each class
+    z, most = max(((z, {c: int(np.sum((labels == c) & (noise == z))) for c in present})
+                   for z in np.unique(noise)), key=lambda zc: min(zc[1].values()))
+    require(min(most.values()) >= 2, "store", str(store), "too small to cross-validate: every "
+            f"noise level has a class of < 2 successful cases (at noise {z:g}: " + ", ".join(
+                f"{c} {n}" for c, n in most.items()) + "); add replicates, depths or loads")
     rows = separability_table(ds)
+    n_na = sum(1 for r in rows if r["accuracy"] != r["accuracy"] and r["n_features"])
+    if n_na:  # subsets (a noise level, a depth) with a class of < 2 cases: n/a, said why
+        warnings.warn(f"{n_na} of {len(rows)} rows of the report are n/a (accuracy and AUC "
+                      "NaN): their subset has < 2 successful cases of a class; add replicates "
+                      "to score them", UserWarning, stacklevel=2)
     keys = [k for k in rows[0] if k != "confusion"]
 
     def fmt(v) -> str:
@@ -486,7 +505,6 @@ def diagnostic_report(store: str | Path, out: str | Path, *,
         return f"{v:.6g}" if isinstance(v, float) else str(v)
 
     csv = "\n".join([",".join(keys), *(",".join(fmt(r[k]) for k in keys) for r in rows)]) + "\n"
-    counts = {c: int(np.sum(labels == c)) for c in present}
     doc = {"store": str(store), "study": ds.attrs.get("title", ""),
            "gearsim_version": __version__, "class_coordinate": coord, "classes": present,
            "counts": counts,

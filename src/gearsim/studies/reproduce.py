@@ -238,7 +238,7 @@ def compute_reproduction(options: ReproduceOptions | None = None, *,
     Raises
     ------
     InputError
-        Before any simulation: a configuration that is not a train, too few revolutions
+        Before any simulation: a configuration that is not a parallel-axis train, too few revolutions
         for the sideband analysis, a crack depth that does not fit the tooth, too many
         FE points, a sampling rate that aliases the analysed mesh harmonics, a study
         above the cost bounds.
@@ -250,6 +250,8 @@ def compute_reproduction(options: ReproduceOptions | None = None, *,
 
     gb = load(opt.config)
     base = gb.train
+    require(isinstance(base, GearTrain), "config", opt.config, "is a planetary gearbox; the "
+            "seed's study needs a parallel-axis gear train (e.g. idler-table1)")
     require(len(base.gears) >= 2, "config", opt.config, "must define a train of >= 2 gears")
     f_r1 = base.shaft_frequency(0)
     t1 = 1.0 / f_r1

@@ -638,7 +638,9 @@ def check_study(study: Study) -> None:
     study (:meth:`gearsim.system.GearTrain.with_crack` checks it fits the tooth), each
     fault class at the lowest and highest severity of the study
     (:func:`gearsim.model.variants.fault_variant` builds and checks the variant), and the
-    recorded duration (at least one revolution of the slowest gear at the lowest speed).
+    recorded duration (at least one revolution of the slowest gear at the lowest speed, and
+    what the analysis of every case needs there: two input revolutions and the sideband
+    resolution of the analysed shafts).
     :func:`loads_study` calls it; the values' signs were checked when they were read.
 
     Parameters
@@ -723,6 +725,23 @@ def check_study(study: Study) -> None:
             name = "study." + name
         raise InputError(name, exc.value, f"{exc.limit} (at the highest speed of the study, "
                          f"{max(speeds) * 30 / math.pi:.6g} rpm)") from None
+    from gearsim.signals._checks import WINDOWS
+    from gearsim.signals.analysis import kinematics
+    from gearsim.signals.settings import AnalysisSettings
+
+    # the analysis of every case (gearsim.signals.analyze, default settings) needs two
+    # revolutions of the input (TSA) and 2 L window bins per sideband spacing of each shaft
+    f_in = slowest.shaft_frequency(0)
+    kin = kinematics(shaft_frequency=f_in, teeth=[g.teeth for g in train.gears]
+                     [:1 if study.shafts == "reference" else None])
+    window = AnalysisSettings().window
+    need = max(2.0 / f_in, 2 * WINDOWS[window] / min(kin.shafts.values()))
+    if duration < need * (1 - 1e-9):
+        raise InputError("study.dynamics.duration", f"{duration:g} s",
+                         f"must be >= {need:.6g} s for the analysis of every case at the lowest "
+                         f"speed of the study, {min(speeds) * 30 / math.pi:.6g} rpm (two input "
+                         f"revolutions, {2 * WINDOWS[window]} {window} bins per sideband spacing "
+                         f"of the slowest analysed shaft, {min(kin.shafts.values()):.4g} Hz)")
 
 
 def _check_faults(study: Study, gb: Gearbox) -> None:

@@ -40,7 +40,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from gearsim._version import __version__
-from gearsim.errors import InputError, SimulationError
+from gearsim.errors import InputError, ModelRangeWarning, SimulationError
 from gearsim.io.atomic import atomic_write
 from gearsim.io.targets import check_output_file
 
@@ -178,9 +178,14 @@ def part_bytes(study: Study, cases: Sequence[Case], hook: Callable | None = None
     Returns
     -------
     bytes
-        The group's table as an in-memory NetCDF-4 file.
+        The group's table as an in-memory NetCDF-4 file; the messages of the warnings
+        the group raised (once each) in its attribute ``warnings``.
     """
-    ds = group_runner(study)(study, cases, hook)
+    with warnings.catch_warnings(record=True) as caught:  # not on the worker's stderr: the
+        ds = group_runner(study)(study, cases, hook)  # client says them (run_study)
+    if caught:
+        ds.attrs["warnings"] = "\n".join(dict.fromkeys(
+            f"{w.category.__name__}\t{' '.join(str(w.message).split())}" for w in caught))
     names = [v for v in ds.data_vars if ds[v].dims == ("case",) and ds[v].dtype.kind == "f"]
     if names:
         stacked = ds[names].to_dataarray("feature").transpose("case", "feature")
@@ -511,7 +516,9 @@ def _start_local(workers: int, cluster_kwargs: dict | None, live: dict) -> None:
     # to the user, and a task's own failure reaches the client as its exception
     kw = {"threads_per_worker": 1, "processes": True, "dashboard_address": None,
           "silence_logs": logging.CRITICAL, **(cluster_kwargs or {}), "n_workers": 0}
-    with _quiet_distributed():
+    with _quiet_distributed(), warnings.catch_warnings():  # the scheduler's HTTP server
+        # moves off a busy port 8787 (another cluster) with a warning: no concern of ours
+        warnings.filterwarnings("ignore", message=r"Port \d+ is already in use")
         live["cluster"] = cluster = LocalCluster(**kw)
         live["client"] = client = Client(cluster)
     main = threading.current_thread() is threading.main_thread()
@@ -597,6 +604,12 @@ def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
         another sweep; a scheduler that cannot be reached.
     SimulationError
         A group failed after its retries.
+
+    Warns
+    -----
+    UserWarning
+        Each distinct warning the groups raised in the workers, once, here in the client
+        (a :class:`~gearsim.errors.ModelRangeWarning` as itself).
     """
     import dask
     from distributed import as_completed
@@ -659,6 +672,11 @@ def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
             done[key] = _read_part(pdir / f"{key}.nc")
             if done[key] is None:
                 raise SimulationError(f"sweep: part {pdir / key}.nc cannot be read")
+        for line in dict.fromkeys(w for p in done.values() for w in
+                                  str(p.attrs.get("warnings", "")).splitlines()):
+            kind, _, text = line.partition("\t")  # the workers' warnings, once each
+            warnings.warn(text, ModelRangeWarning if kind == "ModelRangeWarning" else UserWarning,
+                          stacklevel=2)
         ds = combine(study, [done[k] for k in grouped])
         _write_nc(ds, store)
     failed = int(ds.attrs["n_failed"])

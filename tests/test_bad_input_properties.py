@@ -825,7 +825,8 @@ BASE_STUDY: dict[str, Any] = {
     "study": {"name": "bad-input property test", "config": "spur-19-48",
               "sampling": "grid", "seed": 1, "replicates": 1,
               "signal": "acceleration[pinion,y]", "shafts": "all", "store_signals": False,
-              "dynamics": {"duration": "0.1 s", "fs": "10 kHz"}},
+              # long enough for the sideband analysis of every case (refused up front)
+              "dynamics": {"duration": "0.4 s", "fs": "10 kHz"}},
     "parameters": {"crack_depth": ["0.5 mm"], "flank": ["working"], "noise": [0.0]},
 }
 

@@ -332,7 +332,7 @@ class DynamicsSettings:
         out: dict[str, Any] = {}
         for f in fields(self):
             v = getattr(self, f.name)
-            if v is None or v == ():
+            if v is None or (isinstance(v, tuple) and not v):
                 continue
             out[f.name] = list(v) if isinstance(v, tuple) else v
         return out

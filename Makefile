@@ -34,6 +34,12 @@ $(STAMP): pyproject.toml constraints.txt
 	$(PY) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --upgrade pip
 	$(BIN)/python -m pip install -q -c constraints.txt -e ".[test]"
+	@# compile the numba kernels once into their cache (every integrator variant: tables
+	@# or contacts, constant speed or a profile), so test workers do not each compile them
+	$(BIN)/python -c "import gearsim as gs; p = dict(speed_times=[0.0, 0.2], \
+	  speed_values=[180.0, 190.0]); [gs.simulate('spur-19-48', duration=0.11, fs=20e3, \
+	  transient=0.01, **kw) for kw in ({}, dict(contact_mesh=True), p, \
+	  dict(contact_mesh=True, **p))]" 2>/dev/null
 	touch $(STAMP)
 
 run: sysdeps

@@ -34,6 +34,7 @@ import tomllib
 from collections.abc import Callable, Sequence
 from importlib import resources
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 from gearsim.dynamics.settings import parse_dynamics
@@ -263,7 +264,8 @@ def _hands(doc: dict[str, Any], kws: list[dict[str, Any]], shafts: tuple[Shaft, 
             if kw["hand"] not in ("right", "left"):
                 raise InputError(f"gears[{i}].hand", kw["hand"], 'must be "right" or "left"')
             sign[kw["name"]] = 1 if kw["hand"] == "right" else -1
-    flow = power_flow(dict(zip(names, (_Teeth(kw["teeth"]) for kw in kws), strict=True)),
+    # the power flow needs only the tooth counts of the gears not made yet
+    flow = power_flow({kw["name"]: SimpleNamespace(teeth=kw["teeth"]) for kw in kws},
                       shafts, meshes)
     on_shaft: dict[int, int] = {}
     for drv, dvn in flow.meshes:
@@ -275,13 +277,6 @@ def _hands(doc: dict[str, Any], kws: list[dict[str, Any]], shafts: tuple[Shaft, 
                              "hand: external helical gears mesh with opposite hands")
         on_shaft.setdefault(flow.shaft_of[dvn], sign[dvn])
     return [sign[n] for n in names]
-
-
-class _Teeth:
-    """The tooth count of a gear before it is made (the power flow needs only that)."""
-
-    def __init__(self, teeth: int) -> None:
-        self.teeth = teeth
 
 
 def parse_modifications(raw: Any) -> tuple[Modification, ...]:

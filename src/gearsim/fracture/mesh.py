@@ -29,7 +29,8 @@ import numpy as np
 from gearsim.errors import InputError, require
 from gearsim.fem.geometry import gmsh_triangles
 
-__all__ = ["CrackPath", "CrackedMesh", "mesh_cracked_polygon", "split_crack_nodes"]
+__all__ = ["CrackPath", "CrackedMesh", "mesh_cracked_polygon", "mesh_polygon",
+           "split_crack_nodes"]
 
 
 @dataclass(frozen=True)
@@ -311,6 +312,80 @@ def _mesh(poly: np.ndarray, crack: CrackPath, mouth: int, h: float, h_tip: float
     p2, t2, pairs = split_crack_nodes(p, t, crack_edges, list(tip_nodes.values()))
     return CrackedMesh(p=p2, t=t2, crack=crack, tip_nodes=tip_nodes, pairs=pairs, h=h,
                        h_tip=h_tip)
+
+
+def mesh_polygon(outline: np.ndarray, *, h: float, focus: np.ndarray, h_focus: float,
+                 growth: float = 0.25) -> tuple[np.ndarray, np.ndarray]:
+    """Mesh an uncracked polygon, refined around some boundary points.
+
+    Parameters
+    ----------
+    outline
+        Polygon vertices, shape (n, 2) [m]; the focus points must be among them.
+    h
+        Element size far from the focus points [m].
+    focus
+        Points (k, 2) to refine around [m], vertices of ``outline``.
+    h_focus
+        Element size at the focus points [m] (0 < h_focus <= h).
+    growth
+        Slope of the element size away from them [-] (0.05 to 1).
+
+    Returns
+    -------
+    p : ndarray, shape (2, n)
+        Nodes [m].
+    t : ndarray, shape (3, m)
+        Triangles.
+
+    Raises
+    ------
+    InputError
+        Bad sizes, focus points that are not vertices, or a gmsh failure.
+    """
+    poly = np.asarray(outline, dtype=float)
+    foc = np.atleast_2d(np.asarray(focus, dtype=float))
+    require(math.isfinite(h) and h > 0.0, "mesh.h", h, "must be > 0 m")
+    require(math.isfinite(h_focus) and 0.0 < h_focus <= h, "mesh.h_focus", h_focus,
+            f"must be in (0, h = {h:.4g} m]")
+    require(0.05 <= growth <= 1.0, "mesh.growth", growth, "must be in [0.05, 1]")
+    tol = 1e-9 * float(np.abs(poly).max())
+    idx = []
+    for q in foc:
+        d = np.hypot(*(poly - q).T)
+        require(float(d.min()) <= tol, "mesh.focus", tuple(q), "must be outline vertices")
+        idx.append(int(np.argmin(d)))
+    try:
+        with _session() as gmsh:
+            geo = gmsh.model.geo
+            tags = [geo.addPoint(float(x), float(y), 0.0) for x, y in poly]
+            lines = [geo.addLine(tags[i], tags[(i + 1) % len(tags)]) for i in range(len(tags))]
+            surf = geo.addPlaneSurface([geo.addCurveLoop(lines)])
+            geo.synchronize()
+            fld = gmsh.model.mesh.field
+            dist = fld.add("Distance")
+            fld.setNumbers(dist, "PointsList", [tags[i] for i in idx])
+            thr = fld.add("Threshold")
+            fld.setNumber(thr, "InField", dist)
+            fld.setNumber(thr, "SizeMin", h_focus)
+            fld.setNumber(thr, "SizeMax", h)
+            fld.setNumber(thr, "DistMin", 4.0 * h_focus)
+            fld.setNumber(thr, "DistMax", 4.0 * h_focus + (h - h_focus) / growth)
+            fld.setAsBackgroundMesh(thr)
+            gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+            gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+            gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+            gmsh.option.setNumber("Mesh.Algorithm", 6)
+            gmsh.model.mesh.generate(2)
+            xy, _, tri = gmsh_triangles(gmsh, surf, "mesh", "body")
+    except InputError:
+        raise
+    except Exception as exc:  # gmsh raises plain Exception with its log message
+        raise InputError("mesh", "body", f"gmsh could not mesh it: {exc}") from None
+    used = np.unique(tri)
+    renum = np.full(xy.shape[0], -1, dtype=np.int64)
+    renum[used] = np.arange(used.size)
+    return xy[used].T.copy(), renum[tri].T.copy()
 
 
 def _arc_parameter(path: np.ndarray, xy: np.ndarray) -> np.ndarray:

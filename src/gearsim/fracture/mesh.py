@@ -450,7 +450,7 @@ def split_crack_nodes(p: np.ndarray, t: np.ndarray, edges: np.ndarray,
     edges = np.asarray(edges, dtype=np.int64)
     crack_set = {(min(a, b), max(a, b)) for a, b in edges}
     nodes = np.setdiff1d(np.unique(edges), np.asarray(tips, dtype=np.int64))
-    m = t.shape[1]
+    require(t.shape[1] > 0, "mesh", "empty", "has no triangles")
     # vertex -> triangles
     order = np.argsort(t.ravel(order="F"), kind="stable")
     flat = t.ravel(order="F")[order]
@@ -499,6 +499,4 @@ def split_crack_nodes(p: np.ndarray, t: np.ndarray, edges: np.ndarray,
             col[col == node] = new
     p2 = np.hstack([p, p[:, copies]]) if copies else p.copy()
     pairs = np.array([copies, list(range(n0, n0 + len(copies)))], dtype=np.int64)
-    if m == 0:
-        raise InputError("mesh", "empty", "no triangles")
     return p2, t2, pairs.reshape(2, -1)

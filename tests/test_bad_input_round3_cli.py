@@ -56,7 +56,7 @@ def test_analyze_valid_stages_pass_the_check(tmp_path):
 def test_reproduce_planetary_config_refused(tmp_path):
     line = refused("reproduce", "--config", "lin-parker-1999", "--out", tmp_path / "r",
                    "--no-fe", "--quiet")
-    assert line == ("gearsim: error: --config = lin-parker-1999: is a planetary gearbox; the "
+    assert line == ("gearsim: error: --config = lin-parker-1999: has a planetary stage; the "
                     "seed's study needs a parallel-axis gear train (e.g. idler-table1)")
     assert not (tmp_path / "r").exists()
 

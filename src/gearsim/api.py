@@ -12,7 +12,6 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from gearsim.dynamics.simulate import simulate as _simulate
 from gearsim.io.measured import MeasuredSignal, read_signal
 from gearsim.model import Gearbox, load
 from gearsim.signals.analysis import Analysis, analyze
@@ -28,9 +27,7 @@ __all__ = ["Analysis", "MeasuredSignal", "analyze", "read_signal", "reproduce", 
 
 
 def _gearbox(model: Gearbox | str | Path) -> Gearbox:
-    from gearsim.model.planetary import PlanetaryBox
-
-    return model if isinstance(model, (Gearbox, PlanetaryBox)) else load(model)
+    return model if isinstance(model, Gearbox) else load(model)
 
 
 def simulate(gearbox: Gearbox | str | Path, /, *, crack: str | None = None,
@@ -39,11 +36,10 @@ def simulate(gearbox: Gearbox | str | Path, /, *, crack: str | None = None,
 
     Parameters
     ----------
-    gearbox : Gearbox, PlanetaryBox, str or Path
+    gearbox : Gearbox, str or Path
         A gearbox (:func:`gearsim.load`), a TOML file or a built-in example name
-        (positional: ``model`` is the dynamics option, e.g. ``model="torsional"``); a
-        planetary stage (``[stage]``) runs :func:`gearsim.dynamics.stage.simulate_stage`
-        (with its ``[chain]``, :func:`gearsim.dynamics.compose.simulate_stage_chain`).
+        (positional: ``model`` is the dynamics option, e.g. ``model="torsional"``);
+        :meth:`gearsim.model.Gearbox.simulate` runs it.
     crack : {"none", "working", "non-working"}, optional
         Fault variant (:meth:`gearsim.system.GearTrain.with_crack`); default as given.
     **dynamics
@@ -67,20 +63,7 @@ def simulate(gearbox: Gearbox | str | Path, /, *, crack: str | None = None,
     gb = _gearbox(gearbox)
     if crack is not None:
         gb = gb.with_crack(crack)
-    if getattr(gb, "kind", "") == "planetary":  # a stage (gearsim.model.planetary)
-        import dataclasses
-
-        from gearsim.dynamics.compose import simulate_stage_chain
-        from gearsim.dynamics.stage import simulate_stage
-
-        settings = dataclasses.replace(gb.dynamics, **dynamics) if dynamics else gb.dynamics
-        if gb.chain is not None:
-            return simulate_stage_chain(gb.train, gb.chain, gb.members, settings,
-                                        shaft_stiffness=gb.shaft_stiffness)
-        return simulate_stage(gb.train, gb.members, settings)
-    if dynamics:
-        gb = gb.replace(dynamics=dynamics)
-    return _simulate(gb.train, gb.dynamics)
+    return gb.simulate(**dynamics)
 
 
 def reproduce(out: str | Path, *, progress: Callable[[str], None] | None = None,

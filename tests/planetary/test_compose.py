@@ -206,8 +206,8 @@ def _stage_config() -> str:
 
 def test_config_and_cli(capsys, tmp_path) -> None:
     box = loads(_stage_config() + CHAIN)
-    assert box.chain is not None and box.shaft_stiffness == pytest.approx(2e5)
-    assert box.chain.operating == chain_operating(box.train)
+    assert box.train is not None and box.shaft_stiffness == pytest.approx(2e5)
+    assert box.train.operating == chain_operating(box.stage)
     path = tmp_path / "sc.toml"
     path.write_text(_stage_config().replace("duration = 1.0", "duration = 0.1") + CHAIN)
     nc = tmp_path / "sc.nc"
@@ -237,11 +237,23 @@ def test_bad_chain_config_names_the_chain(extra, parameter) -> None:
     assert err.value.parameter == parameter
 
 
-def test_sweep_refuses_a_stage_with_a_chain(tmp_path) -> None:
-    from gearsim.studies.sweep import loads_study
+def test_a_stage_with_a_chain_is_a_study_like_any_gearbox(tmp_path) -> None:
+    """One model: a stage driving gears is studied through the same case list (it was
+    refused before the gearbox types were merged); its default record is the ring sensor
+    and a fault class, which needs an external gear mesh, is refused up front."""
+    from gearsim.studies.sweep import expand, loads_study
+    from gearsim.studies.sweep_case import build_case
 
     (tmp_path / "sc.toml").write_text(_stage_config() + CHAIN)
+    head = '[study]\nconfig = "sc.toml"\n'
+    st = loads_study(head + '[parameters]\ntorque = ["50 N*m", "100 N*m"]\n',
+                     base_dir=tmp_path)
+    assert st.signal == "sensor"
+    gb = build_case(st, expand(st)[0])
+    assert gb.stage.operating.torque == 50.0 and gb.train is not None
+    # the chain follows the stage's output: its torque scales with the input's
+    ratio = gb.train.operating.torque / build_case(st, expand(st)[1]).train.operating.torque
+    assert ratio == pytest.approx(0.5, rel=1e-12)
     with pytest.raises(InputError) as err:
-        loads_study('[study]\nconfig = "sc.toml"\n[parameters]\nnoise = [0.0]\n',
-                    base_dir=tmp_path)
-    assert err.value.parameter == "study.config" and "[chain]" in str(err.value)
+        loads_study(head + '[parameters]\nfault = ["none", "spall"]\n', base_dir=tmp_path)
+    assert err.value.parameter == "parameters.fault[1]"

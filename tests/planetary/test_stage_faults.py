@@ -140,7 +140,7 @@ def test_faults_in_a_stage_file(capsys, tmp_path) -> None:
     text += ('\n[[faults]]\nkind = "spall"\ngear = "sun"\ntooth = 3\nradius = "31 mm"\n'
              'length = "1.5 mm"\nwidth = "10 mm"\ndepth = "10 um"\n')
     box = loads(text)
-    assert len(box.train.faults) == 1 and box.train.faults[0].gear == "sun"
+    assert len(box.stage.faults) == 1 and box.stage.faults[0].gear == "sun"
     path = tmp_path / "f.toml"
     path.write_text(text)
     code = cli.run(["simulate", str(path), "--out", str(tmp_path / "f.nc")])

@@ -69,11 +69,13 @@ def test_cases_groups_and_store(study, store):
     assert np.unique(z["td_rms"].values).size == 1  # one simulation, noise-free records
     # the case's train is the fault variant; every class on the contact-mesh path
     broken = next(c for c in cases if c.fault == "broken" and c.severity == 0.5)
-    train, settings = build_case(study, broken)
+    gb = build_case(study, broken)
+    train, settings = gb.train, gb.dynamics
     assert [(f.kind, f.gear, f.tooth) for f in train.faults] == [("broken", "input", 0)]
     assert not train.cracks and settings.contact_mesh and settings.duration == 0.15
     healthy = build_case(study, cases[0])
-    assert not healthy[0].faults and not healthy[0].cracks and healthy[1].contact_mesh
+    assert not healthy.train.faults and not healthy.train.cracks
+    assert healthy.dynamics.contact_mesh
     # a study without fault has neither coordinate, and its keys are as before
     old = loads_study(STUDY.split("[parameters]")[0] + '[parameters]\nflank = ["none", '
                       '"working"]\n')

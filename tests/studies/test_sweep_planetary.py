@@ -9,8 +9,8 @@ import pytest
 
 from gearsim.errors import InputError
 from gearsim.model import loads
-from gearsim.studies.sweep import expand, loads_study, signal_choices
-from gearsim.studies.sweep_planetary import build_stage_case, stage_reference
+from gearsim.studies.sweep import expand, loads_study
+from gearsim.studies.sweep_case import build_case
 from gearsim.studies.sweep_run import group_runner, groups, run_serial, run_study
 
 # The planet (z 24) lies just outside the fitted range of the Sainsot foundation.
@@ -99,26 +99,29 @@ def _study(folder, body: str, signal: str | None = None):
 
 
 def test_cases_and_groups(study):
-    assert study.kind == "planetary" and study.signal == "sensor"
+    assert study.signal == "sensor"
     cases = expand(study)
     assert [(c.flank, round(c.crack_depth * 1e3, 6)) for c in cases] == [
         ("none", 1.0), ("working", 1.0), ("none", 2.0), ("working", 2.0)]
     assert all(math.isclose(c.speed, 200 * math.pi) and c.torque == 100.0 for c in cases)
     assert len(groups(study)) == 3  # the two uncracked cases share one simulation
-    assert group_runner(study).__name__ == "run_stage_group"
+    assert group_runner(study).__name__ == "run_group"  # one runner for every gearbox
 
 
 def test_case_build_moves_the_first_crack(study):
     cases = expand(study)
-    train, _, settings, _ = build_stage_case(study, cases[3])
-    (crack,) = train.cracks
+    gb = build_case(study, cases[3])
+    (crack,) = gb.cracks
     assert (crack.gear, crack.tooth, crack.flank) == ("planet-1", 0, "working")
     assert crack.depth == pytest.approx(2e-3)
-    assert settings.transient == pytest.approx(0.02)
-    assert build_stage_case(study, cases[0])[0].cracks == ()
-    member, f_ref, teeth = stage_reference(train)
+    assert gb.dynamics.transient == pytest.approx(0.02)
+    assert build_case(study, cases[0]).cracks == ()
+    member, f_ref, teeth = gb.reference()
     assert member == "carrier" and teeth == [78, 30, 24]
-    assert f_ref * 78 == pytest.approx(train.mesh_frequency)
+    # independent: ring held, f_c = f_s z_s / (z_s + z_r), f_m = z_r f_c
+    f_s = 6000 / 60
+    assert f_ref == pytest.approx(f_s * 30 / (30 + 78), rel=1e-12)
+    assert f_ref * 78 == pytest.approx(gb.stage.mesh_frequency)
 
 
 def test_store_rows_and_crack_trend(store):
@@ -147,7 +150,7 @@ def test_local_cluster_equals_serial(study, store, tmp_path):
 
 def test_signal_choices_and_mesh_force_signal(folder):
     box = loads(STAGE)
-    names = signal_choices(box)
+    names = box.signals()
     assert names[:3] == ["sensor", "mesh_force[sun-planet-1]", "mesh_force[ring-planet-1]"]
     assert names[-2:] == ["ring_acceleration[x]", "ring_acceleration[y]"]
     st = _study(folder, '[parameters]\nnoise = [0.0, 0.5]\n', signal="mesh_force[sun-planet-1]")
@@ -157,8 +160,7 @@ def test_signal_choices_and_mesh_force_signal(folder):
 
 
 @pytest.mark.parametrize(("body", "signal", "parameter"), [
-    ('[parameters]\nfault = ["none", "spall"]\n', None, "parameters.fault"),
-    ('[parameters]\nclosure = ["open"]\n', None, "parameters.closure"),
+    ('[parameters]\nfault = ["none", "spall"]\n', None, "parameters.fault[1]"),
     ('[parameters]\nnoise = [0.0]\n', "acceleration[input,y]", "study.signal"),
     ('[parameters]\nnoise = [0.0]\n', "mesh_force[sun-planet-4]", "study.signal"),
     ('[parameters]\nflank = ["working"]\ncrack_depth = ["1 mm", "9 mm"]\n', None,
@@ -189,7 +191,7 @@ def test_constant_stage_refuses_crack_sweep_and_bearings(folder):
 
     (folder / "lp.toml").write_text(example_text("lin-parker-1999"))
     head = '[study]\nconfig = "lp.toml"\n'
-    with pytest.raises(InputError, match="no crack to vary"):
+    with pytest.raises(InputError, match="no case has a crack"):
         loads_study(head + '[parameters]\ncrack_depth = ["1 mm"]\n', base_dir=folder)
     with pytest.raises(InputError, match="changes nothing") as err:
         loads_study(head + '[parameters]\nbearing_stiffness = ["1e8 N/m"]\n', base_dir=folder)

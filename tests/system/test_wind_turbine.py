@@ -30,18 +30,18 @@ def box():
 def test_overall_ratio_is_the_reports(box):
     ratio = (1 + 99 / 21) * 82 / 23 * 88 / 22
     assert ratio == pytest.approx(81.49, abs=0.005)  # NREL/TP-5000-47773: 1:81.49
-    hs = box.chain.speed(box.chain.gear_index("high-speed-pinion"))
-    assert box.train.speeds["carrier"] / hs == pytest.approx(1 / ratio, rel=1e-12)
+    hs = box.train.speed(box.train.gear_index("high-speed-pinion"))
+    assert box.stage.speeds["carrier"] / hs == pytest.approx(1 / ratio, rel=1e-12)
 
 
 def test_static_torque_balance_at_every_shaft(box):
-    model = build_stage_chain_model(box.train, box.chain, box.members, box.dynamics)
+    model = build_stage_chain_model(box.stage, box.train, box.members, box.dynamics)
     f = model.mean_stiffness() * (model.V @ model.q_static)
     t_in = 324e3
     t_sun = t_in / (1 + 99 / 21)
     assert f[model.info["shaft_row"]] == pytest.approx(t_sun, rel=STATIC_RTOL)
     rows = model.info["chain_rows"]
-    ch = box.chain
+    ch = box.train
     g = {n: ch.gear(n) for n in ("low-speed-gear", "intermediate-pinion", "intermediate-gear",
                                  "high-speed-pinion")}
     f1, f2 = f[rows[0]], f[rows[1]]
@@ -68,7 +68,7 @@ def run(box):
 def test_every_stage_mesh_line_is_in_the_spectrum(box, run):
     fs = run.attrs["fs"]
     f_p = run.attrs["mesh_frequency"]
-    f_i, f_h = box.chain.mesh_frequencies
+    f_i, f_h = box.train.mesh_frequencies
     assert f_p == pytest.approx(99 * 22.1 / 60, rel=1e-12)
     assert f_i == pytest.approx(82 * 22.1 / 60 * (1 + 99 / 21), rel=1e-12)
     assert f_h == pytest.approx(88 * 22.1 / 60 * (1 + 99 / 21) * 82 / 23, rel=1e-12)
@@ -91,9 +91,9 @@ depth = "4 mm"
     fs = ds.attrs["fs"]
     # what the crack adds: same run otherwise (deterministic), so the difference is its own
     x = (ds["chain_mesh_force"] - run["chain_mesh_force"]).sel(chain_mesh="I").values
-    f_i = box.chain.mesh_frequencies[0]
-    f_int = box.chain.shaft_frequency(box.chain.gear_index("intermediate-pinion"))
-    f_sun = box.train.speeds["sun"] / (2 * math.pi)
+    f_i = box.train.mesh_frequencies[0]
+    f_int = box.train.shaft_frequency(box.train.gear_index("intermediate-pinion"))
+    f_sun = box.stage.speeds["sun"] / (2 * math.pi)
     own = [_amplitude(x, fs, f_i + k * f_int) for k in (-2, -1, 1, 2)]
     sun = [_amplitude(x, fs, f_i + k * f_sun) for k in (-1, 1)]
     assert min(own) > 10 * max(sun), (own, sun)
@@ -108,8 +108,8 @@ def test_torsional_stage_equals_a_hand_assembled_torsional_planetary_model():
 
     gb = gs.example("nrel-grc").with_crack("none")
     dyn = dataclasses.replace(gb.dynamics, model="torsional")
-    model = build_stage_model(gb.train, gb.members, dyn)
-    lp = build_stage_model(gb.train, gb.members, gb.dynamics).info["lin_parker"]
+    model = build_stage_model(gb.stage, gb.members, dyn)
+    lp = build_stage_model(gb.stage, gb.members, gb.dynamics).info["lin_parker"]
     n = lp.planets
     M = np.diag([lp.carrier_inertia + n * lp.planet_mass, lp.ring_inertia, lp.sun_inertia]
                 + [lp.planet_inertia] * n)

@@ -83,7 +83,7 @@ def stage_train():
     from gearsim.model.config import example
     from gearsim.stiffness.settings import StiffnessSettings
 
-    tr = example("lin-parker-1999").train
+    tr = example("lin-parker-1999").stage
     return dataclasses.replace(tr, sun_mesh_stiffness=None, ring_mesh_stiffness=None,
                                settings=StiffnessSettings(positions_per_cycle=8, slices=2))
 

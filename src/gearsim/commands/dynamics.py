@@ -15,8 +15,6 @@ from typing import Annotated
 import typer
 
 from gearsim.commands._options import as_options
-from gearsim.dynamics import simulate as run
-from gearsim.dynamics import summary
 from gearsim.io.results import write_results
 from gearsim.io.targets import check_output_file
 from gearsim.model import load
@@ -36,14 +34,14 @@ def simulate(
     step: Annotated[float | None, typer.Option(help="largest integration step in s (1e-9 to 1)")] = None,
     transient: Annotated[float | None, typer.Option(
         help="dropped transient in s (>= 0, 0: none; default: from the damping)")] = None,
-    model: Annotated[str | None, typer.Option(help="lta or seed")] = None,
+    model: Annotated[str | None, typer.Option(help="lta, torsional or seed")] = None,
     plot: Annotated[bool, typer.Option("--plot", help="also write a PNG beside --out")] = False,
     json_: Annotated[bool, typer.Option("--json", help="print a JSON summary")] = False,
     force: Annotated[bool, typer.Option(
         "--force", help="run even above the cost bounds (1e9 steps, half the memory); "
                         "or set GEARSIM_FORCE=1")] = False,
 ) -> None:
-    """Simulate the gear train; write mesh forces, DTE, bearing forces, accelerations."""
+    """Simulate the gearbox; write mesh forces, DTE, bearing forces, accelerations."""
     # every output target is checked before any work
     target = check_output_file(out, "--out", (".nc",))
     if plot:
@@ -54,81 +52,40 @@ def simulate(
     gb = load(config)
     # every value is checked where the settings are made; the message names the option
     names = {"crack": "--crack", **{f"dynamics.{k}": f"--{k}" for k in changes}}
-    if getattr(gb, "kind", "") == "planetary":
-        _simulate_stage(gb, target, crack, changes, names, plot, json_)
-        return
     with as_options(names):
         gb = gb.with_crack(crack).replace(dynamics=changes)
-    # cost and aliasing (for the mesh harmonics the analysis looks at) before any work
-    with as_options(names):
-        ds = run(gb.train, gb.dynamics, harmonics=max(gb.analysis.orders),
-                 force=True if force else None)
+        # cost and aliasing (of the harmonics the analysis looks at) before any work
+        ds = gb.simulate(harmonics=max(gb.analysis.orders), force=True if force else None)
     path = write_results(ds, target)
     if plot:
         save(plot_run(ds), path.with_suffix(".png"))
-    s = summary(ds)
-    s["out"] = str(path)
-    if json_:
-        typer.echo(json.dumps(s, indent=2))
-    else:
-        for m in s["meshes"]:
-            typer.echo(f"mesh {m['mesh']}: mean {m['mean']:.6g} N (static {m['static_force']:.6g}"
-                       f" N, {100 * m['mean_error']:+.3f} %), RMS {m['rms']:.6g} N, peak "
-                       f"{m['peak']:.6g} N")
-        typer.echo(f"gearsim: results written to {path}")
-
-
-def _simulate_stage(box, target, crack, changes: dict, names: dict, plot: bool,
-                    json_: bool) -> None:
-    """The ``simulate`` verb for a planetary stage."""
-    import dataclasses
-
-    from gearsim.dynamics.settings import DynamicsSettings
-    from gearsim.dynamics.stage import simulate_stage, stage_summary
-    from gearsim.errors import InputError
-
-    if "model" in changes:
-        raise InputError("--model", changes["model"], "a planetary stage has one model "
-                         "(Lin & Parker 1999 with time-varying meshes): leave --model out")
-    if plot:
-        raise InputError("--plot", "on", "is not available for a planetary stage yet")
-    with as_options(names):
-        box = box.with_crack(crack)
-        settings = DynamicsSettings(**{**{f.name: getattr(box.dynamics, f.name)
-                                          for f in dataclasses.fields(DynamicsSettings)},
-                                       **changes})
-        if box.chain is not None:
-            from gearsim.dynamics.compose import simulate_stage_chain
-
-            ds = simulate_stage_chain(box.train, box.chain, box.members, settings,
-                                      shaft_stiffness=box.shaft_stiffness)
-        else:
-            ds = simulate_stage(box.train, box.members, settings)
-    path = write_results(ds, target)
-    s = stage_summary(ds)
+    s = gb.summary(ds)
     s["out"] = str(path)
     if json_:
         typer.echo(json.dumps(s, indent=2))
         return
-    for m in s["meshes"]:
-        typer.echo(f"mesh {m['mesh']}: mean {m['mean']:.6g} N (static {m['static_force']:.6g}"
-                   f" N), RMS {m['rms']:.6g} N, peak {m['peak']:.6g} N")
-    typer.echo(f"sensor (ring, transfer-path window): RMS {s['sensor_rms']:.6g} N; f_m "
-               f"{s['mesh_frequency']:.6g} Hz")
-    top = max(m["frequency"] for m in s["modes"])
-    modes = ", ".join("0 (rigid body)" if m["frequency"] < 1e-6 * top else
-                      f"{m['frequency']:.5g} ({m['kind'][0]}{m['multiplicity']})"
-                      for m in s["modes"])
-    typer.echo(f"natural frequencies of the stage's mean-stiffness Lin & Parker model [Hz] "
-               f"(r rotational, t translational, p planet, m mixed; multiplicity): {modes}")
-    for m in s.get("chain_meshes", []):
-        typer.echo(f"chain mesh {m['mesh']}: mean {m['mean']:.6g} N (static "
-                   f"{m['static_force']:.6g} N), RMS {m['rms']:.6g} N; f_m2 "
-                   f"{s['chain_mesh_frequency']:.6g} Hz")
+    for key in ("meshes", "chain_meshes"):
+        for m in s.get(key, []):
+            err = (f", {100 * m['mean_error']:+.3f} %" if "mean_error" in m else "")
+            peak = f", peak {m['peak']:.6g} N" if "peak" in m else ""
+            typer.echo(f"{'chain ' if key == 'chain_meshes' else ''}mesh {m['mesh']}: mean "
+                       f"{m['mean']:.6g} N (static {m['static_force']:.6g} N{err}), RMS "
+                       f"{m['rms']:.6g} N{peak}")
+    if "sensor_rms" in s:
+        typer.echo(f"sensor (ring, transfer-path window): RMS {s['sensor_rms']:.6g} N; f_m "
+                   f"{s['mesh_frequency']:.6g} Hz")
+    if s.get("modes"):
+        top = max(m["frequency"] for m in s["modes"])
+        modes = ", ".join("0 (rigid body)" if m["frequency"] < 1e-6 * top else
+                          f"{m['frequency']:.5g} ({m['kind'][0]}{m['multiplicity']})"
+                          for m in s["modes"])
+        typer.echo(f"natural frequencies of the stage's mean-stiffness Lin & Parker model "
+                   f"[Hz] (r rotational, t translational, p planet, m mixed; multiplicity): "
+                   f"{modes}")
     if "shaft_torque_mean" in s:
         typer.echo(f"output shaft ({s['output_member']}): torque mean "
                    f"{s['shaft_torque_mean']:.6g} N m, RMS {s['shaft_torque_rms']:.6g} N m")
-    if s["constant_meshes"]:
+    if s.get("constant_meshes"):
         typer.echo("note: constant mesh stiffnesses: no parametric excitation, the response "
                    "stays at the static load")
     typer.echo(f"gearsim: results written to {path}")

@@ -60,7 +60,7 @@ from gearsim.system import graph as bounds
 from gearsim.system.planetary import PlanetaryTrain, planet_name
 
 __all__ = ["StageDynamics", "build_stage_model", "lin_parker_of", "sensor_window",
-           "simulate_stage", "stage_summary"]
+           "check_stage_settings", "simulate_stage", "stage_summary"]
 
 _MEMBERS = ("carrier", "ring", "sun")
 #: Largest RK4 step as a fraction of 1 / omega_max (RK4's stability limit is 2.78).
@@ -228,8 +228,19 @@ def _contact_rows(t, direction: int) -> MeshTable:
                      sx=np.ascontiguousarray(tab.sx[idx]))
 
 
-def _check_settings(s: DynamicsSettings) -> None:
-    """Refuse the gear-train options a stage does not model (one line each)."""
+def check_stage_settings(s: DynamicsSettings) -> None:
+    """Refuse the gear-train options a stage does not model (one line each).
+
+    Parameters
+    ----------
+    s : DynamicsSettings
+        The settings of a stage's run.
+
+    Raises
+    ------
+    InputError
+        The first option a stage does not model, named ``dynamics.<option>``.
+    """
     require(s.model in ("lta", "torsional"), "dynamics.model", s.model,
             'a planetary stage is modelled "lta" (Lin & Parker, planar) or "torsional"')
     for name, default in (("profile_modification", (0.0,)),
@@ -269,7 +280,7 @@ def build_stage_model(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     """
     dyn = dyn or StageDynamics()
     settings = settings or DynamicsSettings()
-    _check_settings(settings)
+    check_stage_settings(settings)
     st = train.stage
     lp = lin_parker_of(train, dyn, settings)
     k_all, b_all = lp.springs()

@@ -1,39 +1,88 @@
-"""The typed model of a gearbox: the train and the settings of everything done with it.
+"""The typed model of a gearbox: its parts and the settings of everything done with it.
 
-:func:`gearsim.load` returns a :class:`Gearbox`: the :class:`~gearsim.system.GearTrain`
-(gears, operating point, stiffness options, cracks) and the ``[dynamics]`` and
-``[analysis]`` settings, each a frozen, validated dataclass. Variants are made with
-:meth:`Gearbox.with_crack` and :meth:`Gearbox.replace`, which check the new value once,
-where it is made.
+:func:`gearsim.load` returns a :class:`Gearbox`, whatever the file describes: a chain of
+gears, a graph of shafts, gears and meshes (:class:`~gearsim.system.GearTrain`), a
+planetary stage (:class:`~gearsim.system.planetary.PlanetaryTrain`) or a stage driving
+such a graph, with the ``[dynamics]`` and ``[analysis]`` settings, each a frozen,
+validated dataclass. Variants are made with :meth:`Gearbox.with_crack` and
+:meth:`Gearbox.replace`, which check the new value once, where it is made.
+
+Everything done with a gearbox goes through its methods (:meth:`Gearbox.simulate`,
+:meth:`Gearbox.tvms`, :meth:`Gearbox.layout`, :meth:`Gearbox.summary`, and for studies
+:meth:`Gearbox.at`, :meth:`Gearbox.signals`, :meth:`Gearbox.select`,
+:meth:`Gearbox.reference`): the callers above this layer never ask which parts a
+gearbox has.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import math
+import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
+import numpy as np
+
+from gearsim.dynamics.lta import AXES as LTA_AXES
 from gearsim.dynamics.settings import DynamicsSettings
+from gearsim.dynamics.stage import StageDynamics, check_stage_settings
+from gearsim.errors import InputError, require
 from gearsim.signals.settings import AnalysisSettings
 from gearsim.stiffness.settings import StiffnessSettings
+from gearsim.system.planetary import PlanetaryTrain, StageOperating, planet_name
 from gearsim.system.toml import train_to_toml
-from gearsim.system.train import GearTrain
+from gearsim.system.train import GearTrain, Operating
 
-__all__ = ["Gearbox"]
+__all__ = ["Gearbox", "GearboxStiffness"]
+
+_SIGNAL = re.compile(r"\s*(\w+)\s*(?:\[\s*([\w-]+)\s*(?:,\s*(\w+)\s*)?\])?\s*")
+
+
+@dataclass(frozen=True)
+class GearboxStiffness:
+    """The stiffness tables of every mesh of a gearbox (:meth:`Gearbox.tvms`).
+
+    Parameters
+    ----------
+    summary : dict
+        ``name`` and ``meshes`` (per mesh ``k_mean``, ``k_min``, ``k_max`` [N/m] and the
+        mesh's own quantities), with a stage also its phasing and contact ratios.
+    write : callable
+        ``write(path)``: the tables to ``.csv`` or ``.nc``, atomically.
+    figure : callable
+        ``figure()``: a matplotlib figure of the tables.
+    """
+
+    summary: dict
+    write: Callable[[str | Path], Any]
+    figure: Callable[[], Any]
 
 
 @dataclass(frozen=True)
 class Gearbox:
-    """A gear train with its dynamics and analysis settings.
+    """A gearbox and the settings of everything done with it.
 
     Parameters
     ----------
-    train : GearTrain
-        Gears, operating point, stiffness options and cracks.
+    train : GearTrain or None
+        The parallel-shaft part: shafts, gears, meshes, operating point, stiffness
+        options and faults; with a stage, the part its output shaft drives (at the
+        output's speed and torque); ``None``: a stage alone.
     dynamics : DynamicsSettings
         Options of the vibration simulation (``[dynamics]``).
     analysis : AnalysisSettings
         Options of the signal analysis (``[analysis]``).
+    stage : PlanetaryTrain, optional
+        A planetary stage (``[stage]``), the input of the gearbox.
+    members : StageDynamics, optional
+        The stage's member masses, inertias, bearings and ring sensor (``[members]``).
+    shaft_stiffness : float, optional
+        Torsional stiffness [N m/rad] of the shaft from the stage's output member to the
+        first gear of ``train`` (``None``: :func:`gearsim.dynamics.compose.
+        build_stage_chain_model`'s default).
 
     Examples
     --------
@@ -43,21 +92,39 @@ class Gearbox:
     ([39, 59, 125], 'lta', 'contact')
     >>> round(gb.train.mesh_frequency, 3)
     1235.0
+    >>> box = gs.example("wind-turbine-grc")
+    >>> box.stage.stage.ring_teeth, [g.teeth for g in box.train.gears]
+    (99, [82, 23, 88, 22])
     """
 
-    train: GearTrain
+    train: GearTrain | None
     dynamics: DynamicsSettings = field(default_factory=DynamicsSettings)
     analysis: AnalysisSettings = field(default_factory=AnalysisSettings)
+    stage: PlanetaryTrain | None = None
+    members: StageDynamics = field(default_factory=StageDynamics)
+    shaft_stiffness: float | None = None
+
+    def __post_init__(self) -> None:
+        require(self.train is not None or self.stage is not None, "gearbox", "empty",
+                "needs gears ([[gears]]) or a planetary stage ([stage])")
 
     @property
     def name(self) -> str:
-        """Name of the train."""
-        return self.train.name
+        """Name of the gearbox (the stage's when it has one)."""
+        return (self.stage or self.train).name
+
+    @property
+    def cracks(self) -> tuple:
+        """The cracks of the input part (the stage's when there is one)."""
+        return (self.stage or self.train).cracks
 
     @property
     def stiffness(self) -> StiffnessSettings:
-        """Options of the mesh-stiffness computation (the train's)."""
-        return self.train.stiffness
+        """Options of the mesh-stiffness computation (of the input part)."""
+        return self.stage.settings if self.stage is not None else self.train.stiffness
+
+    def _parts(self, stage: PlanetaryTrain | None, train: GearTrain | None) -> Gearbox:
+        return dataclasses.replace(self, stage=stage, train=train)
 
     def with_crack(self, flank: str | None, *, depth: float | None = None,
                    closure: str | None = None, source: str | None = None) -> Gearbox:
@@ -67,6 +134,9 @@ class Gearbox:
         ----------
         flank : {"none", "working", "non-working"} or None
             No crack, the cracks (or the default crack) on that flank, or as configured.
+            With a stage, its configured cracks are moved (a stage without a crack
+            refuses a flank: its member and tooth are not known); ``"none"`` removes every
+            crack of the gearbox.
         depth : float, optional
             Crack depth [m] of every crack.
         closure : {"contact", "open"}, optional
@@ -78,8 +148,44 @@ class Gearbox:
         -------
         Gearbox
         """
-        return dataclasses.replace(self, train=self.train.with_crack(
-            flank, depth=depth, closure=closure, source=source))
+        stage, train = self.stage, self.train
+        if stage is not None:
+            require(source is None, "source", source, "a planetary stage's tooth compliance "
+                    "is set in its [stiffness] section")
+            cracks = stage.cracks
+            if flank not in (None, "none"):
+                require(bool(cracks), "crack", flank, "the planetary stage has no crack to "
+                        "vary: give the cracked member, tooth and flank in [[cracks]]")
+                constant = (stage.sun_mesh_stiffness is not None
+                            and (stage.ring_mesh_stiffness is not None
+                                 or not any(c.gear.startswith("planet-") for c in cracks)))
+                require(not constant, "crack", flank, "changes nothing: the meshes of the "
+                        "cracked member have constant stiffnesses (stage.sun_mesh_stiffness, "
+                        "stage.ring_mesh_stiffness); leave them out to compute the tables")
+                cracks = tuple(dataclasses.replace(c, flank=flank) for c in cracks)
+            if depth is not None and flank != "none":
+                cracks = tuple(dataclasses.replace(c, depth=depth) for c in cracks)
+            settings = stage.settings if closure is None else dataclasses.replace(
+                stage.settings, closure=closure)
+            stage = dataclasses.replace(stage, settings=settings,
+                                        cracks=() if flank == "none" else cracks)
+            if flank not in (None, "none") or depth is not None:
+                return self._parts(stage, train)  # the crack is the stage's
+        if train is not None:
+            train = train.with_crack(flank, depth=depth, closure=closure, source=source)
+        return self._parts(stage, train)
+
+    def healthy(self) -> Gearbox:
+        """The gearbox without cracks and faults.
+
+        Returns
+        -------
+        Gearbox
+        """
+        stage = (None if self.stage is None
+                 else dataclasses.replace(self.stage, cracks=(), faults=()))
+        train = None if self.train is None else self.train.with_crack("none").with_faults(())
+        return self._parts(stage, train)
 
     def replace(self, *, dynamics: dict[str, Any] | None = None,
                 analysis: dict[str, Any] | None = None,
@@ -90,7 +196,7 @@ class Gearbox:
         ----------
         dynamics, analysis, stiffness : dict, optional
             Field name -> new value of :class:`DynamicsSettings`,
-            :class:`AnalysisSettings`, :class:`StiffnessSettings`.
+            :class:`AnalysisSettings`, :class:`StiffnessSettings` (of every part).
 
         Returns
         -------
@@ -105,15 +211,23 @@ class Gearbox:
         gb = self
         if dynamics:
             gb = dataclasses.replace(gb, dynamics=dataclasses.replace(gb.dynamics, **dynamics))
+            if gb.stage is not None:  # the options a stage does not model, refused now
+                check_stage_settings(gb.dynamics)
         if analysis:
             gb = dataclasses.replace(gb, analysis=dataclasses.replace(gb.analysis, **analysis))
         if stiffness:
-            gb = dataclasses.replace(gb, train=dataclasses.replace(
-                gb.train, stiffness=dataclasses.replace(gb.train.stiffness, **stiffness)))
+            stage, train = gb.stage, gb.train
+            if stage is not None:
+                stage = dataclasses.replace(stage, settings=dataclasses.replace(
+                    stage.settings, **stiffness))
+            if train is not None:
+                train = dataclasses.replace(train, stiffness=dataclasses.replace(
+                    train.stiffness, **stiffness))
+            gb = gb._parts(stage, train)
         return gb
 
     def mesh_stiffness(self, mesh: int = 0, *, revolution_of: int = 1):
-        """TVMS of mesh ``mesh`` over one revolution of its gear 1 or 2, as xarray.
+        """TVMS of mesh ``mesh`` of the gears over one revolution of its gear 1 or 2.
 
         Parameters
         ----------
@@ -136,5 +250,399 @@ class Gearbox:
         Returns
         -------
         str
+
+        Raises
+        ------
+        InputError
+            For a gearbox with a planetary stage (not written back yet).
         """
+        require(self.stage is None, "gearbox", self.name, "has a planetary stage; writing it "
+                "back as TOML is not available (keep its file)")
         return train_to_toml(self.train, self.dynamics.to_dict())
+
+    # ---- what is done with a gearbox --------------------------------------------------
+
+    def simulate(self, *, harmonics: int = 1, force: bool | None = None,
+                 **dynamics: Any):
+        """Time response of the whole gearbox.
+
+        Parameters
+        ----------
+        harmonics : int, optional
+            Highest mesh harmonic the output rate must resolve (checked before the run,
+            :meth:`check_run`).
+        force : bool, optional
+            Run above the cost bounds (:func:`gearsim.dynamics.simulate.check_cost`).
+        **dynamics
+            Changes to the ``[dynamics]`` settings, SI values.
+
+        Returns
+        -------
+        xarray.Dataset
+            :func:`gearsim.dynamics.simulate` (gears),
+            :func:`gearsim.dynamics.stage.simulate_stage` (a stage) or
+            :func:`gearsim.dynamics.compose.simulate_stage_chain` (a stage driving gears).
+        """
+        settings = (dataclasses.replace(self.dynamics, **dynamics) if dynamics
+                    else self.dynamics)
+        if self.stage is None:
+            from gearsim.dynamics.simulate import simulate
+
+            return simulate(self.train, settings, harmonics=harmonics, force=force)
+        dataclasses.replace(self, dynamics=settings).check_run(harmonics)
+        if self.train is None:
+            from gearsim.dynamics.stage import simulate_stage
+
+            return simulate_stage(self.stage, self.members, settings)
+        from gearsim.dynamics.compose import simulate_stage_chain
+
+        return simulate_stage_chain(self.stage, self.train, self.members, settings,
+                                    shaft_stiffness=self.shaft_stiffness)
+
+    def summary(self, ds) -> dict:
+        """Summary of a result of :meth:`simulate`: per mesh mean, RMS, peak force [N].
+
+        Parameters
+        ----------
+        ds : xarray.Dataset
+            The result.
+
+        Returns
+        -------
+        dict
+            :func:`gearsim.dynamics.summary` or :func:`gearsim.dynamics.stage.stage_summary`.
+        """
+        if self.stage is None:
+            from gearsim.dynamics.simulate import summary
+
+            return summary(ds)
+        from gearsim.dynamics.stage import stage_summary
+
+        return stage_summary(ds)
+
+    def tvms(self) -> GearboxStiffness:
+        """Stiffness tables of every mesh (stage meshes first, then the gears').
+
+        Returns
+        -------
+        GearboxStiffness
+            Summary, writer and figure.
+        """
+        from gearsim.system import train_stiffness
+
+        if self.stage is None:
+            ts = train_stiffness(self.train)
+            return GearboxStiffness(ts.summary(), ts.write, ts.plot)
+        from gearsim.system.planetary import stage_stiffness
+
+        stage = self.stage
+        summary, ds = stage_stiffness(stage)
+        if self.train is not None:
+            summary["chain"] = train_stiffness(self.train).summary()
+
+        def write(path: str | Path) -> Path:
+            from gearsim.io.atomic import atomic_write
+
+            if str(path).endswith(".nc"):
+                return atomic_write(path, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+
+            def rows(tmp) -> None:
+                with open(tmp, "w", encoding="utf-8") as f:
+                    f.write(f"# gearsim TVMS of '{stage.name}'; stiffness in N/m along the "
+                            "transverse line of action, cycles counted from each table's "
+                            "start (forward sense)\nmesh,cycles,k\n")
+                    for name in ds.data_vars:
+                        mesh = name[2:]
+                        for c, k in zip(ds[f"cycles_{mesh}"].values, ds[name].values,
+                                        strict=True):
+                            f.write(f"{mesh},{c:.10g},{k:.10g}\n")
+            return atomic_write(path, rows)
+
+        def figure():
+            from gearsim.viz.planetary import plot_stage_meshes
+
+            return plot_stage_meshes(stage)
+
+        return GearboxStiffness(summary, write, figure)
+
+    def layout(self) -> dict:
+        """The gearbox as a graph: shafts, gears, meshes and the stage, with their numbers.
+
+        Returns
+        -------
+        dict
+            ``name``; ``stage`` (teeth, planets, held and input member, mesh frequency
+            [Hz], member speeds [rpm]; with a stage); ``shafts`` (name, gears, speed [rpm],
+            torque [N m]); ``meshes`` (driver -> driven, mesh frequency [Hz], static force
+            [N]); ``plan``: the positional arguments of :func:`gearsim.viz.layout.
+            plot_layout` (shaft centres from :func:`gearsim.dynamics.layout.layout`).
+        """
+        from gearsim.dynamics.layout import idlers
+        from gearsim.dynamics.layout import layout as plan
+
+        out: dict = {"name": self.name, "shafts": [], "meshes": []}
+        shafts, gears, links, st = [], [], [], None
+        if self.stage is not None:
+            tr, s = self.stage, self.stage.stage
+            out["stage"] = {"teeth": [s.sun_teeth, s.planet_teeth, s.ring_teeth],
+                            "planets": s.planets, "fixed": tr.operating.fixed,
+                            "input": tr.operating.input,
+                            "mesh_frequency_hz": tr.mesh_frequency,
+                            "speeds_rpm": {m: w * 30 / math.pi for m, w in tr.speeds.items()}}
+            st = {"sun": s.sun.pitch_radius, "ring": s.ring.pitch_radius,
+                  "planet": s.planet.pitch_radius, "centre": s.centre_distance,
+                  "angles": list(s.planet_angles_value),
+                  "teeth": (s.sun_teeth, s.planet_teeth, s.ring_teeth)}
+        train = self.train
+        if train is not None:
+            fl = train.flow
+            for sh in fl.shafts:
+                i = train.gear_index(sh.gears[0])
+                out["shafts"].append({"name": sh.name, "gears": list(sh.gears),
+                                      "speed_rpm": train.speed(i) * 30 / math.pi,
+                                      "torque_Nm": train.torque(i)})
+            for m, p in enumerate(train.pairs):
+                out["meshes"].append({"mesh": p.name, "driver": p.driver.name,
+                                      "driven": p.driven.name,
+                                      "mesh_frequency_hz": train.mesh_frequencies[m],
+                                      "static_force_N": train.static_mesh_force(m)})
+            lay = plan(train, self.dynamics.per_item("idler_angle", len(idlers(train)),
+                                                     "idler"))
+            shafts = [(sh.name, tuple(c)) for sh, c in zip(fl.shafts, lay.centres, strict=True)]
+            gears = [(g.name, fl.shaft_of[g.name], g.pitch_radius, g.teeth) for g in train.gears]
+            links = [(p.driver.name, p.driven.name, p.name) for p in train.pairs]
+        out["plan"] = {"shafts": shafts, "gears": gears, "links": links, "stage": st}
+        return out
+
+    # ---- parameter studies --------------------------------------------------------------
+
+    def operating(self) -> tuple[float, float]:
+        """Input speed [rad/s] and torque [N m] (the stage's input member, else gear 1).
+
+        Returns
+        -------
+        tuple of float
+        """
+        op = (self.stage or self.train).operating
+        return op.speed, op.torque
+
+    def slowest_shaft(self) -> tuple[str, float]:
+        """The rotating shaft (or stage member) with the lowest speed, and that speed [Hz].
+
+        Returns
+        -------
+        tuple
+            Name and absolute frequency [Hz].
+        """
+        if self.stage is not None:
+            w = {m: abs(v) for m, v in self.stage.speeds.items()
+                 if m in ("sun", "carrier", "ring") and v != 0.0}
+            m = min(w, key=w.get)
+            return m, w[m] / (2.0 * math.pi)
+        tr = self.train
+        f = {sh.name: abs(tr.shaft_frequency(tr.gear_index(sh.gears[0])))
+             for sh in tr.flow.shafts}
+        m = min(f, key=f.get)
+        return m, f[m]
+
+    def check_run(self, harmonics: int = 1) -> None:
+        """Refuse a run whose output rate aliases the mesh harmonics or whose cost is too
+        large, before any work (:func:`gearsim.dynamics.simulate.check_cost` for gears).
+
+        Parameters
+        ----------
+        harmonics : int, optional
+            Highest mesh harmonic the output must resolve.
+
+        Raises
+        ------
+        InputError
+            ``dynamics.fs`` (aliasing) or the cost bounds.
+        """
+        if self.stage is None:
+            from gearsim.dynamics.simulate import check_cost
+
+            check_cost(self.train, self.dynamics, harmonics=harmonics)
+            return
+        f_m = max((self.stage.mesh_frequency,
+                   *(self.train.mesh_frequencies if self.train is not None else ())))
+        which = ("the mesh frequency f_m" if harmonics == 1 else
+                 f"the highest analysed mesh harmonic {harmonics} f_m")
+        require(self.dynamics.fs > 2.0 * harmonics * f_m, "dynamics.fs", self.dynamics.fs,
+                f"must be > {2 * harmonics * f_m:.6g} Hz, twice {which} = "
+                f"{harmonics * f_m:.6g} Hz, else the record is aliased")
+
+    def signals(self) -> list[str]:
+        """The records of :meth:`simulate` a study can analyse, in :meth:`select`'s form.
+
+        Returns
+        -------
+        list of str
+            Gears: ``mesh_force_i``, ``dte_i``, ``ste_i`` for each mesh ``i`` (1, 2, ...),
+            then ``bearing_force[shaft,axis]`` and ``acceleration[shaft,axis]`` (LTA
+            model: x, y, z; otherwise y). A stage: ``sensor`` (the ring's fixed
+            transducer), ``mesh_force[sun-planet-1]``, ``mesh_force[ring-planet-1]``,
+            ... and ``ring_acceleration[x]``, ``ring_acceleration[y]``.
+
+        Examples
+        --------
+        >>> import gearsim as gs
+        >>> names = gs.example("idler-table1").signals()
+        >>> names[:3], "acceleration[input,y]" in names
+        (['mesh_force_1', 'dte_1', 'ste_1'], True)
+        >>> gs.example("nrel-grc").signals()[:3]
+        ['sensor', 'mesh_force[sun-planet-1]', 'mesh_force[ring-planet-1]']
+        """
+        if self.stage is not None:
+            out = ["sensor"]
+            for j in range(self.stage.stage.planets):
+                out += [f"mesh_force[{m}-{planet_name(j)}]" for m in ("sun", "ring")]
+            return out + [f"ring_acceleration[{a}]" for a in ("x", "y")]
+        out = []
+        for i in range(len(self.train.pairs)):
+            out += [f"mesh_force_{i + 1}", f"dte_{i + 1}", f"ste_{i + 1}"]
+        axes = LTA_AXES if self.dynamics.model == "lta" else ("y",)
+        for var in ("bearing_force", "acceleration"):
+            out += [f"{var}[{sh.name},{a}]" for sh in self.train.flow.shafts for a in axes]
+        return out
+
+    @property
+    def default_signal(self) -> str:
+        """The record a study analyses by default: what a test rig measures.
+
+        The y acceleration of the input shaft's bearing; the ring's fixed transducer
+        (``sensor``) of a planetary stage.
+        """
+        if self.stage is not None:
+            return "sensor"
+        return f"acceleration[{self.train.flow.shafts[0].name},y]"
+
+    @property
+    def default_bearings(self) -> bool:
+        """Whether some bearing takes ``dynamics.bearing_stiffness`` (has none of its own)."""
+        if self.stage is not None:
+            return not all(m in self.members.bearings
+                           for m in ("sun", "planet", "ring", "carrier"))
+        return any(sh.bearing_stiffness is None for sh in self.train.flow.shafts)
+
+    @staticmethod
+    def signal_key(spec: str) -> str | None:
+        """``spec`` in the form of :meth:`signals` (blanks removed); ``None``: not a name.
+
+        Parameters
+        ----------
+        spec : str
+            As written, e.g. ``" acceleration[ input , y ]"``.
+
+        Returns
+        -------
+        str or None
+        """
+        m = _SIGNAL.fullmatch(spec)
+        if m is None:
+            return None
+        labels = [g for g in m.groups()[1:] if g]
+        return f"{m.group(1)}[{','.join(labels)}]" if labels else m.group(1)
+
+    def select(self, ds, spec: str) -> np.ndarray:
+        """The record ``spec`` (a name of :meth:`signals`) of a result of :meth:`simulate`.
+
+        Parameters
+        ----------
+        ds : xarray.Dataset
+            The result.
+        spec : str
+            ``variable`` or ``variable[label]`` / ``variable[shaft,axis]``.
+
+        Returns
+        -------
+        ndarray
+            The record (float).
+
+        Raises
+        ------
+        InputError
+            ``study.signal``: not a variable, or not one record.
+        """
+        m = _SIGNAL.fullmatch(spec)
+        if m is None or m.group(1) not in ds:
+            raise InputError("study.signal", spec, "must name a simulated variable ("
+                             + ", ".join(ds.data_vars) + "), with [label] where needed")
+        da = ds[m.group(1)]
+        labels = [g for g in m.groups()[1:] if g]
+        dims = [d for d in da.dims if d != "time"]
+        if len(labels) != len(dims):
+            raise InputError("study.signal", spec, "select one record: variable["
+                             + ",".join(dims) + "]" if dims else "has no labels")
+        try:
+            da = da.sel(dict(zip(dims, labels, strict=True)))
+        except (KeyError, ValueError):
+            raise InputError("study.signal", spec, "label not in the simulation") from None
+        return np.asarray(da.values, dtype=float)
+
+    def reference(self, shafts: str = "all") -> tuple[str, float, list[int]]:
+        """Reference shaft, its frequency and the tooth counts for the analysis.
+
+        Gears: the input gear's shaft and every gear's teeth (``f_m = f_r1 Z_1``). A
+        stage: ring or sun held, the carrier with ``Z_1 = z_r`` (ring held) or ``z_s``
+        (sun held); carrier held, the ring with ``Z_1 = z_r``; then the other two tooth
+        counts, so that ``f_m / Z_j`` are the member rotations relative to the carrier.
+
+        Parameters
+        ----------
+        shafts : {"all", "reference"}
+            Every tooth count, or the reference's only.
+
+        Returns
+        -------
+        member : str
+            The reference shaft or member.
+        frequency : float
+            Its speed [Hz] (absolute value), ``f_r1`` of the analysis.
+        teeth : list of int
+
+        Examples
+        --------
+        >>> import gearsim as gs
+        >>> member, f, teeth = gs.example("nrel-grc").reference()
+        >>> member, teeth
+        ('carrier', [99, 21, 39])
+        """
+        if self.stage is None:
+            tr = self.train
+            teeth = [g.teeth for g in tr.gears]
+            member, freq = tr.flow.shafts[0].name, tr.shaft_frequency(0)
+        else:
+            tr, st = self.stage, self.stage.stage
+            zs, zp, zr = st.sun_teeth, st.planet_teeth, st.ring_teeth
+            fixed = tr.operating.fixed
+            member, teeth = (("ring", [zr, zs, zp]) if fixed == "carrier" else
+                             ("carrier", [zs, zr, zp]) if fixed == "sun" else
+                             ("carrier", [zr, zs, zp]))
+            freq = abs(tr.speeds[member]) / (2.0 * math.pi)
+        return member, freq, teeth[:1] if shafts == "reference" else teeth
+
+    def at(self, *, speed: float, torque: float) -> Gearbox:
+        """The gearbox at another input speed [rad/s] and torque [N m] (checked).
+
+        Parameters
+        ----------
+        speed, torque : float
+            Of the input (the stage's input member, else gear 1).
+
+        Returns
+        -------
+        Gearbox
+        """
+        if self.stage is None:
+            return self._parts(None, dataclasses.replace(
+                self.train, operating=Operating(speed=speed, torque=torque)))
+        op = self.stage.operating
+        stage = dataclasses.replace(self.stage, operating=StageOperating(
+            fixed=op.fixed, input=op.input, speed=speed, torque=torque))
+        train = self.train
+        if train is not None:  # the gears run at the stage output's speed and torque
+            from gearsim.dynamics.compose import chain_operating
+
+            train = dataclasses.replace(train, operating=chain_operating(stage))
+        return self._parts(stage, train)

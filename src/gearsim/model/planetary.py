@@ -1,4 +1,4 @@
-"""TOML configuration of a planetary stage, validated into :class:`PlanetaryBox`.
+"""TOML configuration of a planetary stage, validated into a :class:`~gearsim.model.Gearbox`.
 
 A configuration with a ``[stage]`` section describes one planetary stage (gear trains
 have ``[[gears]]`` instead). Values take units as strings like the gear trains'
@@ -39,24 +39,24 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from typing import Any
 
 from gearsim.dynamics.compose import chain_operating
-from gearsim.dynamics.settings import DynamicsSettings, parse_dynamics
+from gearsim.dynamics.settings import parse_dynamics
 from gearsim.dynamics.stage import StageDynamics
 from gearsim.errors import InputError
 from gearsim.geometry.gear import Material
 from gearsim.geometry.planetary import PlanetaryStage
 from gearsim.model.damage import parse_cracks, parse_faults
+from gearsim.model.gearbox import Gearbox
 from gearsim.sections import as_written, convert
-from gearsim.signals.settings import AnalysisSettings, parse_analysis
+from gearsim.signals.settings import parse_analysis
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.system import GearTrain
 from gearsim.system.graph import MAX_SHAFT_STIFFNESS, MIN_SHAFT_STIFFNESS
 from gearsim.system.planetary import PlanetaryTrain, StageOperating
 
-__all__ = ["PLANETARY_TOP_KEYS", "PlanetaryBox", "parse_planetary"]
+__all__ = ["PLANETARY_TOP_KEYS", "parse_planetary"]
 
 STAGE_KEYS = {"sun_teeth": "int", "planet_teeth": "int", "ring_teeth": "int",
               "planets": "int", "normal_module": "length", "normal_pressure_angle": "angle",
@@ -79,82 +79,9 @@ CHAIN_KEYS = ("name", "shaft_stiffness", "common", "shafts", "gears", "meshes", 
               "cracks", "faults", "modifications")
 
 
-@dataclass(frozen=True)
-class PlanetaryBox:
-    """A planetary stage and the settings of everything done with it.
-
-    Parameters
-    ----------
-    train : PlanetaryTrain
-        Stage, operating point, stiffness options, cracks.
-    members : StageDynamics
-        Masses, inertias, bearings, held torsional stiffness, sensor.
-    dynamics : DynamicsSettings
-        Time integration and damping.
-    analysis : AnalysisSettings
-        Analysis options.
-    chain : GearTrain, optional
-        Parallel gears driven by the stage's output shaft
-        (:mod:`gearsim.dynamics.compose`), at the output's speed and torque.
-    shaft_stiffness : float, optional
-        Torsional stiffness of the output shaft [N m/rad]; ``None``: the default of
-        :func:`gearsim.dynamics.compose.build_stage_chain_model`.
-    """
-
-    train: PlanetaryTrain
-    members: StageDynamics = field(default_factory=StageDynamics)
-    dynamics: DynamicsSettings = field(default_factory=DynamicsSettings)
-    analysis: AnalysisSettings = field(default_factory=AnalysisSettings)
-    chain: GearTrain | None = None
-    shaft_stiffness: float | None = None
-
-    @property
-    def kind(self) -> str:
-        """``"planetary"``."""
-        return "planetary"
-
-    def with_crack(self, crack: str | None) -> PlanetaryBox:
-        """The box with its cracks kept (``None``/``"as-configured"``) or removed (``"none"``).
-
-        Parameters
-        ----------
-        crack : str or None
-            ``None`` keeps the configuration's cracks; ``"none"`` removes them (the
-            chain's too). The gear
-            trains' ``working``/``non-working`` switch needs a gear and is refused here.
-
-        Returns
-        -------
-        PlanetaryBox
-        """
-        import dataclasses
-
-        if crack is None:
-            return self
-        if crack != "none":
-            raise InputError("crack", crack, 'a planetary stage takes "none" here (give the '
-                             "cracked gear, tooth and flank in [[cracks]])")
-        chain = None if self.chain is None else self.chain.with_crack("none")
-        return dataclasses.replace(self, train=dataclasses.replace(self.train, cracks=()),
-                                   chain=chain)
-
-    def healthy(self) -> PlanetaryBox:
-        """The box without cracks and faults (stage and chain).
-
-        Returns
-        -------
-        PlanetaryBox
-        """
-        import dataclasses
-
-        chain = None if self.chain is None else self.chain.with_crack("none").with_faults(())
-        return dataclasses.replace(self, train=dataclasses.replace(self.train, cracks=(),
-                                                                   faults=()), chain=chain)
-
-
 def parse_planetary(doc: dict[str, Any], material: Material,
-                    parse_train: Callable[[dict[str, Any]], Any]) -> PlanetaryBox:
-    """Build a :class:`PlanetaryBox` from a parsed TOML document with a ``[stage]``.
+                    parse_train: Callable[[dict[str, Any]], Any]) -> Gearbox:
+    """Build the :class:`~gearsim.model.Gearbox` of a parsed TOML document with a ``[stage]``.
 
     Parameters
     ----------
@@ -167,7 +94,8 @@ def parse_planetary(doc: dict[str, Any], material: Material,
 
     Returns
     -------
-    PlanetaryBox
+    Gearbox
+        ``stage`` the stage, ``train`` its ``[chain]`` (or ``None``).
 
     Raises
     ------
@@ -218,8 +146,8 @@ def parse_planetary(doc: dict[str, Any], material: Material,
     analysis = parse_analysis(doc.get("analysis", {}), "analysis")
     chain, shaft = (_parse_chain(doc["chain"], doc.get("material", {}), train, parse_train)
                     if "chain" in doc else (None, None))
-    return PlanetaryBox(train=train, members=members, dynamics=dynamics, analysis=analysis,
-                        chain=chain, shaft_stiffness=shaft)
+    return Gearbox(train=chain, stage=train, members=members, dynamics=dynamics,
+                   analysis=analysis, shaft_stiffness=shaft)
 
 
 def _parse_chain(raw: Any, material: Any, train: PlanetaryTrain, parse: Callable

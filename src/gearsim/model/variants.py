@@ -90,6 +90,9 @@ def fault_variant(gearbox: Gearbox, kind: str, severity: float = 1.0) -> Gearbox
     require(isinstance(severity, (int, float)) and not isinstance(severity, bool)
             and math.isfinite(severity) and 0 < severity <= 1, "severity", severity,
             "must be a number in (0, 1]")
+    require(gearbox.stage is None, "fault", kind, "the fault classes are variants of "
+            "external gear meshes; vary a planetary stage through its cracks (flank, "
+            "crack_depth)")
     s = float(severity)
     base = gearbox.train.with_crack("none").with_faults(())
     dyn = dataclasses.replace(gearbox.dynamics, runout=(0.0,), contact_mesh=True)

@@ -48,16 +48,18 @@ analysed signal (a variable the simulation produces), every parameter value (noi
 >= 0, speed, torque and bearing stiffness > 0, severity in (0, 1], all finite; each crack
 depth fits the tooth on each cracked flank of the study; each fault class at each
 severity end makes a valid train), the recorded duration (at least one
-revolution of the slowest gear at the lowest speed), a study that varies nothing, and
+revolution of the slowest shaft at the lowest speed), a study that varies nothing, and
 the number of cases (at most :data:`MAX_CASES`, or ``study.max_cases``).
 
-A ``config`` with a ``[stage]`` section is a planetary stage
-(:class:`gearsim.model.planetary.PlanetaryBox`): its studies vary ``crack_depth`` and
-``flank`` of the stage's first crack, ``speed`` and ``torque`` of the input member,
-``bearing_stiffness`` and ``noise`` (``fault``, ``severity`` and ``closure`` are
-refused), analyse ``sensor`` (the default), ``mesh_force[sun-planet-1]``, ... or
-``ring_acceleration[x]`` with the carrier as the reference shaft; see
-:mod:`gearsim.studies.sweep_planetary`.
+Every gearbox runs through the same study: the parameters address it through
+:class:`gearsim.model.Gearbox` (:meth:`~gearsim.model.Gearbox.with_crack` moves its
+cracks, :meth:`~gearsim.model.Gearbox.at` sets the input's speed and torque, the
+signals are :meth:`~gearsim.model.Gearbox.signals`, the default
+:attr:`~gearsim.model.Gearbox.default_signal`: the input bearing's y acceleration of a
+gear train, the ring sensor of a planetary stage; the
+analysis' reference shaft and tooth counts are :meth:`~gearsim.model.Gearbox.reference`:
+the carrier of a stage with its ring held). The fault classes are refused for a stage
+(:func:`gearsim.model.variants.fault_variant`).
 """
 
 from __future__ import annotations
@@ -67,7 +69,6 @@ import hashlib
 import itertools
 import json
 import math
-import re
 import tomllib
 from dataclasses import dataclass
 from importlib import resources
@@ -76,27 +77,17 @@ from typing import Any
 
 import numpy as np
 
-from gearsim.dynamics.lta import AXES as LTA_AXES
-from gearsim.dynamics.simulate import check_cost
 from gearsim.errors import InputError, require
 from gearsim.model import Gearbox, loads
 from gearsim.model.config import EXAMPLES, example_text, read_file_or_builtin
 from gearsim.model.variants import FAULT_CLASSES, fault_variant
 from gearsim.sections import convert
 from gearsim.stiffness.settings import CLOSURES
-from gearsim.studies.sweep_planetary import (
-    STAGE_REFUSED,
-    check_stage_study,
-    config_kind,
-    stage_base_values,
-    stage_signal_choices,
-)
-from gearsim.system import Operating
 from gearsim.system.train import CRACK_CHOICES
 from gearsim.units import to_si
 
 __all__ = ["BUILTIN_STUDIES", "MAX_CASES", "PARAMETERS", "Case", "Study", "builtin_study_text",
-           "case_count", "check_study", "expand", "load_study", "loads_study", "signal_choices"]
+           "case_count", "check_study", "expand", "load_study", "loads_study"]
 
 #: Built-in studies in ``gearsim/data/studies``.
 BUILTIN_STUDIES = ("diagnostic", "faults")
@@ -235,9 +226,6 @@ class Study:
         Overrides of the dynamics settings (SI).
     parameters : dict
         Parameter name -> tuple of values, or a dict ``{min, max, num, log}`` (SI).
-    kind : str
-        ``"train"`` (a gear train) or ``"planetary"`` (``config`` has a ``[stage]``;
-        :mod:`gearsim.studies.sweep_planetary`).
     """
 
     name: str
@@ -253,7 +241,6 @@ class Study:
     store_signals: bool
     dynamics: dict[str, Any]
     parameters: dict[str, Any]
-    kind: str = "train"
 
     def fingerprint(self) -> str:
         """Hash of everything but the parameter lists that changes a case's result."""
@@ -471,8 +458,9 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
     replicates = st.get("replicates", 1)
     require(isinstance(replicates, int) and not isinstance(replicates, bool)
             and replicates >= 1, "study.replicates", replicates, "must be an integer >= 1")
-    kind = config_kind(config_text)
-    signal = st.get("signal", "sensor" if kind == "planetary" else "acceleration[input,y]")
+    signal = st.get("signal")
+    if signal is None:  # the gearbox's first record: what a test rig measures
+        signal = loads(config_text).default_signal
     require(isinstance(signal, str) and len(signal) > 0, "study.signal", signal,
             "must be a variable name, optionally with [gear,axis]")
     shafts = st.get("shafts", "all")
@@ -505,11 +493,6 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
     if not parameters:
         raise InputError("parameters", "none", "nothing to vary: give at least one of "
                          + ", ".join(PARAMETERS) + " under [parameters]")
-    if kind == "planetary":
-        for key, why in STAGE_REFUSED.items():
-            if key in parameters:
-                raise InputError(f"parameters.{key}", params_raw[key],
-                                 f"not a parameter of a planetary stage: {why}")
     if "fault" in parameters:
         for key in CRACK_ONLY:
             if key in parameters:
@@ -524,8 +507,7 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
     study = Study(name=name, text=text, config=config, config_text=config_text,
                   sampling=sampling, samples=int(samples or 0), seed=seed,
                   replicates=replicates, signal=signal, shafts=shafts,
-                  store_signals=store_signals, dynamics=dynamics, parameters=parameters,
-                  kind=kind)
+                  store_signals=store_signals, dynamics=dynamics, parameters=parameters)
     n = case_count(study)
     if n > max_cases:
         what = ("samples x replicates" if sampling == "random"
@@ -558,52 +540,6 @@ def case_count(study: Study) -> int:
     return n
 
 
-def signal_choices(gearbox: Gearbox) -> list[str]:
-    """The records a study can analyse: what :func:`gearsim.dynamics.simulate` produces.
-
-    Parameters
-    ----------
-    gearbox : gearsim.model.Gearbox or gearsim.model.planetary.PlanetaryBox
-        The base train with the study's dynamics settings (the model decides the axes),
-        or a planetary stage.
-
-    Returns
-    -------
-    list of str
-        ``mesh_force_i``, ``dte_i``, ``ste_i`` for each mesh ``i`` (1, 2, ...), then
-        ``bearing_force[gear,axis]`` and ``acceleration[gear,axis]`` for every gear and
-        bearing axis (LTA model: x, y, z; seed model: y). For a planetary stage
-        :func:`gearsim.studies.sweep_planetary.stage_signal_choices`: ``sensor``,
-        ``mesh_force[sun-planet-1]``, ... and ``ring_acceleration[x]``,
-        ``ring_acceleration[y]``.
-
-    Examples
-    --------
-    >>> from gearsim.model import load
-    >>> from gearsim.studies.sweep import signal_choices
-    >>> names = signal_choices(load("idler-table1"))
-    >>> names[:3], "acceleration[input,y]" in names
-    (['mesh_force_1', 'dte_1', 'ste_1'], True)
-    """
-    if getattr(gearbox, "kind", "") == "planetary":
-        return stage_signal_choices(gearbox)
-    out = []
-    for i in range(len(gearbox.train.pairs)):
-        out += [f"mesh_force_{i + 1}", f"dte_{i + 1}", f"ste_{i + 1}"]
-    axes = LTA_AXES if gearbox.dynamics.model == "lta" else ("y",)
-    for var in ("bearing_force", "acceleration"):
-        out += [f"{var}[{g.name},{a}]" for g in gearbox.train.gears for a in axes]
-    return out
-
-
-def _signal_key(spec: str) -> str | None:
-    """``spec`` normalised as in :func:`signal_choices` (``None``: not of that form)."""
-    m = re.fullmatch(r"\s*(\w+)\s*(?:\[\s*([\w-]+)\s*,\s*(\w+)\s*\])?\s*", spec)
-    if m is None:
-        return None
-    return m.group(1) if m.group(2) is None else f"{m.group(1)}[{m.group(2)},{m.group(3)}]"
-
-
 def _raw_parameter(study: Study, name: str) -> Any:
     try:
         return tomllib.loads(study.text).get("parameters", {}).get(name)
@@ -629,18 +565,18 @@ def _points(study: Study, name: str) -> list[tuple[str, Any, float]]:
 def check_study(study: Study) -> None:
     """Check every study-wide setting once, before any case runs.
 
-    A bad setting here would fail every case alike; it is refused instead. A planetary
-    stage is checked by :func:`gearsim.studies.sweep_planetary.check_stage_study`; a gear
-    train here: the dynamics
+    A bad setting here would fail every case alike; it is refused instead: the dynamics
     overrides (applied with :meth:`gearsim.model.Gearbox.replace`, which checks them,
-    and finite), the analysed signal (one of :func:`signal_choices`), the bearing
-    stiffness values (as dynamics settings), each crack depth on each cracked flank of the
-    study (:meth:`gearsim.system.GearTrain.with_crack` checks it fits the tooth), each
-    fault class at the lowest and highest severity of the study
-    (:func:`gearsim.model.variants.fault_variant` builds and checks the variant), and the
-    recorded duration (at least one revolution of the slowest gear at the lowest speed, and
-    what the analysis of every case needs there: two input revolutions and the sideband
-    resolution of the analysed shafts).
+    and finite), the analysed signal (one of :meth:`gearsim.model.Gearbox.signals`), the
+    bearing stiffness values (as dynamics settings), each crack depth on each cracked flank
+    of the study (:meth:`gearsim.model.Gearbox.with_crack` checks it fits the tooth), each
+    torque, each fault class at the lowest and highest severity of the study
+    (:func:`gearsim.model.variants.fault_variant` builds and checks the variant), the
+    recorded duration (at least one revolution of the slowest shaft at the lowest speed,
+    and what the analysis of every case needs there: two revolutions of the reference
+    shaft and the sideband resolution of the analysed shafts) and the output rate at the
+    highest speed (:meth:`gearsim.model.Gearbox.check_run`: mesh harmonics and run cost;
+    then the highest sideband the analysis reads).
     :func:`loads_study` calls it; the values' signs were checked when they were read.
 
     Parameters
@@ -655,9 +591,6 @@ def check_study(study: Study) -> None:
         ``parameters.crack_depth[2]``, ``parameters.severity[1]``, ``study.signal``, ...).
     """
     gb = loads(study.config_text)
-    if getattr(gb, "kind", "") == "planetary":
-        check_stage_study(study, gb)
-        return
     for key, value in study.dynamics.items():
         if isinstance(value, float):
             require(math.isfinite(value), f"study.dynamics.{key}", value, "must be finite")
@@ -670,15 +603,16 @@ def check_study(study: Study) -> None:
         raise InputError(name, exc.value, exc.limit) from None
     except TypeError as exc:  # pragma: no cover (keys were checked when read)
         raise InputError("study.dynamics", dict(study.dynamics), str(exc)) from None
-    choices = signal_choices(gb)
-    key = _signal_key(study.signal)
-    if key not in choices:
+    choices = gb.signals()
+    if gb.signal_key(study.signal) not in choices:
         shown = ", ".join(choices[:6]) + ", ..." if len(choices) > 6 else ", ".join(choices)
         raise InputError("study.signal", study.signal,
-                         f"not a variable of the simulation; give one of {shown} "
-                         "(variable[gear,axis] with gears "
-                         + ", ".join(g.name for g in gb.train.gears) + ")")
+                         f"not a variable of the simulation; give one of {shown}")
     if "bearing_stiffness" in study.parameters:
+        require(gb.default_bearings, "parameters.bearing_stiffness",
+                _raw_parameter(study, "bearing_stiffness"), "changes nothing: every bearing "
+                "of the gearbox has its own stiffness in the configuration (remove some to "
+                "let the study set them)")
         for where, raw, value in _points(study, "bearing_stiffness"):
             try:
                 gb.replace(dynamics={"bearing_stiffness": value})
@@ -686,62 +620,79 @@ def check_study(study: Study) -> None:
                 raise InputError(where, raw, exc.limit) from None
     flanks = study.parameters.get("flank")
     if flanks is None:
-        flanks = (gb.train.cracks[0].flank,) if gb.train.cracks else ("none",)
+        flanks = (gb.cracks[0].flank,) if gb.cracks else ("none",)
     if "fault" in study.parameters:
         flanks = ("none",)  # the fault variants replace the base train's cracks
         _check_faults(study, gb)
     cracked = [f for f in dict.fromkeys(flanks) if f != "none"]
+    if "crack_depth" in study.parameters and not cracked:
+        raise InputError("parameters.crack_depth", _raw_parameter(study, "crack_depth"),
+                         "changes nothing: no case has a crack (give a crack in the "
+                         "configuration or a cracked parameters.flank)")
     if "crack_depth" in study.parameters:
         depths = _points(study, "crack_depth")
     else:
-        d = gb.train.cracks[0].depth if gb.train.cracks else None
+        d = gb.cracks[0].depth if gb.cracks else None
         depths = [("crack.depth", d, d)]
     for flank in cracked:
         for where, raw, value in depths:
             try:
-                gb.train.with_crack(flank, depth=value)
+                gb.with_crack(flank, depth=value)
             except InputError as exc:
                 raise InputError(where, raw, f"{exc.limit} (flank {flank})") from None
-    train = gb.train
+    speed, torque = gb.operating()
     speeds = ([v for _, _, v in _points(study, "speed")] if "speed" in study.parameters
-              else [train.operating.speed])
-    slowest = dataclasses.replace(train, operating=Operating(speed=min(speeds),
-                                                             torque=train.operating.torque))
-    t_rev = 1.0 / min(slowest.shaft_frequency(j) for j in range(len(train.gears)))
+              else [speed])
+    torques = _points(study, "torque") if "torque" in study.parameters else []
+    for where, raw, value in torques:
+        try:
+            gb.at(speed=speed, torque=value)
+        except InputError as exc:
+            raise InputError(where, raw, exc.limit) from None
+    rpm = 30.0 / math.pi
+    slowest = gb.at(speed=min(speeds), torque=torque)
+    member, f_slow = slowest.slowest_shaft()
     duration = gb.dynamics.duration
-    if duration < t_rev * (1 - 1e-9):
+    if duration < (1 - 1e-9) / f_slow:
         raise InputError("study.dynamics.duration", f"{duration:g} s",
-                         f"must be >= {t_rev:.6g} s (one revolution of the slowest gear at "
-                         f"the lowest speed, {min(speeds) * 30 / math.pi:.6g} rpm)")
+                         f"must be >= {1 / f_slow:.6g} s (one revolution of the {member}, the "
+                         f"slowest shaft, at the lowest speed, {min(speeds) * rpm:.6g} rpm)")
     # aliasing and run cost of the most demanding case (highest speed): refused here,
     # not case by case inside the cluster
-    fastest = dataclasses.replace(train, operating=Operating(speed=max(speeds),
-                                                             torque=train.operating.torque))
+    fastest = gb.at(speed=max(speeds), torque=torque)
+    n = max(gb.analysis.orders)
     try:
-        check_cost(fastest, gb.dynamics, harmonics=max(gb.analysis.orders))
+        fastest.check_run(harmonics=n)
     except InputError as exc:
         name = exc.parameter
         if name.startswith("dynamics."):
             name = "study." + name
         raise InputError(name, exc.value, f"{exc.limit} (at the highest speed of the study, "
-                         f"{max(speeds) * 30 / math.pi:.6g} rpm)") from None
+                         f"{max(speeds) * rpm:.6g} rpm)") from None
     from gearsim.signals._checks import WINDOWS
     from gearsim.signals.analysis import kinematics
-    from gearsim.signals.settings import AnalysisSettings
 
-    # the analysis of every case (gearsim.signals.analyze, default settings) needs two
-    # revolutions of the input (TSA) and 2 L window bins per sideband spacing of each shaft
-    f_in = slowest.shaft_frequency(0)
-    kin = kinematics(shaft_frequency=f_in, teeth=[g.teeth for g in train.gears]
-                     [:1 if study.shafts == "reference" else None])
-    window = AnalysisSettings().window
+    # the analysis of every case needs two revolutions of the reference shaft (TSA) and
+    # 2 L window bins per sideband spacing of each analysed shaft
+    ref, f_in, teeth = slowest.reference(study.shafts)
+    kin = kinematics(shaft_frequency=f_in, teeth=teeth)
+    window = gb.analysis.window
     need = max(2.0 / f_in, 2 * WINDOWS[window] / min(kin.shafts.values()))
     if duration < need * (1 - 1e-9):
         raise InputError("study.dynamics.duration", f"{duration:g} s",
                          f"must be >= {need:.6g} s for the analysis of every case at the lowest "
-                         f"speed of the study, {min(speeds) * 30 / math.pi:.6g} rpm (two input "
-                         f"revolutions, {2 * WINDOWS[window]} {window} bins per sideband spacing "
+                         f"speed of the study, {min(speeds) * rpm:.6g} rpm (two revolutions of "
+                         f"{ref}, {2 * WINDOWS[window]} {window} bins per sideband spacing "
                          f"of the slowest analysed shaft, {min(kin.shafts.values()):.4g} Hz)")
+    _, f_fast, teeth = fastest.reference(study.shafts)
+    kin = kinematics(shaft_frequency=f_fast, teeth=teeth)
+    f_top = n * f_fast * teeth[0] + gb.analysis.n_sidebands * max(kin.shafts.values())
+    if not gb.dynamics.fs > 2.0 * f_top:
+        raise InputError("study.dynamics.fs", gb.dynamics.fs,
+                         f"must be > {2 * f_top:.6g} Hz, twice the highest line the analysis "
+                         f"reads ({n} f_m with {gb.analysis.n_sidebands} sidebands, "
+                         f"{f_top:.6g} Hz) at the highest speed of the study "
+                         f"({max(speeds) * rpm:.6g} rpm)")
 
 
 def _check_faults(study: Study, gb: Gearbox) -> None:
@@ -761,20 +712,18 @@ def _check_faults(study: Study, gb: Gearbox) -> None:
 
 
 def _base_values(study: Study) -> dict[str, tuple]:
-    if study.kind == "planetary":
-        return stage_base_values(study)
     gb = loads(study.config_text)
-    train, settings = gb.train, gb.dynamics
-    depth = train.cracks[0].depth if train.cracks else 0.0
-    flank = train.cracks[0].flank if train.cracks else "none"
+    depth = gb.cracks[0].depth if gb.cracks else 0.0
+    flank = gb.cracks[0].flank if gb.cracks else "none"
     if "fault" in study.parameters:  # the fault variants replace the cracks
         depth, flank, fault, severity = 0.0, "none", None, 1.0
     else:
         fault = severity = None
+    speed, torque = gb.operating()
     return {"crack_depth": (depth,), "flank": (flank,), "fault": (fault,),
-            "severity": (severity,), "closure": (train.stiffness.closure,),
-            "speed": (train.operating.speed,), "torque": (train.operating.torque,),
-            "bearing_stiffness": (settings.bearing_stiffness,), "noise": (0.0,)}
+            "severity": (severity,), "closure": (gb.stiffness.closure,),
+            "speed": (speed,), "torque": (torque,),
+            "bearing_stiffness": (gb.dynamics.bearing_stiffness,), "noise": (0.0,)}
 
 
 def _grid(spec: tuple | dict) -> tuple:

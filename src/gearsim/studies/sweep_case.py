@@ -12,23 +12,19 @@ variable per feature. It runs unchanged in a Dask worker or in a plain loop.
 
 from __future__ import annotations
 
-import dataclasses
 import math
-import re
 from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
 
-from gearsim.dynamics import DynamicsSettings, simulate
 from gearsim.errors import InputError, SimulationError
-from gearsim.model import loads
+from gearsim.model import Gearbox, loads
 from gearsim.model.variants import fault_variant
 from gearsim.signals import analyze
 from gearsim.studies.sweep import PARAMETERS, Case, Study
-from gearsim.system import GearTrain, Operating
 
-__all__ = ["FEATURE_GROUPS", "add_noise", "analyse_group", "build_case", "features", "run_group"]
+__all__ = ["FEATURE_GROUPS", "add_noise", "build_case", "features", "run_group"]
 
 #: Feature-name prefix -> feature group (used by the diagnostic analysis).
 FEATURE_GROUPS = {"td_": "time-domain", "sb_": "sideband", "tsa_": "TSA", "band_": "band energy"}
@@ -40,8 +36,8 @@ PARAM_UNITS = {"crack_depth": "m", "speed": "rad/s", "torque": "N*m",
 FAULT_PARAMETERS = ("fault", "severity")
 
 
-def build_case(study: Study, case: Case) -> tuple[GearTrain, DynamicsSettings]:
-    """Gear train and dynamics settings of a case.
+def build_case(study: Study, case: Case) -> Gearbox:
+    """The gearbox of a case, with its dynamics settings.
 
     Parameters
     ----------
@@ -53,56 +49,31 @@ def build_case(study: Study, case: Case) -> tuple[GearTrain, DynamicsSettings]:
 
     Returns
     -------
-    train : gearsim.system.GearTrain
-        Base train with the case's operating point, closure model and crack (the
-        config's cracks, or :data:`gearsim.system.DEFAULT_CRACK`, moved to the case's
-        flank and depth by :meth:`GearTrain.with_crack`, which checks they fit); for a
-        case with a fault class (``case.fault`` not ``None``), the train of
+    gearsim.model.Gearbox
+        The base gearbox at the case's input speed and torque
+        (:meth:`~gearsim.model.Gearbox.at`), closure model and crack (its cracks, or
+        :data:`gearsim.system.DEFAULT_CRACK` on a gear train, moved to the case's flank
+        and depth by :meth:`~gearsim.model.Gearbox.with_crack`, which checks they fit);
+        for a case with a fault class (``case.fault`` not ``None``), the variant of
         :func:`gearsim.model.variants.fault_variant` of that class and severity instead
-        (one fault on tooth 0 of the input gear, no other crack or fault).
-    settings : gearsim.dynamics.DynamicsSettings
-        Base settings (for a fault case: those of the variant, which runs every mesh as
-        a mesh of contacts and carries the eccentricity) with the study's overrides and
-        the case's bearing stiffness.
+        (one fault on tooth 0 of the input gear, no other crack or fault; its dynamics
+        run every mesh as a mesh of contacts and carry the eccentricity). The dynamics
+        settings have the study's overrides and the case's bearing stiffness.
 
     Raises
     ------
     InputError
         If the crack does not fit its tooth or a setting is out of range.
     """
-    gb = loads(study.config_text)
-    train = dataclasses.replace(gb.train, operating=Operating(speed=case.speed,
-                                                              torque=case.torque))
+    gb = loads(study.config_text).at(speed=case.speed, torque=case.torque)
     if case.fault is None:
         depth = None if case.flank == "none" else case.crack_depth
-        train = train.with_crack(case.flank, depth=depth, closure=case.closure)
-        dynamics = gb.dynamics
+        gb = gb.with_crack(case.flank, depth=depth, closure=case.closure)
     else:
         severity = 1.0 if case.fault == "none" else case.severity
-        variant = fault_variant(dataclasses.replace(
-            gb, train=train.with_crack(None, closure=case.closure)), case.fault, severity)
-        train, dynamics = variant.train, variant.dynamics
-    settings = dataclasses.replace(dynamics, bearing_stiffness=case.bearing_stiffness,
-                                   **study.dynamics)
-    return train, settings
-
-
-def _select_signal(ds, spec: str) -> np.ndarray:
-    m = re.fullmatch(r"\s*(\w+)\s*(?:\[\s*([\w-]+)\s*,\s*(\w+)\s*\])?\s*", spec)
-    if m is None or m.group(1) not in ds:
-        raise InputError("study.signal", spec, "must name a simulated variable ("
-                         + ", ".join(ds.data_vars) + "), with [gear,axis] where needed")
-    da = ds[m.group(1)]
-    sel = {}
-    if m.group(2):
-        sel = {"gear": m.group(2), "axis": m.group(3)}
-    try:
-        da = da.sel(sel) if sel else da
-    except (KeyError, ValueError):
-        raise InputError("study.signal", spec, "gear or axis not in the simulation") from None
-    if da.ndim != 1:
-        raise InputError("study.signal", spec, "select one gear and axis: variable[gear,axis]")
-    return np.asarray(da.values, dtype=float)
+        gb = fault_variant(gb.with_crack(None, closure=case.closure), case.fault, severity)
+    return gb.replace(dynamics={"bearing_stiffness": case.bearing_stiffness,
+                                **study.dynamics})
 
 
 def add_noise(x: np.ndarray, level: float, seed: int) -> np.ndarray:
@@ -230,44 +201,6 @@ def run_group(study: Study, cases: Sequence[Case],
         One row per case along dimension ``case`` (see module docstring). Refused input
         and failed simulations are recorded (status, message), not raised.
     """
-    def record() -> tuple[np.ndarray, float, dict]:
-        train, settings = build_case(study, cases[0])
-        ds = simulate(train, settings)
-        teeth = [g.teeth for g in train.gears]
-        if study.shafts == "reference":
-            teeth = teeth[:1]
-        return (_select_signal(ds, study.signal), float(settings.fs),
-                {"teeth": teeth, "shaft_frequency": train.shaft_frequency(0)})
-
-    return analyse_group(study, cases, record, hook)
-
-
-def analyse_group(study: Study, cases: Sequence[Case],
-                  record: Callable[[], tuple[np.ndarray, float, dict]],
-                  hook: Callable[[Sequence[Case]], None] | None = None):
-    """Simulate a group once (``record``) and analyse every case's noisy copy.
-
-    Shared by the gear trains (:func:`run_group`) and the planetary stages
-    (:func:`gearsim.studies.sweep_planetary.run_stage_group`).
-
-    Parameters
-    ----------
-    study : Study
-        The study.
-    cases : sequence of Case
-        Cases with equal :meth:`Study.simulation_key`.
-    record : callable
-        Runs the simulation: returns the analysed signal, its rate fs [Hz] and the keyword
-        arguments of :func:`gearsim.signals.analyze` (teeth, shaft frequency, ...).
-    hook : callable, optional
-        Called with ``cases`` before the work (tests use it to inject faults).
-
-    Returns
-    -------
-    xarray.Dataset
-        One row per case (:func:`run_group`); refused input and failed simulations are
-        recorded (status, message), not raised.
-    """
     if hook is not None:
         hook(cases)
     n = len(cases)
@@ -276,7 +209,11 @@ def analyse_group(study: Study, cases: Sequence[Case],
     signals: list[np.ndarray | None] = [None] * n
     fs = None
     try:
-        x, fs, kwargs = record()
+        gb = build_case(study, cases[0])
+        fs = float(gb.dynamics.fs)
+        x = gb.select(gb.simulate(), study.signal)
+        _, f_ref, teeth = gb.reference(study.shafts)
+        kwargs = {"teeth": teeth, "shaft_frequency": f_ref, "settings": gb.analysis}
     except (InputError, SimulationError) as exc:
         return _table(study, cases, rows, ["failed"] * n, [str(exc)] * n, signals, fs)
     except Exception as exc:  # keep the study going; the message says what it was

@@ -4,8 +4,7 @@ Design (see ``docs/studies.md``, "Parameter sweeps"):
 
 * The cases of :func:`gearsim.studies.sweep.expand` are grouped by simulation
   (:meth:`Study.simulation_key`); each group is one Dask task
-  (:func:`gearsim.studies.sweep_case.run_group`; for a planetary stage,
-  :func:`gearsim.studies.sweep_planetary.run_stage_group`, see :func:`group_runner`).
+  (:func:`gearsim.studies.sweep_case.run_group`, see :func:`group_runner`).
 * The worker encodes a group's table as NetCDF bytes; the client writes them atomically
   (temporary file + rename) as its own small NetCDF file ``STORE.parts/<simulation key>.nc``. Keys hash
   the case parameters and the study fingerprint (base config, dynamics overrides,
@@ -124,13 +123,8 @@ def group_runner(study: Study) -> Callable:
     -------
     callable
         ``(study, cases, hook) -> xarray.Dataset``:
-        :func:`gearsim.studies.sweep_planetary.run_stage_group` for a planetary stage
-        (``study.kind == "planetary"``), else :func:`gearsim.studies.sweep_case.run_group`.
+        :func:`gearsim.studies.sweep_case.run_group` (every gearbox).
     """
-    if getattr(study, "kind", "train") == "planetary":
-        from gearsim.studies.sweep_planetary import run_stage_group
-
-        return run_stage_group
     from gearsim.studies.sweep_case import run_group
 
     return run_group

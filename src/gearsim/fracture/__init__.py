@@ -6,7 +6,8 @@
 * :mod:`~gearsim.fracture.plate`: FE check specimens with handbook K;
 * :mod:`~gearsim.fracture.direction`: maximum tangential stress kink angle;
 * :mod:`~gearsim.fracture.paris`: Paris law with threshold and toughness, life N(a);
-* :mod:`~gearsim.fracture.tooth`: K at a tooth-root crack, MTS growth increments.
+* :mod:`~gearsim.fracture.tooth`: K at a tooth-root crack, MTS growth increments;
+* :mod:`~gearsim.fracture.path`: a grown path with K along it, and its Paris life.
 
 Layer: above :mod:`gearsim.fem`, below :mod:`gearsim.system` (docs/fracture.md).
 """

@@ -125,7 +125,8 @@ def _tooth(half: np.ndarray, n_tip: int) -> np.ndarray:
     return np.vstack([half, tip, left])
 
 
-def sector_polygon(gear: Gear, n_teeth: int = 3) -> tuple[np.ndarray, np.ndarray]:
+def sector_polygon(gear: Gear, n_teeth: int = 3, *, bore_radius: float | None = None
+                   ) -> tuple[np.ndarray, np.ndarray]:
     """Outline polygon of a gear sector with the middle tooth on +y.
 
     Parameters
@@ -134,6 +135,11 @@ def sector_polygon(gear: Gear, n_teeth: int = 3) -> tuple[np.ndarray, np.ndarray
         The gear (bore radius :attr:`Gear.bore_radius_value`).
     n_teeth
         Odd number of teeth, 3 <= n_teeth < z.
+    bore_radius
+        Inner radius of the rim [m], below the root radius; default
+        :attr:`Gear.bore_radius_value`. Thin rims (backup ratio
+        (r_f - r_bore) / (r_a - r_f) below 1, Lewicki & Ballarini 1997) need it: the
+        ``Gear`` itself keeps its bore below 0.9 r_f.
 
     Returns
     -------
@@ -155,9 +161,9 @@ def sector_polygon(gear: Gear, n_teeth: int = 3) -> tuple[np.ndarray, np.ndarray
     fine = _dedupe(prof.outline(*FINE_POINTS))
     coarse = _dedupe(prof.outline(*COARSE_POINTS))
     r_root = float(np.hypot(*fine[0]))
-    bore = gear.bore_radius_value
-    require(bore < r_root, f"{gear.name}.bore_radius", bore,
-            f"must be below the root radius {r_root:.6g} m")
+    bore = gear.bore_radius_value if bore_radius is None else float(bore_radius)
+    require(math.isfinite(bore) and 0.0 < bore < r_root, "fracture.bore_radius", bore,
+            f"must be in (0, root radius {r_root:.6g} m)")
     pitch = 2.0 * math.pi / z
     m = n_teeth // 2
     half_side = 0.5 * n_teeth * pitch
@@ -417,8 +423,8 @@ def _inside(poly: np.ndarray, pt: np.ndarray) -> bool:
 
 
 def tooth_crack_sif(gear: Gear, crack: CrackPath, radius: float, *, force: float = 1e5,
-                    n_teeth: int = 3, plane: str = "stress",
-                    refinement: float = 1.0) -> ToothCrackResult:
+                    n_teeth: int = 3, plane: str = "stress", refinement: float = 1.0,
+                    bore_radius: float | None = None) -> ToothCrackResult:
     """K_I, K_II at the tip of a root crack under a flank load.
 
     Parameters
@@ -438,6 +444,8 @@ def tooth_crack_sif(gear: Gear, crack: CrackPath, radius: float, *, force: float
         ``"stress"`` or ``"strain"``.
     refinement
         Divides all element sizes [-] (0.25 to 8).
+    bore_radius
+        Inner rim radius of the sector [m] (:func:`sector_polygon`).
 
     Returns
     -------
@@ -451,7 +459,7 @@ def tooth_crack_sif(gear: Gear, crack: CrackPath, radius: float, *, force: float
     """
     t0 = time.perf_counter()
     _check_load(gear, radius, force, refinement)
-    poly, fixed = sector_polygon(gear, n_teeth)
+    poly, fixed = sector_polygon(gear, n_teeth, bore_radius=bore_radius)
     start = crack.array[0]
     on = float(_dist_to_segments(start, poly, np.roll(poly, -1, axis=0)).min())
     require(on <= 1e-3 * gear.normal_module, "crack.points[0]", tuple(start),
@@ -489,7 +497,7 @@ def grow_crack(gear: Gear, crack: CrackPath, radius: float, increment: float,
         ligament before the direction is updated).
     **options
         Passed to :func:`tooth_crack_sif` (``force``, ``n_teeth``, ``plane``,
-        ``refinement``).
+        ``refinement``, ``bore_radius``).
 
     Returns
     -------
@@ -507,7 +515,8 @@ def grow_crack(gear: Gear, crack: CrackPath, radius: float, increment: float,
     """
     require(math.isfinite(increment) and increment > 0.0, "crack.increment", increment,
             "must be > 0 m")
-    poly, _ = sector_polygon(gear, options.get("n_teeth", 3))
+    poly, _ = sector_polygon(gear, options.get("n_teeth", 3),
+                             bore_radius=options.get("bore_radius"))
     clearance = _tip_clearance(poly, crack, ahead=True)
     require(increment <= 0.5 * clearance, "crack.increment", increment,
             f"is too large for the local geometry: at most half the distance from the tip "

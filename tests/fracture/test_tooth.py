@@ -73,3 +73,26 @@ def test_bad_tooth_requests_refused_in_one_line() -> None:
             call()
         msg = str(err.value)
         assert msg.startswith(name) and "\n" not in msg, msg
+
+
+def test_cycle_intensity_one_mesh_many_loads() -> None:
+    """All contact positions on one mesh equal separate solves; K_I grows with the
+    lever arm of the load (same force, higher contact point)."""
+    from gearsim.fracture.tooth import cycle_intensity
+    from gearsim.geometry.profile import ToothProfile
+
+    prof = ToothProfile(GEAR)
+    radii = np.linspace(max(prof.form_radius, GEAR.base_radius), GEAR.tip_radius, 4)
+    forces = np.array([1e5, 1e5, 1e5, 0.0])
+    crack = initial_crack(GEAR, 1e-3)
+    cyc = cycle_intensity(GEAR, crack, radii, forces)
+    single = tooth_crack_sif(GEAR, crack, radii[2], force=1e5)
+    assert cyc.k1[2] == pytest.approx(single.sif.k1, rel=1e-9)
+    assert cyc.k2[2] == pytest.approx(single.sif.k2, rel=1e-6)
+    assert np.all(np.diff(cyc.k1[:3]) > 0.0)
+    assert cyc.k1[3] == pytest.approx(0.0, abs=1e-9 * cyc.k_max) and cyc.keq[3] == 0.0
+    assert cyc.delta_k == pytest.approx(cyc.keq[:3].max())
+    with pytest.raises(InputError, match="forces"):
+        cycle_intensity(GEAR, crack, radii, forces[:2])
+    with pytest.raises(InputError, match="forces"):
+        cycle_intensity(GEAR, crack, radii, 0.0 * forces)

@@ -44,14 +44,15 @@ import numpy as np
 from gearsim.errors import InputError, require
 from gearsim.fem.solve import ElasticModel, plane_lame
 from gearsim.fem.tooth import PATCH_HALF_LENGTH, load_geometry
-from gearsim.fracture.direction import kink_angle, kinked_direction
+from gearsim.fracture.direction import equivalent_k, kink_angle, kinked_direction
 from gearsim.fracture.mesh import CrackPath, mesh_cracked_polygon, mesh_polygon
 from gearsim.fracture.sif import StressIntensity, interaction_integral
 from gearsim.geometry.gear import Gear
 from gearsim.geometry.profile import ToothProfile
 
-__all__ = ["RING_FRACTION", "TIP_DIVISIONS", "ToothCrackResult", "fillet_stress",
-           "grow_crack", "initial_crack", "sector_polygon", "tooth_crack_sif"]
+__all__ = ["RING_FRACTION", "TIP_DIVISIONS", "CycleIntensity", "ToothCrackResult",
+           "cycle_intensity", "fillet_stress", "grow_crack", "initial_crack",
+           "sector_polygon", "tooth_crack_sif"]
 
 #: Outer ring radius of the interaction integral over min(last segment, distance to the
 #: outline) [-].
@@ -290,14 +291,11 @@ def _tip_clearance(poly: np.ndarray, crack: CrackPath, *, ahead: bool = False) -
     return float(dist[front].min()) if np.any(front) else math.inf
 
 
-def _loaded_model(gear: Gear, p: np.ndarray, t: np.ndarray, fixed: np.ndarray, radius: float,
-                  force: float, plane: str, h: float
-                  ) -> tuple[ElasticModel, np.ndarray, np.ndarray]:
-    """P2 model of a sector mesh, its flank load vector and its fixed dofs."""
-    prof = ToothProfile(gear)
+def _sector_model(gear: Gear, p: np.ndarray, t: np.ndarray, fixed: np.ndarray, plane: str
+                  ) -> tuple[ElasticModel, np.ndarray]:
+    """P2 model of a sector mesh and its fixed dofs (nodes on the sides and the bore)."""
     mat = gear.material
     model = ElasticModel(p, t, mat.youngs_modulus, mat.poisson_ratio, plane=plane, order=2)
-    # fixed: nodes on the sides and the bore
     pts = p.T
     dmin = np.full(pts.shape[0], np.inf)
     for a, b in fixed:
@@ -305,9 +303,13 @@ def _loaded_model(gear: Gear, p: np.ndarray, t: np.ndarray, fixed: np.ndarray, r
         tt = np.clip((pts - a) @ ab / (ab @ ab), 0.0, 1.0)
         dmin = np.minimum(dmin, np.hypot(*(a + tt[:, None] * ab - pts).T))
     fixed_nodes = np.nonzero(dmin < 1e-9 * gear.normal_module)[0]
-    fixed_dofs = model.dofs_on_facets(model.facets_on_nodes(fixed_nodes))
-    # load: bell traction on the flank around the contact point, exact resultant
-    point, direction, _ = load_geometry(prof, radius)
+    return model, model.dofs_on_facets(model.facets_on_nodes(fixed_nodes))
+
+
+def _flank_load(model: ElasticModel, gear: Gear, radius: float, force: float, h: float
+                ) -> np.ndarray:
+    """Bell traction on the +x flank around the contact point, exact resultant."""
+    point, direction, _ = load_geometry(ToothProfile(gear), radius)
     half = PATCH_HALF_LENGTH * gear.normal_module
     bf = model.mesh.boundary_facets()
     fa, fb = model.mesh.facets[0, bf], model.mesh.facets[1, bf]
@@ -325,7 +327,15 @@ def _loaded_model(gear: Gear, p: np.ndarray, t: np.ndarray, fixed: np.ndarray, r
     resultant = float(f[xdofs].sum() * direction[0] + f[ydofs].sum() * direction[1])
     if not resultant > 0.0:
         raise InputError("radius", radius, "the load patch found no flank facets to load")
-    return model, f * (force / resultant), fixed_dofs
+    return f * (force / resultant)
+
+
+def _loaded_model(gear: Gear, p: np.ndarray, t: np.ndarray, fixed: np.ndarray, radius: float,
+                  force: float, plane: str, h: float
+                  ) -> tuple[ElasticModel, np.ndarray, np.ndarray]:
+    """P2 model of a sector mesh, its flank load vector and its fixed dofs."""
+    model, fixed_dofs = _sector_model(gear, p, t, fixed, plane)
+    return model, _flank_load(model, gear, radius, force, h), fixed_dofs
 
 
 def _check_load(gear: Gear, radius: float, force: float, refinement: float) -> None:
@@ -477,6 +487,110 @@ def tooth_crack_sif(gear: Gear, crack: CrackPath, radius: float, *, force: float
     return ToothCrackResult(crack=crack, sif=sif, kink=kink_angle(sif.k1, sif.k2), force=force,
                             radius=radius, dofs=model.ndofs, h_tip=h_tip,
                             seconds=time.perf_counter() - t0)
+
+
+@dataclass(frozen=True)
+class CycleIntensity:
+    """K at a crack tip for a sequence of loads (the contact positions of a mesh cycle).
+
+    Parameters
+    ----------
+    radii
+        Contact radii [m].
+    forces
+        Normal force per unit face width at each radius [N/m] (0: the tooth is unloaded
+        there).
+    k1, k2
+        K_I, K_II at each position [Pa sqrt(m)].
+    keq
+        MTS equivalent K at each position [Pa sqrt(m)].
+    delta_k
+        Range of K_eq over the cycle, max(K_eq) - min(0, min K_eq) [Pa sqrt(m)]: the
+        tooth is unloaded for most of a revolution, so the cycle includes K = 0.
+    k_max
+        max(K_eq) [Pa sqrt(m)].
+    dofs
+        Displacement unknowns.
+    seconds
+        Wall time [s].
+    """
+
+    radii: np.ndarray
+    forces: np.ndarray
+    k1: np.ndarray
+    k2: np.ndarray
+    keq: np.ndarray
+    delta_k: float
+    k_max: float
+    dofs: int
+    seconds: float
+
+
+def cycle_intensity(gear: Gear, crack: CrackPath, radii, forces, *, n_teeth: int = 3,
+                    plane: str = "stress", refinement: float = 1.0,
+                    bore_radius: float | None = None) -> CycleIntensity:
+    """K at the crack tip for the loads of a mesh cycle, on one mesh and one factorisation.
+
+    Parameters
+    ----------
+    gear
+        The gear.
+    crack
+        The crack path (faces free: a crack on the loaded, tensile fillet).
+    radii
+        Contact radii on the +x involute [m], e.g. the positions of the path of contact.
+    forces
+        Normal force per unit face width at each radius [N/m] (>= 0; the share of the
+        mesh force this tooth carries, from a load-sharing or dynamic analysis).
+    n_teeth, plane, refinement, bore_radius
+        As :func:`tooth_crack_sif`.
+
+    Returns
+    -------
+    CycleIntensity
+
+    Raises
+    ------
+    InputError
+        Radii off the involute, negative or all-zero forces, mismatched lengths, or the
+        errors of :func:`tooth_crack_sif`.
+    """
+    t0 = time.perf_counter()
+    r = np.atleast_1d(np.asarray(radii, dtype=float))
+    fz = np.atleast_1d(np.asarray(forces, dtype=float))
+    require(r.shape == fz.shape and r.ndim == 1 and r.size >= 1, "forces", fz.shape,
+            f"must match the radii, shape {r.shape}")
+    require(bool(np.all(np.isfinite(fz)) and np.all(fz >= 0.0) and np.any(fz > 0.0)),
+            "forces", "negative, non-finite or all zero", "must be >= 0 N/m, one > 0")
+    for ri in r:
+        _check_load(gear, float(ri), 1.0, refinement)
+    poly, fixed = sector_polygon(gear, n_teeth, bore_radius=bore_radius)
+    start = crack.array[0]
+    on = float(_dist_to_segments(start, poly, np.roll(poly, -1, axis=0)).min())
+    require(on <= 1e-3 * gear.normal_module, "crack.points[0]", tuple(start),
+            "the crack must start on the tooth outline")
+    poly = _insert_vertex(poly, start)
+    r_out = RING_FRACTION * min(crack.last_segment_length(1), _tip_clearance(poly, crack))
+    h_tip = r_out / (TIP_DIVISIONS * refinement)
+    h = gear.normal_module / (4.0 * refinement)
+    cm = mesh_cracked_polygon(poly, crack, h=h, h_tip=h_tip, growth=0.3)
+    model, fixed_dofs = _sector_model(gear, cm.p, cm.t, fixed, plane)
+    loads = np.column_stack([_flank_load(model, gear, float(ri), 1.0, h) * fi
+                             for ri, fi in zip(r, fz, strict=True)])
+    u = model.solve(loads, fixed_dofs)
+    tip, d = crack.tip_frame(1)
+    k1, k2 = [], []
+    for j in range(r.size):
+        sif = interaction_integral(model, u[:, j], tip, d, r_out=r_out)
+        k1.append(sif.k1)
+        k2.append(sif.k2)
+    k1a, k2a = np.asarray(k1), np.asarray(k2)
+    keq = np.array([equivalent_k(a, b) if f > 0.0 else 0.0
+                    for a, b, f in zip(k1a, k2a, fz, strict=True)])
+    kmax = float(keq.max())
+    return CycleIntensity(radii=r, forces=fz, k1=k1a, k2=k2a, keq=keq,
+                          delta_k=kmax - min(0.0, float(keq.min())), k_max=kmax,
+                          dofs=model.ndofs, seconds=time.perf_counter() - t0)
 
 
 def grow_crack(gear: Gear, crack: CrackPath, radius: float, increment: float,

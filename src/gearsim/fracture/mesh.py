@@ -22,7 +22,7 @@ from __future__ import annotations
 import contextlib
 import math
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -136,6 +136,10 @@ class CrackedMesh:
         Far-field element size [m].
     h_tip
         Element size at the tips [m].
+    edges
+        Crack edges, shape (e, 2), oriented along the path, as node pairs of the
+        right-side face (row 0 of ``pairs`` and the tips); the left-side edge of
+        ``(a, b)`` uses the copies of ``a`` and ``b`` (a tip is shared).
     """
 
     p: np.ndarray
@@ -145,6 +149,7 @@ class CrackedMesh:
     pairs: np.ndarray
     h: float
     h_tip: float
+    edges: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int64))
 
 
 @contextlib.contextmanager
@@ -311,7 +316,7 @@ def _mesh(poly: np.ndarray, crack: CrackPath, mouth: int, h: float, h_tip: float
             tip_nodes[end] = int(np.argmin(d))
     p2, t2, pairs = split_crack_nodes(p, t, crack_edges, list(tip_nodes.values()))
     return CrackedMesh(p=p2, t=t2, crack=crack, tip_nodes=tip_nodes, pairs=pairs, h=h,
-                       h_tip=h_tip)
+                       h_tip=h_tip, edges=crack_edges)
 
 
 def mesh_polygon(outline: np.ndarray, *, h: float, focus: np.ndarray, h_focus: float,

@@ -96,3 +96,16 @@ def test_cycle_intensity_one_mesh_many_loads() -> None:
         cycle_intensity(GEAR, crack, radii, forces[:2])
     with pytest.raises(InputError, match="forces"):
         cycle_intensity(GEAR, crack, radii, 0.0 * forces)
+
+
+def test_unloaded_flank_crack_closes_with_contact() -> None:
+    """A crack on the compressed (-x) fillet: free faces overlap (K_I < 0, unphysical);
+    with face contact the tip is closed, K_I = 0 and the crack is in mode II."""
+    crack = initial_crack(GEAR, 1e-3, side=-1)
+    free = tooth_crack_sif(GEAR, crack, GEAR.tip_radius, force=1e5)
+    closed = tooth_crack_sif(GEAR, crack, GEAR.tip_radius, force=1e5, closure="contact")
+    assert free.sif.k1 < 0.0
+    assert closed.sif.k1 == 0.0 and closed.sif.k2 != 0.0
+    assert abs(math.degrees(closed.kink)) == pytest.approx(math.degrees(math.acos(1 / 3)))
+    with pytest.raises(InputError, match="closure"):
+        tooth_crack_sif(GEAR, crack, GEAR.tip_radius, closure="glued")

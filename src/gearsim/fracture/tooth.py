@@ -44,6 +44,7 @@ import numpy as np
 from gearsim.errors import InputError, require
 from gearsim.fem.solve import ElasticModel, plane_lame
 from gearsim.fem.tooth import PATCH_HALF_LENGTH, load_geometry
+from gearsim.fracture.contact import closed_crack_intensity
 from gearsim.fracture.direction import equivalent_k, kink_angle, kinked_direction
 from gearsim.fracture.mesh import CrackPath, mesh_cracked_polygon, mesh_polygon
 from gearsim.fracture.sif import StressIntensity, interaction_integral
@@ -434,7 +435,8 @@ def _inside(poly: np.ndarray, pt: np.ndarray) -> bool:
 
 def tooth_crack_sif(gear: Gear, crack: CrackPath, radius: float, *, force: float = 1e5,
                     n_teeth: int = 3, plane: str = "stress", refinement: float = 1.0,
-                    bore_radius: float | None = None) -> ToothCrackResult:
+                    bore_radius: float | None = None, closure: str = "open"
+                    ) -> ToothCrackResult:
     """K_I, K_II at the tip of a root crack under a flank load.
 
     Parameters
@@ -456,6 +458,11 @@ def tooth_crack_sif(gear: Gear, crack: CrackPath, radius: float, *, force: float
         Divides all element sizes [-] (0.25 to 8).
     bore_radius
         Inner rim radius of the sector [m] (:func:`sector_polygon`).
+    closure
+        ``"open"``: free crack faces (a crack on the loaded, tensile fillet);
+        ``"contact"``: frictionless face contact (:mod:`gearsim.fracture.contact`; a
+        straight crack only), needed on the compressed (unloaded-flank) fillet, where
+        free faces would overlap; a closed tip has K_I = 0.
 
     Returns
     -------
@@ -469,6 +476,7 @@ def tooth_crack_sif(gear: Gear, crack: CrackPath, radius: float, *, force: float
     """
     t0 = time.perf_counter()
     _check_load(gear, radius, force, refinement)
+    require(closure in ("open", "contact"), "closure", closure, 'must be "open" or "contact"')
     poly, fixed = sector_polygon(gear, n_teeth, bore_radius=bore_radius)
     start = crack.array[0]
     on = float(_dist_to_segments(start, poly, np.roll(poly, -1, axis=0)).min())
@@ -481,9 +489,12 @@ def tooth_crack_sif(gear: Gear, crack: CrackPath, radius: float, *, force: float
     h = gear.normal_module / (4.0 * refinement)
     cm = mesh_cracked_polygon(poly, crack, h=h, h_tip=h_tip, growth=0.3)
     model, f, fixed_dofs = _loaded_model(gear, cm.p, cm.t, fixed, radius, force, plane, h)
-    u = model.solve(f, fixed_dofs)
-    tip, d = crack.tip_frame(1)
-    sif = interaction_integral(model, u, tip, d, r_out=r_out)
+    if closure == "contact":
+        sif = closed_crack_intensity(model, cm, f, fixed_dofs, r_out=r_out).sif
+    else:
+        u = model.solve(f, fixed_dofs)
+        tip, d = crack.tip_frame(1)
+        sif = interaction_integral(model, u, tip, d, r_out=r_out)
     return ToothCrackResult(crack=crack, sif=sif, kink=kink_angle(sif.k1, sif.k2), force=force,
                             radius=radius, dofs=model.ndofs, h_tip=h_tip,
                             seconds=time.perf_counter() - t0)
@@ -611,7 +622,7 @@ def grow_crack(gear: Gear, crack: CrackPath, radius: float, increment: float,
         ligament before the direction is updated).
     **options
         Passed to :func:`tooth_crack_sif` (``force``, ``n_teeth``, ``plane``,
-        ``refinement``, ``bore_radius``).
+        ``refinement``, ``bore_radius``, ``closure``).
 
     Returns
     -------

@@ -10,7 +10,7 @@ __all__ = ["CLOSURES", "CONTACTS", "COUPLINGS", "DEFAULT_SLICES", "PLANES", "SOU
            "StiffnessSettings"]
 
 #: Tooth-compliance models ``stiffness.source`` may name.
-SOURCES = ("pe", "fe", "fe-pair")
+SOURCES = ("pe", "fe", "fe-pair", "calibrated")
 #: Crack-face models ``stiffness.closure`` may name.
 CLOSURES = ("contact", "open")
 #: Plane assumptions ``stiffness.plane`` may name.
@@ -49,8 +49,13 @@ class StiffnessSettings:
         compliance of the finite-element model (:mod:`gearsim.fem.tables`), the
         counterpart of the seed's rigid-flexible coupling; ``"fe-pair"``: the whole mesh
         stiffness from the FE gear pair in contact at the train's torque
-        (:mod:`gearsim.system.fe_pair`; cracks only, no mesh of contacts). The model is
-        chosen one layer up, by :func:`gearsim.system.tooth_compliance`.
+        (:mod:`gearsim.system.fe_pair`; cracks only, no mesh of contacts);
+        ``"calibrated"``: the PE tooth (cracks included) times the FE/PE compliance ratio
+        of the healthy tooth, measured once per gear and cached
+        (:mod:`gearsim.fem.calibration`; docs/stiffness.md, section 4c); it requires
+        ``contact = "line"`` and ``coupling = "fe"``, the options it was measured with
+        against the FE gear pair. The model is chosen one layer up, by
+        :func:`gearsim.system.tooth_compliance`.
     corner_contact
         Add the tip-corner contacts of the tooth pairs just outside the path of contact
         to the mesh of contacts (:mod:`gearsim.stiffness.contacts`; default on). They
@@ -104,3 +109,8 @@ class StiffnessSettings:
                 'must be "yang-lin" or "line"')
         require(self.coupling in COUPLINGS, "stiffness.coupling", self.coupling,
                 'must be "none" or "fe"')
+        if self.source == "calibrated":
+            require(self.contact == "line" and self.coupling == "fe", "stiffness.source",
+                    self.source, 'needs contact = "line" and coupling = "fe" (the model '
+                    "calibrated against the FE gear pair, docs/stiffness.md 4c); got "
+                    f"contact = {self.contact!r}, coupling = {self.coupling!r}")

@@ -51,10 +51,12 @@ def tooth_compliance(source: str) -> ToothCompliance:
 
     Parameters
     ----------
-    source : {"pe", "fe"}
+    source : {"pe", "fe", "calibrated"}
         ``"pe"``: potential-energy model (:mod:`gearsim.stiffness.source`); ``"fe"``: the
         finite-element tooth (:mod:`gearsim.fem.tables`), the counterpart of the seed's
-        rigid-flexible coupling.
+        rigid-flexible coupling; ``"calibrated"``: the PE tooth times the FE/PE ratio of
+        the healthy tooth, measured once per gear and cached (:mod:`gearsim.fem.
+        calibration`; docs/stiffness.md 4c).
 
     Returns
     -------
@@ -65,12 +67,17 @@ def tooth_compliance(source: str) -> ToothCompliance:
         return FiniteElementCompliance()
     if source == "pe":
         return PotentialEnergyCompliance()
+    if source == "calibrated":
+        from gearsim.fem.calibration import CalibratedCompliance
+
+        return CalibratedCompliance()
     if source == "fe-pair":
         raise InputError("stiffness.source", source, "gives whole-mesh tables from the FE "
                          "gear pair; the mesh of contacts (faults other than cracks, "
                          "modifications) and eccentricity need a tooth model: "
-                         'use "pe" or "fe"')
-    raise InputError("stiffness.source", source, 'must be "pe", "fe" or "fe-pair"')
+                         'use "pe", "fe" or "calibrated"')
+    raise InputError("stiffness.source", source,
+                     'must be "pe", "fe", "fe-pair" or "calibrated"')
 
 
 def body_coupling(settings: StiffnessSettings):

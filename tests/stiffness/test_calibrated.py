@@ -1,0 +1,268 @@
+"""The calibrated tooth (``stiffness.source = "calibrated"``) against the FE gear pair.
+
+The calibrated tooth is the PE tooth (cracks included) times the FE/PE compliance ratio of
+the healthy tooth, measured once per gear and cached (:mod:`gearsim.fem.calibration`),
+with the 2D line contact and the FE body coupling (docs/stiffness.md, section 4c). It is
+checked on the 19/48 spur pair against the FE gear pair in contact (:mod:`gearsim.fem.
+pair`, an independent model: both gears meshed whole, exact contact) at two torques a
+factor 4 apart, healthy and with the example's 1 mm pinion crack on the working and on
+the non-working flank (faces in contact). The FE pair runs at level 1: 0.06-0.24 % from
+level 2 on this pair (docs/fem.md, "Convergence and cost") at a quarter of the cost, so
+the module stays under a minute; it is solved once per module.
+
+Positions: inside the contact zones, where the FE pair touches on the nominal path
+(u = 0.15, 0.35 double, 0.85 single contact at both torques; under load the FE pair
+touches outside the path near the transitions, up to u = 0.80 and from 0.90 at 400 N m,
+which no table models: issue 25 item 2), and a whole cycle for max / min / mean.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from gearsim.errors import InputError
+from gearsim.fem import calibration as cal
+from gearsim.fem import pair as fp
+from gearsim.fem.tables import fe_compliance
+from gearsim.stiffness.mesh import mesh_stiffness
+from gearsim.stiffness.settings import StiffnessSettings
+from gearsim.stiffness.source import PotentialEnergyCompliance
+from gearsim.system.train import body_coupling, tooth_compliance
+
+#: FE pair level (see the module docstring).
+LEVEL = 1
+#: Driver torques [N m]: the example's and 4 times it.
+TORQUES = (100.0, 400.0)
+#: Positions inside the double- and single-contact zones at both torques.
+DOUBLE = (0.15, 0.35)
+SINGLE = (0.85,)
+#: Positions of the cracked checks: the cracked tooth in double contact (the younger
+#: pair) and alone in single contact.
+CRACKED = (0.35, 0.85)
+#: FE positions per cycle of the max / min / mean check (the table is sampled at the
+#: same positions, so the sampling of the mean is common to both).
+CYCLE = 10
+#: Positions per cycle of the tables (a multiple of CYCLE and 1 / 0.05).
+NPC = 400
+#: The issue's target, relative: calibrated table within 3 % of the FE pair.
+TARGET = 0.03
+#: Measured band of the healthy calibrated table inside the zones (bench_calibrated.py:
+#: +1.2 ... +1.8 %): the FE tooth's superposition error against the FE pair (+1.1-1.7 %,
+#: docs/fem.md, "Verification"), the ratio's spline and FE level 1 vs 2 (0.2 %).
+HEALTHY_BAND = (0.005, 0.025)
+#: Measured band of the cracked calibrated tables inside the zones (1 mm crack, 19/48,
+#: bench_calibrated.py: working flank +1.4 ... +5.6 %, non-working closed +0.9 ... +1.9 %;
+#: the PE section reduction of the working-flank crack is smaller than the FE slit's
+#: in single contact); regression guard, not the target.
+CRACK_BAND = (-0.01, 0.07)
+#: Measured band of the cycle mean (100 N m: -1.9 %, 400 N m: -4.3 %): the FE pair
+#: touches outside the nominal path near the transitions (tip corners), the table not.
+MEAN_BAND = (-0.06, 0.0)
+
+
+@pytest.fixture(scope="module")
+def pair(spur):
+    return spur.pairs[0]
+
+
+@pytest.fixture(scope="module")
+def fe(spur, pair):
+    """FE pair (level 1) results: healthy cycle at both torques, cracks at the positions."""
+    out = {}
+    model = fp.FEPairModel(pair, torque=TORQUES[0], level=LEVEL)
+    for t in TORQUES:
+        for u in sorted({i / CYCLE for i in range(CYCLE)} | set(DOUBLE + SINGLE)):
+            out["none", t, u] = model.solve(u, torque=t).stiffness
+    crack = spur.with_crack("working").mesh_cracks(0)[0].crack
+    for flank, side in (("working", 1), ("non-working", -1)):
+        # the cracked pinion tooth in pair 0: table cycle 0 of its revolution
+        cm = fp.FEPairModel(pair, torque=TORQUES[0], level=LEVEL,
+                            crack=fp.PairCrack(gear=1, pair=0, crack=crack, side=side,
+                                               closure="contact"))
+        for t in TORQUES:
+            for u in CRACKED:
+                out[flank, t, u] = cm.solve(u, torque=t).stiffness
+    return out
+
+
+def _table(spur, pair, flank: str, torque: float, source: str = "calibrated"):
+    tr = spur.with_crack(flank, closure="contact")
+    kw = {"contact": "line", "coupling": "fe"} if source != "seed" else {}
+    st = StiffnessSettings(positions_per_cycle=NPC, source="pe" if source == "seed" else source,
+                           **kw)
+    return mesh_stiffness(pair, cracks=tr.mesh_cracks(0), settings=st,
+                          compliance=tooth_compliance(st.source),
+                          force=torque / pair.driver.base_radius, coupling=body_coupling(st))
+
+
+def _err(ms, k_fe: float, u: float) -> float:
+    i = int(round(u * NPC))
+    assert abs(i / NPC - u) < 1e-12
+    return ms.k[i] / k_fe - 1.0
+
+
+@pytest.mark.parametrize("torque", TORQUES)
+def test_healthy_inside_the_zones(spur, pair, fe, torque):
+    """Healthy 19/48: calibrated table within 3 % of the FE pair inside both zones."""
+    ms = _table(spur, pair, "none", torque)
+    for u in DOUBLE + SINGLE:
+        e = _err(ms, fe["none", torque, u], u)
+        assert abs(e) < TARGET, (u, e)
+        assert HEALTHY_BAND[0] < e < HEALTHY_BAND[1], (u, e)
+
+
+@pytest.mark.parametrize("torque", TORQUES)
+@pytest.mark.parametrize("flank", ["working", "non-working"])
+def test_cracked_inside_the_zones_band(spur, pair, fe, flank, torque):
+    """Cracked 19/48 (1 mm, faces in contact): the measured band inside the zones."""
+    ms = _table(spur, pair, flank, torque)
+    for u in CRACKED:
+        e = _err(ms, fe[flank, torque, u], u)
+        assert CRACK_BAND[0] < e < CRACK_BAND[1], (u, e)
+
+
+@pytest.mark.xfail(strict=True, reason="the PE section reduction of a 1 mm working-flank "
+                   "crack costs less stiffness than the FE slit in single contact: "
+                   "+4 to +6 % there (docs/stiffness.md 4c); no correction tuned")
+@pytest.mark.parametrize("torque", TORQUES)
+def test_working_crack_within_target(spur, pair, fe, torque):
+    """Issue 25 target for the working-flank crack: within 3 % inside the zones."""
+    ms = _table(spur, pair, "working", torque)
+    errs = [_err(ms, fe["working", torque, u], u) for u in CRACKED]
+    assert max(abs(e) for e in errs) < TARGET, errs
+
+
+def test_non_working_crack_within_target(spur, pair, fe):
+    """Closed non-working crack: within the 3 % target inside the zones, both torques."""
+    for torque in TORQUES:
+        ms = _table(spur, pair, "non-working", torque)
+        for u in CRACKED:
+            assert abs(_err(ms, fe["non-working", torque, u], u)) < TARGET, (torque, u)
+
+
+@pytest.mark.parametrize("torque", TORQUES)
+def test_cycle_max_and_min(spur, pair, fe, torque):
+    """Healthy cycle: max and min of the table within 3 % of the FE pair's."""
+    ms = _table(spur, pair, "none", torque)
+    k_fe = np.array([fe["none", torque, i / CYCLE] for i in range(CYCLE)])
+    k = ms.k[:NPC]
+    assert np.max(k) == pytest.approx(np.max(k_fe), rel=TARGET)
+    assert np.min(k) == pytest.approx(np.min(k_fe), rel=TARGET)
+
+
+def _mean_error(spur, pair, fe, torque):
+    ms = _table(spur, pair, "none", torque)
+    k_fe = np.array([fe["none", torque, i / CYCLE] for i in range(CYCLE)])
+    return np.mean(ms.k[:NPC:NPC // CYCLE]) / np.mean(k_fe) - 1.0
+
+
+@pytest.mark.parametrize("torque", TORQUES)
+def test_cycle_mean_band(spur, pair, fe, torque):
+    """Healthy cycle mean: the measured band (the zone ends pull it down)."""
+    assert MEAN_BAND[0] < _mean_error(spur, pair, fe, torque) < MEAN_BAND[1]
+
+
+@pytest.mark.xfail(strict=True, reason="at 400 N m the FE pair touches outside the nominal "
+                   "path (tip corners) over 0.65-0.80 and 0.90-1.0 of the cycle: mean "
+                   "-4 %; contact outside the path is issue 25 item 2, not done")
+def test_cycle_mean_within_target_at_four_times_the_torque(spur, pair, fe):
+    """Issue 25 target for the cycle mean at 400 N m."""
+    assert abs(_mean_error(spur, pair, fe, TORQUES[1])) < TARGET
+
+
+def test_seed_model_is_far_from_the_fe_pair(spur, pair, fe):
+    """Context: the seed model at the same positions is 10-35 % stiff (docs/fem.md)."""
+    ms = _table(spur, pair, "none", TORQUES[0], source="seed")
+    for u in DOUBLE + SINGLE:
+        assert 0.10 < _err(ms, fe["none", TORQUES[0], u], u) < 0.35
+
+
+# --- the calibration itself ---------------------------------------------------------
+
+
+def test_calibrated_healthy_tooth_is_the_fe_tooth_at_the_nodes(pair):
+    """Healthy: c_cal = c_FE at the FE-table radii (definition of the ratio)."""
+    g = pair.driver
+    st = StiffnessSettings(source="calibrated", contact="line", coupling="fe")
+    nodes, ratio = cal.calibration_ratio(g)
+    c = cal.CalibratedCompliance().compliance(g, nodes[:, None], None, np.array([0.5]), st)
+    np.testing.assert_allclose(c.sum(axis=-1)[:, 0], fe_compliance(g, nodes)[:, 0],
+                               rtol=1e-10)
+    assert np.all((ratio > 0.8) & (ratio < 0.95))  # the PE tooth is 5-20 % softer
+
+
+def test_crack_stays_the_pe_section_reduction(spur, pair):
+    """Cracked: c_cal / c_PE is the healthy ratio, component by component."""
+    tc = spur.with_crack("working").mesh_cracks(0)[0]
+    st = StiffnessSettings(source="calibrated", contact="line", coupling="fe")
+    g = pair.driver
+    r = np.concatenate([[0.0], np.linspace(max(g.base_radius, g.root_radius) * 1.02,
+                                           g.tip_radius * 0.99, 7)])[:, None]
+    z = np.array([0.5])
+    pe = PotentialEnergyCompliance().compliance(g, r, tc, z, st)
+    c = cal.CalibratedCompliance().compliance(g, r, tc, z, st)
+    ratio = cal.CalibratedCompliance().ratio(g, r, st)
+    np.testing.assert_allclose(c, pe * ratio[..., None], rtol=1e-12)
+    assert np.all(c[r[:, 0] == 0] == 0)
+
+
+def test_source_needs_line_contact_and_coupling():
+    with pytest.raises(InputError, match="stiffness.source"):
+        StiffnessSettings(source="calibrated")
+    with pytest.raises(InputError, match="coupling"):
+        StiffnessSettings(source="calibrated", contact="line")
+    st = StiffnessSettings(source="calibrated", contact="line", coupling="fe")
+    assert tooth_compliance(st.source).name == "calibrated"
+
+
+def test_cache_key_names_geometry_material_level_plane_and_version(pair, monkeypatch):
+    g = pair.driver
+    key = cal.calibration_key(g)[0]
+    others = [cal.calibration_key(g, plane="strain")[0], cal.calibration_key(g, level=3)[0],
+              cal.calibration_key(dataclasses.replace(g, teeth=20))[0],
+              cal.calibration_key(dataclasses.replace(g, material=dataclasses.replace(
+                  g.material, youngs_modulus=2.1e11)))[0]]
+    monkeypatch.setattr(cal, "__version__", "9.9.9")
+    others.append(cal.calibration_key(g)[0])
+    assert len({key, *others}) == 6
+
+
+def test_corrupt_or_stale_cache_entry_is_rebuilt(pair, tmp_path, monkeypatch):
+    """A corrupt, stale or implausible cache file is detected and rebuilt, never used."""
+    g = pair.driver
+    monkeypatch.setattr(cal, "calibration_dir", lambda: tmp_path)
+    calls = []
+    real = cal.fe_compliance
+
+    def counting(*a, **kw):
+        calls.append(1)
+        return real(*a, **kw)
+
+    monkeypatch.setattr(cal, "fe_compliance", counting)
+    nodes, fresh = cal.calibration_ratio(g)
+    path = tmp_path / f"{cal.calibration_key(g)[0]}.npz"
+    assert path.exists() and len(calls) == 1
+    assert np.array_equal(cal.calibration_ratio(g)[1], fresh) and len(calls) == 1  # cached
+
+    def rebuilt() -> None:
+        n = len(calls)
+        np.testing.assert_array_equal(cal.calibration_ratio(g)[1], fresh)
+        assert len(calls) == n + 1
+        assert cal._read(path, cal.calibration_key(g)[1], nodes) is not None  # overwritten
+
+    path.write_bytes(b"not an npz file")  # corrupt
+    rebuilt()
+    path.write_bytes(path.read_bytes()[:100])  # truncated
+    rebuilt()
+    _, other_doc = cal.calibration_key(g, level=3)  # stale: written for another key
+    np.savez(path, key=np.array(other_doc), radii=nodes, ratio=np.full(nodes.size, 0.5))
+    rebuilt()
+    doc = cal.calibration_key(g)[1]
+    for bad in (np.full(nodes.size, np.nan), np.full(nodes.size, 50.0), fresh[:-1]):
+        np.savez(path, key=np.array(doc), radii=nodes[:bad.size], ratio=bad)
+        rebuilt()
+    np.savez(path, key=np.array(doc), radii=nodes * 1.01, ratio=fresh)  # other radii
+    rebuilt()

@@ -107,5 +107,12 @@ def test_unloaded_flank_crack_closes_with_contact() -> None:
     assert free.sif.k1 < 0.0
     assert closed.sif.k1 == 0.0 and closed.sif.k2 != 0.0
     assert abs(math.degrees(closed.kink)) == pytest.approx(math.degrees(math.acos(1 / 3)))
+    from gearsim.fracture.tooth import cycle_intensity
+
+    cyc = cycle_intensity(GEAR, crack, [GEAR.tip_radius, GEAR.tip_radius], [1e5, 0.0],
+                          closure="contact")
+    assert np.all(cyc.k1 == 0.0)
+    assert cyc.k2[0] == pytest.approx(closed.sif.k2, rel=1e-6) and cyc.k2[1] == 0.0
+    assert cyc.delta_k == pytest.approx(2.0 / math.sqrt(3.0) * abs(closed.sif.k2), rel=1e-6)
     with pytest.raises(InputError, match="closure"):
         tooth_crack_sif(GEAR, crack, GEAR.tip_radius, closure="glued")

@@ -539,7 +539,8 @@ class CycleIntensity:
 
 def cycle_intensity(gear: Gear, crack: CrackPath, radii, forces, *, n_teeth: int = 3,
                     plane: str = "stress", refinement: float = 1.0,
-                    bore_radius: float | None = None) -> CycleIntensity:
+                    bore_radius: float | None = None, closure: str = "open"
+                    ) -> CycleIntensity:
     """K at the crack tip for the loads of a mesh cycle, on one mesh and one factorisation.
 
     Parameters
@@ -553,8 +554,9 @@ def cycle_intensity(gear: Gear, crack: CrackPath, radii, forces, *, n_teeth: int
     forces
         Normal force per unit face width at each radius [N/m] (>= 0; the share of the
         mesh force this tooth carries, from a load-sharing or dynamic analysis).
-    n_teeth, plane, refinement, bore_radius
-        As :func:`tooth_crack_sif`.
+    n_teeth, plane, refinement, bore_radius, closure
+        As :func:`tooth_crack_sif` (with ``"contact"`` each position is a separate
+        active-set solve).
 
     Returns
     -------
@@ -575,6 +577,7 @@ def cycle_intensity(gear: Gear, crack: CrackPath, radii, forces, *, n_teeth: int
             "forces", "negative, non-finite or all zero", "must be >= 0 N/m, one > 0")
     for ri in r:
         _check_load(gear, float(ri), 1.0, refinement)
+    require(closure in ("open", "contact"), "closure", closure, 'must be "open" or "contact"')
     poly, fixed = sector_polygon(gear, n_teeth, bore_radius=bore_radius)
     start = crack.array[0]
     on = float(_dist_to_segments(start, poly, np.roll(poly, -1, axis=0)).min())
@@ -588,13 +591,23 @@ def cycle_intensity(gear: Gear, crack: CrackPath, radii, forces, *, n_teeth: int
     model, fixed_dofs = _sector_model(gear, cm.p, cm.t, fixed, plane)
     loads = np.column_stack([_flank_load(model, gear, float(ri), 1.0, h) * fi
                              for ri, fi in zip(r, fz, strict=True)])
-    u = model.solve(loads, fixed_dofs)
     tip, d = crack.tip_frame(1)
     k1, k2 = [], []
-    for j in range(r.size):
-        sif = interaction_integral(model, u[:, j], tip, d, r_out=r_out)
-        k1.append(sif.k1)
-        k2.append(sif.k2)
+    if closure == "contact":
+        for j in range(r.size):
+            if fz[j] == 0.0:  # unloaded position: no field
+                k1.append(0.0)
+                k2.append(0.0)
+                continue
+            sif = closed_crack_intensity(model, cm, loads[:, j], fixed_dofs, r_out=r_out).sif
+            k1.append(sif.k1)
+            k2.append(sif.k2)
+    else:
+        u = model.solve(loads, fixed_dofs)
+        for j in range(r.size):
+            sif = interaction_integral(model, u[:, j], tip, d, r_out=r_out)
+            k1.append(sif.k1)
+            k2.append(sif.k2)
     k1a, k2a = np.asarray(k1), np.asarray(k2)
     keq = np.array([equivalent_k(a, b) if f > 0.0 else 0.0
                     for a, b, f in zip(k1a, k2a, fz, strict=True)])

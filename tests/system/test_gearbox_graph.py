@@ -275,3 +275,30 @@ def test_a_chain_through_the_graph_uses_the_chain_formulas_exactly():
     m = build_model(tr, gs.example("idler-table1").dynamics)
     assert m.rate is None
     assert m.fext[-1] == -t * tr.gears[-1].base_radius / tr.gears[0].base_radius
+
+
+def test_a_result_brings_its_speed_and_teeth_to_the_analysis(box, tmp_path):
+    """``gearsim analyze`` of a simulated two-stage reducer needs no --teeth or speed: the
+    result file carries the input speed (1800 rpm, the example's) and the first stage's
+    tooth counts (32/80), so the gear tier reads f_m = 30 Hz x 32 = 960 Hz."""
+    from gearsim.io.results import write_results
+    from gearsim.studies.batch import analyze_file
+
+    ds = box.simulate(duration=1.0, transient=0.05, model="torsional")
+    path = write_results(ds, tmp_path / "r.nc")
+    (rec,), problems = analyze_file(str(path), channels=["mesh_force_1"])
+    assert not problems
+    r = rec["record"]
+    assert r["teeth"] == [32, 80] and r["teeth_provenance"] == "file"
+    assert r["speed_hz"] == pytest.approx(30.0, rel=1e-12) and r["speed_provenance"] == "file"
+    train = r["tiers"]["gear"]["analysis"]["train"]
+    assert train["mesh_frequency_hz"] == pytest.approx(960.0, rel=1e-12)
+    assert train["shaft_frequencies_hz"]["shaft2"] == pytest.approx(12.0, rel=1e-12)
+
+
+def test_study_signals_name_the_shafts_of_a_graph(box):
+    """Bearing records are per shaft (three shafts, four gears) and the default record is
+    the input shaft's bearing, as a test rig measures."""
+    names = box.signals()
+    assert "acceleration[intermediate,y]" in names and box.default_signal == "acceleration[input,y]"
+    assert not any("intermediate-pinion" in n for n in names)

@@ -684,6 +684,11 @@ def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient)
         "mesh_frequency": float(model.mesh_frequency),
         "mesh_frequencies": [float(x) for x in train.mesh_frequencies],
         "shaft_frequency": [float(train.shaft_frequency(j)) for j in range(len(train.gears))],
+        # what the analysis of a record needs (f_m = f_r1 Z_1, shaft j at f_m / Z_j): every
+        # gear of a chain; of a graph, the input mesh's two gears (its first stage)
+        "analysis_teeth": [int(g.teeth) for g in (train.gears if train.is_chain else
+                                                  (train.pairs[0].driver,
+                                                   train.pairs[0].driven))],
         "static_force": [float(x) for x in model.static_force],
         "natural_frequencies": [float(x) for x in md.frequencies],
         "cracks": "; ".join(f"{c.gear} tooth {c.tooth} {c.flank} depth {c.depth:g} m angle "

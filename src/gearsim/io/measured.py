@@ -521,6 +521,13 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
             if "time" not in ds.coords and (rate := _rate_of(var.attrs)) is not None:
                 fs_per[key] = rate
     meta: dict = {}
+    try:  # a gearsim gear-train result: its input speed and the tooth counts it analyses
+        teeth = [int(z) for z in np.atleast_1d(ds.attrs["analysis_teeth"])]
+        f_in = float(np.atleast_1d(ds.attrs["shaft_frequency"])[0])
+        if teeth and all(z >= 1 for z in teeth) and math.isfinite(f_in) and f_in > 0:
+            meta["rpm"], meta["teeth"] = 60.0 * f_in, teeth
+    except (KeyError, TypeError, ValueError, IndexError):
+        pass
     if ds.attrs.get("kind") == "planetary" and "carrier_angle" in ds:
         # a gearsim stage result: the stage and its carrier angle for the planetary tier
         try:

@@ -188,7 +188,8 @@ def _label_of(labels: Mapping | None, file: str, channel: str) -> str | None:
 def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho) -> list[dict]:
     """Channels of one file (one :func:`~gearsim.io.measured.read_record`): per channel
     ``{"channel", "data", "fs", "fs_source", "units", "tacho", "planetary", "rpm",
-    "dropped"}``; ``fs`` None when neither the file nor the user gives a rate."""
+    "teeth", "dropped"}`` (``rpm`` and ``teeth`` from the file: a gearsim result's input
+    speed and tooth counts); ``fs`` None when neither the file nor the user gives a rate."""
     from gearsim.io.measured import read_record
     from gearsim.io.record import raise_all
 
@@ -213,6 +214,7 @@ def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho) -> list[
              "fs_source": {"file": "file", "user": "given"}.get(rec.fs_source),
              "units": rec.units.get(c), "tacho": data.get(tacho), "planetary": meta.get("planetary"),
              "rpm": float(rpm) if isinstance(rpm, (int, float)) and rpm > 0 else None,
+             "teeth": meta.get("teeth"),
              "dropped": str(rec.dropped[c]) if c in rec.dropped else None} for c in chosen]
 
 
@@ -275,6 +277,7 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
     for ch in chans:
         file_rpm = ch.get("rpm") if speed is None and tacho is None and speed_search is None \
             else None
+        file_teeth = ch.get("teeth") if teeth is None else None
         src = {"file": path, "channel": ch["channel"]}
         if ch.get("dropped"):
             src["dropped"] = ch["dropped"]
@@ -283,7 +286,8 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
             rec = analyze_record(
                 ch["data"], ch["fs"], speed=file_rpm / 60.0 if file_rpm else speed,
                 speed_provenance="file" if file_rpm else None, tacho=ch["tacho"],
-                pulses_per_rev=pulses_per_rev, speed_search=speed_search, teeth=teeth,
+                pulses_per_rev=pulses_per_rev, speed_search=speed_search,
+                teeth=file_teeth or teeth, teeth_provenance="file" if file_teeth else None,
                 settings=settings, fs_provenance=ch["fs_source"],
                 source=src, units=ch["units"], stage=spec,
             )

@@ -24,19 +24,26 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.interpolate import PchipInterpolator
 
 from gearsim.errors import InputError, require
-from gearsim.fracture.direction import equivalent_k
+from gearsim.fracture.direction import equivalent_k, kink_angle, kinked_direction
 from gearsim.fracture.mesh import CrackPath
 from gearsim.fracture.paris import LifeResult, ParisLaw, paris_life
-from gearsim.fracture.tooth import grow_crack
+from gearsim.fracture.tooth import (
+    _dist_to_segments,
+    _inside,
+    _tip_clearance,
+    cycle_intensity,
+    grow_crack,
+    sector_polygon,
+)
 from gearsim.geometry.gear import Gear
 
-__all__ = ["GrowthPath", "grow_path", "path_life"]
+__all__ = ["CyclePath", "GrowthPath", "grow_cycle_path", "grow_path", "path_life"]
 
 
 @dataclass(frozen=True)
@@ -184,3 +191,114 @@ def path_life(path: GrowthPath, law: ParisLaw, force_range: float, *,
 
     return paris_life(law, dk, float(path.lengths[0]), float(path.lengths[-1]), k_max=kmax,
                       points=points)
+
+
+@dataclass(frozen=True)
+class CyclePath(GrowthPath):
+    """A crack grown under the loads of a mesh cycle (:func:`grow_cycle_path`).
+
+    ``k1``, ``k2`` and ``kink`` are those of the contact position with the largest K_eq
+    at each tip, ``force`` is 1 (the K values are for the given forces).
+
+    Parameters
+    ----------
+    delta_k
+        Range of K_eq over the cycle at each tip [Pa sqrt(m)]
+        (:attr:`gearsim.fracture.tooth.CycleIntensity.delta_k`).
+    position
+        Index of the contact position with the largest K_eq at each tip.
+    dofs
+        FE unknowns at each tip.
+    seconds_per_step
+        Wall time of each increment (mesh, solve for every position, integral) [s].
+    """
+
+    delta_k: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    position: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
+    dofs: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
+    seconds_per_step: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+
+def grow_cycle_path(gear: Gear, crack: CrackPath, radii, forces, increment: float, *,
+                    steps: int, **options) -> CyclePath:
+    """Grow a root crack under the loads of a mesh cycle, ``steps`` MTS increments.
+
+    At each tip K_I, K_II are computed for every contact position on one mesh
+    (:func:`gearsim.fracture.tooth.cycle_intensity`); the crack kinks by the MTS angle of
+    the position with the largest K_eq (the load that drives the growth) and extends by
+    ``increment``. The checks of :func:`gearsim.fracture.tooth.grow_crack` apply: an
+    increment larger than half the ligament ahead ends the path (``"broken"``), as does
+    a new tip outside the body or within ``increment / 4`` of the outline.
+
+    Parameters
+    ----------
+    gear
+        The gear.
+    crack
+        Initial crack (:func:`gearsim.fracture.tooth.initial_crack`).
+    radii
+        Contact radii of the cycle [m].
+    forces
+        Force per unit face width at each radius [N/m].
+    increment
+        Extension per step da [m].
+    steps
+        Largest number of increments (1 to 500).
+    **options
+        Passed to :func:`gearsim.fracture.tooth.cycle_intensity` (``n_teeth``,
+        ``plane``, ``refinement``, ``bore_radius``).
+
+    Returns
+    -------
+    CyclePath
+
+    Raises
+    ------
+    InputError
+        Bad ``steps``, increment or loads; a first increment too large for the ligament.
+    """
+    require(isinstance(steps, int) and 1 <= steps <= 500, "steps", steps,
+            "must be an integer in [1, 500]")
+    require(math.isfinite(increment) and increment > 0.0, "crack.increment", increment,
+            "must be > 0 m")
+    t0 = time.perf_counter()
+    poly, _ = sector_polygon(gear, options.get("n_teeth", 3),
+                             bore_radius=options.get("bore_radius"))
+    edges = (poly, np.roll(poly, -1, axis=0))
+    rows: list[tuple] = []
+    status, message = "steps done", ""
+    for i in range(steps):
+        t1 = time.perf_counter()
+        clearance = _tip_clearance(poly, crack, ahead=True)
+        if increment > 0.5 * clearance:
+            msg = (f"crack.increment = {increment:g}: is too large for the local geometry: "
+                   f"at most half the distance from the tip to the outline ahead of it, "
+                   f"{0.5 * clearance:.4g} m")
+            if i == 0:
+                raise InputError("crack.increment", increment, msg.split(": ", 2)[-1])
+            status, message = "broken", msg
+            break
+        ci = cycle_intensity(gear, crack, radii, forces, **options)
+        j = int(np.argmax(ci.keq))
+        k1, k2 = float(ci.k1[j]), float(ci.k2[j])
+        tip, d = crack.tip_frame(1)
+        new = tip + increment * kinked_direction(d, k1, k2)
+        rows.append((crack.length, k1, k2, kink_angle(k1, k2), ci.delta_k, j, ci.dofs,
+                     time.perf_counter() - t1))
+        left = float(_dist_to_segments(new, *edges).min())
+        if not (_inside(poly, new) and left > 0.25 * increment):
+            status = "broken"
+            message = ("crack.path: the grown crack leaves the body or reaches its outline: "
+                       "the tooth (or rim) is broken at this increment")
+            break
+        crack = CrackPath(points=(*crack.points, (float(new[0]), float(new[1]))),
+                          tips=crack.tips)
+    cols = list(zip(*rows, strict=True)) if rows else [()] * 8
+    return CyclePath(crack=crack, lengths=np.asarray(cols[0], dtype=float),
+                     k1=np.asarray(cols[1], dtype=float), k2=np.asarray(cols[2], dtype=float),
+                     kink=np.asarray(cols[3], dtype=float), force=1.0, status=status,
+                     message=message, seconds=time.perf_counter() - t0,
+                     delta_k=np.asarray(cols[4], dtype=float),
+                     position=np.asarray(cols[5], dtype=int),
+                     dofs=np.asarray(cols[6], dtype=int),
+                     seconds_per_step=np.asarray(cols[7], dtype=float))

@@ -1,0 +1,454 @@
+"""Crack growth life of a gear of a gearbox, stiffness along it, run-to-failure records.
+
+The chain of issue 27 from the grown crack to vibration (docs/fracture.md, sections
+"Life of a gear", "Stiffness along the life" and "Run-to-failure data set"):
+
+1. :func:`gear_life`: the configured crack of a gear is the initial crack; at every
+   increment K_I, K_II at the tip are computed for the loads of a whole mesh cycle
+   (:func:`gearsim.fracture.tooth.cycle_intensity`: the contact positions of the
+   tooth's engagement with the PE load sharing of the healthy mesh, times the static
+   mesh force per unit face width), the crack grows by the maximum tangential stress
+   criterion at the position of the largest K_eq (:func:`gearsim.fracture.path.
+   grow_cycle_path`), and the Paris law is integrated along the path
+   (:func:`gearsim.fracture.path.path_life`) with dK = K_eq,max x DLF, DLF the dynamic
+   load factor peak / mean mesh force of a short simulation of the healthy gearbox.
+   Cycles are turned into hours with the gear's speed (the tooth is loaded once per
+   revolution).
+2. :func:`equivalent_crack` maps the polyline to the straight crack of the
+   potential-energy model (start on the fillet to the tip: depth and angle);
+   :func:`stiffness_along_life` computes the TVMS of each state (PE) and the FE tooth
+   compliance of the equivalent crack (:func:`gearsim.fem.tooth.fe_tooth_compliance`).
+3. :func:`life_records`: at chosen life fractions and seeds, the gearbox with the
+   equivalent crack is simulated, the default record selected, seeded noise added and
+   the record analysed; features and ground truth go into an xarray Dataset
+   (:func:`write_store`, NetCDF, atomic). :func:`indicator_trends` adds NA4 with the run
+   history (the residuals of the earlier records of the same seed, Zakrajsek et al.
+   1993), FM4, the first-order sideband energy and the residual kurtosis.
+
+The fracture model is the 2-D transverse section (plane stress) of :mod:`gearsim.fracture`:
+a helical gear is treated in its transverse section, the crack uniform along the face.
+
+References
+----------
+.. [Barsom1999] J. M. Barsom, S. T. Rolfe, Fracture and Fatigue Control in Structures,
+   3rd ed., ASTM, 1999, ch. 9 (Paris constants of martensitic steels; threshold
+   5.5 ksi sqrt(in) = 6.0 MPa sqrt(m) for R < 0.1).
+.. [Zakrajsek1993] J. J. Zakrajsek, D. P. Townsend, H. J. Decker, An analysis of gear
+   fault detection methods as applied to pitting fatigue failure data, NASA TM-105950,
+   1993 (NA4, FM4; alarm level 3 for a kurtosis-type indicator).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from gearsim.errors import InputError, require
+from gearsim.fracture.mesh import CrackPath
+from gearsim.fracture.paris import MPA_SQRT_M, LifeResult, ParisLaw, steel_class_law
+from gearsim.fracture.path import CyclePath, grow_cycle_path, path_life
+from gearsim.fracture.tooth import initial_crack
+from gearsim.geometry.profile import ToothProfile
+from gearsim.model.gearbox import Gearbox
+
+__all__ = ["DEFAULT_THRESHOLD_MPA", "DEFAULT_TOUGHNESS_MPA", "ALARM_LEVELS", "GearLife",
+           "CrackState", "default_law", "mesh_cycle_loads", "gear_life", "life_fractions"]
+
+#: dK_th of the default law [MPa sqrt(m)]: Barsom & Rolfe (1999, ch. 9), lower bound
+#: for steels at R < 0.1, 5.5 ksi sqrt(in).
+DEFAULT_THRESHOLD_MPA = 6.0
+#: K_IC of the default law [MPa sqrt(m)]: an assumed value for a through-hardened gear
+#: steel core (not a grade value; give the grade's K_IC).
+DEFAULT_TOUGHNESS_MPA = 80.0
+
+#: Alarm level of each trended indicator and its source.
+ALARM_LEVELS: dict[str, tuple[float, str]] = {
+    "na4": (3.0, "NA4 > 3: Zakrajsek, Townsend & Decker, NASA TM-105950 (1993)"),
+    "fm4": (3.0, "FM4 > 3: Stewart (1977); Zakrajsek et al., NASA TM-105950 (1993)"),
+    "residual_kurtosis": (3.0, "kurtosis > 3 of the residual (Gaussian 3): Decker, "
+                               "NASA TM-2002-211492"),
+    "sideband_energy": (2.0, "first-order sideband energy ratio twice its healthy value "
+                             "(a relative alarm, this module's choice)"),
+}
+
+
+def default_law() -> ParisLaw:
+    """The default Paris law: Barsom & Rolfe's martensitic steels.
+
+    Returns
+    -------
+    ParisLaw
+        C = 1.36e-10 (m/cycle)/(MPa sqrt(m))^2.25, m = 2.25 (Barsom & Rolfe 1999, ch. 9),
+        dK_th = :data:`DEFAULT_THRESHOLD_MPA`, K_IC = :data:`DEFAULT_TOUGHNESS_MPA`
+        (assumed) [MPa sqrt(m)].
+    """
+    return steel_class_law("martensitic", threshold=DEFAULT_THRESHOLD_MPA * MPA_SQRT_M,
+                           toughness=DEFAULT_TOUGHNESS_MPA * MPA_SQRT_M)
+
+
+def _crack_of(gb: Gearbox, gear: str | None):
+    require(gb.stage is None and gb.train is not None, "gearbox", gb.name,
+            "life needs a gearbox of gears (a planetary stage's crack is not supported)")
+    tr = gb.train
+    names = [g.name for g in tr.gears]
+    if gear is None:
+        require(bool(tr.cracks), "crack", "none",
+                f"{gb.name} has no crack: give one in [[cracks]] (the initial crack of the life)")
+        gear = tr.cracks[0].gear
+    require(gear in names, "gear", gear, "must be one of " + ", ".join(names))
+    cracks = [c for c in tr.cracks if c.gear == gear]
+    require(bool(cracks), "gear", gear,
+            "has no crack: give one in [[cracks]] (the initial crack of the life)")
+    c = cracks[0]
+    require(c.depth > 0.0, "crack.depth", c.depth, "must be > 0 m for a life (the initial crack)")
+    require(c.flank == "working", "crack.flank", c.flank,
+            'must be "working": the path model grows an open crack on the loaded (tensile) '
+            "fillet; a non-working-flank crack closes under the load")
+    require(c.start_radius is None, "crack.start_radius", c.start_radius,
+            "must be the default (30 deg tangent point) for a life")
+    return tr.gears[names.index(gear)], c
+
+
+def _mesh_of(gb: Gearbox, gear: str) -> tuple[int, int]:
+    """Index of the first mesh of ``gear`` and its side (1 driver, 2 driven)."""
+    for i, p in enumerate(gb.train.pairs):
+        if p.driver.name == gear:
+            return i, 1
+        if p.driven.name == gear:
+            return i, 2
+    raise InputError("gear", gear, "is in no mesh")
+
+
+def mesh_cycle_loads(gb: Gearbox, gear: str, positions: int = 7
+                     ) -> tuple[np.ndarray, np.ndarray, float]:
+    """Contact radii and load shares of one tooth's engagement in its first mesh.
+
+    The PE TVMS of the healthy mesh (:meth:`Gearbox.mesh_stiffness`) gives the load share
+    of the pair holding tooth 0 at each position of its engagement; the contact point
+    moves along the line of action from the start of contact A to the end E (ISO 21771)
+    over the engagement, radius sqrt(r_b^2 + l^2) on the driver, sqrt(r_b^2 +
+    (T1T2 - l)^2) on the driven gear. For a helical gear this is the 2-D transverse
+    model: the tooth's share spread evenly over the face width, its contact at the
+    middle of its contact line (the engagement then spans eps_alpha + eps_beta base
+    pitches and the share stays below 1).
+
+    Parameters
+    ----------
+    gb : Gearbox
+        The gearbox.
+    gear : str
+        Gear name.
+    positions : int
+        Positions kept (3 to 41): evenly spaced over the engagement, plus the one of the
+        largest share x lever (the highest point of single-tooth contact, HPSTC).
+
+    Returns
+    -------
+    radii : ndarray
+        Contact radii on the gear [m], inside its involute.
+    shares : ndarray
+        Load share of the tooth [-] (1 in single-tooth contact).
+    face_width : float
+        Engaged face width [m].
+    """
+    require(isinstance(positions, int) and 3 <= positions <= 41, "positions", positions,
+            "must be an integer in [3, 41]")
+    i, side = _mesh_of(gb, gear)
+    healthy = gb.healthy()
+    ds = healthy.mesh_stiffness(i, revolution_of=side)
+    pair = gb.train.pairs[i]
+    tooth = np.asarray(ds[f"pair_tooth{side}"].values)
+    share = np.asarray(ds["load_share"].values)
+    s = np.where(tooth == 0, share, 0.0).sum(axis=1)
+    on = s > 1e-3
+    n = on.size
+    start = next(k for k in range(n) if on[k] and not on[k - 1])
+    order = (start + np.arange(n)) % n
+    run = order[on[order].cumsum() == np.arange(1, n + 1)]
+    # the contact moves from A to E over the engagement (a helical tooth: the middle of
+    # its contact line, the engagement spanning eps_alpha + eps_beta pitches)
+    ls = pair.start_of_contact + (pair.end_of_contact - pair.start_of_contact) * (
+        np.arange(run.size) / max(run.size - 1, 1))
+    radius = (np.array([pair.radius_on_driver(v) for v in ls]) if side == 1
+              else np.array([pair.radius_on_driven(v) for v in ls]))
+    g = pair.driver if side == 1 else pair.driven
+    lo = max(ToothProfile(g).form_radius, g.base_radius)
+    radius = np.clip(radius, lo * (1 + 1e-6), g.tip_radius * (1 - 1e-6))
+    sh = s[run]
+    pick = set(np.linspace(0, run.size - 1, positions - 1).round().astype(int).tolist())
+    pick.add(int(np.argmax(sh * (radius - lo))))
+    idx = np.array(sorted(pick))
+    return radius[idx], sh[idx], pair.face_width
+
+
+@dataclass(frozen=True)
+class GearLife:
+    """Crack growth life of a gear (:func:`gear_life`).
+
+    Parameters
+    ----------
+    gear : str
+        Gear name.
+    flank : str
+        Cracked flank (``"working"``).
+    path : CyclePath
+        Grown path with K over the mesh cycle at each analysed tip (static load).
+    life : LifeResult
+        Paris life from the initial crack (cycles against polyline length).
+    end : str
+        ``"K_max >= K_IC"``, ``"tooth loss"`` (the path ran through the tooth),
+        ``"no growth"`` (dK below the threshold at the initial crack), ``"arrest"``
+        or ``"path end"`` (the increments ran out before either).
+    law : ParisLaw
+        The Paris law.
+    static_force : float
+        Static mesh force per unit face width [N/m] (mean of the simulated force).
+    dynamic_load_factor : float
+        Peak / mean mesh force of the healthy gearbox's short simulation [-].
+    shaft_frequency : float
+        Speed of the gear [Hz] (cycles per second of the cracked tooth).
+    radii, shares : ndarray
+        Contact radii [m] and load shares [-] of the mesh cycle.
+    seconds : float
+        Wall time [s].
+    """
+
+    gear: str
+    flank: str
+    path: CyclePath
+    life: LifeResult
+    end: str
+    law: ParisLaw
+    static_force: float
+    dynamic_load_factor: float
+    shaft_frequency: float
+    radii: np.ndarray
+    shares: np.ndarray
+    seconds: float
+
+    @property
+    def cycles_end(self) -> float:
+        """Cycles to the end of life [cycles] (inf for ``"no growth"``/``"arrest"``)."""
+        return float(self.life.cycles_end)
+
+    @property
+    def hours_end(self) -> float:
+        """Hours to the end of life [h]."""
+        return self.cycles_end / self.shaft_frequency / 3600.0
+
+    def hours(self, cycles) -> np.ndarray:
+        """Hours of running for ``cycles`` load cycles of the cracked tooth [h].
+
+        Parameters
+        ----------
+        cycles : array_like
+            Cycles [-].
+
+        Returns
+        -------
+        ndarray
+            cycles / f_gear / 3600 [h].
+        """
+        return np.asarray(cycles, dtype=float) / self.shaft_frequency / 3600.0
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary (SI units, K in MPa sqrt(m), lengths in mm).
+
+        Returns
+        -------
+        dict
+        """
+        p = self.path
+        fin = math.isfinite(self.cycles_end)
+        return {
+            "gear": self.gear, "flank": self.flank, "end": self.end,
+            "law": {"name": self.law.name, "c_si": self.law.c, "m": self.law.m,
+                    "threshold_mpa": self.law.threshold / MPA_SQRT_M,
+                    "toughness_mpa": self.law.toughness / MPA_SQRT_M,
+                    "source": self.law.source},
+            "static_force_n_per_m": self.static_force,
+            "dynamic_load_factor": self.dynamic_load_factor,
+            "shaft_frequency_hz": self.shaft_frequency,
+            "cycle_radii_mm": (self.radii * 1e3).round(4).tolist(),
+            "cycle_shares": self.shares.round(4).tolist(),
+            "increments": int(p.lengths.size),
+            "path_status": p.status, "path_message": p.message,
+            "path_mm": (p.crack.array * 1e3).round(5).tolist(),
+            "lengths_mm": (p.lengths * 1e3).round(5).tolist(),
+            "delta_k_mpa": (p.keq * self.dynamic_load_factor / MPA_SQRT_M).round(5).tolist(),
+            "life_a_mm": (self.life.a * 1e3).round(5).tolist(),
+            "life_cycles": [float(c) for c in self.life.cycles],
+            "a_end_mm": self.life.a_end * 1e3,
+            "cycles_end": self.cycles_end if fin else None,
+            "hours_end": self.hours_end if fin else None,
+            "fe_seconds_per_increment": (p.seconds_per_step.round(3).tolist()),
+            "seconds": self.seconds,
+        }
+
+
+def _dynamic_load(gb: Gearbox, mesh: int, duration: float | None) -> tuple[float, float]:
+    """Mean and peak of the mesh force of the healthy gearbox [N]."""
+    healthy = gb.healthy()
+    _, f_slow = healthy.slowest_shaft()
+    d = 1.2 / f_slow if duration is None else float(duration)
+    ds = healthy.simulate(duration=d)
+    x = healthy.select(ds, f"mesh_force_{mesh + 1}")
+    return float(np.mean(x)), float(np.max(x))
+
+
+def gear_life(gb: Gearbox, gear: str | None = None, *, increment: float | None = None,
+              steps: int = 20, positions: int = 7, law: ParisLaw | None = None,
+              refinement: float = 1.0, duration: float | None = None) -> GearLife:
+    """Crack growth life of a gear from its configured crack to the end of life.
+
+    Parameters
+    ----------
+    gb : Gearbox
+        A gearbox of gears; its operating point sets the load and the speed.
+    gear : str, optional
+        The cracked gear (default: the gear of the first crack).
+    increment : float, optional
+        Crack extension per increment [m]; default m_n / 12 (0.5 mm for m_n = 6 mm).
+    steps : int
+        Largest number of increments (1 to 500).
+    positions : int
+        Contact positions of the mesh cycle (:func:`mesh_cycle_loads`).
+    law : ParisLaw, optional
+        Paris law; default :func:`default_law`.
+    refinement : float
+        FE mesh refinement (:func:`gearsim.fracture.tooth.tooth_crack_sif`).
+    duration : float, optional
+        Duration of the healthy simulation for the dynamic load factor [s]; default 1.2
+        revolutions of the slowest shaft.
+
+    Returns
+    -------
+    GearLife
+
+    Raises
+    ------
+    InputError
+        No crack on the gear, a non-working-flank crack, bad numbers; ``"no growth"`` is
+        a result, not an error.
+    """
+    t0 = time.perf_counter()
+    g, crack = _crack_of(gb, gear)
+    law = default_law() if law is None else law
+    da = g.normal_module / 12.0 if increment is None else float(increment)
+    require(math.isfinite(da) and da > 0.0, "increment", da, "must be > 0 m")
+    mesh, _ = _mesh_of(gb, g.name)
+    radii, shares, width = mesh_cycle_loads(gb, g.name, positions)
+    mean, peak = _dynamic_load(gb, mesh, duration)
+    static = mean / width
+    dlf = peak / mean
+    start = initial_crack(g, crack.depth, angle=crack.angle)
+    path = grow_cycle_path(g, start, radii, shares * static, da, steps=steps,
+                           refinement=refinement)
+    if path.lengths.size >= 2:
+        life = path_life(path, law, dlf * path.force, force_max=dlf * path.force)
+    else:
+        life = _one_point_life(path, law, dlf)
+    end = {"fracture": "K_max >= K_IC", "no growth": "no growth", "arrest": "arrest"}.get(
+        life.status, "tooth loss" if path.status == "broken" else "path end")
+    tr = gb.train
+    f_gear = abs(tr.shaft_frequency(tr.gear_index(g.name)))
+    return GearLife(gear=g.name, flank=crack.flank, path=path, life=life, end=end, law=law,
+                    static_force=static, dynamic_load_factor=dlf, shaft_frequency=f_gear,
+                    radii=radii, shares=shares, seconds=time.perf_counter() - t0)
+
+
+def _one_point_life(path: CyclePath, law: ParisLaw, dlf: float) -> LifeResult:
+    """Life of a path with K at one length: only the start can be judged."""
+    a0 = float(path.lengths[0])
+    k = float(path.keq[0]) * dlf
+    one = np.array([a0])
+    if k >= law.toughness:
+        return LifeResult(a=one, cycles=np.zeros(1), status="fracture", a_end=a0, cycles_end=0.0)
+    if k < law.threshold:
+        return LifeResult(a=one, cycles=np.zeros(1), status="no growth", a_end=a0,
+                          cycles_end=math.inf)
+    raise InputError("steps", 1, "a growing crack needs K at >= 2 lengths: give steps >= 2 "
+                     "or a smaller increment")
+
+
+@dataclass(frozen=True)
+class CrackState:
+    """The crack at a fraction of the life (:func:`life_fractions`).
+
+    Parameters
+    ----------
+    fraction : float
+        Life fraction N / N_end [-].
+    cycles, hours : float
+        Load cycles [-] and hours [h] from the initial crack.
+    length : float
+        Crack length along the path [m].
+    crack : CrackPath
+        The path cut at that length.
+    """
+
+    fraction: float
+    cycles: float
+    hours: float
+    length: float
+    crack: CrackPath
+
+
+def _cut(crack: CrackPath, length: float) -> CrackPath:
+    pts = crack.array
+    seg = np.hypot(*np.diff(pts, axis=0).T)
+    cum = np.concatenate([[0.0], np.cumsum(seg)])
+    length = min(max(length, 1e-12), cum[-1])
+    k = int(np.searchsorted(cum, length, side="left"))
+    k = max(k, 1)
+    t = (length - cum[k - 1]) / seg[k - 1]
+    tip = pts[k - 1] + t * (pts[k] - pts[k - 1])
+    keep = [tuple(p) for p in pts[:k]]
+    if np.hypot(*(tip - pts[k - 1])) > 1e-9 * cum[-1]:
+        keep.append((float(tip[0]), float(tip[1])))
+    elif len(keep) < 2:
+        keep.append((float(pts[1, 0]), float(pts[1, 1])))
+    return CrackPath(points=tuple(keep), tips=crack.tips)
+
+
+def life_fractions(result: GearLife, fractions: Sequence[float]) -> list[CrackState]:
+    """Crack states at fractions of the life.
+
+    The length at N = f N_end is interpolated (linear in cycles) on the life curve
+    a(N) of the Paris integration (50 points, :func:`gearsim.fracture.paris.paris_life`)
+    and the path cut at that length.
+
+    Parameters
+    ----------
+    result : GearLife
+        A life with a finite end (not ``"no growth"`` or ``"arrest"``).
+    fractions : sequence of float
+        Life fractions in [0, 1].
+
+    Returns
+    -------
+    list of CrackState
+
+    Raises
+    ------
+    InputError
+        A fraction outside [0, 1] or a life without a finite end.
+    """
+    f = np.asarray(list(fractions), dtype=float)
+    require(f.size >= 1 and bool(np.all(np.isfinite(f)) and np.all((f >= 0) & (f <= 1))),
+            "fractions", list(fractions), "must be numbers in [0, 1]")
+    require(math.isfinite(result.cycles_end), "life", result.end,
+            "has no finite end: no crack states to record")
+    n_end = result.cycles_end
+    out = []
+    for fi in f:
+        n = float(fi) * n_end
+        a = float(np.interp(n, result.life.cycles, result.life.a))
+        out.append(CrackState(fraction=float(fi), cycles=n, hours=float(result.hours(n)),
+                              length=a, crack=_cut(result.path.crack, a)))
+    return out

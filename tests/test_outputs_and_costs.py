@@ -12,6 +12,7 @@ import hashlib
 import importlib
 import math
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -314,13 +315,16 @@ def test_fe_check_plot_folder_keeps_other_figures(here, capsys, monkeypatch):
     assert [p.name for p in here.iterdir()] == ["figs"]
 
 
-def test_reproduce_killed_while_writing_leaves_the_earlier_report_whole(tmp_path):
+def test_reproduce_killed_while_writing_leaves_the_earlier_report_whole(tmp_path,
+                                                                        small_reproduction):
+    """An earlier report (a copy of the session's small reproduction, tests/conftest.py)
+    and a second ``reproduce`` into the same folder, killed while it writes its files."""
     out = tmp_path / "D"
+    shutil.copytree(small_reproduction, out)
     env = dict(os.environ, GEARSIM_CACHE=str(tmp_path / "cache"))
     args = [sys.executable, "-m", "gearsim.cli", "reproduce", "--no-fe", "--revolutions",
-            "16", "--depths", "2mm", "--out", str(out), "--quiet"]
-    r = subprocess.run(args, env=env, capture_output=True, text=True, timeout=300)
-    assert r.returncode == 0, r.stderr[-2000:]
+            "13", "--depths", "2mm", "--fault-severities", "none", "--out", str(out),
+            "--quiet"]
     before = _tree(out)
     assert {"report.html", "claims.json", "dynamic_load.nc", "figures"} <= set(before)
 

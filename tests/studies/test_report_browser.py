@@ -1,7 +1,8 @@
 """``report.html`` opened in a real browser (headless Chromium through selenium).
 
-The report of ``gearsim reproduce`` is built once at reduced size (no FE route, 16
-revolutions, one sensitivity depth) and loaded from its ``file://`` URL. The page must
+The report of ``gearsim reproduce`` is built once at reduced size (no FE route, 13
+revolutions, one sensitivity depth, one fault severity: ``small_reproduction`` of
+tests/conftest.py) and loaded from its ``file://`` URL. The page must
 
 * load with no SEVERE entry in the browser console log (script errors, failed loads);
 * decode every figure: each ``<img>`` is ``complete``, has ``naturalWidth > 0`` and its
@@ -28,8 +29,6 @@ import base64
 import io
 import os
 import re
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -68,17 +67,11 @@ def _require_browser() -> None:
 
 
 @pytest.fixture(scope="module")
-def report(tmp_path_factory) -> Path:
-    """report.html of ``gearsim reproduce`` at reduced size (~20-30 s on two cores)."""
+def report(small_reproduction) -> Path:
+    """report.html of ``gearsim reproduce`` at reduced size (tests/conftest.py: built once
+    per session, shared with the other tests that need a whole report)."""
     _require_browser()  # fail before spending the build time
-    out = tmp_path_factory.mktemp("report_browser") / "rep"
-    env = dict(os.environ, GEARSIM_CACHE=str(out.parent / "cache"))
-    r = subprocess.run([sys.executable, "-m", "gearsim.cli", "reproduce", "--no-fe",
-                        "--revolutions", "16", "--depths", "2mm", "--out", str(out),
-                        "--quiet"],
-                       capture_output=True, text=True, env=env, timeout=600)
-    assert r.returncode == 0, r.stderr[-3000:]
-    return out / "report.html"
+    return small_reproduction / "report.html"
 
 
 @pytest.fixture

@@ -2,7 +2,11 @@
 stage file, ``reproduce`` of a planetary config and of ``--depths 1,,2``, a sweep whose
 every case must fail, too-small sweep stores; each refused with one line, exit 2, before
 any work and with nothing written. Worker warnings of a sweep come out as one
-``gearsim: warning:`` line each."""
+``gearsim: warning:`` line each.
+
+The refusals run in this process (``gearsim.cli.run``, the function behind the installed
+script; tests/test_cli_errors.py checks the script in a real process); the checks of
+what Dask worker processes and distributed's own logging print run the real script."""
 
 from __future__ import annotations
 
@@ -19,13 +23,25 @@ GEARSIM = [sys.executable, "-m", "gearsim.cli"]
 
 
 def run(*args, cwd=None):
+    """The real script in a new process."""
     return subprocess.run([*GEARSIM, *map(str, args)], capture_output=True, text=True,
                           cwd=cwd, timeout=300)
 
 
-def refused(*args, cwd=None) -> str:
+def run_here(capsys, *args, cwd=None) -> subprocess.CompletedProcess:
+    """``gearsim`` in this process (``cli.run`` in ``cwd``): status, stdout and stderr."""
+    from gearsim import cli
+
+    capsys.readouterr()
+    with contextlib.chdir(cwd) if cwd is not None else contextlib.nullcontext():
+        code = cli.run([str(a) for a in args])
+    out = capsys.readouterr()
+    return subprocess.CompletedProcess(list(args), code, out.out, out.err)
+
+
+def refused(capsys, *args, cwd=None) -> str:
     """Exit 2 with exactly one stderr line and nothing on stdout; the line."""
-    r = run(*args, cwd=cwd)
+    r = run_here(capsys, *args, cwd=cwd)
     lines = r.stderr.strip().splitlines()
     assert r.returncode == 2 and len(lines) == 1, r.stderr
     assert lines[0].startswith("gearsim: error: ") and r.stdout == ""
@@ -41,20 +57,20 @@ def refused(*args, cwd=None) -> str:
     ("5,10,25,3", "sun and planet need 7 to 1000 teeth"),
     ("21,39,2000,3", "the ring at most 1000"),
 ])
-def test_analyze_stage_checked_before_any_file(tmp_path, stage, match):
+def test_analyze_stage_checked_before_any_file(tmp_path, capsys, stage, match):
     (tmp_path / "rec.csv").write_text("not a record\n")  # refused before it is read
-    line = refused("analyze", tmp_path / "rec.csv", "--stage", stage, "--shaft-rpm", "600")
+    line = refused(capsys, "analyze", tmp_path / "rec.csv", "--stage", stage, "--shaft-rpm", "600")
     assert line.startswith(f"gearsim: error: --stage = {stage}: ") and match in line
 
 
-def test_analyze_valid_stages_pass_the_check(tmp_path):
+def test_analyze_valid_stages_pass_the_check(tmp_path, capsys):
     for stage in ("21,39,99,3", "30,24,78,4", "30,24,79,1"):  # 79: shifted, within 2 teeth
-        line = refused("analyze", tmp_path / "missing.csv", "--stage", stage, "--shaft-rpm", "60")
+        line = refused(capsys, "analyze", tmp_path / "missing.csv", "--stage", stage, "--shaft-rpm", "60")
         assert "--stage" not in line and "missing.csv" in line
 
 
-def test_reproduce_planetary_config_refused(tmp_path):
-    line = refused("reproduce", "--config", "lin-parker-1999", "--out", tmp_path / "r",
+def test_reproduce_planetary_config_refused(tmp_path, capsys):
+    line = refused(capsys, "reproduce", "--config", "lin-parker-1999", "--out", tmp_path / "r",
                    "--no-fe", "--quiet")
     assert line == ("gearsim: error: --config = lin-parker-1999: has a planetary stage; the "
                     "seed's study needs a parallel-axis gear train (e.g. idler-table1)")
@@ -62,9 +78,9 @@ def test_reproduce_planetary_config_refused(tmp_path):
 
 
 @pytest.mark.parametrize("depths", ["1,,2", "1, 2,", ","])
-def test_reproduce_empty_depth_items_refused(tmp_path, depths):
+def test_reproduce_empty_depth_items_refused(tmp_path, capsys, depths):
     # --revolutions 4 is refused too, later: the depths are read first
-    line = refused("reproduce", "--depths", depths, "--revolutions", "4", "--out",
+    line = refused(capsys, "reproduce", "--depths", depths, "--revolutions", "4", "--out",
                    tmp_path / "r")
     assert line == (f"gearsim: error: --depths = {depths}: must list depths without empty "
                     "items, e.g. '2 mm, 6 mm'")
@@ -88,18 +104,18 @@ noise = [0.0]
 """
 
 
-def test_sweep_whose_every_case_must_fail_refused(tmp_path):
+def test_sweep_whose_every_case_must_fail_refused(tmp_path, capsys):
     (tmp_path / "s.toml").write_text(SHORT)
-    line = refused("sweep", "s.toml", "--out", "s.nc", "--workers", "1", "--no-progress",
+    line = refused(capsys, "sweep", "s.toml", "--out", "s.nc", "--workers", "1", "--no-progress",
                    cwd=tmp_path)
     assert line.startswith("gearsim: error: study.dynamics.duration = 0.3 s: must be >= "
                            "0.404858 s for the analysis of every case at the lowest speed")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
 
 
-def test_sweep_report_of_a_too_small_study_refused_before_the_sweep(tmp_path):
+def test_sweep_report_of_a_too_small_study_refused_before_the_sweep(tmp_path, capsys):
     (tmp_path / "s.toml").write_text(SHORT.replace("0.3 s", "0.6 s"))
-    line = refused("sweep", "s.toml", "--out", "s.nc", "--report", "rep", cwd=tmp_path)
+    line = refused(capsys, "sweep", "s.toml", "--out", "s.nc", "--report", "rep", cwd=tmp_path)
     assert line == ("gearsim: error: --report = rep: the study is too small to cross-validate: "
                     "every noise level has a class of < 2 cases (at noise 0: none 1, working 1);"
                     " add replicates, depths or loads")
@@ -121,16 +137,16 @@ def _store(path, noise=(0.0,), depths=(1e-3,)):
     return path
 
 
-def test_sweep_report_too_small_store_says_why(tmp_path):
+def test_sweep_report_too_small_store_says_why(tmp_path, capsys):
     store = _store(tmp_path / "one.nc", noise=(0.0, 0.1))
-    line = refused("sweep-report", store, "--out", tmp_path / "rep")
+    line = refused(capsys, "sweep-report", store, "--out", tmp_path / "rep")
     assert line == (f"gearsim: error: store = {store}: too small to cross-validate: every noise "
                     "level has a class of < 2 successful cases (at noise 0: none 1, working 1);"
                     " add replicates, depths or loads")
     assert not (tmp_path / "rep").exists()
     # rows pooling the two depths can be scored, those of one depth (1 case per class)
     # cannot: said in one warning line
-    r = run("sweep-report", _store(tmp_path / "two.nc", depths=(1e-3, 2e-3)), "--out",
+    r = run_here(capsys, "sweep-report", _store(tmp_path / "two.nc", depths=(1e-3, 2e-3)), "--out",
             tmp_path / "rep")
     assert r.returncode == 0, r.stderr
     assert r.stderr.strip().splitlines() == [

@@ -163,7 +163,11 @@ def test_lost_worker_task_is_retried(study, serial, tmp_path):
     (('flank = ["none"', 'flank = ["both"'), "parameters.flank[0]"),
     (('duration = "0.15 s"', 'duration = "0.15 kg"'), "study.dynamics.duration"),
 ])
-def test_bad_study_refused(edit, parameter, tmp_path):
+def test_bad_study_refused(edit, parameter, tmp_path, capsys):
+    """The study file refused by ``gearsim sweep`` (in-process ``cli.run``: the exit status
+    and the one stderr line, as tests/test_cli_errors.py checks them in a real process)."""
+    from gearsim import cli
+
     text = TINY.replace(*edit)
     assert text != TINY
     with pytest.raises(InputError) as err:
@@ -171,10 +175,10 @@ def test_bad_study_refused(edit, parameter, tmp_path):
     assert err.value.parameter == parameter
     path = tmp_path / "bad.toml"
     path.write_text(text)
-    res = subprocess.run([*GEARSIM, "sweep", str(path), "--out", str(tmp_path / "b.nc")],
-                         capture_output=True, text=True, timeout=120)
-    assert res.returncode == 2
-    assert res.stderr.strip().splitlines() == [f"gearsim: error: {err.value}"]
+    code = cli.run(["sweep", str(path), "--out", str(tmp_path / "b.nc")])
+    res = capsys.readouterr()
+    assert code == 2
+    assert res.err.strip().splitlines() == [f"gearsim: error: {err.value}"]
     assert not (tmp_path / "b.nc").exists()
 
 

@@ -65,7 +65,7 @@ def test_spur_pair():
     ds = simulate(tr, DynamicsSettings(duration=0.09, fs=20_000.0))
     assert "mesh_force_2" not in ds
     assert float(ds["mesh_force_1"].mean()) == pytest.approx(tr.static_mesh_force(0), rel=5e-3)
-    assert ds.sizes["gear"] == 2
+    assert ds.sizes["shaft"] == 2
 
 
 def test_example_text_unchanged_by_dynamics():

@@ -75,7 +75,7 @@ def test_expansion_and_serial_numbers(study, serial):
     from gearsim.dynamics import simulate
 
     gb = build_case(study, case)
-    x = simulate(gb.train, gb.dynamics)["acceleration"].sel(gear="input", axis="y").values
+    x = simulate(gb.train, gb.dynamics)["acceleration"].sel(shaft="input", axis="y").values
     np.testing.assert_allclose(serial["td_rms"].values[0], np.std(x), rtol=1e-12)
     # noise of RMS 0.5 std(x): RMS grows by sqrt(1 + 0.5^2) (sampling error ~ 1/sqrt(3000))
     sel = ok & (serial["noise"].values == 0.5)

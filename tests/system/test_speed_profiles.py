@@ -94,7 +94,7 @@ def test_order_spectrum_from_the_own_tacho_has_every_stage_mesh_order(runup):
     fs = runup.attrs["fs"]
     prof = speed_from_tacho(runup["tacho"].sel(shaft="input").values, fs)
     assert prof.mean_frequency == pytest.approx(20.0, rel=0.02)
-    x = runup["acceleration"].sel(gear="intermediate", axis="y").values
+    x = runup["acceleration"].sel(shaft="intermediate", axis="y").values
     orders, amp = order_spectrum(x, fs, prof, samples_per_rev=256)
     for order in (32.0, 48 * 32 / 80):  # 32 and 19.2 input-shaft orders
         near = np.abs(orders - order) < 0.3
@@ -163,7 +163,7 @@ def test_analyze_with_the_own_tacho_reports_each_stage_mesh_orders(runup, tmp_pa
                                                                      order * 30.0 / 20e3)
 
     for channel, bases in (("mesh_force_1", (32.0,)), ("mesh_force_2", (19.2,)),
-                           ("acceleration[gear=intermediate,axis=y]", (32.0, 19.2))):
+                           ("acceleration[shaft=intermediate,axis=y]", (32.0, 19.2))):
         orders, res = lines(channel)
         assert len(orders) >= 4
         bad = [o for o in orders if not any(harmonic(o, b, res) for b in bases)]

@@ -650,10 +650,10 @@ def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient)
         data["shaft_torque"] = (("time", "spring"), f[:, list(springs)], {
             "units": "N m", "long_name": "torque in each shaft spring between two gears"})
     bd = model.bearing_dofs
-    data["bearing_force"] = (("time", "gear", "axis"), model.kb[bd] * q[:, bd]
+    data["bearing_force"] = (("time", "shaft", "axis"), model.kb[bd] * q[:, bd]
                              + model.cb[bd] * v[:, bd],
                              {"units": "N", "long_name": "force of each shaft on its bearings"})
-    data["acceleration"] = (("time", "gear", "axis"), acc[:, bd],
+    data["acceleration"] = (("time", "shaft", "axis"), acc[:, bd],
                             {"units": "m/s^2", "long_name": "acceleration of the shaft centre"})
     rot = [j for j, lab in enumerate(model.dof_labels)
            if lab.endswith(".theta") and model.kind != "seed"]
@@ -700,7 +700,6 @@ def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient)
                           if settings.oversample > 1 else "none (instantaneous samples)"),
     }
     coords = {"time": ("time", t, {"units": "s"}),
-              "gear": ("gear", list(model.gear_names)),  # the shafts (a chain: its gears)
               "axis": ("axis", list(model.axes)),
               "rotation": ("rotation", [model.dof_labels[j][:-6] for j in rot]),
               "shaft": ("shaft", [sh.name for sh in train.flow.shafts])}

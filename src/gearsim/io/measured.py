@@ -24,7 +24,7 @@ tdms       .tdms           ``"channel"`` when unique (alias ``"group/channel"``)
 uff        .uff, .unv      type-58 data sets by ``id1`` when unique (alias: index
                            ``"0", "1", ...``); fs from ``abscissa_inc``
 netcdf     .nc, .h5, .nc4  data variables along ``time`` (``"name"``; with more
-                           dimensions ``"name[gear=G1,axis=x]"``); fs from a rate
+                           dimensions ``"name[shaft=input,axis=y]"``); fs from a rate
                            attribute (``fs``, ``sampling_rate``, ``dt``, ...) or the
                            ``time`` coordinate (s), e.g. gearsim simulator output; a
                            file of one dimension needs no ``time`` with a rate
@@ -506,7 +506,7 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
         if not others:
             keys = {str(name): var.values}
         else:
-            # e.g. acceleration(time, gear, axis) -> "acceleration[gear=G1,axis=x]"
+            # e.g. acceleration(time, shaft, axis) -> "acceleration[shaft=input,axis=y]"
             labels = [[str(v) for v in (ds[d].values if d in ds.coords else range(ds.sizes[d]))]
                       for d in others]
             flat = var.values.reshape(var.shape[0], -1)

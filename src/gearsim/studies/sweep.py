@@ -11,7 +11,7 @@ Layout::
     sampling = "grid"           # or "random" (then give samples = N)
     seed = 1                    # random sampling and measurement noise
     replicates = 2              # noise realisations per case
-    signal = "acceleration[input,y]"   # analysed record: variable[gear,axis] or e.g. mesh_force_1
+    signal = "acceleration[input,y]"   # analysed record: variable[shaft,axis] or e.g. mesh_force_1
     shafts = "all"              # sidebands of every shaft, or "reference" (input shaft only)
     store_signals = false       # also keep the noisy analysed records in the store
 
@@ -217,7 +217,7 @@ class Study:
     replicates : int
         Noise realisations per parameter combination.
     signal : str
-        Analysed record, ``variable`` or ``variable[gear,axis]`` of the simulated dataset.
+        Analysed record, ``variable`` or ``variable[shaft,axis]`` of the simulated dataset.
     shafts : str
         ``"all"``: sidebands of every shaft; ``"reference"``: the input shaft only.
     store_signals : bool
@@ -462,7 +462,7 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
     if signal is None:  # the gearbox's first record: what a test rig measures
         signal = loads(config_text).default_signal
     require(isinstance(signal, str) and len(signal) > 0, "study.signal", signal,
-            "must be a variable name, optionally with [gear,axis]")
+            "must be a variable name, optionally with [shaft,axis]")
     shafts = st.get("shafts", "all")
     require(shafts in ("all", "reference"), "study.shafts", shafts,
             'must be "all" or "reference"')

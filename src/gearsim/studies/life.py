@@ -40,6 +40,7 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Sequence
@@ -57,7 +58,8 @@ from gearsim.geometry.profile import ToothProfile
 from gearsim.model.gearbox import Gearbox
 
 __all__ = ["DEFAULT_THRESHOLD_MPA", "DEFAULT_TOUGHNESS_MPA", "ALARM_LEVELS", "GearLife",
-           "CrackState", "default_law", "mesh_cycle_loads", "gear_life", "life_fractions"]
+           "CrackState", "default_law", "mesh_cycle_loads", "gear_life", "life_fractions",
+           "LifeStiffness", "equivalent_crack", "stiffness_along_life"]
 
 #: dK_th of the default law [MPa sqrt(m)]: Barsom & Rolfe (1999, ch. 9), lower bound
 #: for steels at R < 0.1, 5.5 ksi sqrt(in).
@@ -452,3 +454,194 @@ def life_fractions(result: GearLife, fractions: Sequence[float]) -> list[CrackSt
         out.append(CrackState(fraction=float(fi), cycles=n, hours=float(result.hours(n)),
                               length=a, crack=_cut(result.path.crack, a)))
     return out
+
+
+def equivalent_crack(crack, path: CrackPath, *, depth_margin: float = 0.98):
+    """The straight crack of the potential-energy model equivalent to a grown polyline.
+
+    The chord from the start on the fillet to the tip: depth q = |tip - start|, angle
+    nu to the tooth centre line, atan2(x_s - x_t, y_s - y_t) (the convention of
+    :class:`gearsim.stiffness.crack.Crack`, tip x_t = x_s - q sin nu, y_t = y_s - q cos nu,
+    Chen & Shao 2011). The PE model needs the tip on the cracked side of the centre line
+    (q < x_s / sin nu) and nu in (0, 90] deg: a path that crosses the centre line or
+    turns upwards is clipped to ``depth_margin`` x x_s / sin nu and nu <= 90 deg, and
+    flagged.
+
+    Parameters
+    ----------
+    crack : gearsim.stiffness.crack.Crack
+        The configured crack (gear, tooth, flank, extent, profile are kept).
+    path : CrackPath
+        The grown path, start on the +x fillet (:mod:`gearsim.fracture.tooth` frame,
+        tooth centre line on +y).
+    depth_margin : float
+        Largest depth as a fraction of the centre-line depth x_s / sin nu [-].
+
+    Returns
+    -------
+    equivalent : gearsim.stiffness.crack.Crack
+        Depth [m] and angle [rad] of the chord.
+    clipped : bool
+        Whether the depth or the angle had to be limited.
+    """
+    pts = path.array
+    (xs, ys), (xt, yt) = pts[0], pts[-1]
+    depth = math.hypot(xt - xs, yt - ys)
+    nu = math.atan2(xs - xt, ys - yt)
+    clipped = False
+    if not (0.0 < nu <= 0.5 * math.pi):
+        nu = min(max(nu, 1e-3), 0.5 * math.pi)
+        clipped = True
+    q_max = depth_margin * xs / math.sin(nu)
+    if depth > q_max:
+        depth, clipped = q_max, True
+    return dataclasses.replace(crack, depth=depth, angle=nu), clipped
+
+
+@dataclass(frozen=True)
+class LifeStiffness:
+    """Mesh stiffness along a life (:func:`stiffness_along_life`).
+
+    Parameters
+    ----------
+    fraction, length : ndarray
+        Life fraction [-] and crack length along the path [m] of each state.
+    depth, angle : ndarray
+        Equivalent straight crack [m], [rad].
+    clipped : ndarray of bool
+        Equivalent crack limited to the PE model's range.
+    k_min, k_mean : ndarray
+        Minimum and mean of the PE TVMS over a revolution of the gear [N/m].
+    tooth_pe, tooth_fe : ndarray, shape (states, radii)
+        Tooth compliance (Hertz excluded, face width 1 m) of the equivalent crack, PE
+        and FE (:func:`gearsim.fem.check.compare_gear`) [m/N]; empty without FE.
+    dc_path, dc_chord : ndarray, shape (states, radii)
+        Added compliance of the polyline and of its chord on the fracture sector
+        (:func:`gearsim.fracture.compliance.sector_compliance`) [m/N]; empty without FE.
+    radii : ndarray
+        Contact radii of the compliance comparisons [m].
+    healthy_tooth_pe, healthy_tooth_fe : ndarray
+        Healthy tooth compliances at ``radii`` [m/N].
+    seconds : float
+        Wall time [s].
+    """
+
+    fraction: np.ndarray
+    length: np.ndarray
+    depth: np.ndarray
+    angle: np.ndarray
+    clipped: np.ndarray
+    k_min: np.ndarray
+    k_mean: np.ndarray
+    tooth_pe: np.ndarray
+    tooth_fe: np.ndarray
+    dc_path: np.ndarray
+    dc_chord: np.ndarray
+    radii: np.ndarray
+    healthy_tooth_pe: np.ndarray
+    healthy_tooth_fe: np.ndarray
+    seconds: float
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary (mm, deg, N/m, percent).
+
+        Returns
+        -------
+        dict
+        """
+        out: dict[str, Any] = {
+            "fraction": self.fraction.tolist(), "length_mm": (self.length * 1e3).tolist(),
+            "depth_mm": (self.depth * 1e3).tolist(),
+            "angle_deg": np.degrees(self.angle).tolist(), "clipped": self.clipped.tolist(),
+            "k_min": self.k_min.tolist(), "k_mean": self.k_mean.tolist(),
+        }
+        if self.tooth_fe.size:
+            out["pe_vs_fe_tooth_stiffness_pct"] = (
+                100.0 * (self.tooth_fe / self.tooth_pe - 1.0)).round(3).tolist()
+            out["pe_vs_fe_crack_loss_pct"] = (100.0 * (
+                (self.tooth_pe / self.healthy_tooth_pe) / (self.tooth_fe / self.healthy_tooth_fe)
+                - 1.0)).round(3).tolist()
+            out["path_vs_chord_added_compliance"] = (self.dc_path / self.dc_chord).round(
+                4).tolist()
+        return out
+
+
+def stiffness_along_life(gb: Gearbox, result: GearLife, states: Sequence[CrackState], *,
+                         fe: bool = True, radii: int = 3, refinement: float = 1.0
+                         ) -> LifeStiffness:
+    """Mesh stiffness of the grown crack at each state, PE, and against FE.
+
+    For each state the polyline is mapped to its equivalent straight crack
+    (:func:`equivalent_crack`) and the PE TVMS of the gear's first mesh is computed over
+    a revolution of the gear (:meth:`Gearbox.mesh_stiffness`, the gearbox's stiffness
+    settings). With ``fe``: the PE and FE tooth compliance of that straight crack
+    (:func:`gearsim.fem.check.compare_gear`, the FE tooth route of :mod:`gearsim.fem`,
+    which takes a straight crack line) and the added compliance of the polyline against
+    its chord on the fracture sector (:func:`gearsim.fracture.compliance.
+    sector_compliance`), which measures the error of the straight-crack mapping itself.
+
+    Parameters
+    ----------
+    gb : Gearbox
+        The gearbox of the life.
+    result : GearLife
+        The life.
+    states : sequence of CrackState
+        Crack states (:func:`life_fractions`).
+    fe : bool
+        Also the FE comparisons.
+    radii : int
+        Contact radii of the comparisons (2 to 11), from the lowest of the cycle to the
+        highest.
+    refinement : float
+        Mesh refinement of the fracture sector.
+
+    Returns
+    -------
+    LifeStiffness
+    """
+    from gearsim.fem.check import compare_gear
+    from gearsim.fracture.compliance import sector_compliance
+
+    t0 = time.perf_counter()
+    require(isinstance(radii, int) and 2 <= radii <= 11, "radii", radii,
+            "must be an integer in [2, 11]")
+    g, crack = _crack_of(gb, result.gear)
+    mesh, side = _mesh_of(gb, g.name)
+    r = np.linspace(float(result.radii.min()), float(result.radii.max()), radii)
+    rows = []
+    tooth_pe, tooth_fe, dc_p, dc_c = [], [], [], []
+    h_pe = h_fe = np.zeros(0)
+    base = None
+    if fe:
+        chk = compare_gear(g, r, closure=gb.stiffness.closure, plane=gb.stiffness.plane,
+                           gauss_points=gb.stiffness.gauss_points)
+        h_pe, h_fe = chk.pe, chk.fe
+        base = sector_compliance(g, r, start=result.path.crack.array[0],
+                                 refinement=refinement).compliance
+    for s in states:
+        eq, clipped = equivalent_crack(crack, s.crack)
+        tr = gb.train.with_cracks(tuple(eq if c is crack else c for c in gb.train.cracks))
+        k = tr.mesh_stiffness(mesh, revolution_of=side).to_dataset()["k"]
+        rows.append((s.fraction, s.length, eq.depth, eq.angle, clipped, float(k.min()),
+                     float(k.mean())))
+        if fe:
+            chk = compare_gear(g, r, crack=eq, side=1, closure=gb.stiffness.closure,
+                               plane=gb.stiffness.plane, gauss_points=gb.stiffness.gauss_points)
+            tooth_pe.append(chk.pe)
+            tooth_fe.append(chk.fe)
+            chord = CrackPath(points=(tuple(s.crack.array[0]), tuple(s.crack.array[-1])),
+                              tips=s.crack.tips)
+            dc_p.append(sector_compliance(g, r, crack=s.crack, refinement=refinement)
+                        .compliance - base)
+            dc_c.append(sector_compliance(g, r, crack=chord, refinement=refinement)
+                        .compliance - base)
+    cols = list(zip(*rows, strict=True))
+    return LifeStiffness(
+        fraction=np.asarray(cols[0]), length=np.asarray(cols[1]), depth=np.asarray(cols[2]),
+        angle=np.asarray(cols[3]), clipped=np.asarray(cols[4], dtype=bool),
+        k_min=np.asarray(cols[5]), k_mean=np.asarray(cols[6]),
+        tooth_pe=np.asarray(tooth_pe), tooth_fe=np.asarray(tooth_fe),
+        dc_path=np.asarray(dc_p), dc_chord=np.asarray(dc_c), radii=r,
+        healthy_tooth_pe=np.asarray(h_pe), healthy_tooth_fe=np.asarray(h_fe),
+        seconds=time.perf_counter() - t0)

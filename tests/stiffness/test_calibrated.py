@@ -266,3 +266,26 @@ def test_corrupt_or_stale_cache_entry_is_rebuilt(pair, tmp_path, monkeypatch):
         rebuilt()
     np.savez(path, key=np.array(doc), radii=nodes * 1.01, ratio=fresh)  # other radii
     rebuilt()
+
+
+def test_config_file_names_the_calibrated_model(spur, pair):
+    """``[stiffness] source = "calibrated"`` in a config: the train's table is the
+    calibrated table at the train's mesh force (the load of the line contact)."""
+    from importlib.resources import files
+
+    from gearsim.model.config import loads
+
+    text = files("gearsim.data").joinpath("spur-19-48.toml").read_text()
+    text = text.replace("[stiffness]\n", '[stiffness]\nsource = "calibrated"\n'
+                        'contact = "line"\ncoupling = "fe"\n')
+    tr = loads(text).train
+    ms = tr.mesh_stiffness(0)
+    assert ms.attrs["source"] == "calibrated"
+    st = tr.stiffness
+    direct = mesh_stiffness(pair, cracks=tr.mesh_cracks(0), settings=st,
+                            compliance=tooth_compliance(st.source),
+                            force=TORQUES[0] / pair.driver.base_radius,
+                            coupling=body_coupling(st))
+    np.testing.assert_allclose(ms.k, direct.k, rtol=1e-12)
+    with pytest.raises(InputError, match="stiffness.source"):
+        loads(text.replace('contact = "line"\n', ""))

@@ -143,3 +143,60 @@ def test_pe_against_fe_along_the_life(box, life):
     assert np.all(s.tooth_fe > s.healthy_tooth_fe) and np.all(s.tooth_pe > s.healthy_tooth_pe)
     assert np.all(np.abs(s.dc_path / s.dc_chord - 1.0) < CHORD_BAND)
     assert np.all(s.dc_path > 0.0)
+
+
+#: Largest fall of an indicator's seed mean from one life fraction to the next, as a
+#: fraction of its range over the life [-].
+TREND_TOL = 0.05
+#: NA4 of a record alone equals the analysis' NA4 without history (same formula) [-].
+NA4_TOL = 1e-9
+
+
+@pytest.fixture(scope="module")
+def records(box, life):
+    from gearsim.studies.life import life_records
+
+    # NA4 normalises by the mean residual variance of the run so far: after a large
+    # jump (0.5 -> 0.9) a small one (0.9 -> 1.0) can lower it, so the life is sampled
+    # evenly here (docs/fracture.md)
+    return life_records(box, life, [0.0, 0.25, 0.5, 0.75, 0.9, 1.0], 2)
+
+
+def test_records_ground_truth_and_store(box, life, records, tmp_path_factory):
+    import xarray as xr
+
+    from gearsim.studies.life import write_store
+
+    ds = records
+    assert ds.sizes["fraction"] == 6 and ds.sizes["seed"] == 2
+    assert np.all(np.diff(ds["crack_length"].values) > 0.0)
+    assert ds["cycles"].values[-1] == pytest.approx(life.cycles_end)
+    assert ds.attrs["gear"] == "input" and ds.attrs["flank"] == "working"
+    np.testing.assert_allclose(ds["residual_kurtosis"], ds["tsa_na4"], rtol=NA4_TOL)
+    # NA4 with history equals NA4 alone at the first record
+    np.testing.assert_allclose(ds["na4_history"][0], ds["residual_kurtosis"][0], rtol=NA4_TOL)
+    # seeds differ (noise) but not the ground truth
+    assert float(ds["td_rms"].std("seed").max()) > 0.0
+    path = write_store(ds, tmp_path_factory.mktemp("life") / "store.nc")
+    back = xr.load_dataset(path, engine="h5netcdf")
+    np.testing.assert_array_equal(back["tsa_fm4"].values, ds["tsa_fm4"].values)
+    assert back.attrs["end"] == life.end
+
+
+def test_indicator_trends_rise_over_the_life(records):
+    from gearsim.studies.life import ALARM_LEVELS, alarm_fractions, indicator_trends
+    from gearsim.viz.life import plot_life_alarms
+
+    trends = indicator_trends(records)
+    assert set(trends) == {"na4", "fm4", "residual_kurtosis", "sideband_energy"}
+    for name, y in trends.items():
+        span = float(y.max() - y.min())
+        assert y[-1] > y[0], name
+        assert np.all(np.diff(y) > -TREND_TOL * span), name
+    cross = alarm_fractions(records)
+    for name, v in cross.items():
+        assert v is None or 0.0 <= v <= 1.0, name
+    levels = {n: ALARM_LEVELS[n][0] * (trends[n][0] if n == "sideband_energy" else 1.0)
+              for n in trends}
+    fig = plot_life_alarms(records["fraction"].values, trends, levels, cross)
+    assert len(fig.axes) == 2

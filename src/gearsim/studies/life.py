@@ -59,7 +59,9 @@ from gearsim.model.gearbox import Gearbox
 
 __all__ = ["DEFAULT_THRESHOLD_MPA", "DEFAULT_TOUGHNESS_MPA", "ALARM_LEVELS", "GearLife",
            "CrackState", "default_law", "mesh_cycle_loads", "gear_life", "life_fractions",
-           "LifeStiffness", "equivalent_crack", "stiffness_along_life"]
+           "LifeStiffness", "equivalent_crack", "stiffness_along_life",
+           "DEFAULT_NOISE", "record_duration", "life_records", "write_store",
+           "indicator_trends", "alarm_fractions"]
 
 #: dK_th of the default law [MPa sqrt(m)]: Barsom & Rolfe (1999, ch. 9), lower bound
 #: for steels at R < 0.1, 5.5 ksi sqrt(in).
@@ -645,3 +647,238 @@ def stiffness_along_life(gb: Gearbox, result: GearLife, states: Sequence[CrackSt
         dc_path=np.asarray(dc_p), dc_chord=np.asarray(dc_c), radii=r,
         healthy_tooth_pe=np.asarray(h_pe), healthy_tooth_fe=np.asarray(h_fe),
         seconds=time.perf_counter() - t0)
+
+
+#: Noise RMS / RMS of the noise-free record of the run-to-failure records (SNR 20 dB).
+DEFAULT_NOISE = 0.1
+
+
+def _cracked_box(gb: Gearbox, crack, eq) -> Gearbox:
+    tr = gb.train.with_cracks(tuple(eq if c is crack else c for c in gb.train.cracks))
+    return dataclasses.replace(gb, train=tr)
+
+
+def record_duration(gb: Gearbox) -> float:
+    """Default record duration: 4.2 revolutions of the slowest shaft [s].
+
+    The sideband analysis needs 4 frequency bins per sideband spacing with a Hann window
+    (:func:`gearsim.signals.analysis.analyze` refuses shorter records); 5 % margin.
+
+    Parameters
+    ----------
+    gb : Gearbox
+        The gearbox.
+
+    Returns
+    -------
+    float
+        Duration [s].
+    """
+    return 4.2 / gb.slowest_shaft()[1]
+
+
+def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seeds: int, *,
+                 duration: float | None = None, noise: float = DEFAULT_NOISE,
+                 signal: str | None = None) -> Any:
+    """Vibration records with ground truth at fractions of a life.
+
+    For each fraction (sorted ascending) the gearbox with the equivalent straight crack
+    of the state (:func:`equivalent_crack`) is simulated once (:meth:`Gearbox.simulate`,
+    deterministic); for each seed white noise of RMS ``noise`` x std(record) is added
+    (:func:`gearsim.studies.sweep_case.add_noise`, seed = seed index) and the record is
+    analysed (:func:`gearsim.signals.analyze`, the gearbox's reference shaft and teeth
+    and ``[analysis]`` settings). Besides the features of
+    :func:`gearsim.studies.sweep_case.features`: ``na4_history``, NA4 of the residual
+    normalised by the mean residual variance of the records of the same seed up to this
+    fraction (the run history of Zakrajsek et al. 1993), and ``residual_kurtosis``
+    (NA4 of the record alone).
+
+    Parameters
+    ----------
+    gb : Gearbox
+        The gearbox of the life (its operating point).
+    result : GearLife
+        The life (a finite end).
+    fractions : sequence of float
+        Life fractions in [0, 1].
+    seeds : int
+        Noise seeds per fraction (>= 1).
+    duration : float, optional
+        Record duration [s]; default :func:`record_duration`.
+    noise : float
+        Noise RMS over the record's standard deviation [-] (>= 0).
+    signal : str, optional
+        Record to analyse (:meth:`Gearbox.signals`); default :attr:`Gearbox.default_signal`.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dims ``fraction``, ``seed`` (features), ``vertex`` (the grown path) and
+        ``life_point`` (the life curve); ground truth as coordinates along ``fraction``:
+        ``crack_length`` [m], ``equivalent_depth`` [m], ``equivalent_angle`` [rad],
+        ``clipped``, ``cycles``, ``hours`` [h]; attributes gear, flank, end, law,
+        loads, signal, noise.
+    """
+    import xarray as xr
+
+    from gearsim.signals import analyze
+    from gearsim.signals.tsa import na4
+    from gearsim.studies.sweep_case import add_noise, features
+
+    require(isinstance(seeds, int) and not isinstance(seeds, bool) and seeds >= 1, "seeds",
+            seeds, "must be an integer >= 1")
+    require(math.isfinite(noise) and noise >= 0.0, "noise", noise, "must be >= 0")
+    t0 = time.perf_counter()
+    states = sorted(life_fractions(result, fractions), key=lambda s: s.fraction)
+    g, crack = _crack_of(gb, result.gear)
+    d = record_duration(gb) if duration is None else float(duration)
+    spec = gb.default_signal if signal is None else signal
+    _, f_ref, teeth = gb.reference()
+    fs = float(gb.dynamics.fs)
+    feats: list[list[dict]] = []
+    truth = []
+    residuals: list[list[np.ndarray]] = [[] for _ in range(seeds)]
+    sim_seconds = []
+    for s in states:
+        eq, clipped = equivalent_crack(crack, s.crack)
+        box = _cracked_box(gb, crack, eq)
+        t1 = time.perf_counter()
+        x = box.select(box.simulate(duration=d), spec)
+        sim_seconds.append(time.perf_counter() - t1)
+        row = []
+        for k in range(seeds):
+            a = analyze(add_noise(x, noise, k), fs, teeth=teeth, shaft_frequency=f_ref,
+                        settings=gb.analysis)
+            f = features(a.to_dict())
+            residuals[k].append(a.residual)
+            f["na4_history"] = na4(residuals[k])
+            f["residual_kurtosis"] = na4([a.residual])
+            row.append(f)
+        feats.append(row)
+        truth.append((s.fraction, s.length, eq.depth, eq.angle, clipped, s.cycles, s.hours))
+    names = sorted({k for row in feats for f in row for k in f})
+    cols = list(zip(*truth, strict=True))
+    data = {n: (("fraction", "seed"), np.array([[f.get(n, np.nan) for f in row]
+                                                for row in feats])) for n in names}
+    pts = result.path.crack.array
+    ds = xr.Dataset(
+        data,
+        coords={
+            "fraction": ("fraction", np.asarray(cols[0])),
+            "seed": ("seed", np.arange(seeds)),
+            "crack_length": ("fraction", np.asarray(cols[1]), {"units": "m"}),
+            "equivalent_depth": ("fraction", np.asarray(cols[2]), {"units": "m"}),
+            "equivalent_angle": ("fraction", np.asarray(cols[3]), {"units": "rad"}),
+            "clipped": ("fraction", np.asarray(cols[4], dtype=np.int8)),
+            "cycles": ("fraction", np.asarray(cols[5]), {"units": "1"}),
+            "hours": ("fraction", np.asarray(cols[6]), {"units": "h"}),
+        })
+    ds["path_x"] = ("vertex", pts[:, 0], {"units": "m"})
+    ds["path_y"] = ("vertex", pts[:, 1], {"units": "m"})
+    ds["life_a"] = ("life_point", result.life.a, {"units": "m"})
+    ds["life_cycles"] = ("life_point", result.life.cycles, {"units": "1"})
+    ds["simulation_seconds"] = ("fraction", np.asarray(sim_seconds), {"units": "s"})
+    law = result.law
+    ds.attrs.update({
+        "gearbox": gb.name, "gear": result.gear, "flank": result.flank, "end": result.end,
+        "cycles_end": result.cycles_end, "hours_end": result.hours_end,
+        "law": law.name, "paris_c_si": law.c, "paris_m": law.m,
+        "threshold_pa_sqrt_m": law.threshold, "toughness_pa_sqrt_m": law.toughness,
+        "law_source": law.source, "static_force_n_per_m": result.static_force,
+        "dynamic_load_factor": result.dynamic_load_factor,
+        "speed_rad_s": gb.operating()[0], "torque_n_m": gb.operating()[1],
+        "signal": spec, "noise": noise, "duration_s": d, "fs_hz": fs,
+        "reference_shaft_hz": f_ref, "seconds": time.perf_counter() - t0,
+        "sideband_feature": f"sb_ser_o1_shaft{gb.train.gear_index(g.name) + 1}",
+        "ground_truth": "crack_length along the grown path; equivalent_depth/angle: the "
+                        "straight crack simulated (docs/fracture.md)",
+    })
+    return ds
+
+
+def write_store(ds: Any, path: str | Path) -> Path:
+    """Write a records Dataset to NetCDF (h5netcdf) atomically.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        :func:`life_records`.
+    path : str or Path
+        Target ``.nc`` file.
+
+    Returns
+    -------
+    Path
+    """
+    from gearsim.io.atomic import atomic_write
+
+    return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf"))
+
+
+def _sideband_name(ds: Any, shaft: str | None = None) -> str | None:
+    names = [str(n) for n in ds.data_vars if str(n).startswith("sb_ser_o1_")]
+    want = (f"sb_ser_o1_{shaft}" if shaft is not None
+            else ds.attrs.get("sideband_feature"))
+    if want in names:
+        return want
+    return names[0] if names else None
+
+
+def indicator_trends(ds: Any, shaft: str | None = None) -> dict[str, np.ndarray]:
+    """Health indicators over the life, mean over seeds.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        :func:`life_records`.
+    shaft : str, optional
+        Shaft label of the first-order sideband energy ratio (``sb_ser_o1_<shaft>``, the
+        analysis labels ``shaft1``, ``shaft2``, ... in gear order); default the cracked
+        gear's (attribute ``sideband_feature``).
+
+    Returns
+    -------
+    dict of str to ndarray
+        ``na4`` (with run history), ``fm4``, ``residual_kurtosis``, ``sideband_energy``
+        (first-order sideband energy ratio of mesh order 1), each over ``fraction``.
+    """
+    out = {"na4": ds["na4_history"], "fm4": ds["tsa_fm4"],
+           "residual_kurtosis": ds["residual_kurtosis"]}
+    sb = _sideband_name(ds, shaft)
+    if sb is not None:
+        out["sideband_energy"] = ds[sb]
+    return {k: np.asarray(v.mean("seed").values, dtype=float) for k, v in out.items()}
+
+
+def alarm_fractions(ds: Any, shaft: str | None = None) -> dict[str, float | None]:
+    """Life fraction at which each indicator's seed mean first crosses its alarm level.
+
+    Levels and sources: :data:`ALARM_LEVELS` (the sideband energy relative to its value
+    at the first fraction). Linear interpolation between the recorded fractions.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        :func:`life_records`.
+    shaft : str, optional
+        As :func:`indicator_trends`.
+
+    Returns
+    -------
+    dict of str to float or None
+        ``None``: not crossed within the recorded fractions.
+    """
+    f = np.asarray(ds["fraction"].values, dtype=float)
+    out: dict[str, float | None] = {}
+    for name, y in indicator_trends(ds, shaft).items():
+        level = ALARM_LEVELS[name][0] * (y[0] if name == "sideband_energy" else 1.0)
+        above = np.nonzero(y > level)[0]
+        if above.size == 0:
+            out[name] = None
+        elif above[0] == 0:
+            out[name] = float(f[0])
+        else:
+            i = int(above[0])
+            out[name] = float(f[i - 1] + (level - y[i - 1]) / (y[i] - y[i - 1])
+                              * (f[i] - f[i - 1]))
+    return out

@@ -1,14 +1,14 @@
 """Bad input, round three (issue 24): extreme but finite physical values and options that
 would have no effect are refused by the CLI before any work: exit 2, one line naming the
 parameter, its value as written and the limit, no output file (before: numba overflows,
-divergence, eigen-solver failures, hours of steps, or exit 0 with the value ignored)."""
+divergence, eigen-solver failures, hours of steps, or exit 0 with the value ignored).
+
+The verbs run in this process (``gearsim_here`` of tests/conftest.py)."""
 
 from __future__ import annotations
 
 import math
 import re
-import subprocess
-import sys
 
 import pytest
 from hypothesis import assume, given, settings
@@ -17,7 +17,6 @@ from hypothesis import strategies as st
 from gearsim.errors import InputError
 from gearsim.model import example_text
 
-GEARSIM = [sys.executable, "-m", "gearsim.cli"]
 SPUR = example_text("spur-19-48")
 STAGE = example_text("lin-parker-1999")
 PITS = ('[[faults]]\nkind = "pitting"\ngear = "pinion"\ntooth = 7\narea_fraction = 0.2\n'
@@ -70,12 +69,12 @@ CASES = [
 
 
 @pytest.mark.parametrize("verb,text,match", CASES, ids=[c[2][:40] for c in CASES])
-def test_extreme_values_and_idle_options_refused_before_work(tmp_path, verb, text, match):
+def test_extreme_values_and_idle_options_refused_before_work(tmp_path, gearsim_here, verb,
+                                                             text, match):
     cfg = tmp_path / "c.toml"
     cfg.write_text(text)
     out = tmp_path / ("o.nc" if verb == "simulate" else "o.csv")
-    res = subprocess.run([*GEARSIM, verb, str(cfg), "--out", str(out)], capture_output=True,
-                         text=True, timeout=300)
+    res = gearsim_here(verb, cfg, "--out", out)
     lines = res.stderr.strip().splitlines()
     assert res.returncode == 2, res.stderr
     assert len(lines) == 1 and "Traceback" not in res.stderr, res.stderr

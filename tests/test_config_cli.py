@@ -1,18 +1,17 @@
-"""Configuration files with units, bad input, and the CLI verbs of the stiffness issue."""
+"""Configuration files with units, bad input, and the CLI verbs of the stiffness issue.
+
+The verbs run in this process (``gearsim_here`` of tests/conftest.py: ``gearsim.cli.run``,
+the function behind the installed script)."""
 
 from __future__ import annotations
 
 import json
 import math
-import subprocess
-import sys
 
 import pytest
 
 from gearsim.errors import InputError
 from gearsim.model import example_text, loads
-
-GEARSIM = [sys.executable, "-m", "gearsim.cli"]
 
 MINIMAL = """
 [common]
@@ -25,11 +24,6 @@ teeth = 21
 name = "w"
 teeth = 40
 """
-
-
-def run(*args, cwd=None):
-    return subprocess.run([*GEARSIM, *args], capture_output=True, text=True, cwd=cwd,
-                          timeout=300)
 
 
 def test_units_are_converted_to_si():
@@ -68,7 +62,8 @@ def test_examples_load():
         assert len(t.gears) >= 2
 
 
-def test_cli_example_and_stiffness(tmp_path):
+def test_cli_example_and_stiffness(tmp_path, gearsim_here):
+    run = gearsim_here
     res = run("example", "idler-table1")
     assert res.returncode == 0 and "teeth = 39" in res.stdout
     cfg = tmp_path / "t1.toml"
@@ -87,10 +82,10 @@ def test_cli_example_and_stiffness(tmp_path):
     assert len(lines) - 2 == 40 * (39 + 59 + 59 + 125)
 
 
-def test_cli_netcdf_and_plot(tmp_path):
+def test_cli_netcdf_and_plot(tmp_path, gearsim_here):
     import xarray as xr
 
-    res = run("stiffness", "spur-19-48", "--out", str(tmp_path / "s.nc"), "--plot",
+    res = gearsim_here("stiffness", "spur-19-48", "--out", str(tmp_path / "s.nc"), "--plot",
               str(tmp_path / "s.png"))
     assert res.returncode == 0, res.stderr
     ds = xr.open_dataset(tmp_path / "s.nc", engine="h5netcdf")
@@ -104,27 +99,27 @@ def test_cli_netcdf_and_plot(tmp_path):
     (["stiffness", "spur-19-48", "--out", "x.txt"], "--out = x.txt: must end in .csv or .nc"),
     (["example", "nope"], "example = nope: unknown"),
 ])
-def test_cli_bad_input_exit_2(args, match, tmp_path):
-    res = run(*args, cwd=tmp_path)
+def test_cli_bad_input_exit_2(args, match, tmp_path, gearsim_here):
+    res = gearsim_here(*args, cwd=tmp_path)
     assert res.returncode == 2
     assert match in res.stderr
     assert "Traceback" not in res.stderr
     assert len(res.stderr.strip().splitlines()) == 1
 
 
-def test_cli_bad_config_file_exit_2(tmp_path):
+def test_cli_bad_config_file_exit_2(tmp_path, gearsim_here):
     cfg = tmp_path / "bad.toml"
     cfg.write_text(MINIMAL.format(module="6 kg"))
-    res = run("stiffness", str(cfg))
+    res = gearsim_here("stiffness", str(cfg))
     assert res.returncode == 2 and "common.normal_module = 6 kg" in res.stderr
 
 
-def test_existing_output_survives_failure(tmp_path):
+def test_existing_output_survives_failure(tmp_path, gearsim_here):
     """A run that fails before writing leaves an earlier result untouched."""
     out = tmp_path / "t.csv"
     out.write_text("old")
     cfg = tmp_path / "bad.toml"
     cfg.write_text(MINIMAL.format(module="6 mm") + '[[cracks]]\ngear = "p"\ndepth = "30 mm"\n')
-    res = run("stiffness", str(cfg), "--out", str(out))
+    res = gearsim_here("stiffness", str(cfg), "--out", str(out))
     assert res.returncode == 2
     assert out.read_text() == "old"

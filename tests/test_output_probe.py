@@ -1,10 +1,10 @@
 """Output targets that permissions cannot judge (a read-only pseudo file system, as root
-too) are refused before any work, by every verb that writes (issue 24, bad input)."""
+too) are refused before any work, by every verb that writes (issue 24, bad input).
+
+The verbs run in this process (``gearsim_here`` of tests/conftest.py)."""
 
 from __future__ import annotations
 
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -21,9 +21,8 @@ pytestmark = pytest.mark.skipif(not Path("/proc/self").exists(), reason="needs /
     ["reproduce", "--out", "/proc/rep"],
     ["sweep", "diagnostic", "--out", "/proc/s.nc"],
 ])
-def test_unwritable_target_is_refused_before_work(args):
-    r = subprocess.run([sys.executable, "-m", "gearsim.cli", *args], capture_output=True,
-                       text=True, timeout=120)
+def test_unwritable_target_is_refused_before_work(args, gearsim_here):
+    r = gearsim_here(*args)
     lines = r.stderr.strip().splitlines()
     assert r.returncode == 2, r.stderr
     assert len(lines) == 1 and "cannot be written" in lines[0], r.stderr

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -83,13 +81,11 @@ def test_fem_bad_options():
     assert math.isfinite(SectorOptions().growth)
 
 
-def test_fem_cli_exit_status_2_on_bad_input():
-    proc = subprocess.run([sys.executable, "-m", "gearsim.cli", "fe-check", "spur-19-48",
-                           "--crack", "working", "--level", "0"],
-                          capture_output=True, text=True, timeout=120)
+def test_fem_cli_exit_status_2_on_bad_input(gearsim_here):
+    """``gearsim fe-check`` in this process (``gearsim_here`` of tests/conftest.py)."""
+    proc = gearsim_here("fe-check", "spur-19-48", "--crack", "working", "--level", "0")
     assert proc.returncode == 2, proc.stderr
     assert "mesh too coarse for the crack" in proc.stderr
-    proc = subprocess.run([sys.executable, "-m", "gearsim.cli", "fe-check", "spur-19-48",
-                           "--crack", "sideways"], capture_output=True, text=True, timeout=120)
+    proc = gearsim_here("fe-check", "spur-19-48", "--crack", "sideways")
     assert proc.returncode == 2
     assert "--crack" in proc.stderr

@@ -66,6 +66,7 @@ VERB_MODULES = {
     "analyze": "analysis", "compare": "analysis",
     "simulate": "dynamics", "fe-check": "fem", "fe-pair": "fem", "reproduce": "studies", "sweep": "sweep",
     "sweep-report": "sweep",
+    "life": "life",
 }
 
 
@@ -80,11 +81,11 @@ def _build_app() -> typer.Typer:
     """The typer application with every verb (imported here, on first use)."""
     global _APP
     if _APP is None:
-        from gearsim.commands import analysis, basic, dynamics, fem, studies, sweep
+        from gearsim.commands import analysis, basic, dynamics, fem, life, studies, sweep
 
         new = _new_app()
         # One module per verb group; each defines register(app).
-        for verbs in (basic, analysis, dynamics, fem, studies, sweep):
+        for verbs in (basic, analysis, dynamics, fem, studies, sweep, life):
             verbs.register(new)
         _APP = new
     return _APP

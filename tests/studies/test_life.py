@@ -200,3 +200,57 @@ def test_indicator_trends_rise_over_the_life(records):
               for n in trends}
     fig = plot_life_alarms(records["fraction"].values, trends, levels, cross)
     assert len(fig.axes) == 2
+
+
+def _cli(capsys, *args):
+    from gearsim import cli
+
+    code = cli.run([str(a) for a in args])
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+@pytest.mark.parametrize("args, option", [
+    (("--fractions", "0,1.5"), "--fractions"),
+    (("--fractions", "0,a"), "--fractions"),
+    (("--seeds", "0"), "--seeds"),
+    (("--toughness", "2"), "--toughness"),
+    (("--threshold", "100"), "--threshold"),
+    (("--steel", "glass"), "--steel"),
+    (("--gear", "idler"), "--gear"),
+    (("--increment", "-1"), "--increment"),
+    (("--out", "store.txt"), "--out"),
+    (("--plot", "fig.nc"), "--plot"),
+])
+def test_cli_refuses_bad_input_in_one_line(capsys, tmp_path, args, option):
+    code, out, err = _cli(capsys, "life", "idler-table1", "--out", tmp_path / "s.nc", *args)
+    lines = err.strip().splitlines()
+    assert code == 2 and len(lines) == 1 and option in lines[0], err
+    assert not (tmp_path / "s.nc").exists()
+
+
+def test_cli_no_growth_is_an_answer(capsys, tmp_path):
+    code, out, err = _cli(capsys, "life", "idler-table1", "--out", tmp_path / "s.nc",
+                          "--steps", "2", "--increment", "1")
+    assert code == 0, err
+    assert "end: no growth" in out and "below the threshold 6 MPa sqrt(m)" in out
+    assert not (tmp_path / "s.nc").exists()
+
+
+def test_cli_life_store_and_figure(capsys, tmp_path):
+    import json
+
+    import xarray as xr
+
+    _, torque = gs.example("idler-table1").operating()
+    code, out, err = _cli(capsys, "life", "idler-table1", "--out", tmp_path / "s.nc",
+                          "--torque", f"{TORQUE_FACTOR * torque} N*m", "--increment", "2",
+                          "--steps", "3", "--fractions", "0,0.5,1", "--seeds", "1",
+                          "--plot", tmp_path / "f.png", "--json")
+    assert code == 0, err
+    s = json.loads(out)
+    assert s["end"] in ("K_max >= K_IC", "tooth loss", "path end")
+    assert s["cycles_end"] > 0 and s["hours_end"] > 0
+    ds = xr.load_dataset(tmp_path / "s.nc", engine="h5netcdf")
+    assert ds.sizes["fraction"] == 3 and (tmp_path / "f.png").stat().st_size > 0
+    assert set(s["alarm_fractions"]) == {"na4", "fm4", "residual_kurtosis", "sideband_energy"}

@@ -64,7 +64,8 @@ class GrowthPath:
         Force per unit face width the K values are for [N/m].
     status
         ``"steps done"`` or ``"broken"`` (the next increment would leave the body or
-        was too large for the ligament left).
+        was too large for the ligament left); :func:`grow_cycle_path` also
+        ``"no growth"``.
     message
         The refusal that ended the path (empty for ``"steps done"``).
     seconds
@@ -220,7 +221,7 @@ class CyclePath(GrowthPath):
 
 
 def grow_cycle_path(gear: Gear, crack: CrackPath, radii, forces, increment: float, *,
-                    steps: int, **options) -> CyclePath:
+                    steps: int, min_keq: float = 0.0, **options) -> CyclePath:
     """Grow a root crack under the loads of a mesh cycle, ``steps`` MTS increments.
 
     At each tip K_I, K_II are computed for every contact position on one mesh
@@ -244,6 +245,10 @@ def grow_cycle_path(gear: Gear, crack: CrackPath, radii, forces, increment: floa
         Extension per step da [m].
     steps
         Largest number of increments (1 to 500).
+    min_keq
+        If the largest K_eq at the initial tip is below this [Pa sqrt(m)] (e.g. the
+        Paris threshold over the load factor), the path stops there with status
+        ``"no growth"`` (one analysed tip).
     **options
         Passed to :func:`gearsim.fracture.tooth.cycle_intensity` (``n_teeth``,
         ``plane``, ``refinement``, ``bore_radius``).
@@ -285,6 +290,9 @@ def grow_cycle_path(gear: Gear, crack: CrackPath, radii, forces, increment: floa
         new = tip + increment * kinked_direction(d, k1, k2)
         rows.append((crack.length, k1, k2, kink_angle(k1, k2), ci.delta_k, j, ci.dofs,
                      time.perf_counter() - t1))
+        if i == 0 and float(ci.keq[j]) < min_keq:
+            status = "no growth"
+            break
         left = float(_dist_to_segments(new, *edges).min())
         if not (_inside(poly, new) and left > 0.25 * increment):
             status = "broken"

@@ -353,7 +353,7 @@ def gear_life(gb: Gearbox, gear: str | None = None, *, increment: float | None =
     dlf = peak / mean
     start = initial_crack(g, crack.depth, angle=crack.angle)
     path = grow_cycle_path(g, start, radii, shares * static, da, steps=steps,
-                           refinement=refinement)
+                           refinement=refinement, min_keq=law.threshold / dlf)
     if path.lengths.size >= 2:
         life = path_life(path, law, dlf * path.force, force_max=dlf * path.force)
     else:

@@ -1,0 +1,164 @@
+"""CLI verb ``life``: crack growth life of a gear and a run-to-failure NetCDF store.
+
+Everything the user gives is checked before any work, each refusal one line (exit 2):
+the output targets, the fractions (numbers in [0, 1]), the seeds (>= 1), the Paris
+constants (:class:`gearsim.fracture.paris.ParisLaw` ranges), the increment, the torque
+and a gear without a crack. A load that never reaches the threshold is an answer:
+``end: no growth`` with its dK and the threshold, exit 0, and no store is written.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from typing import Annotated
+
+import typer
+
+from gearsim.commands._options import as_options, with_torque
+from gearsim.errors import InputError, require
+from gearsim.io.targets import check_output_file
+from gearsim.model import load
+
+__all__ = ["register"]
+
+DEFAULT_FRACTIONS = "0,0.1,0.2,0.3,0.4,0.5,0.6,0.7,0.8,0.9"
+
+
+def _fractions(text: str) -> list[float]:
+    parts = [p.strip() for p in text.split(",")]
+    try:
+        vals = [float(p) for p in parts]
+    except ValueError:
+        raise InputError("--fractions", text, "must be comma-separated numbers in [0, 1]"
+                         ) from None
+    if not vals or not all(math.isfinite(v) and 0.0 <= v <= 1.0 for v in vals):
+        raise InputError("--fractions", text, "must be comma-separated numbers in [0, 1]")
+    if len(set(vals)) != len(vals):
+        raise InputError("--fractions", text, "must not repeat a fraction")
+    return sorted(vals)
+
+
+def life(
+    config: Annotated[str, typer.Argument(help="TOML file or built-in example name")],
+    out: Annotated[str, typer.Option(help="run-to-failure store (NetCDF, .nc)")] = "life.nc",
+    gear: Annotated[str | None, typer.Option(
+        help="cracked gear (default: the gear of the first crack)")] = None,
+    fractions: Annotated[str, typer.Option(
+        help="life fractions of the records, comma-separated, in [0, 1]")] = DEFAULT_FRACTIONS,
+    seeds: Annotated[int, typer.Option(help="noise seeds per fraction (>= 1)")] = 10,
+    torque: Annotated[str | None, typer.Option(
+        help="input torque with unit, e.g. '19504 N*m' (default: the config's)")] = None,
+    increment: Annotated[float | None, typer.Option(
+        help="crack increment in mm (default m_n / 12)")] = None,
+    steps: Annotated[int, typer.Option(help="largest number of increments (1 to 500)")] = 20,
+    steel: Annotated[str, typer.Option(
+        help="Paris C, m of a steel class: martensitic, ferrite-pearlite, austenitic "
+             "(Barsom & Rolfe 1999)")] = "martensitic",
+    threshold: Annotated[float, typer.Option(
+        help="dK_th in MPa sqrt(m) (default 6.0, Barsom & Rolfe, R < 0.1)")] = 6.0,
+    toughness: Annotated[float, typer.Option(
+        help="K_IC in MPa sqrt(m) (default 80, an assumed value: give the grade's)")] = 80.0,
+    noise: Annotated[float, typer.Option(
+        help="noise RMS / record standard deviation (>= 0; 0.1 = SNR 20 dB)")] = 0.1,
+    duration: Annotated[float | None, typer.Option(
+        help="record duration in s (default 4.2 revolutions of the slowest shaft)")] = None,
+    plot: Annotated[str | None, typer.Option(
+        help="figure of the indicators over the life and their alarm fractions (.png)")] = None,
+    json_: Annotated[bool, typer.Option("--json", help="print a JSON summary")] = False,
+) -> None:
+    """Grow the gear's crack to the end of life; write records at life fractions."""
+    from gearsim.fracture.paris import (
+        MPA_SQRT_M,
+        STEEL_CLASSES,
+        THRESHOLD_RANGE,
+        TOUGHNESS_RANGE,
+        steel_class_law,
+    )
+    from gearsim.studies import life as lf
+    from gearsim.viz import check_plot_file
+
+    # every input is checked before any work
+    target = check_output_file(out, "--out", (".nc",))
+    if plot is not None:
+        check_plot_file(plot, "--plot")
+    fr = _fractions(fractions)
+    require(seeds >= 1, "--seeds", seeds, "must be an integer >= 1")
+    require(1 <= steps <= 500, "--steps", steps, "must be an integer in [1, 500]")
+    require(math.isfinite(noise) and noise >= 0.0, "--noise", noise, "must be >= 0")
+    require(increment is None or (math.isfinite(increment) and increment > 0.0),
+            "--increment", increment, "must be > 0 mm")
+    require(duration is None or (math.isfinite(duration) and duration > 0.0), "--duration",
+            duration, "must be > 0 s")
+    require(steel in STEEL_CLASSES, "--steel", steel, f"must be one of {', '.join(STEEL_CLASSES)}")
+    for name, value, (lo, hi) in (("--threshold", threshold, THRESHOLD_RANGE),
+                                  ("--toughness", toughness, TOUGHNESS_RANGE)):
+        require(math.isfinite(value) and lo / MPA_SQRT_M <= value <= hi / MPA_SQRT_M, name,
+                value, f"must be in [{lo / MPA_SQRT_M:g}, {hi / MPA_SQRT_M:g}] MPa sqrt(m)")
+    require(toughness > threshold, "--toughness", toughness,
+            f"must exceed the threshold {threshold:g} MPa sqrt(m)")
+    law = steel_class_law(steel, threshold=threshold * MPA_SQRT_M,
+                          toughness=toughness * MPA_SQRT_M)
+    gb = load(config)
+    require(gb.stage is None and gb.train is not None, "config", config,
+            "life needs a gearbox of gears (a planetary stage's crack is not supported)")
+    gb = dataclasses.replace(gb, train=with_torque(gb.train, torque))
+    with as_options({"gear": "--gear"}):
+        lf._crack_of(gb, gear)  # a gear without a crack: refused here, before the FE
+    da = None if increment is None else increment * 1e-3
+    with as_options({"crack.increment": "--increment", "increment": "--increment"}):
+        res = lf.gear_life(gb, gear, increment=da, steps=steps, law=law)
+    summary = res.to_dict()
+    if not math.isfinite(res.cycles_end):
+        dk = float(res.path.keq[0]) * res.dynamic_load_factor / MPA_SQRT_M
+        summary["store"] = None
+        if json_:
+            typer.echo(json.dumps(summary, indent=2))
+            return
+        typer.echo(f"end: {res.end}: dK = {dk:.4g} MPa sqrt(m) at the initial crack "
+                   f"({res.path.lengths[0] * 1e3:.4g} mm) is below the threshold "
+                   f"{law.threshold / MPA_SQRT_M:.4g} MPa sqrt(m) (DLF "
+                   f"{res.dynamic_load_factor:.4f}); the crack does not grow, no store written")
+        return
+    ds = lf.life_records(gb, res, fr, seeds, duration=duration, noise=noise)
+    path = lf.write_store(ds, target)
+    cross = lf.alarm_fractions(ds)
+    summary["store"] = str(path)
+    summary["alarm_fractions"] = cross
+    summary["alarm_levels"] = {k: {"level": v[0], "source": v[1]}
+                               for k, v in lf.ALARM_LEVELS.items()}
+    if plot is not None:
+        from gearsim.viz import save
+        from gearsim.viz.life import plot_life_alarms
+
+        trends = lf.indicator_trends(ds)
+        levels = {n: lf.ALARM_LEVELS[n][0] * (trends[n][0] if n == "sideband_energy" else 1)
+                  for n in trends}
+        save(plot_life_alarms(ds["fraction"].values, trends, levels, cross,
+                              title=f"{gb.name}: {res.gear}, end {res.end}"), plot)
+        summary["plot"] = plot
+    if json_:
+        typer.echo(json.dumps(summary, indent=2))
+        return
+    typer.echo(f"gear {res.gear}: crack {res.path.lengths[0] * 1e3:.4g} mm -> "
+               f"{res.life.a_end * 1e3:.4g} mm along the path, end: {res.end}")
+    typer.echo(f"life {res.cycles_end:.6g} cycles = {res.hours_end:.6g} h at "
+               f"{res.shaft_frequency:.6g} Hz; static {res.static_force:.6g} N/m, DLF "
+               f"{res.dynamic_load_factor:.4f}; {res.path.lengths.size} increments, "
+               f"{float(res.path.seconds_per_step.mean()):.3g} s FE each")
+    typer.echo("alarm fractions: " + ", ".join(
+        f"{k} {'not crossed' if v is None else f'{v:.3g}'}" for k, v in cross.items()))
+    typer.echo(f"gearsim: store written to {path} ({ds.sizes['fraction']} fractions x "
+               f"{ds.sizes['seed']} seeds)")
+
+
+def register(app: typer.Typer) -> None:
+    """Add ``life`` to ``app``.
+
+    Parameters
+    ----------
+    app : typer.Typer
+        The ``gearsim`` application (:mod:`gearsim.cli`).
+    """
+    app.command("life")(life)

@@ -116,7 +116,8 @@ def _guard(where: str):
 #: attribute is skipped (the guard only bounds the time; acceptance is seen anyway).
 GUARDS = [
     ("gearsim.dynamics.simulate", "run_kernel"),           # the integrator
-    ("gearsim.commands.basic", "train_stiffness"),         # `stiffness` verb's work
+    ("gearsim.system", "train_stiffness"),                 # `stiffness` verb's work
+    ("gearsim.system.planetary", "stage_stiffness"),       # ... on a planetary stage
     ("gearsim.fem.check", "compare_gear"),                 # FE solve of `fe-check`
     ("gearsim.studies.reproduce", "simulate_cases"),       # `reproduce` simulations
     ("gearsim.commands.analysis", "save_all"),             # `analyze --plot` figures

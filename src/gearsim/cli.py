@@ -44,7 +44,8 @@ from gearsim.errors import InputError, ModelRangeWarning, SimulationError
 
 __all__ = ["main", "run"]
 
-HELP = "Mesh stiffness, tooth-root cracks and vibration of spur and helical gear trains."
+HELP = ("Mesh stiffness, tooth-root cracks, vibration and its analysis of gearboxes: gear "
+        "trains, graphs of shafts and planetary stages.")
 DEBUG_FLAG = "--debug"
 DEBUG_ENV = "GEARSIM_DEBUG"
 EXIT_INTERRUPTED = 130
@@ -62,7 +63,7 @@ def _global_options(
 #: Verb -> the module of gearsim.commands that defines it. A call imports only its verb's
 #: module (a small call starts fast); help and unknown verbs build the whole app.
 VERB_MODULES = {
-    "example": "basic", "stiffness": "basic", "contact": "basic",
+    "example": "basic", "layout": "basic", "stiffness": "basic", "contact": "basic",
     "analyze": "analysis", "compare": "analysis",
     "simulate": "dynamics", "fe-check": "fem", "fe-pair": "fem", "reproduce": "studies", "sweep": "sweep",
     "sweep-report": "sweep",
@@ -72,7 +73,8 @@ VERB_MODULES = {
 
 def _new_app() -> typer.Typer:
     new = typer.Typer(name="gearsim", help=HELP, no_args_is_help=True,
-                      add_completion=False, pretty_exceptions_enable=False)
+                      add_completion=False, pretty_exceptions_enable=False,
+                      rich_markup_mode=None)  # plain help: no rich import at start-up
     new.callback()(_global_options)
     return new
 

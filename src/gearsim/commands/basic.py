@@ -8,9 +8,6 @@ from typing import Annotated
 import typer
 
 from gearsim.commands._options import as_options, with_torque
-from gearsim.io.targets import check_output_file
-from gearsim.model import example_text, load
-from gearsim.viz import check_plot_file, save
 
 __all__ = ["register"]
 
@@ -19,6 +16,8 @@ def example(name: Annotated[str, typer.Argument(
         help="idler-table1, spur-19-48, two-stage-reducer, lin-parker-1999, nrel-grc or "
              "wind-turbine-grc")]) -> None:
     """Print a built-in example configuration (TOML)."""
+    from gearsim.model import example_text
+
     typer.echo(example_text(name), nl=False)
 
 
@@ -30,6 +29,9 @@ def layout(
 ) -> None:
     """The gearbox as a graph: shafts (speed, torque), gears, meshes (driver -> driven,
     mesh frequency, static force) and the planetary stage, with a plan-view figure."""
+    from gearsim.model import load
+    from gearsim.viz import check_plot_file, save
+
     if plot is not None:
         plot = check_plot_file(plot, "--plot")
     out = load(config).layout()
@@ -66,13 +68,18 @@ def stiffness(
     closure: Annotated[str | None, typer.Option(help="open or contact")] = None,
 ) -> None:
     """Time-varying mesh stiffness of every mesh over one revolution of each gear."""
+    from gearsim.io.targets import check_output_file
+    from gearsim.model import load
+    from gearsim.viz import check_plot_file, save
+
     # every output target is checked before any work
     if out is not None:
         out = check_output_file(out, "--out", (".csv", ".nc"))
     if plot is not None:
         plot = check_plot_file(plot, "--plot")
+    gb = load(config)  # the file's own values are named as written in it
     with as_options({"crack": "--crack", "stiffness.closure": "--closure"}):
-        gb = load(config).with_crack(crack, closure=closure)
+        gb = gb.with_crack(crack, closure=closure)
     ts = gb.tvms()
     if out is not None:
         ts.write(out)
@@ -110,7 +117,10 @@ def contact(
     """Loaded tooth contact analysis of one mesh with its faults and modifications:
     loaded transmission error, load sharing and contact pattern over a period."""
     from gearsim.errors import InputError
+    from gearsim.io.targets import check_output_file
+    from gearsim.model import load
     from gearsim.stiffness.ltca import loaded_contact
+    from gearsim.viz import check_plot_file, save
 
     if out is not None:
         out = check_output_file(out, "--out", (".nc",))

@@ -15,11 +15,6 @@ from typing import Annotated
 import typer
 
 from gearsim.commands._options import as_options
-from gearsim.io.results import write_results
-from gearsim.io.targets import check_output_file
-from gearsim.model import load
-from gearsim.viz import check_plot_file, save
-from gearsim.viz.dynamics import plot_run
 
 __all__ = ["register"]
 
@@ -42,6 +37,12 @@ def simulate(
                         "or set GEARSIM_FORCE=1")] = False,
 ) -> None:
     """Simulate the gearbox; write mesh forces, DTE, bearing forces, accelerations."""
+    from gearsim.io.results import write_results
+    from gearsim.io.targets import check_output_file
+    from gearsim.model import load
+    from gearsim.viz import check_plot_file, save
+    from gearsim.viz.dynamics import plot_run
+
     # every output target is checked before any work
     target = check_output_file(out, "--out", (".nc",))
     if plot:

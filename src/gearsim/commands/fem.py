@@ -7,14 +7,9 @@ import math
 from pathlib import Path
 from typing import Annotated
 
-import numpy as np
 import typer
 
 from gearsim.commands._options import as_options, with_torque
-from gearsim.fem.check import fe_check
-from gearsim.io.targets import atomic_folder, check_output_folder
-from gearsim.model import load
-from gearsim.viz import save
 
 __all__ = ["fe_check_command", "fe_pair_command", "register"]
 
@@ -78,6 +73,11 @@ def fe_check_command(
         An unknown gear, crack or closure, too many points, a bad config or an
         unwritable ``--plot`` folder (exit status 2 in the CLI).
     """
+    from gearsim.fem.check import fe_check
+    from gearsim.io.targets import atomic_folder, check_output_folder
+    from gearsim.model import load
+    from gearsim.viz import save
+
     folder = None
     if plot is not None:  # every output target is checked before any work
         folder = check_output_folder(plot, "--plot", owned=_figure_file)
@@ -177,8 +177,11 @@ def fe_pair_command(
     """
     import dataclasses
 
+    import numpy as np
+
     from gearsim.errors import InputError
     from gearsim.fem.pair import FEPairModel
+    from gearsim.model import load
     from gearsim.studies.fe_pair_check import section_tvms
 
     u = _positions(positions)

@@ -11,14 +11,14 @@ import typer
 
 from gearsim.commands._options import as_options
 from gearsim.errors import InputError
-from gearsim.studies.reproduce import ReproduceOptions, check_output, run_reproduction
-from gearsim.units import to_si
 
 __all__ = ["register"]
 
 
 def _depth(text: str, option: str) -> float:
     """One crack depth: a length with a unit, or a plain number of millimetres."""
+    from gearsim.units import to_si
+
     s = text.strip()
     try:
         float(s)  # a plain number ("2", "1e-1", "inf", "nan"): millimetres
@@ -84,6 +84,8 @@ def reproduce(
 ) -> None:
     """Reproduce the seed's study (Shi, Li & Zhou 2025): healthy, working- and
     non-working-flank crack; figures like its Figs. 3, 5-8; claims table; report.html."""
+    from gearsim.studies.reproduce import ReproduceOptions, check_output, run_reproduction
+
     folder: Path = check_output(out, "--out")  # every output target before any work
     d = _depth(depth, "--depth")
     names = {"revolutions": "--revolutions", "model": "--model", "depth": "--depth",

@@ -10,10 +10,6 @@ from typing import Annotated
 import typer
 
 from gearsim.errors import InputError
-from gearsim.io.targets import check_output_file, check_output_folder
-from gearsim.studies.diagnostic import CLASSES, FAULT_CLASSES, diagnostic_report
-from gearsim.studies.sweep import expand, load_study
-from gearsim.studies.sweep_run import check_scheduler, plan_workers, run_study
 
 __all__ = ["register"]
 
@@ -37,6 +33,11 @@ def sweep(
     """Run a parameter study (crack depth and flank or fault class and severity, closure,
     speed, torque, bearing stiffness, noise) on Dask; resumes from OUT.parts/ after an
     interruption."""
+    from gearsim.io.targets import check_output_file, check_output_folder
+    from gearsim.studies.diagnostic import CLASSES, FAULT_CLASSES
+    from gearsim.studies.sweep import expand, load_study
+    from gearsim.studies.sweep_run import check_scheduler, plan_workers, run_study
+
 
     st = load_study(study)  # every study-wide setting is checked here, once
     if show:
@@ -72,6 +73,8 @@ def sweep(
 
 def _report(store: Path, out: Path) -> None:
 
+    from gearsim.studies.diagnostic import diagnostic_report
+
     paths = diagnostic_report(store, out, out_parameter="--report")
     for p in paths:
         typer.echo(f"gearsim: report written to {p}")
@@ -85,6 +88,8 @@ def sweep_report(
     """Separability of the fault classes (healthy / working-flank / non-working-flank crack,
     or the fault coordinate of a fault study) per feature group (cross-validated logistic
     regression): table (CSV, JSON with confusion matrices) and figure (PNG)."""
+    from gearsim.studies.diagnostic import diagnostic_report
+
 
     paths = diagnostic_report(store, out)
     if json_:

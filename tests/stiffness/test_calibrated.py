@@ -190,7 +190,7 @@ def test_calibrated_healthy_tooth_is_the_fe_tooth_at_the_nodes(pair):
     nodes, ratio = cal.calibration_ratio(g)
     c = cal.CalibratedCompliance().compliance(g, nodes[:, None], None, np.array([0.5]), st)
     np.testing.assert_allclose(c.sum(axis=-1)[:, 0], fe_compliance(g, nodes)[:, 0],
-                               rtol=1e-10)
+                               rtol=1e-6)  # calibration solved afresh, the table cached
     assert np.all((ratio > 0.8) & (ratio < 0.95))  # the PE tooth is 5-20 % softer
 
 
@@ -237,9 +237,9 @@ def test_corrupt_or_stale_cache_entry_is_rebuilt(pair, tmp_path, monkeypatch):
     calls = []
     real = cal.fe_compliance
 
-    def counting(*a, **kw):
-        calls.append(1)
-        return real(*a, **kw)
+    def counting(*a, **kw):  # FE values from the FE-table cache: the test is about the
+        calls.append(1)      # calibration file, not the FE solve (1-3 s each)
+        return real(*a, **{**kw, "use_cache": True})
 
     monkeypatch.setattr(cal, "fe_compliance", counting)
     nodes, fresh = cal.calibration_ratio(g)

@@ -24,7 +24,9 @@ and calibration versions and the gearsim version. Each file carries its key docu
 radii and ratio; a file that cannot be read, whose document differs from the expected one,
 whose radii are not the gear's nodes or whose ratio is not finite and in
 (:data:`RATIO_BOUNDS`) is stale or corrupt: it is recomputed and overwritten, never used.
-The FE tooth values come through :func:`gearsim.fem.tables.fe_compliance` (its own cache).
+The FE tooth values come from :func:`gearsim.fem.tables.fe_compliance` solved afresh
+(not from the FE-table cache, whose key does not name the gearsim version), once per
+calibration entry.
 
 References
 ----------
@@ -172,8 +174,10 @@ def calibration_ratio(gear: Gear, *, plane: str = "stress", level: int = DEFAULT
     ratio = _read(path, doc, nodes) if use_cache else None
     if ratio is None:
         st = StiffnessSettings(plane=plane, gauss_points=gauss_points)
-        c_fe = fe_compliance(gear, nodes, settings=st,
-                             options=SectorOptions(level=level), use_cache=use_cache)[:, 0]
+        # the FE tooth is solved afresh (its table cache does not name the gearsim
+        # version): a rebuilt calibration never rests on a stale FE table
+        c_fe = fe_compliance(gear, nodes, settings=st, options=SectorOptions(level=level),
+                             use_cache=False)[:, 0]
         c_pe = ToothModel(gear, plane=plane, gauss_points=gauss_points).compliance(nodes)
         ratio = c_fe / c_pe.sum(axis=1)
         if use_cache:

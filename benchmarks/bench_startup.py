@@ -1,0 +1,71 @@
+"""Start-up cost of the CLI: whole processes, best of N, against the imports they cannot avoid.
+
+Run: ``.venv/bin/python benchmarks/bench_startup.py [--repeat N]``
+
+Issue 26 asks for ``gearsim --help`` under 0.3 s and ``gearsim analyze`` of one short
+record under 1 s. Each command runs as a fresh process (``python -m gearsim.cli``, no
+shell), best of ``--repeat`` runs; beside it, in the same run, the floor it rests on: an
+interpreter that only imports typer (what any typer CLI pays), and one that imports
+``scipy.signal`` and ``xarray`` (what the analysis of a record needs before it reads a
+sample). Printed: seconds and the ratio to the floor.
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+HELP_TARGET = 0.3  # s, issue 26
+ANALYZE_TARGET = 1.0  # s, issue 26
+
+
+def _best(argv: list[str], repeat: int) -> float:
+    best = float("inf")
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        subprocess.run(argv, check=True, capture_output=True)
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def main() -> None:
+    """Print the start-up times and their ratios to the import floors."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=5, help="best of N runs")
+    args = parser.parse_args()
+    py = sys.executable
+    with tempfile.TemporaryDirectory() as tmp:
+        import scipy.io.wavfile
+
+        fs = 20_000
+        t = np.arange(fs) / fs
+        x = np.sin(2 * np.pi * 600 * t) + 0.1 * np.random.default_rng(0).normal(size=fs)
+        wav = Path(tmp) / "short.wav"
+        scipy.io.wavfile.write(wav, fs, x.astype(np.float32))
+        rows = [
+            ("python -c 'import typer' (floor of --help)", [py, "-c", "import typer"], None),
+            ("gearsim --help", [py, "-m", "gearsim.cli", "--help"], HELP_TARGET),
+            ("gearsim example spur-19-48", [py, "-m", "gearsim.cli", "example", "spur-19-48"],
+             None),
+            ("python -c 'import scipy.signal, xarray' (floor of analyze)",
+             [py, "-c", "import scipy.signal, xarray"], None),
+            ("gearsim analyze short.wav (1 s, 20 kHz)",
+             [py, "-m", "gearsim.cli", "analyze", str(wav)], ANALYZE_TARGET),
+        ]
+        times = [(name, _best(argv, args.repeat), target) for name, argv, target in rows]
+    floor_help, floor_an = times[0][1], times[3][1]
+    print(f"best of {args.repeat} runs, whole processes")
+    for name, sec, target in times:
+        floor = floor_an if "analyze" in name else floor_help
+        tail = f"  target {target:g} s: {'met' if sec <= target else 'NOT met'}" if target else ""
+        print(f"  {name:58s} {sec:6.3f} s  x{sec / floor:5.2f} of its floor{tail}")
+
+
+if __name__ == "__main__":
+    main()

@@ -14,8 +14,12 @@ from __future__ import annotations
 
 import math
 import numbers
+import threading
+from collections import OrderedDict
 from dataclasses import dataclass, field, replace
 from functools import cached_property
+
+import numpy as np
 
 from gearsim.errors import InputError, require
 from gearsim.fem.coupling import FiniteElementCoupling
@@ -41,6 +45,14 @@ __all__ = ["CRACK_CHOICES", "DEFAULT_CRACK", "GearTrain", "Operating", "body_cou
 #: line from the 30 deg tangent point (the crack of the built-in Table-1 example; the
 #: 45 deg angle after Chen & Shao 2011). Keys are fields of :class:`Crack` (SI units).
 DEFAULT_CRACK: dict[str, float | int] = {"tooth": 0, "depth": 2e-3, "angle": math.radians(45.0)}
+
+#: Mesh stiffness tables kept in memory (least recently used dropped first): the cases of
+#: a study that differ in speed, noise, bearings or damping (or in torque, under a
+#: load-independent contact law) share their tables instead of recomputing them (0.1-0.5 s
+#: a revolution). The key holds everything a table depends on; the arrays are read-only.
+TABLE_CACHE_SIZE = 64
+_TABLES: OrderedDict = OrderedDict()
+_TABLES_LOCK = threading.Lock()  # Dask workers run tasks in threads
 
 #: Fault variants :meth:`GearTrain.with_crack` knows.
 CRACK_CHOICES = ("none", *FLANKS)
@@ -412,11 +424,29 @@ class GearTrain:
         if settings.source == "fe-pair":
             return fe_pair_train_stiffness(self, mesh, revolution_of=revolution_of,
                                            settings=settings)
-        return mesh_stiffness(self.pairs[mesh], cracks=self.mesh_cracks(mesh),
-                              settings=settings, revolution_of=revolution_of,
-                              compliance=tooth_compliance(settings.source),
-                              force=self.static_mesh_force(mesh),
-                              coupling=body_coupling(settings))
+        pair, cracks = self.pairs[mesh], self.mesh_cracks(mesh)
+        force = self.static_mesh_force(mesh)
+        # everything the table depends on (the force only under the line contact law)
+        key = (pair, cracks, settings, revolution_of,
+               force if settings.contact == "line" else None)
+        with _TABLES_LOCK:
+            hit = _TABLES.get(key)
+            if hit is not None:
+                _TABLES.move_to_end(key)
+                return hit
+        ms = mesh_stiffness(pair, cracks=cracks, settings=settings,
+                            revolution_of=revolution_of,
+                            compliance=tooth_compliance(settings.source), force=force,
+                            coupling=body_coupling(settings))
+        for arr in (ms.cycles, ms.theta1, ms.theta2, ms.k, ms.pair_k, ms.pair_tooth1,
+                    ms.pair_tooth2, *ms.components.values()):
+            if isinstance(arr, np.ndarray):
+                arr.flags.writeable = False  # shared by every caller of the cache
+        with _TABLES_LOCK:
+            _TABLES[key] = ms
+            while len(_TABLES) > TABLE_CACHE_SIZE:
+                _TABLES.popitem(last=False)
+        return ms
 
     def has_contact_changes(self, mesh: int) -> bool:
         """True when faults, modifications or errors change the contacts of ``mesh``.

@@ -9,6 +9,8 @@ I, where the kinks of the linearly interpolated stiffness table limit RK4's accu
 
 from __future__ import annotations
 
+from functools import cache
+
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -21,14 +23,21 @@ from gearsim.model import load
 REL_TOL = 1e-4
 
 
+@cache
+def _model(model: str):
+    """The dynamic model of the test (built once per model: the two steps integrate the
+    same equations; the LTA build with runout is most of the test's time)."""
+    tr = load("idler-table1").train
+    s = DynamicsSettings(model=model, profile_modification=(1e-6,), runout=(4e-6, 2e-6, 3e-6),
+                         crowning=(3e-6,), assembly_error=(1e-6, -2e-6))
+    return build_model(tr, s)
+
+
 @pytest.mark.parametrize(("model", "dt", "measure"), [
     ("lta", DEFAULT_STEP, "force"), ("seed", DEFAULT_STEP, "force"),
     ("lta", DEFAULT_STEP / 2, "ptp"), ("seed", DEFAULT_STEP / 2, "ptp")])
 def test_kernel_matches_solve_ivp(model, dt, measure):
-    tr = load("idler-table1").train
-    s = DynamicsSettings(model=model, profile_modification=(1e-6,), runout=(4e-6, 2e-6, 3e-6),
-                         crowning=(3e-6,), assembly_error=(1e-6, -2e-6))
-    m = build_model(tr, s)
+    m = _model(model)
     window = 0.006  # ~7 mesh periods, includes the start transient
     n = int(round(window / dt))
     raw = run_kernel(m, dt=dt, n_steps=n, rec_every=int(round(5e-5 / dt)))

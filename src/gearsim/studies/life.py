@@ -459,6 +459,15 @@ def life_fractions(result: GearLife, fractions: Sequence[float]) -> list[CrackSt
     return out
 
 
+def _chord(path: CrackPath) -> tuple[float, float, float]:
+    """Depth, angle and largest admissible depth of the chord start -> tip."""
+    pts = path.array
+    (xs, ys), (xt, yt) = pts[0], pts[-1]
+    nu = math.atan2(xs - xt, ys - yt)
+    q_max = xs / math.sin(nu) if 0.0 < nu <= 0.5 * math.pi else 0.0
+    return math.hypot(xt - xs, yt - ys), nu, q_max
+
+
 def equivalent_crack(crack, path: CrackPath, *, depth_margin: float = 0.98):
     """The straight crack of the potential-energy model equivalent to a grown polyline.
 
@@ -466,9 +475,11 @@ def equivalent_crack(crack, path: CrackPath, *, depth_margin: float = 0.98):
     nu to the tooth centre line, atan2(x_s - x_t, y_s - y_t) (the convention of
     :class:`gearsim.stiffness.crack.Crack`, tip x_t = x_s - q sin nu, y_t = y_s - q cos nu,
     Chen & Shao 2011). The PE model needs the tip on the cracked side of the centre line
-    (q < x_s / sin nu) and nu in (0, 90] deg: a path that crosses the centre line or
-    turns upwards is clipped to ``depth_margin`` x x_s / sin nu and nu <= 90 deg, and
-    flagged.
+    (q < x_s / sin nu) and nu in (0, 90] deg. A path whose chord leaves that range is
+    *saturated*: it maps to the chord of the longest part of the path that is still
+    admissible with ``depth_margin`` (found by bisection on the length along the path),
+    so that every later state maps to the same, deepest representable crack, and is
+    flagged: the PE model cannot represent the further loss of stiffness.
 
     Parameters
     ----------
@@ -485,20 +496,25 @@ def equivalent_crack(crack, path: CrackPath, *, depth_margin: float = 0.98):
     equivalent : gearsim.stiffness.crack.Crack
         Depth [m] and angle [rad] of the chord.
     clipped : bool
-        Whether the depth or the angle had to be limited.
+        Whether the path was saturated.
     """
-    pts = path.array
-    (xs, ys), (xt, yt) = pts[0], pts[-1]
-    depth = math.hypot(xt - xs, yt - ys)
-    nu = math.atan2(xs - xt, ys - yt)
-    clipped = False
-    if not (0.0 < nu <= 0.5 * math.pi):
-        nu = min(max(nu, 1e-3), 0.5 * math.pi)
-        clipped = True
-    q_max = depth_margin * xs / math.sin(nu)
-    if depth > q_max:
-        depth, clipped = q_max, True
-    return dataclasses.replace(crack, depth=depth, angle=nu), clipped
+    def ok(p: CrackPath) -> bool:
+        q, _, q_max = _chord(p)
+        return q < depth_margin * q_max
+
+    depth, nu, _ = _chord(path)
+    if ok(path):
+        return dataclasses.replace(crack, depth=depth, angle=nu), False
+    first = CrackPath(points=path.points[:2], tips=path.tips)
+    lo, hi = (first.length if ok(first) else 1e-9 * path.length), path.length
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if ok(_cut(path, mid)):
+            lo = mid
+        else:
+            hi = mid
+    depth, nu, _ = _chord(_cut(path, lo))
+    return dataclasses.replace(crack, depth=depth, angle=nu), True
 
 
 @dataclass(frozen=True)

@@ -309,6 +309,15 @@ def _complex_kurtosis(c: np.ndarray) -> float:
     return float((p * p).mean() / (m2 * m2) - 2.0)
 
 
+def _rows_kurtosis(c: np.ndarray) -> np.ndarray:
+    """:func:`_complex_kurtosis` of every row of ``c`` at once (NaN for a vanishing row)."""
+    d = c - c.mean(axis=1, keepdims=True)
+    p = d.real**2 + d.imag**2
+    m2 = p.mean(axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(m2 > 0.0, (p * p).mean(axis=1) / (m2 * m2) - 2.0, np.nan)
+
+
 def _bank(n_bands: int) -> list[np.ndarray]:
     """Quasi-analytic band-pass filters splitting ``[0, fs/2]`` into ``n_bands`` bands."""
     width = 0.5 / n_bands  # band width, fraction of the sampling rate
@@ -473,9 +482,9 @@ def fast_kurtogram(x: np.ndarray, fs: float, *, levels: int | None = None) -> Ku
     for k in range(n_levels):
         if k <= n_levels - 2:
             thirds = _split(nodes, _BANK3)
-            third_row = (k + _LOG2_3, np.array([_complex_kurtosis(c) for c in thirds]))
+            third_row = (k + _LOG2_3, _rows_kurtosis(thirds))
         nodes = _split(nodes, _BANK2)
-        rows.append((float(k + 1), np.array([_complex_kurtosis(c) for c in nodes])))
+        rows.append((float(k + 1), _rows_kurtosis(nodes)))
         if k <= n_levels - 2:
             rows.append(third_row)
     levels_arr = np.array([lv for lv, _ in rows])

@@ -553,6 +553,38 @@ def _first_line(exc: BaseException) -> str:
     return text[0] if text else type(exc).__name__
 
 
+def _run_on_dask(study: Study, grouped: dict, todo: list[str], hook: Callable | None,
+                 scheduler: str | None, n_workers: int, cluster_kwargs: dict | None,
+                 keep: Callable[[str, bytes], None]) -> None:
+    """Run the groups ``todo`` as Dask tasks (local cluster or ``scheduler``); ``keep``
+    each part as it arrives; the cluster is shut down whatever happens."""
+    import dask
+    from distributed import as_completed
+
+    live: dict = {}
+    with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES}):
+        try:
+            if scheduler is None:
+                _start_local(n_workers, cluster_kwargs, live)
+            else:
+                _connect(scheduler, live)
+            client = live["client"]
+            futures = {client.submit(part_bytes, study, grouped[k], hook, key=f"case-{k}",
+                                     pure=False, retries=RETRIES): k for k in todo}
+            for fut in as_completed(futures):
+                key = futures[fut]
+                try:
+                    data = fut.result()
+                except Exception as exc:
+                    raise SimulationError(
+                        f"sweep: cases {[c.index for c in grouped[key]]} failed after"
+                        f" retries: {_first_line(exc)}") from exc
+                keep(key, data)
+                fut.release()
+        finally:
+            _shutdown(live.get("client"), live.get("cluster"))
+
+
 def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
               workers: int = 2, progress: bool = True, hook: Callable | None = None,
               cluster_kwargs: dict | None = None,
@@ -577,7 +609,8 @@ def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
         ``LocalCluster`` of ``workers`` processes with one thread each.
     workers : int
         Number of local worker processes (>= 1; reduced to the groups to compute and
-        the CPU cores, see :func:`plan_workers`).
+        the CPU cores, see :func:`plan_workers`). One worker runs the groups in this
+        process, without a cluster (same parts, same store; no start-up cost).
     progress : bool
         Show a progress bar on standard error.
     hook : callable, optional
@@ -605,9 +638,6 @@ def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
         Each distinct warning the groups raised in the workers, once, here in the client
         (a :class:`~gearsim.errors.ModelRangeWarning` as itself).
     """
-    import dask
-    from distributed import as_completed
-
     from gearsim.studies.sweep import expand
 
     plan_workers(workers, 1)  # the type and sign of workers, before anything else
@@ -632,36 +662,33 @@ def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
             n_workers, msg = plan_workers(workers, len(todo))
             if msg is not None and scheduler is None and note is not None:
                 note(msg)
-            bar = None
-            live: dict = {}
-            with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES}):
-                try:
-                    if scheduler is None:
-                        _start_local(n_workers, cluster_kwargs, live)
-                    else:
-                        _connect(scheduler, live)
-                    client = live["client"]
-                    bar = _progress(len(cases), skipped, progress)
-                    futures = {client.submit(part_bytes, study, grouped[k], hook,
-                                             key=f"case-{k}", pure=False, retries=RETRIES): k
-                               for k in todo}
-                    for fut in as_completed(futures):
-                        key = futures[fut]
+            bar = _progress(len(cases), skipped, progress)
+
+            def keep(key: str, data: bytes) -> None:
+                nonlocal computed
+                atomic_write(pdir / f"{key}.nc", lambda p, d=data: p.write_bytes(d))
+                computed += len(grouped[key])
+                if bar is not None:
+                    bar[0].advance(bar[1], len(grouped[key]))
+
+            try:
+                if scheduler is None and n_workers == 1:
+                    # one local worker: a cluster would only add its start-up (seconds)
+                    # and the transfers; the groups run here, each part as it finishes
+                    for key in todo:
                         try:
-                            data = fut.result()
+                            data = part_bytes(study, grouped[key], hook)
                         except Exception as exc:
                             raise SimulationError(
-                                f"sweep: cases {[c.index for c in grouped[key]]} failed after"
-                                f" retries: {_first_line(exc)}") from exc
-                        atomic_write(pdir / f"{key}.nc", lambda p, d=data: p.write_bytes(d))
-                        fut.release()
-                        computed += len(grouped[key])
-                        if bar is not None:
-                            bar[0].advance(bar[1], len(grouped[key]))
-                finally:
-                    if bar is not None:
-                        bar[0].stop()
-                    _shutdown(live.get("client"), live.get("cluster"))
+                                f"sweep: cases {[c.index for c in grouped[key]]} failed: "
+                                f"{_first_line(exc)}") from exc
+                        keep(key, data)
+                else:
+                    _run_on_dask(study, grouped, todo, hook, scheduler, n_workers,
+                                 cluster_kwargs, keep)
+            finally:
+                if bar is not None:
+                    bar[0].stop()
         for key in todo:  # read after the cluster is gone (no GIL contention with it)
             done[key] = _read_part(pdir / f"{key}.nc")
             if done[key] is None:

@@ -7,7 +7,9 @@
 * :mod:`~gearsim.fracture.direction`: maximum tangential stress kink angle;
 * :mod:`~gearsim.fracture.paris`: Paris law with threshold and toughness, life N(a);
 * :mod:`~gearsim.fracture.tooth`: K at a tooth-root crack, MTS growth increments;
-* :mod:`~gearsim.fracture.path`: a grown path with K along it, and its Paris life.
+* :mod:`~gearsim.fracture.path`: a grown path with K along it (one load or a mesh
+  cycle), and its Paris life;
+* :mod:`~gearsim.fracture.compliance`: load-point compliance of the cracked sector.
 
 Layer: above :mod:`gearsim.fem`, below :mod:`gearsim.system` (docs/fracture.md).
 """

@@ -18,8 +18,6 @@ import typer
 
 from gearsim.commands._options import as_options, with_torque
 from gearsim.errors import InputError, require
-from gearsim.io.targets import check_output_file
-from gearsim.model import load
 
 __all__ = ["register"]
 
@@ -76,6 +74,8 @@ def life(
         TOUGHNESS_RANGE,
         steel_class_law,
     )
+    from gearsim.io.targets import check_output_file
+    from gearsim.model import load
     from gearsim.studies import life as lf
     from gearsim.viz import check_plot_file
 

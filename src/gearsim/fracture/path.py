@@ -203,6 +203,8 @@ class CyclePath(GrowthPath):
 
     Parameters
     ----------
+    crack, lengths, k1, k2, kink, force, status, message, seconds
+        As :class:`GrowthPath`.
     delta_k
         Range of K_eq over the cycle at each tip [Pa sqrt(m)]
         (:attr:`gearsim.fracture.tooth.CycleIntensity.delta_k`).

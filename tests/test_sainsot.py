@@ -142,10 +142,17 @@ def test_warns_outside_the_fitted_range():
         _ = ToothModel(thin).sainsot
 
 
-def test_cli_prints_the_range_warning_as_one_line(capsys):
-    """The CLI turns the warning into one line on standard error; the run goes on."""
+def test_cli_prints_the_range_warning_as_one_line(capsys, monkeypatch):
+    """The CLI turns the warning into one line on standard error; the run goes on. As in
+    a new ``gearsim`` process, the run starts without the in-memory stiffness tables an
+    earlier in-process run of the same example left (a cached table is not recomputed,
+    so it does not warn again)."""
+    from collections import OrderedDict
+
+    import gearsim.system.train as train_module
     from gearsim.cli import run
 
+    monkeypatch.setattr(train_module, "_TABLES", OrderedDict())
     assert run(["stiffness", "spur-19-48"]) == 0
     err = capsys.readouterr().err.strip().splitlines()
     assert err == ["gearsim: warning: Sainsot foundation of gear pinion: theta_f = 0.1586 rad "

@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gearsim.errors import InputError
-from gearsim.fem.geometry import _gmsh_session
+from gearsim.fem.geometry import gmsh_session
 from gearsim.fem.solve import ElasticModel
 
 __all__ = ["CantileverResult", "cantilever_exact", "convergence_rate", "solve_cantilever",
@@ -175,7 +175,7 @@ class CantileverResult:
 def _rectangle(length: float, depth: float, h: float) -> tuple[np.ndarray, np.ndarray]:
     """Unstructured gmsh triangulation of the rectangle [0, L] x [-H/2, H/2]."""
 
-    with _gmsh_session() as gmsh:
+    with gmsh_session() as gmsh:
         geo = gmsh.model.geo
         c = 0.5 * depth
         pts = [geo.addPoint(x, y, 0.0, h) for x, y in

@@ -45,6 +45,7 @@ from gearsim.stiffness.crack import crack_geometry
 
 __all__ = [
     "CrackLine",
+    "gmsh_session",
     "FlankRefinement",
     "SectorMesh",
     "SectorOptions",
@@ -518,7 +519,7 @@ def gmsh_triangles(gmsh, surf: int, parameter: str, what: str
     Parameters
     ----------
     gmsh : module
-        The gmsh module, inside :func:`_gmsh_session`, after ``mesh.generate(2)``.
+        The gmsh module, inside :func:`gmsh_session`, after ``mesh.generate(2)``.
     surf : int
         Tag of the surface.
     parameter, what : str
@@ -576,8 +577,19 @@ def gmsh_nodes_on(gmsh, index: np.ndarray, dim: int, tags: list[int]) -> np.ndar
     return np.unique(np.concatenate(out)) if out else np.zeros(0, dtype=np.int64)
 
 @contextlib.contextmanager
-def _gmsh_session() -> Iterator[object]:
-    """Initialise gmsh quietly for one model and always finalise it."""
+def gmsh_session(model: str = "gearsim-fem") -> Iterator[object]:
+    """A quiet gmsh model, always removed (and gmsh finalised if this call started it).
+
+    Parameters
+    ----------
+    model : str, optional
+        Name of the gmsh model.
+
+    Yields
+    ------
+    module
+        The ``gmsh`` module with ``model`` current.
+    """
     import gmsh
 
     own = not gmsh.isInitialized()
@@ -585,7 +597,7 @@ def _gmsh_session() -> Iterator[object]:
         gmsh.initialize(readConfigFiles=False)
     gmsh.option.setNumber("General.Terminal", 0)
     gmsh.option.setNumber("General.Verbosity", 0)
-    gmsh.model.add("gearsim-fem")
+    gmsh.model.add(model)
     try:
         yield gmsh
     finally:
@@ -746,7 +758,7 @@ def _mesh(gear: Gear, half: np.ndarray, outer: np.ndarray, crack: CrackLine | No
     mod = gear.normal_module
     # the whole size field scales with h, so that levels are uniform refinements
     h_max = min(16.0 * h, 0.5 * (r_root - bore))
-    with _gmsh_session() as gmsh:
+    with gmsh_session() as gmsh:
         geo = gmsh.model.geo
         centre = geo.addPoint(0.0, 0.0, 0.0)
 

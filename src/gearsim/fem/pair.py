@@ -94,9 +94,9 @@ from gearsim.errors import InputError, SimulationError
 from gearsim.fem.geometry import (
     FlankRefinement,
     SectorOptions,
-    _gmsh_session,
     crack_line,
     element_size,
+    gmsh_session,
     mesh_sector,
 )
 from gearsim.fem.solve import ElasticModel, plane_lame
@@ -1411,7 +1411,7 @@ class FECylinderResult:
 def _mesh_disc(radius: float, bore: float, contact_y: float, h_contact: float,
                h_max: float, growth: float = 0.3):
     """gmsh mesh of an annulus with a refinement at (0, contact_y); returns p, t, bore, rim."""
-    with _gmsh_session() as gmsh:
+    with gmsh_session() as gmsh:
         geo = gmsh.model.geo
         c = geo.addPoint(0.0, 0.0, 0.0)
         rim_pts = [geo.addPoint(radius * math.cos(a), radius * math.sin(a), 0.0)

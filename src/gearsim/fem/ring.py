@@ -72,7 +72,7 @@ import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
 from gearsim.errors import InputError
-from gearsim.fem.geometry import _gmsh_session, gmsh_nodes_on, gmsh_triangles
+from gearsim.fem.geometry import gmsh_nodes_on, gmsh_session, gmsh_triangles
 from gearsim.fem.solve import ElasticModel
 from gearsim.fem.tooth import PATCH_HALF_LENGTH, bell_loads, deflection_along_load
 from gearsim.geometry.gear import inv
@@ -259,7 +259,7 @@ def mesh_ring_segment(ring: RingGear, *, rim_thickness: float, n_teeth: int, lev
     rho_flank = np.linspace(rho_t, r_a, N_FLANK)  # root -> tip
     b_flank = ring_tooth_half_angle(ring, rho_flank)
     b_a = float(ring_tooth_half_angle(ring, r_a))
-    with _gmsh_session() as gmsh:
+    with gmsh_session() as gmsh:
         geo = gmsh.model.geo
         centre = geo.addPoint(0.0, 0.0, 0.0)
 

@@ -19,15 +19,14 @@ References
 
 from __future__ import annotations
 
-import contextlib
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from gearsim.errors import InputError, require
-from gearsim.fem.geometry import gmsh_triangles
+from gearsim.fem.geometry import gmsh_session, gmsh_triangles
 
 __all__ = ["CrackPath", "CrackedMesh", "mesh_cracked_polygon", "mesh_polygon",
            "split_crack_nodes"]
@@ -152,25 +151,6 @@ class CrackedMesh:
     edges: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int64))
 
 
-@contextlib.contextmanager
-def _session() -> Iterator[object]:
-    """A quiet gmsh model, always removed (and gmsh finalised if we started it)."""
-    import gmsh
-
-    own = not gmsh.isInitialized()
-    if own:
-        gmsh.initialize(readConfigFiles=False)
-    gmsh.option.setNumber("General.Terminal", 0)
-    gmsh.option.setNumber("General.Verbosity", 0)
-    gmsh.model.add("gearsim-fracture")
-    try:
-        yield gmsh
-    finally:
-        gmsh.model.remove()
-        if own:
-            gmsh.finalize()
-
-
 def _point_in_polygon(poly: np.ndarray, pt: np.ndarray) -> bool:
     """Even-odd rule (strictly inside; points on edges are undefined)."""
     x, y = pt
@@ -249,7 +229,7 @@ def mesh_cracked_polygon(outline: np.ndarray, crack: CrackPath, *, h: float, h_t
 def _mesh(poly: np.ndarray, crack: CrackPath, mouth: int, h: float, h_tip: float,
           growth: float, zone: float) -> CrackedMesh:
     pts = crack.array
-    with _session() as gmsh:
+    with gmsh_session("gearsim-fracture") as gmsh:
         geo = gmsh.model.geo
         tags = [geo.addPoint(float(x), float(y), 0.0) for x, y in poly]
         lines = [geo.addLine(tags[i], tags[(i + 1) % len(tags)]) for i in range(len(tags))]
@@ -361,7 +341,7 @@ def mesh_polygon(outline: np.ndarray, *, h: float, focus: np.ndarray, h_focus: f
         require(float(d.min()) <= tol, "mesh.focus", tuple(q), "must be outline vertices")
         idx.append(int(np.argmin(d)))
     try:
-        with _session() as gmsh:
+        with gmsh_session("gearsim-fracture") as gmsh:
             geo = gmsh.model.geo
             tags = [geo.addPoint(float(x), float(y), 0.0) for x, y in poly]
             lines = [geo.addLine(tags[i], tags[(i + 1) % len(tags)]) for i in range(len(tags))]

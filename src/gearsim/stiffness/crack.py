@@ -30,6 +30,11 @@ from gearsim.stiffness import _kernels as K
 
 __all__ = ["Crack", "crack_geometry", "crack_record"]
 
+#: Smallest non-zero crack depth [m]: 1 um, a tenth of the finest grain of case-hardened
+#: gear steels (ASTM grain size 8-10 is 11-22 um, ISO 643); a smaller depth is a unit
+#: mistake (e.g. 2e-9 written for 2 mm), not a crack.
+MIN_CRACK_DEPTH = 1e-6
+
 FLANKS = ("working", "non-working")
 PROFILES = ("uniform", "linear", "parabolic")
 
@@ -87,8 +92,11 @@ class Crack:
                 'must be "working" or "non-working"')
         require(self.profile in PROFILES, "crack.profile", self.profile,
                 'must be "uniform", "linear" or "parabolic"')
-        require(math.isfinite(self.depth) and self.depth >= 0.0, "crack.depth", self.depth,
-                "must be a finite number >= 0 m")
+        require(math.isfinite(self.depth) and (self.depth == 0.0
+                                               or self.depth >= MIN_CRACK_DEPTH),
+                "crack.depth", self.depth, f"must be 0 (no crack) or a finite number >= "
+                f"{MIN_CRACK_DEPTH:g} m (1 um: below the grain size of gear steels a "
+                "crack depth can only be a unit mistake)")
         require(0.0 < self.angle <= 0.5 * math.pi + 1e-12, "crack.angle",
                 f"{math.degrees(self.angle):.6g} deg", "must be in (0, 90] deg")
         require(0.0 < self.extent <= 1.0, "crack.extent", self.extent, "must be in (0, 1]")

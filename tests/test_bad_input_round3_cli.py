@@ -73,7 +73,7 @@ def test_reproduce_planetary_config_refused(tmp_path, capsys):
     line = refused(capsys, "reproduce", "--config", "lin-parker-1999", "--out", tmp_path / "r",
                    "--no-fe", "--quiet")
     assert line == ("gearsim: error: --config = lin-parker-1999: has a planetary stage; the "
-                    "seed's study needs a parallel-axis gear train (e.g. idler-table1)")
+                    "seed's study (e.g. idler-table1) needs a gearbox of external gears")
     assert not (tmp_path / "r").exists()
 
 

@@ -101,9 +101,8 @@ def life(
     law = steel_class_law(steel, threshold=threshold * MPA_SQRT_M,
                           toughness=toughness * MPA_SQRT_M)
     gb = load(config)
-    require(gb.stage is None and gb.train is not None, "config", config,
-            "life needs a gearbox of gears (a planetary stage's crack is not supported)")
-    gb = dataclasses.replace(gb, train=with_torque(gb.train, torque))
+    gb = dataclasses.replace(gb, train=with_torque(gb.gears_only("config", config,
+                                                                 "crack growth"), torque))
     with as_options({"gear": "--gear"}):
         lf._crack_of(gb, gear)  # a gear without a crack: refused here, before the FE
     da = None if increment is None else increment * 1e-3

@@ -123,6 +123,30 @@ class Gearbox:
         """Options of the mesh-stiffness computation (of the input part)."""
         return self.stage.settings if self.stage is not None else self.train.stiffness
 
+    def gears_only(self, parameter: str, value: Any, purpose: str) -> GearTrain:
+        """The gear train of a gearbox without a planetary stage, for work that models
+        external gear meshes only (the seed's study, crack growth).
+
+        Parameters
+        ----------
+        parameter, value
+            Named in the refusal (e.g. ``"config"`` and the file as written).
+        purpose
+            What needs the gears, e.g. ``"the seed's study"``.
+
+        Returns
+        -------
+        GearTrain
+
+        Raises
+        ------
+        InputError
+            For a gearbox with a planetary stage.
+        """
+        require(self.stage is None and self.train is not None, parameter, value,
+                f"has a planetary stage; {purpose} needs a gearbox of external gears")
+        return self.train
+
     def _parts(self, stage: PlanetaryTrain | None, train: GearTrain | None) -> Gearbox:
         return dataclasses.replace(self, stage=stage, train=train)
 

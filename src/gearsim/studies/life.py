@@ -97,9 +97,7 @@ def default_law() -> ParisLaw:
 
 
 def _crack_of(gb: Gearbox, gear: str | None):
-    require(gb.stage is None and gb.train is not None, "gearbox", gb.name,
-            "life needs a gearbox of gears (a planetary stage's crack is not supported)")
-    tr = gb.train
+    tr = gb.gears_only("gearbox", gb.name, "crack growth")
     names = [g.name for g in tr.gears]
     if gear is None:
         require(bool(tr.cracks), "crack", "none",

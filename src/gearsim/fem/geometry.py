@@ -45,6 +45,7 @@ from gearsim.stiffness.crack import crack_geometry
 
 __all__ = [
     "CrackLine",
+    "distance_threshold",
     "gmsh_session",
     "FlankRefinement",
     "SectorMesh",
@@ -553,6 +554,50 @@ def gmsh_triangles(gmsh, surf: int, parameter: str, what: str
     return xy, index, tri
 
 
+def distance_threshold(gmsh, *, size: tuple[float, float], distance: tuple[float, float],
+                       curves: list[int] | None = None, points: list[int] | None = None,
+                       sampling: int | None = None) -> int:
+    """A gmsh size field graded with the distance to ``curves`` or ``points``.
+
+    The element size is ``size[0]`` up to ``distance[0]`` [m] from them, ``size[1]``
+    beyond ``distance[1]``, linear between (gmsh's ``Distance`` and ``Threshold``
+    fields).
+
+    Parameters
+    ----------
+    gmsh : module
+        The gmsh module, inside :func:`gmsh_session`.
+    size : tuple of float
+        Smallest and largest element size [m].
+    distance : tuple of float
+        Distances [m] where the size leaves its smallest and reaches its largest value.
+    curves, points : list of int, optional
+        Tags the distance is measured to (one of them).
+    sampling : int, optional
+        Points per curve the distance is sampled at (gmsh's default without).
+
+    Returns
+    -------
+    int
+        Tag of the threshold field (combine several with a ``Min`` field).
+    """
+    fld = gmsh.model.mesh.field
+    dist = fld.add("Distance")
+    if curves is not None:
+        fld.setNumbers(dist, "CurvesList", list(curves))
+    if points is not None:
+        fld.setNumbers(dist, "PointsList", list(points))
+    if sampling is not None:
+        fld.setNumber(dist, "Sampling", sampling)
+    thr = fld.add("Threshold")
+    fld.setNumber(thr, "InField", dist)
+    fld.setNumber(thr, "SizeMin", size[0])
+    fld.setNumber(thr, "SizeMax", size[1])
+    fld.setNumber(thr, "DistMin", distance[0])
+    fld.setNumber(thr, "DistMax", distance[1])
+    return thr
+
+
 def gmsh_nodes_on(gmsh, index: np.ndarray, dim: int, tags: list[int]) -> np.ndarray:
     """Rows (of :func:`gmsh_triangles`' ``xy``) of the nodes on gmsh entities.
 
@@ -880,40 +925,21 @@ def _mesh(gear: Gear, half: np.ndarray, outer: np.ndarray, crack: CrackLine | No
             gmsh.model.mesh.embed(1, [crack_curve], 2, surf)
         # size field: distance from the middle tooth (and the crack)
         fld = gmsh.model.mesh.field
-        dist = fld.add("Distance")
-        fld.setNumbers(dist, "CurvesList", middle + refined_curves
-                       + ([crack_curve] if crack is not None else []))
-        fld.setNumber(dist, "Sampling", 200)
-        thr = fld.add("Threshold")
-        fld.setNumber(thr, "InField", dist)
-        fld.setNumber(thr, "SizeMin", h)
-        fld.setNumber(thr, "SizeMax", h_max)
-        fld.setNumber(thr, "DistMin", 0.5 * mod)
-        fld.setNumber(thr, "DistMax", 0.5 * mod + (h_max - h) / opt.growth)
+        near = middle + refined_curves + ([crack_curve] if crack is not None else [])
+        thr = distance_threshold(gmsh, curves=near, sampling=200, size=(h, h_max),
+                                 distance=(0.5 * mod, 0.5 * mod + (h_max - h) / opt.growth))
         fields = [thr]
         if crack is not None:
-            dtip = fld.add("Distance")
-            fld.setNumbers(dtip, "PointsList", [tip_pt])
-            ttip = fld.add("Threshold")
-            fld.setNumber(ttip, "InField", dtip)
-            fld.setNumber(ttip, "SizeMin", opt.tip_refinement * h)
-            fld.setNumber(ttip, "SizeMax", h_max)
-            fld.setNumber(ttip, "DistMin", 0.5 * h)
-            fld.setNumber(ttip, "DistMax", 0.5 * h + (h_max - opt.tip_refinement * h) / 0.3)
+            h_tip = opt.tip_refinement * h
+            ttip = distance_threshold(gmsh, points=[tip_pt], size=(h_tip, h_max),
+                                      distance=(0.5 * h, 0.5 * h + (h_max - h_tip) / 0.3))
             fields.append(ttip)
         if refine is not None:
             inv_curves = [c for (k, sd, part), cs in part_curves.items()
                           if part == "involute" and sd in refine.sides for c in cs]
-            dflank = fld.add("Distance")
-            fld.setNumbers(dflank, "CurvesList", inv_curves)
-            fld.setNumber(dflank, "Sampling",
-                          max(200, int(math.ceil(4.0 * mod / refine.size))))
-            tflank = fld.add("Threshold")
-            fld.setNumber(tflank, "InField", dflank)
-            fld.setNumber(tflank, "SizeMin", refine.size)
-            fld.setNumber(tflank, "SizeMax", h_max)
-            fld.setNumber(tflank, "DistMin", 0.0)
-            fld.setNumber(tflank, "DistMax", (h_max - refine.size) / refine.growth)
+            tflank = distance_threshold(
+                gmsh, curves=inv_curves, sampling=max(200, int(math.ceil(4.0 * mod / refine.size))),
+                size=(refine.size, h_max), distance=(0.0, (h_max - refine.size) / refine.growth))
             fields.append(tflank)
         mn = fld.add("Min")
         fld.setNumbers(mn, "FieldsList", fields)

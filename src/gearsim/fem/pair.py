@@ -95,6 +95,7 @@ from gearsim.fem.geometry import (
     FlankRefinement,
     SectorOptions,
     crack_line,
+    distance_threshold,
     element_size,
     gmsh_session,
     mesh_sector,
@@ -1424,14 +1425,9 @@ def _mesh_disc(radius: float, bore: float, contact_y: float, h_contact: float,
         geo.synchronize()
         target = rim_pts[0] if contact_y > 0 else rim_pts[2]
         fld = gmsh.model.mesh.field
-        dist = fld.add("Distance")
-        fld.setNumbers(dist, "PointsList", [target])
-        thr = fld.add("Threshold")
-        fld.setNumber(thr, "InField", dist)
-        fld.setNumber(thr, "SizeMin", h_contact)
-        fld.setNumber(thr, "SizeMax", h_max)
-        fld.setNumber(thr, "DistMin", 20.0 * h_contact)
-        fld.setNumber(thr, "DistMax", 20.0 * h_contact + (h_max - h_contact) / growth)
+        thr = distance_threshold(gmsh, points=[target], size=(h_contact, h_max),
+                                 distance=(20.0 * h_contact,
+                                           20.0 * h_contact + (h_max - h_contact) / growth))
         fld.setAsBackgroundMesh(thr)
         gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
         gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)

@@ -72,7 +72,7 @@ import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
 from gearsim.errors import InputError
-from gearsim.fem.geometry import gmsh_nodes_on, gmsh_session, gmsh_triangles
+from gearsim.fem.geometry import distance_threshold, gmsh_nodes_on, gmsh_session, gmsh_triangles
 from gearsim.fem.solve import ElasticModel
 from gearsim.fem.tooth import PATCH_HALF_LENGTH, bell_loads, deflection_along_load
 from gearsim.geometry.gear import inv
@@ -318,15 +318,9 @@ def mesh_ring_segment(ring: RingGear, *, rim_thickness: float, n_teeth: int, lev
         surf = geo.addPlaneSurface([loop])
         geo.synchronize()
         fld = gmsh.model.mesh.field
-        dist = fld.add("Distance")
-        fld.setNumbers(dist, "CurvesList", middle)
-        fld.setNumber(dist, "Sampling", 200)
-        thr = fld.add("Threshold")
-        fld.setNumber(thr, "InField", dist)
-        fld.setNumber(thr, "SizeMin", h)
-        fld.setNumber(thr, "SizeMax", h_max)
-        fld.setNumber(thr, "DistMin", 0.5 * mod)
-        fld.setNumber(thr, "DistMax", 0.5 * mod + (h_max - h) / 0.3)
+        thr = distance_threshold(gmsh, curves=middle, sampling=200,
+                                 size=(h, h_max),
+                                 distance=(0.5 * mod, 0.5 * mod + (h_max - h) / 0.3))
         fld.setAsBackgroundMesh(thr)
         gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
         gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from gearsim.errors import InputError, require
-from gearsim.fem.geometry import gmsh_session, gmsh_triangles
+from gearsim.fem.geometry import distance_threshold, gmsh_session, gmsh_triangles
 
 __all__ = ["CrackPath", "CrackedMesh", "mesh_cracked_polygon", "mesh_polygon",
            "split_crack_nodes"]
@@ -243,27 +243,16 @@ def _mesh(poly: np.ndarray, crack: CrackPath, mouth: int, h: float, h_tip: float
         tip_tags = [ctags[0]] if crack.tips[0] else []
         tip_tags.append(ctags[-1])
         fld = gmsh.model.mesh.field
-        dtip = fld.add("Distance")
-        fld.setNumbers(dtip, "PointsList", tip_tags)
-        ttip = fld.add("Threshold")
-        fld.setNumber(ttip, "InField", dtip)
-        fld.setNumber(ttip, "SizeMin", h_tip)
-        fld.setNumber(ttip, "SizeMax", h)
-        fld.setNumber(ttip, "DistMin", zone)
-        fld.setNumber(ttip, "DistMax", zone + (h - h_tip) / growth)
+        ttip = distance_threshold(gmsh, points=tip_tags,
+                                  size=(h_tip, h),
+                                  distance=(zone, zone + (h - h_tip) / growth))
         fields = [ttip]
         # the crack faces: at most a few tip sizes, so that the path is well resolved
         h_crack = min(h, 4.0 * h_tip)
         if h_crack < h:
-            dcr = fld.add("Distance")
-            fld.setNumbers(dcr, "CurvesList", clines)
-            fld.setNumber(dcr, "Sampling", 100)
-            tcr = fld.add("Threshold")
-            fld.setNumber(tcr, "InField", dcr)
-            fld.setNumber(tcr, "SizeMin", h_crack)
-            fld.setNumber(tcr, "SizeMax", h)
-            fld.setNumber(tcr, "DistMin", 0.0)
-            fld.setNumber(tcr, "DistMax", (h - h_crack) / growth)
+            tcr = distance_threshold(gmsh, curves=clines, sampling=100,
+                                     size=(h_crack, h),
+                                     distance=(0.0, (h - h_crack) / growth))
             fields.append(tcr)
         mn = fld.add("Min")
         fld.setNumbers(mn, "FieldsList", fields)
@@ -348,14 +337,9 @@ def mesh_polygon(outline: np.ndarray, *, h: float, focus: np.ndarray, h_focus: f
             surf = geo.addPlaneSurface([geo.addCurveLoop(lines)])
             geo.synchronize()
             fld = gmsh.model.mesh.field
-            dist = fld.add("Distance")
-            fld.setNumbers(dist, "PointsList", [tags[i] for i in idx])
-            thr = fld.add("Threshold")
-            fld.setNumber(thr, "InField", dist)
-            fld.setNumber(thr, "SizeMin", h_focus)
-            fld.setNumber(thr, "SizeMax", h)
-            fld.setNumber(thr, "DistMin", 4.0 * h_focus)
-            fld.setNumber(thr, "DistMax", 4.0 * h_focus + (h - h_focus) / growth)
+            thr = distance_threshold(gmsh, points=[tags[i] for i in idx],
+                                     size=(h_focus, h),
+                                     distance=(4.0 * h_focus, 4.0 * h_focus + (h - h_focus) / growth))
             fld.setAsBackgroundMesh(thr)
             gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
             gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)

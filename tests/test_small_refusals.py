@@ -42,3 +42,27 @@ def test_effective_configuration_states_the_speed_unit():
                      if not line.startswith("#"))
     assert 'speed = "' in body and 'rad/s"' in body
     assert gs.loads(body).train.operating.speed == train.operating.speed
+
+
+@pytest.mark.parametrize("depth", [1e-9, 1e-300, 5e-7, -1e-3, math.inf, math.nan])
+def test_crack_depth_is_zero_or_at_least_a_micrometre(depth):
+    """A crack depth below 1 um (a tenth of the finest grain of case-hardened gear
+    steel) can only be a unit mistake; 0 is no crack and 1 um the smallest crack."""
+    from gearsim.stiffness.crack import Crack
+
+    with pytest.raises(InputError) as err:
+        Crack(gear="input", depth=depth)
+    assert err.value.parameter == "crack.depth" and "\n" not in str(err.value)
+    assert Crack(gear="input", depth=0.0).depth == 0.0
+    assert Crack(gear="input", depth=1e-6).depth == 1e-6
+
+
+def test_cli_refuses_a_nanometre_crack_before_any_work(tmp_path, capsys):
+    from gearsim import cli
+
+    out = tmp_path / "rep"
+    code = cli.run(["reproduce", "--depth", "1e-6 mm", "--no-fe", "--out", str(out),
+                    "--quiet"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "1e-06 m" in err[0] and "--depth" in err[0]
+    assert not out.exists()

@@ -25,8 +25,9 @@ from gearsim.model import example
 def _models(name: str, fidelity: str):
     gb = example(name)
     st = dataclasses.replace(gb.dynamics, model=fidelity)
-    if getattr(gb, "chain", None) is not None:
-        return build_stage_chain_model(gb.train, gb.chain, gb.members, st)
+    if gb.stage is not None:
+        return build_stage_chain_model(gb.stage, gb.train, gb.members, st,
+                                       shaft_stiffness=gb.shaft_stiffness)
     return build_model(gb.train, st)
 
 

@@ -18,7 +18,7 @@ from gearsim.system import Operating
 def test_piecewise_mesh_force():
     tr = load("idler-table1").train.with_cracks(())
     m = build_model(tr, DynamicsSettings(backlash=(2e-4,), mesh_damping_ratio=0.0))
-    _, V, mp, mi, tab, tabz, tabd, _prof, harm, ptr, cx, _lam = _kernel_args(m)
+    _, vcol, vval, mp, mi, tab, tabz, tabd, _prof, harm, ptr, cx, _lam = _kernel_args(m)
     k = m.tables[0].k[0]
     f = np.zeros(2)
     d = np.zeros(2)
@@ -26,7 +26,8 @@ def test_piecewise_mesh_force():
     for x, expected in ((1e-5, k * 1e-5), (-1e-4, 0.0), (-2.5e-4, k * (-2.5e-4 + 2e-4))):
         q = np.zeros(m.n_dof)
         q[3] = x / m.V[0, 3]  # deflection of mesh 1 through the input rotation only
-        K.mesh_forces(0.0, 1.0, q, v, V, mp, mi, tab, tabz, tabd, harm, ptr, cx, False, f, d)
+        K.mesh_forces(0.0, 1.0, q, v, vcol, vval, mp, mi, tab, tabz, tabd, harm, ptr, cx, False, f,
+                      d)
         assert d[0] == pytest.approx(x)
         assert f[0] == pytest.approx(expected, rel=1e-12, abs=1e-9)
 

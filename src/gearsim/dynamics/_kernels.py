@@ -7,6 +7,11 @@ Packed arguments (built by :func:`gearsim.dynamics.simulate._kernel_args`):
 
 * ``dof`` (5, n): 1/M, K_b, C_b, F_ext of each coordinate and its inertial load per unit
   nominal acceleration g (speed profiles);
+* ``vcol``, ``vval`` (n_mesh, w): the mesh rows V_i of the model, sparse (ELL): the
+  columns and values of each row's nonzero entries, ascending, padded with column 0 and
+  value 0 (w = the most nonzeros of a row). A mesh row couples only its two gears'
+  coordinates, so the products V q and V^T f cost w instead of n per row; the sums run
+  in the dense order, so the result is the dense one to the bit;
 * ``mp`` (n_mesh, 9): kappa, kscale, c_m, clearance 2b, phase, e0, positions per
   cycle and period of each mesh's table, and its mesh frequency f_i [Hz] at the
   reference speed (the table is read at c_i = f_i tau(t) + phase_i);
@@ -126,21 +131,22 @@ def _contact_force(x, xd, b2, cm, ks, tab, tabz, dk, off, i, j, w, ptr, row0, cx
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def mesh_forces(tau, taud, q, v, V, mp, mi, tab, tabz, tabd, harm, ptr, cx, contacts, f_out,
-                d_out):
+def mesh_forces(tau, taud, q, v, vcol, vval, mp, mi, tab, tabz, tabd, harm, ptr, cx, contacts,
+                f_out, d_out):
     """Mesh forces f_i [N] (into ``f_out``) and deflections V_i.q [m] (into ``d_out``) at
     nominal time ``tau`` (rate ``taud`` = tau').
 
     ``contacts`` is a literal at each call site: with ``False`` the meshes-of-contacts
     branch is dead code."""
-    nm = V.shape[0]
-    n = V.shape[1]
+    nm = vcol.shape[0]
+    w_v = vcol.shape[1]
     for i in range(nm):
         d = 0.0
         dd = 0.0
-        for j in range(n):
-            d += V[i, j] * q[j]
-            dd += V[i, j] * v[j]
+        for p in range(w_v):  # the row's nonzero entries, by column (padding: 0 at col 0)
+            j = vcol[i, p]
+            d += vval[i, p] * q[j]
+            dd += vval[i, p] * v[j]
         d_out[i] = d
         e = mp[i, E0]
         ed = 0.0
@@ -181,8 +187,8 @@ def mesh_forces(tau, taud, q, v, V, mp, mi, tab, tabz, tabd, harm, ptr, cx, cont
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def rhs(t, q, v, dof, V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam, contacts,
-        profiled, a_out, f_out, d_out):
+def rhs(t, q, v, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam,
+        contacts, profiled, a_out, f_out, d_out):
     """Accelerations M^-1 (lambda F_ext + g tau'' - K_b q - C_b q' - sum V_i f_i) into
     ``a_out``. ``profiled`` is a literal at each call site: with ``False`` (constant speed
     and load, tau = t) the profile code is not compiled in, which keeps the constant-speed
@@ -191,25 +197,30 @@ def rhs(t, q, v, dof, V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam, cont
         tau, taud, taudd, load = nominal(t, prof, lam)
     else:
         tau, taud, taudd, load = t, 1.0, 0.0, 1.0
-    mesh_forces(tau, taud, q, v, V, mp, mi, tab, tabz, tabd, harm, ptr, cx, contacts, f_out,
-                d_out)
+    mesh_forces(tau, taud, q, v, vcol, vval, mp, mi, tab, tabz, tabd, harm, ptr, cx, contacts,
+                f_out, d_out)
     n = q.size
-    nm = V.shape[0]
+    nm = vcol.shape[0]
+    w_v = vcol.shape[1]
     for j in range(n):
         s = load * dof[3, j] - dof[1, j] * q[j] - dof[2, j] * v[j]
         if taudd != 0.0:
             s += taudd * dof[4, j]
-        for i in range(nm):
-            s -= V[i, j] * f_out[i]
-        a_out[j] = s * dof[0, j]
+        a_out[j] = s
+    for i in range(nm):  # - V^T f over the nonzero entries, rows in order (as dense)
+        fi = f_out[i]
+        for p in range(w_v):
+            a_out[vcol[i, p]] -= vval[i, p] * fi
+    for j in range(n):
+        a_out[j] *= dof[0, j]
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _rk4(contacts, profiled, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof, V, mp,
-         mi, tab, tabz, tabd, prof, harm, ptr, cx, lam):
+def _rk4(contacts, profiled, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof,
+         vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam):
     """Classical fixed-step RK4 (body of both integrators; see :func:`integrate_rk4`)."""
     n = q0.size
-    nm = V.shape[0]
+    nm = vcol.shape[0]
     q = q0.copy()
     v = v0.copy()
     qt = np.empty(n)
@@ -232,8 +243,8 @@ def _rk4(contacts, profiled, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_re
     next_rec = rec_start
     for s in range(n_steps + 1):
         t = t0 + s * dt
-        rhs(t, q, v, dof, V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam, contacts, profiled,
-            k1v, f, d)
+        rhs(t, q, v, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam,
+            contacts, profiled, k1v, f, d)
         if s == next_rec and r < n_rec:
             for j in range(n):
                 rec_q[r, j] = q[j]
@@ -248,20 +259,20 @@ def _rk4(contacts, profiled, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_re
             k1q[j] = v[j]
             qt[j] = q[j] + h2 * v[j]
             vt[j] = v[j] + h2 * k1v[j]
-        rhs(t + h2, qt, vt, dof, V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam, contacts,
-            profiled, k2v, f, d)
+        rhs(t + h2, qt, vt, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam,
+            contacts, profiled, k2v, f, d)
         for j in range(n):
             k2q[j] = vt[j]
             qt[j] = q[j] + h2 * vt[j]
             vt[j] = v[j] + h2 * k2v[j]
-        rhs(t + h2, qt, vt, dof, V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam, contacts,
-            profiled, k3v, f, d)
+        rhs(t + h2, qt, vt, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam,
+            contacts, profiled, k3v, f, d)
         for j in range(n):
             k3q[j] = vt[j]
             qt[j] = q[j] + dt * vt[j]
             vt[j] = v[j] + dt * k3v[j]
-        rhs(t + dt, qt, vt, dof, V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam, contacts,
-            profiled, k4v, f, d)
+        rhs(t + dt, qt, vt, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam,
+            contacts, profiled, k4v, f, d)
         bad = False
         for j in range(n):
             q[j] += h6 * (k1q[j] + 2.0 * k2q[j] + 2.0 * k3q[j] + vt[j])
@@ -274,8 +285,8 @@ def _rk4(contacts, profiled, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_re
 
 
 @njit(cache=True, error_model="numpy")
-def integrate_rk4(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof, V, mp,
-                  mi, tab, tabz, tabd, prof, harm, ptr, cx, lam):
+def integrate_rk4(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof, vcol,
+                  vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam):
     """Classical fixed-step RK4 from t0 over ``n_steps`` steps of ``dt`` (stiffness tables,
     constant speed and load).
 
@@ -292,29 +303,29 @@ def integrate_rk4(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, do
     q, v : final state
     """
     return _rk4(False, False, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim,
-                dof, V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)
+                dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)
 
 
 @njit(cache=True, error_model="numpy")
 def integrate_rk4_contacts(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof,
-                           V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam):
+                           vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam):
     """:func:`integrate_rk4` with meshes of contacts (same arguments and returns)."""
     return _rk4(True, False, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim,
-                dof, V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)
+                dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)
 
 
 @njit(cache=True, error_model="numpy")
 def integrate_rk4_profile(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim, dof,
-                          V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam):
+                          vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam):
     """:func:`integrate_rk4` with speed and load profiles (same arguments and returns)."""
     return _rk4(False, True, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim,
-                dof, V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)
+                dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)
 
 
 @njit(cache=True, error_model="numpy")
 def integrate_rk4_contacts_profile(q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec,
-                                   qlim, dof, V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx,
-                                   lam):
+                                   qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm,
+                                   ptr, cx, lam):
     """:func:`integrate_rk4` with meshes of contacts and profiles (same arguments)."""
     return _rk4(True, True, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_rec, qlim,
-                dof, V, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)
+                dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)

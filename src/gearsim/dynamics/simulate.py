@@ -219,10 +219,25 @@ def _kernel_args(model: DynamicModel):
                            for t in tabs])
     prof = np.array([[0.0, 0.0, 1.0, 0.0]]) if model.profile is None else model.profile
     lam = np.array([[0.0, 1.0]]) if model.load is None else model.load
-    return (dof, np.ascontiguousarray(model.V, dtype=float), mp, mi,
+    return (dof, *_sparse_rows(model.V), mp, mi,
             np.concatenate([t.k for t in tabs]), tabz, np.ascontiguousarray(tabd),
             np.ascontiguousarray(prof, dtype=float), harm, ptr, cx,
             np.ascontiguousarray(lam, dtype=float))
+
+
+def _sparse_rows(V: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``V`` as (columns, values) of each row's nonzero entries, ascending, padded with
+    column 0 and value 0 (the kernel's ELL layout, :mod:`gearsim.dynamics._kernels`)."""
+    V = np.asarray(V, dtype=float)
+    nz = V != 0.0
+    width = max(1, int(nz.sum(axis=1).max(initial=0)))
+    col = np.zeros((V.shape[0], width), dtype=np.int64)
+    val = np.zeros((V.shape[0], width))
+    for i in range(V.shape[0]):
+        (c,) = np.nonzero(nz[i])
+        col[i, :c.size] = c
+        val[i, :c.size] = V[i, c]
+    return col, val
 
 
 def _contact_args(tabs):

@@ -7,8 +7,6 @@ polar inertias, the mean mesh stiffness of each mesh), not read from the model's
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -231,23 +229,20 @@ gears = ["p3", "g3"]
         loads(text)
 
 
-def test_cli_refuses_a_bad_graph_in_one_line(tmp_path):
+def test_cli_refuses_a_bad_graph_in_one_line(tmp_path, gearsim_here):
     cfg = tmp_path / "bad.toml"
     cfg.write_text(_edit('shaft = "c"', 'shaft = "idler2"'))
     out = tmp_path / "k.csv"
-    r = subprocess.run([sys.executable, "-m", "gearsim.cli", "stiffness", str(cfg), "--out",
-                        str(out)], capture_output=True, text=True, timeout=120)
+    r = gearsim_here("stiffness", cfg, "--out", out)
     assert r.returncode == 2
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and 'gears[3].shaft = idler2: no such shaft' in lines[0], r.stderr
     assert not out.exists()
 
 
-def test_layout_verb_reports_the_graph_and_draws_it(tmp_path):
+def test_layout_verb_reports_the_graph_and_draws_it(tmp_path, gearsim_here):
     png = tmp_path / "layout.png"
-    r = subprocess.run([sys.executable, "-m", "gearsim.cli", "layout", "wind-turbine-grc",
-                        "--json", "--plot", str(png)], capture_output=True, text=True,
-                       timeout=120)
+    r = gearsim_here("layout", "wind-turbine-grc", "--json", "--plot", png)
     assert r.returncode == 0, r.stderr
     import json
 

@@ -116,10 +116,7 @@ def test_bad_profiles_are_refused(kw, match):
         DynamicsSettings(**kw)
 
 
-def test_cli_refuses_a_decreasing_profile_in_one_line(tmp_path):
-    import subprocess
-    import sys
-
+def test_cli_refuses_a_decreasing_profile_in_one_line(tmp_path, gearsim_here):
     from gearsim.model import example_text
 
     cfg = tmp_path / "box.toml"
@@ -127,28 +124,25 @@ def test_cli_refuses_a_decreasing_profile_in_one_line(tmp_path):
         '[dynamics]\nfs = "20 kHz"', '[dynamics]\nfs = "20 kHz"\nspeed_times = [1.0, 0.5]\n'
         'speed_values = ["600 rpm", "1800 rpm"]'))
     out = tmp_path / "run.nc"
-    r = subprocess.run([sys.executable, "-m", "gearsim.cli", "simulate", str(cfg), "--out",
-                        str(out)], capture_output=True, text=True, timeout=120)
+    r = gearsim_here("simulate", cfg, "--out", out)
     assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
     assert "dynamics.speed_times = [1.0, 0.5]: must increase" in r.stderr
     assert not out.exists()
 
 
-def test_analyze_with_the_own_tacho_reports_each_stage_mesh_orders(runup, tmp_path):
+def test_analyze_with_the_own_tacho_reports_each_stage_mesh_orders(runup, tmp_path,
+                                                                   gearsim_here):
     """gearsim analyze of a run-up result: with its own tacho channel the order spectrum
     of mesh force i is made of the harmonics of that stage's mesh order (32 and 19.2
     input-shaft orders), the bearing acceleration of both."""
     import json
-    import subprocess
-    import sys
 
     nc = tmp_path / "runup.nc"
     runup.to_netcdf(nc, engine="h5netcdf")
 
     def lines(channel):
-        r = subprocess.run([sys.executable, "-m", "gearsim.cli", "analyze", str(nc),
-                            "--channel", channel, "--tacho", "tacho[shaft=input]", "--json"],
-                           capture_output=True, text=True, timeout=300)
+        r = gearsim_here("analyze", nc, "--channel", channel, "--tacho", "tacho[shaft=input]",
+                         "--json")
         assert r.returncode == 0, r.stderr
         rec = json.loads(r.stdout)["records"][0]
         assert rec["speed_provenance"] == "file"

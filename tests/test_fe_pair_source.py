@@ -89,19 +89,34 @@ MEAN_FORCE_TOL = 0.005
 
 
 @pytest.fixture(scope="module")
-def fe_pair_train(spur):
+def fe_pair_cache(tmp_path_factory):
+    """A cache folder of this module's own, holding the 19/48 FE pair table (computed
+    once here: ~9 s of FE solves), so that both tests below share one computation."""
+    return tmp_path_factory.mktemp("fe-pair-cache")
+
+
+@pytest.fixture(scope="module")
+def fe_pair_train(spur, fe_pair_cache):
     st = dataclasses.replace(spur.stiffness, source="fe-pair")
-    return dataclasses.replace(spur.with_cracks(()), stiffness=st)
+    tr = dataclasses.replace(spur.with_cracks(()), stiffness=st)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("GEARSIM_CACHE", str(fe_pair_cache))
+        tr.mesh_stiffness(0)  # the table into the module's cache
+    return tr
 
 
-def test_fe_pair_table_is_cached(fe_pair_train, tmp_path, monkeypatch):
-    """Second call served from the cache (the FE model may not be built) in < 1 s."""
+def test_fe_pair_table_is_cached(fe_pair_train, fe_pair_cache, monkeypatch):
+    """The table computed by the fixture is written to the cache and a second call is
+    served from it (the FE model may not be built) in < 1 s, with the same numbers."""
     import time
 
     import gearsim.fem.pair_table as pt
+    import gearsim.system.train as train_module
 
-    monkeypatch.setenv("GEARSIM_CACHE", str(tmp_path))
+    monkeypatch.setenv("GEARSIM_CACHE", str(fe_pair_cache))
     first = fe_pair_train.mesh_stiffness(0)
+    # from the disk: the in-memory tables emptied, the FE model refused
+    monkeypatch.setattr(train_module, "_TABLES", type(train_module._TABLES)())
 
     def refuse(*a, **k):
         raise AssertionError("FE model built although the table is cached")
@@ -111,16 +126,17 @@ def test_fe_pair_table_is_cached(fe_pair_train, tmp_path, monkeypatch):
     again = fe_pair_train.mesh_stiffness(0)
     assert time.perf_counter() - t0 < 1.0
     np.testing.assert_array_equal(again.k, first.k)
-    assert list(tmp_path.glob("fe/pair-*.npz"))
+    assert list(fe_pair_cache.glob("fe/pair-*.npz"))
 
 
-def test_simulation_on_the_fe_pair_source(fe_pair_train):
+def test_simulation_on_the_fe_pair_source(fe_pair_train, fe_pair_cache, monkeypatch):
     """A 0.1 s run on the FE-pair stiffness: mean mesh force = T / r_b1, mean dynamic TE
     = the FE pair's mean loaded TE (quasi-static at the example's speed)."""
     from gearsim.dynamics import DynamicsSettings, simulate
     from gearsim.fem.pair import FEPairModel
     from gearsim.system.fe_pair import FE_PAIR_LEVEL
 
+    monkeypatch.setenv("GEARSIM_CACHE", str(fe_pair_cache))
     ds = simulate(fe_pair_train, DynamicsSettings(duration=0.1, fs=20_000.0))
     n = ds.sizes["time"]
     tail = slice(n // 2, None)  # after the start-up transient

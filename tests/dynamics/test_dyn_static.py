@@ -3,6 +3,11 @@
 Tolerance 0.5 % (docs/references.md, "Dynamics self-checks"). For the LTA model the torque balance makes the
 time average exact up to the change of angular momentum over the window (~1e-5); for
 the seed model it holds up to the correlation of k(t) with the vibration.
+
+The train's stiffness tables use 10 face slices instead of the built-in 40: the balance
+holds for any table, and the LTA build with runout (the centre-distance derivative at 2000
+positions per cycle) costs 6 s of CPU instead of 18 s. Measured mean errors, 40 / 10
+slices: LTA -2.4e-5 and +3.0e-5 for both; seed +8.6e-4 for both, +2.7e-3 / +2.7e-3.
 """
 
 from __future__ import annotations
@@ -19,11 +24,14 @@ from gearsim.dynamics.simulate import run_kernel
 from gearsim.model import load
 
 MEAN_RTOL = 5e-3  # docs/references.md, "Dynamics self-checks"
+#: Face slices of the train's stiffness tables (see above).
+SLICES = 10
 
 
 @lru_cache(maxsize=1)
 def train():
-    return load("idler-table1").train  # working-flank crack on the input gear
+    tr = load("idler-table1").train  # working-flank crack on the input gear
+    return dataclasses.replace(tr, stiffness=dataclasses.replace(tr.stiffness, slices=SLICES))
 
 
 @pytest.mark.parametrize("model", ["lta", "seed"])

@@ -16,6 +16,7 @@ import pytest
 
 from gearsim.errors import InputError
 from gearsim.fem import pair as fp
+from gearsim.fem import pair_table
 from gearsim.fem.geometry import SectorOptions
 from gearsim.fem.pair_table import fe_pair_mesh_stiffness
 from gearsim.fem.tooth import fe_tooth_compliance
@@ -43,19 +44,44 @@ def crack(spur):
 
 
 @pytest.fixture(scope="module")
-def healthy(pair, spur):
-    return fp.FEPairModel(pair, torque=spur.torque(0), level=LEVEL)
+def models(pair, spur):
+    """``models(crack)``: the module's FE pair model (level LEVEL, the train's torque)
+    with the :class:`PairCrack` ``crack`` (None: healthy), built once per module.
+
+    The models are built the same whichever test asks first, and a model's solve depends
+    on the position and torque only (the column cache of its compliance holds exact
+    solves): the revolution table reuses the healthy model and the open working-flank
+    models of labels 0 and 1 of the other tests (a level-1 build is 1.6-2.2 s of CPU)."""
+    built: dict = {}
+
+    def get(crack: fp.PairCrack | None = None) -> fp.FEPairModel:
+        if crack not in built:
+            built[crack] = fp.FEPairModel(pair, torque=spur.torque(0), level=LEVEL,
+                                          crack=crack)
+        return built[crack]
+
+    return get
+
+
+@pytest.fixture(scope="module")
+def healthy(models):
+    return models()
+
+
+def _crack(crack, *, side, closure, label=0):
+    return fp.PairCrack(gear=1, pair=label, crack=crack, side=side, closure=closure)
 
 
 def _cracked(pair, spur, crack, *, side, closure, label=0):
-    return fp.FEPairModel(pair, torque=spur.torque(0), level=LEVEL, crack=fp.PairCrack(
-        gear=1, pair=label, crack=crack, side=side, closure=closure))
+    """A new cracked model (the checks of refused input)."""
+    return fp.FEPairModel(pair, torque=spur.torque(0), level=LEVEL,
+                          crack=_crack(crack, side=side, closure=closure, label=label))
 
 
 @pytest.mark.parametrize("side, closure", [(1, "open"), (-1, "contact")])
-def test_crack_changes_the_pair_as_it_changes_the_tooth(pair, spur, crack, healthy, side,
+def test_crack_changes_the_pair_as_it_changes_the_tooth(pair, crack, models, healthy, side,
                                                         closure):
-    m = _cracked(pair, spur, crack, side=side, closure=closure)
+    m = models(_crack(crack, side=side, closure=closure))
     b = pair.face_width
     d_pair = b * (1 / m.solve(SINGLE).stiffness - 1 / healthy.solve(SINGLE).stiffness)
     r = math.hypot(pair.driver.base_radius, pair.start_of_contact + SINGLE * pair.base_pitch)
@@ -67,29 +93,38 @@ def test_crack_changes_the_pair_as_it_changes_the_tooth(pair, spur, crack, healt
     assert d_pair == pytest.approx(c_c - c_h, rel=CRACK_DELTA_TOL)
 
 
-def test_closed_non_working_crack_is_nearly_healthy_and_stiffer_than_open(pair, spur, crack,
+def test_closed_non_working_crack_is_nearly_healthy_and_stiffer_than_open(crack, models,
                                                                           healthy):
     k_h = healthy.solve(SINGLE).stiffness
-    closed = _cracked(pair, spur, crack, side=-1, closure="contact").solve(SINGLE)
-    opened = _cracked(pair, spur, crack, side=-1, closure="open").solve(SINGLE)
+    closed = models(_crack(crack, side=-1, closure="contact")).solve(SINGLE)
+    opened = models(_crack(crack, side=-1, closure="open")).solve(SINGLE)
     assert closed.crack_closed == pytest.approx(1.0)  # the faces close over their length
     assert 0.99 < closed.stiffness / k_h < 1.0
     assert opened.stiffness < closed.stiffness - 0.02 * k_h
 
 
-def test_crack_out_of_contact_acts_through_the_body_only(pair, spur, crack, healthy):
+def test_crack_out_of_contact_acts_through_the_body_only(crack, models, healthy):
     """Pair 1 is beyond the end of contact at u = 0.85: only the body feels its crack."""
-    m = _cracked(pair, spur, crack, side=1, closure="open", label=1)
+    m = models(_crack(crack, side=1, closure="open", label=1))
     r = m.solve(SINGLE)
     assert 1 not in r.pair_teeth
     assert r.stiffness / healthy.solve(SINGLE).stiffness == pytest.approx(1.0, abs=BODY_ONLY_TOL)
 
 
-def test_revolution_table_dips_where_the_pe_table_does(spur, pair, crack):
+def test_revolution_table_dips_where_the_pe_table_does(spur, pair, crack, models,
+                                                      monkeypatch):
     """Cycles where the FE-pair table drops by > 1 % are the cycles the cracked tooth is
     in the path of contact (those the PE table marks), tooth 0 at cycles 0 and 1."""
     tc = ToothCrack(gear=1, crack=crack, side=1)
     kw = dict(torque=spur.torque(0), positions_per_cycle=4, level=LEVEL, use_cache=False)
+
+    def shared(p, *, torque, level, plane, crack=None):
+        """The table's models (healthy, the crack on each pair label) from ``models``:
+        the same arguments, checked here (the table's cycles and labels are its own)."""
+        assert (p, torque, level, plane) == (pair, spur.torque(0), LEVEL, "stress")
+        return models(crack)
+
+    monkeypatch.setattr(pair_table, "FEPairModel", shared)
     healthy = fe_pair_mesh_stiffness(pair, **kw).k
     cracked = fe_pair_mesh_stiffness(pair, cracks=(tc,), closure="open", **kw).k
     drop = (1 - cracked / healthy).reshape(-1, 4).max(axis=1)

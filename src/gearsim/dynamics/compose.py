@@ -44,7 +44,7 @@ import math
 import numpy as np
 
 from gearsim.dynamics.lta import build_lta
-from gearsim.dynamics.model import DynamicModel, static_equilibrium
+from gearsim.dynamics.model import DynamicModel, nominal_inertia, static_equilibrium
 from gearsim.dynamics.settings import DynamicsSettings
 from gearsim.dynamics.stage import StageDynamics, build_stage_model, simulate_stage
 from gearsim.dynamics.tables import MeshTable
@@ -223,6 +223,11 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
     kmean = np.concatenate([[t.mean for t in sm.tables], [t.mean for t in cm_.tables], [kt]])
     e0 = np.concatenate([sm.e0, cm_.e0, [0.0]])
     q0 = static_equilibrium(mass, kb, V, kmean, fext, e0)
+    # the nominal motion of both (the chain's speeds are its operating point, which is the
+    # stage output's): the stage's profile and the whole system's inertia at its input
+    w = np.concatenate([sm.info["nominal_velocity"], cm_.info["nominal_velocity"]])
+    inertial = (None if sm.profile is None else nominal_inertia(
+        mass, w, sm.dof_labels.index(f"{train.operating.input}.u")))
     chain_rows = tuple(range(r1, r1 + len(chain.pairs)))  # its meshes (then its springs)
     chain_rate = np.ones(r2) if cm_.rate is None else np.asarray(cm_.rate)
     return DynamicModel(
@@ -243,8 +248,9 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
                                      [abs(train.torques[out])]]),
         bearing_dofs=sm.bearing_dofs, axes=sm.axes, q_static=q0,
         rate=np.concatenate([np.ones(r1), chain_rate * (f_m2 / f_m), [1.0]]),
-        info={**sm.info, "chain_rows": chain_rows, "shaft_row": rows - 1,
-              "chain_mesh_names": tuple(p.name for p in chain.pairs),
+        profile=sm.profile, load=sm.load, inertial=inertial,
+        info={**sm.info, "nominal_velocity": w, "chain_rows": chain_rows, "shaft_row": rows - 1,
+              "chain_mesh_names": tuple(p.name for p in chain.pairs), "chain": chain,
               "chain_mesh_frequency": f_m2, "shaft_stiffness": kt,
               "chain_dofs": (n1, n), "output_member": out, "chain_name": chain.name,
               "chain_bearing_dofs": cm_.bearing_dofs + n1, "chain_axes": cm_.axes,

@@ -55,7 +55,7 @@ import math
 import numpy as np
 
 from gearsim.dynamics.layout import idlers, layout
-from gearsim.dynamics.model import DynamicModel, static_equilibrium
+from gearsim.dynamics.model import DynamicModel, nominal_inertia, static_equilibrium
 from gearsim.dynamics.settings import DynamicsSettings
 from gearsim.dynamics.tables import MeshTable, centre_distance_derivative, mesh_tables
 from gearsim.system import GearTrain
@@ -425,13 +425,10 @@ def build_lta(train: GearTrain, settings: DynamicsSettings | None = None, *,
     q_static = static_equilibrium(mass, kb, V, np.concatenate([kmean, kt]), fext, e0)
     f_m = train.mesh_frequency
     profile, load = settings.profiles(train.operating.speed)
-    inertial = None
-    if profile is not None:  # the nominal rotation's inertia, driven by the input
-        omega = np.zeros(n)
-        for g in gears:
-            omega[theta[g.name]] = train.speed(train.gear_index(g.name))
-        inertial = -mass * omega
-        inertial[theta[gears[0].name]] += np.sum(mass * omega ** 2) / omega[theta[gears[0].name]]
+    omega = np.zeros(n)  # the nominal motion: the rotations at their speeds
+    for g in gears:
+        omega[theta[g.name]] = train.speed(train.gear_index(g.name))
+    inertial = None if profile is None else nominal_inertia(mass, omega, theta[gears[0].name])
     rate = np.concatenate([np.array(train.mesh_frequencies) / f_m, pad + 1.0])
     return DynamicModel(
         kind=settings.model, gear_names=tuple(sh.name for sh in fl.shafts),
@@ -447,6 +444,7 @@ def build_lta(train: GearTrain, settings: DynamicsSettings | None = None, *,
         rate=None if np.all(rate == 1.0) else rate, profile=profile, load=load,
         inertial=inertial,
         info={"equivalent_mass": meq, "mesh_damping_ratio": settings.mesh_damping_ratio,
+              "nominal_velocity": omega,
               "centres": lay.centres, "line_of_action": lay.normal,
               "rotation_sense": lay.senses, "shaft_rows": tuple(range(nm, rows)),
               "shaft_springs": tuple(f"{sh.name}:{a}-{b}" for a, b, _, sh in springs)},

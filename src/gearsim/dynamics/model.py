@@ -283,7 +283,8 @@ def constrain(model: DynamicModel, follow: dict[str, tuple[str, float]],
     Each coordinate is kept, follows one kept coordinate with a factor (``follow[label] =
     (kept label, factor)``) or is held at zero (``factor`` 0). With at most one entry per
     row of T the reduced mass T^T M T, bearings T^T K_b T and T^T C_b T stay diagonal;
-    V_r = V T and F_r = T^T F (virtual work); rows of V that become zero (springs whose
+    V_r = V T, F_r = T^T F and the inertial loads g_r = T^T g (virtual work); rows of V
+    that become zero (springs whose
     ends the constraint ties together) are dropped with their tables.
 
     Parameters
@@ -354,7 +355,50 @@ def constrain(model: DynamicModel, follow: dict[str, tuple[str, float]],
         axes=model.axes if bd and len(bd[0]) else (),
         q_static=static_equilibrium(mass, kb, V[rows], kmean, fext, model.e0[rows]),
         a_amp=sub(model.a_amp), a_omega=sub(model.a_omega), a_phase=sub(model.a_phase),
-        rate=sub(model.rate), info={**model.info, "rows_kept": tuple(rows)})
+        rate=sub(model.rate), inertial=None if model.inertial is None else T.T @ model.inertial,
+        info={**model.info, "rows_kept": tuple(rows),
+              **({"nominal_velocity": np.asarray(model.info["nominal_velocity"])[
+                  [labels.index(lab) for lab in kept]]}
+                 if "nominal_velocity" in model.info else {})})
+
+
+def nominal_inertia(mass: np.ndarray, velocity: np.ndarray, input_index: int) -> np.ndarray:
+    """Load on each coordinate per unit tau'' of a speed profile (``DynamicModel.inertial``).
+
+    The coordinates are deviations from the nominal motion q_nom = w tau(t) (w: the
+    velocity of each coordinate at the operating speed, tau' = 1), whose acceleration
+    w tau'' each coordinate's inertia resists: g = -M w. The drive supplies the power
+    of that acceleration at the input coordinate, w_in g_in = sum_j M_j w_j^2, so the
+    nominal motion itself (V w = 0: no spring is deflected by it) takes no net load,
+    w . g = 0, and the rigid rotation stays at rest.
+
+    Parameters
+    ----------
+    mass : ndarray, shape (n,)
+        Diagonal mass matrix [kg or kg m^2, per coordinate].
+    velocity : ndarray, shape (n,)
+        w [m/s or rad/s per unit tau'].
+    input_index : int
+        The driven coordinate (w != 0).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        g [N or N m per unit tau'' (1/s)].
+
+    Examples
+    --------
+    Two discs 1:2 (inertias 1 and 4, speeds 2 and 1): the input supplies 8 per unit
+    tau'', each disc resists with its J w; no net power.
+
+    >>> import numpy as np
+    >>> g = nominal_inertia(np.array([1.0, 4.0]), np.array([2.0, 1.0]), 0)
+    >>> g.tolist(), float(g @ np.array([2.0, 1.0]))
+    ([2.0, -4.0], 0.0)
+    """
+    g = -mass * velocity
+    g[input_index] += np.sum(mass * velocity ** 2) / velocity[input_index]
+    return g
 
 
 def static_equilibrium(mass: np.ndarray, kb: np.ndarray, V: np.ndarray, kmean: np.ndarray,

@@ -50,17 +50,17 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from gearsim.dynamics.modal import modes
-from gearsim.dynamics.model import DynamicModel, constrain, static_equilibrium
+from gearsim.dynamics.model import DynamicModel, constrain, nominal_inertia, static_equilibrium
 from gearsim.dynamics.planetary import LinParkerModel, PlanetaryMode
 from gearsim.dynamics.settings import DynamicsSettings
-from gearsim.dynamics.simulate import MAX_STEPS, cost_bounds_lifted, record
+from gearsim.dynamics.simulate import MAX_STEPS, TACHO_VOLTS, TACHO_WIDTH, cost_bounds_lifted, record
 from gearsim.dynamics.tables import MeshTable, contact_table
 from gearsim.errors import InputError, require
 from gearsim.system import graph as bounds
 from gearsim.system.planetary import PlanetaryTrain, planet_name
 
-__all__ = ["StageDynamics", "build_stage_model", "lin_parker_of", "sensor_window",
-           "check_stage_settings", "simulate_stage", "stage_summary"]
+__all__ = ["StageDynamics", "build_stage_model", "lin_parker_of", "nominal_velocity",
+           "sensor_window", "check_stage_settings", "simulate_stage", "stage_summary"]
 
 _MEMBERS = ("carrier", "ring", "sun")
 #: Largest RK4 step as a fraction of 1 / omega_max (RK4's stability limit is 2.78).
@@ -251,9 +251,6 @@ def check_stage_settings(s: DynamicsSettings) -> None:
         v = getattr(s, name)
         require(v == default, f"dynamics.{name}", v,
                 f"is not modelled for a planetary stage (leave it at {default!r})")
-    require(s.speed_times is None and s.load_times is None, "dynamics.speed_times",
-            s.speed_times or s.load_times, "speed and load profiles are not modelled for a "
-            "planetary stage yet (constant speed and torque only)")
     require(s.backlash is None or len(s.backlash) == 1, "dynamics.backlash", s.backlash,
             "a planetary stage takes one backlash for all its meshes")
 
@@ -343,6 +340,8 @@ def build_stage_model(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     for j in range(st.planets):
         p = planet_name(j)
         row_names += [f"sun-{p}", f"ring-{p}", f"bearing-{p}.radial", f"bearing-{p}.tangential"]
+    w = nominal_velocity(train, labels)
+    profile, load = settings.profiles(train.operating.speed)
     model = DynamicModel(
         kind="planetary", gear_names=_MEMBERS + tuple(planet_name(j) for j in range(st.planets)),
         dof_labels=tuple(labels), mass=mass, kb=kb, cb=cb, fext=fext, V=V,
@@ -354,8 +353,11 @@ def build_stage_model(train: PlanetaryTrain, dyn: StageDynamics | None = None,
         static_force=np.where(np.isin(np.arange(n_planet_rows), mesh_rows), f_static, 0.0),
         bearing_dofs=np.arange(3 * len(_MEMBERS)).reshape(len(_MEMBERS), 3)[:, :2],
         axes=("x", "y"), q_static=q0,
+        profile=profile, load=load,
+        inertial=(None if profile is None
+                  else nominal_inertia(mass, w, labels.index(f"{train.operating.input}.u"))),
         info={"lin_parker": lp, "mesh_rows": tuple(mesh_rows), "row_names": tuple(row_names),
-              "backlash": b2})
+              "backlash": b2, "nominal_velocity": w})
     if settings.model != "torsional":
         return model
     # purely torsional: members and planet centres fixed in translation, each planet's
@@ -367,6 +369,46 @@ def build_stage_model(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     kept = list(red.info["rows_kept"])
     return dataclasses.replace(red, info={**red.info, "mesh_rows": tuple(
         kept.index(r) for r in mesh_rows), "row_names": tuple(row_names[r] for r in kept)})
+
+
+def nominal_velocity(train: PlanetaryTrain, labels: list[str] | tuple[str, ...]) -> np.ndarray:
+    """Velocity of each coordinate of the stage model in its nominal motion [m/s].
+
+    In the Lin & Parker (1999) coordinates (model frame, mirrored when the sun torque is
+    clockwise): u_j = r_j theta_j of sun, ring (base radii) and carrier (planet-centre
+    radius r_c) at r_j omega_j; each planet's centre moves tangentially with the carrier,
+    eta_n at r_c omega_c, and spins at omega_c + omega_p/c with omega_p/c = -(z_s / z_p)
+    (omega_s - omega_c) relative to the carrier, u_n at r_p (omega_c + omega_p/c);
+    translations x, y, xi at 0 (centripetal terms are left out, as in the model). The
+    nominal motion deflects no spring of the stage, V w = 0 (checked in the tests).
+
+    Parameters
+    ----------
+    train : PlanetaryTrain
+        The stage in operation.
+    labels : sequence of str
+        Coordinate labels of :func:`build_stage_model` (``"sun.u"``, ``"planet1.eta"`` ...).
+
+    Returns
+    -------
+    ndarray
+        w [m/s] at the operating speed (per unit tau').
+    """
+    st = train.stage
+    sgn = -1.0 if train.mirrored else 1.0
+    om = {m: sgn * v for m, v in train.speeds.items()}
+    radius = {"sun": st.sun.base_radius, "ring": st.ring.base_radius,
+              "carrier": st.centre_distance}
+    spin = om["carrier"] - st.sun_teeth / st.planet_teeth * (om["sun"] - om["carrier"])
+    w = np.zeros(len(labels))
+    for i, lab in enumerate(labels):
+        body, coord = lab.split(".")
+        if coord == "u":
+            w[i] = (radius[body] * om[body] if body in radius
+                    else st.planet.base_radius * spin)
+        elif coord == "eta":
+            w[i] = st.centre_distance * om["carrier"]
+    return w
 
 
 def sensor_window(phi: np.ndarray, width: float) -> np.ndarray:
@@ -440,7 +482,9 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     xarray.Dataset
         ``mesh_force`` (time, mesh) [N] for the 2N meshes, ``q`` (time, dof) [m],
         ``acceleration`` of the ring translation [m/s^2], ``sensor`` [N] (module docstring),
-        ``carrier_angle`` [rad]; attributes: f_m, speeds, direction, phases.
+        ``carrier_angle`` [rad] (omega_c tau(t): it follows a speed profile), ``tacho``
+        (time, shaft) [V], a once-per-revolution pulse of every turning member and of a
+        driven chain's shafts; attributes: f_m, speeds, direction, phases.
 
     Raises
     ------
@@ -491,7 +535,7 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     ring = [model.dof_labels.index(f"ring.{a}") for a in "xy" if f"ring.{a}" in model.dof_labels]
     acc = (np.gradient(v[:, ring], t, axis=0) if n_out > 2 and ring
            else np.zeros((n_out, 2)))
-    theta_c = train.speeds["carrier"] * t
+    theta_c = train.speeds["carrier"] * model.nominal(t)[0]  # follows a speed profile
     psi = train.stage.planet_angles_value
     ring_f = forces[:, 1::2]
     dyn_f = ring_f - ring_f.mean(axis=0)
@@ -525,6 +569,21 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
                        "chain_static_mesh_force": [float(model.static_force[i])
                                                    for i in crow],
                        "static_shaft_torque": float(model.static_force[-1])}
+    # once-per-revolution tacho of every turning shaft (the stage's members, then a
+    # driven chain's shafts), each in its own sense, following a speed profile
+    tau = model.nominal(t)[0]
+    shafts = [(m, abs(train.speeds[m])) for m in ("carrier", "sun", "ring")
+              if train.speeds[m] != 0.0]
+    if "chain_rows" in model.info:
+        ch = model.info["chain"]
+        shafts += [(sh.name, abs(ch.speed(ch.gear_index(sh.gears[0]))))
+                   for sh in ch.flow.shafts]
+    angles = np.stack([w * tau for _, w in shafts], axis=1)
+    extra["tacho"] = (("time", "shaft"), np.where(np.mod(angles, 2 * np.pi) < TACHO_WIDTH,
+                                                  TACHO_VOLTS, 0.0), {
+        "units": "V", "long_name": "once-per-revolution tacho pulse of each shaft",
+        "pulses_per_rev": 1})
+    extra_coords["shaft"] = [name for name, _ in shafts]
     constant = all(model.tables[i].k.size == 1 for i in list(model.info["mesh_rows"])
                    + list(model.info.get("chain_rows", ())))
     ds = xr.Dataset(

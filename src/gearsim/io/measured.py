@@ -307,15 +307,51 @@ def _struct(arr: np.ndarray) -> dict:
     return out
 
 
+def _h5_value(obj):
+    """A MAT v7.3 (HDF5) variable: a struct (group) as a dict of its fields, a char array
+    (uint16 codes, ``MATLAB_class = "char"``) as a string, a number array transposed back
+    to MATLAB's column-major shape; ``None`` for what a record cannot use (cells,
+    references)."""
+    import h5py
+
+    cls = obj.attrs.get("MATLAB_class", b"")
+    cls = cls.decode() if isinstance(cls, bytes) else str(cls)
+    if isinstance(obj, h5py.Group):
+        if cls != "struct":
+            return None
+        out = {k: _h5_value(obj[k]) for k in obj}
+        return {k: v for k, v in out.items() if v is not None}
+    if cls == "char":
+        return "".join(map(chr, np.asarray(obj).ravel()))
+    arr = np.asarray(obj)
+    if arr.dtype.kind not in "biuf" or cls in ("cell", "function_handle"):
+        return None
+    return arr.T
+
+
+def _scalars(d: dict) -> dict:
+    """The numbers and texts of a struct read by :func:`_h5_value` (nested structs kept)."""
+    out: dict = {}
+    for k, v in d.items():
+        if isinstance(v, dict):
+            out[k] = _scalars(v)
+        elif isinstance(v, str) or (isinstance(v, np.ndarray) and v.size == 1):
+            out[k] = v if isinstance(v, str) else v.ravel()[0]
+    return out
+
+
 def _read_mat73(path: Path, shown: Path) -> _Raw:
+    """MAT v7.3 (HDF5 with a MATLAB header): its variables, header structs included
+    (the HDF5 layout of MATLAB's ``save -v7.3``: one dataset or group per variable)."""
     import h5py
 
     try:
         with h5py.File(path, "r") as f:
-            content = {k: np.asarray(f[k]).T for k in f if isinstance(f[k], h5py.Dataset)}
+            content = {k: _h5_value(f[k]) for k in f if not k.startswith("#")}
     except Exception as exc:
         raise _fail(shown, "mat", exc) from None
-    return _mat_channels(shown, content)
+    return _mat_channels(shown, {k: (_scalars(v) if isinstance(v, dict) else v)
+                                 for k, v in content.items() if v is not None})
 
 
 def _number(name: str) -> str | None:
@@ -330,6 +366,9 @@ def _mat_channels(shown: Path, content: dict) -> _Raw:
     channels: dict[str, np.ndarray] = {}
     heads: dict[str | None, dict] = {}  # header structs by the number in their name
     for name, val in content.items():
+        if isinstance(val, dict):  # a header struct of a v7.3 file, already read
+            heads.setdefault(_number(name), {}).update(val)
+            continue
         arr = np.asarray(val)
         if arr.dtype.names is not None:
             heads.setdefault(_number(name), {}).update(_struct(arr))

@@ -70,9 +70,11 @@ PE_DOUBLE_BOUNDS = (0.25, 0.45)
 #: level-to-level changes are 1e-3 and below, near the remeshing noise (meshes are not
 #: nested), so the fitted order scatters between positions (0.4-2.9 over a cycle in
 #: benchmarks/bench_fem_pair.py --full, 0.9 for the cycle mean): the bound is loose.
+#: The test fits levels 0-1-2 (see test_mesh_convergence for why not 1-2-3).
 ORDER_RANGE = (0.4, 4.0)
 DEFAULT_LEVEL_ERROR = 0.005
-#: Single-contact change between levels 2 and 3 (at the remeshing noise).
+#: Single-contact change between levels 1 and 2 (at the remeshing noise; measured
+#: 0.058 %, and 0.040 % from level 2 to 3).
 SINGLE_LEVEL_CHANGE = 0.002
 #: Positions of the cycle study: u = (i + 1/2) / N.
 N_POSITIONS = 8
@@ -316,18 +318,30 @@ def test_pe_within_target_of_fe_pair(pair, tvms2):
 
 # ------------------------------------------------------------------ (e) convergence
 def test_mesh_convergence(pair, model1, tvms2):
-    """Levels 1-2-3 (h_c = 50, 25, 12.5 um): order, extrapolated error of level 2."""
+    """Levels 0-1-2 (h_c = 100, 50, 25 um): order, extrapolated error of level 2.
+
+    The levels: the error of the default level 2 is the Richardson estimate of the finest
+    of three levels, k_ext - k_2 = (k_2 - k_1) / (2^p - 1), p fitted on levels 0-1-2.
+    Levels 1-2-3 (the level-3 model: 570 000 dofs, 48 s of CPU of the 50 s of this test,
+    against 1.5 s for level 0) give the same picture at u = 0.3125: k = 297.92 (level 0),
+    298.58, 299.04, 299.35 (level 3) MN/m; order 0.51 (0-1-2) and 0.58 (1-2-3); level-2
+    error 0.36 % from 0-1-2 and 0.31 % from 1-2-3 (the coarser fit is the more
+    conservative here), both under the 0.5 % bound. Level 0 resolves the contact (h_c =
+    100 um < Hertz b = 142 um at the pitch point under 100 N m; the model refuses
+    coarser). Single contact (u = 0.8125): change 0.058 % from level 1 to 2, 0.040 % from
+    2 to 3. The full 1-2-3 study over a cycle: benchmarks/bench_fem_pair.py --full.
+    """
     model2, u, res2 = tvms2
-    model3 = fp.FEPairModel(pair, torque=TORQUE, level=3)
+    model0 = fp.FEPairModel(pair, torque=TORQUE, level=0)
     i_double, i_single = 2, 6  # u = 0.3125, 0.8125
     k = np.array([[m.solve(float(u[i])).stiffness for i in (i_double, i_single)]
-                  for m in (model1,)] + [[res2[i_double].stiffness, res2[i_single].stiffness]]
-                 + [[model3.solve(float(u[i])).stiffness for i in (i_double, i_single)]])
+                  for m in (model0, model1)]
+                 + [[res2[i_double].stiffness, res2[i_single].stiffness]])
     d1, d2 = k[1, 0] - k[0, 0], k[2, 0] - k[1, 0]
     order = math.log2(abs(d1 / d2))
     k_ext = k[2, 0] + d2 / (2**order - 1)
-    err2 = abs(k[1, 0] / k_ext - 1)
-    print(f"\nlevels 1-2-3, u = {u[i_double]}: k = {k[:, 0]}, order {order:.2f}, "
+    err2 = abs(k[2, 0] / k_ext - 1)
+    print(f"\nlevels 0-1-2, u = {u[i_double]}: k = {k[:, 0]}, order {order:.2f}, "
           f"level-2 error {100 * err2:.3f} %; u = {u[i_single]}: k = {k[:, 1]}")
     assert d1 * d2 > 0 and abs(d2) < abs(d1)  # monotone, changes shrinking
     assert ORDER_RANGE[0] < order < ORDER_RANGE[1]

@@ -553,6 +553,15 @@ def _first_line(exc: BaseException) -> str:
     return text[0] if text else type(exc).__name__
 
 
+def _scheduler_lost(exc: BaseException, client) -> bool:
+    """True when a task's error is the client losing its scheduler (not the case's own
+    failure): distributed cancels every future with "scheduler-connection-lost"."""
+    from concurrent.futures import CancelledError
+
+    return (isinstance(exc, CancelledError) and "connection-lost" in str(exc)) or \
+        getattr(client, "status", "running") in ("closing", "closed", "connecting")
+
+
 def _run_on_dask(study: Study, grouped: dict, todo: list[str], hook: Callable | None,
                  scheduler: str | None, n_workers: int, cluster_kwargs: dict | None,
                  keep: Callable[[str, bytes], None]) -> None:
@@ -571,15 +580,23 @@ def _run_on_dask(study: Study, grouped: dict, todo: list[str], hook: Callable | 
             client = live["client"]
             futures = {client.submit(part_bytes, study, grouped[k], hook, key=f"case-{k}",
                                      pure=False, retries=RETRIES): k for k in todo}
+            kept = 0
             for fut in as_completed(futures):
                 key = futures[fut]
                 try:
                     data = fut.result()
                 except Exception as exc:
+                    if _scheduler_lost(exc, client):
+                        where = scheduler or "of the local cluster"
+                        raise SimulationError(
+                            f"sweep: lost the scheduler {where} mid-study: {kept} of the "
+                            f"{len(todo)} groups to compute are written; the same command "
+                            "resumes from them") from exc
                     raise SimulationError(
                         f"sweep: cases {[c.index for c in grouped[key]]} failed after"
                         f" retries: {_first_line(exc)}") from exc
                 keep(key, data)
+                kept += 1
                 fut.release()
         finally:
             _shutdown(live.get("client"), live.get("cluster"))

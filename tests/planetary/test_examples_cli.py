@@ -105,8 +105,11 @@ def test_sweep_on_a_stage_example(capsys, tmp_path) -> None:
         '[study.dynamics]\nduration = "11 s"\ntransient = "0.5 s"\n'
         '[parameters]\nflank = ["none", "working"]\n')
     out_nc = tmp_path / "store.nc"
+    # --workers 1: the two groups run in this process (the default, 2, started a Dask
+    # cluster whose workers each imported gearsim again); sweeps on a cluster are
+    # tests/studies/test_sweep.py's
     code, out, err = _run(capsys, "sweep", tmp_path / "study.toml", "--out", out_nc,
-                          "--no-progress")
+                          "--workers", 1, "--no-progress")
     assert code == 0, err
     with xr.open_dataset(out_nc, engine="h5netcdf") as ds:
         assert ds.sizes["case"] == 2

@@ -19,19 +19,37 @@ def check(table1):
 
 
 #: FE tooth + line contact + coupling against the FE pair, max / min / mean of the
-#: curves, healthy and cracked (19/48, 1 mm crack): measured within 1.9 %; the issue's
-#: target is 5 %.
+#: curves, healthy and cracked (19/48, 1 mm crack): measured within 1.9 % at 20 positions
+#: per cycle, within 1.8 % at CRACKED_POSITIONS; the issue's target is 5 %.
 TARGET = 5.0
+#: FE pair positions per mesh cycle of the cracked 19/48 checks (the study's default is
+#: 20). A cracked table costs five FE pair models (healthy and the four pair labels of
+#: the cracked tooth) times these positions: ~45 s of CPU at 20, ~25 s at 10 (cold
+#: cache). At 10 both curves are still compared at the same 40 positions, which sample
+#: both contact zones of every cycle (u < eps_alpha - 1 = 0.646: 7 positions in double
+#: contact, 3 in single) and both transitions. Measured at 10, fe_tooth against the FE
+#: pair, max/min/mean: +1.4/+1.0/-1.8 % working, +1.4/+0.5/-1.7 % non-working (at 20:
+#: +1.4/+0.4/-1.9 % and +1.4/-0.0/-1.9 %); the crack's largest drop in cycles 0-1 is
+#: 5.7 % working and 0.41 % non-working, as at 20 (it sits on the 10-point grid), and
+#: at most 0.03 % in the cycle before.
+CRACKED_POSITIONS = 10
+
+
+@pytest.fixture(scope="module")
+def healthy_spur(spur):
+    """The healthy 19/48 section at CRACKED_POSITIONS, shared by the cracked checks."""
+    return fe_pair_check(spur, 0, positions_per_cycle=CRACKED_POSITIONS)
 
 
 @pytest.mark.parametrize("crack", ["working", "non-working"])
-def test_cracked_section_meets_the_target_with_the_fe_tooth(spur, crack):
-    chk = fe_pair_check(spur, 0, crack=crack)
+def test_cracked_section_meets_the_target_with_the_fe_tooth(spur, healthy_spur, crack):
+    chk = fe_pair_check(spur, 0, crack=crack, positions_per_cycle=CRACKED_POSITIONS)
+    assert chk.cycles.size == 4 * CRACKED_POSITIONS
     for value in chk.differences("fe_tooth").values():
         assert abs(value) < TARGET
     # the crack shows in the FE pair where the cracked tooth is engaged (cycles 0, 1)
-    healthy = fe_pair_check(spur, 0)
-    drop = 1 - chk.k_fe / healthy.k_fe
+    np.testing.assert_array_equal(healthy_spur.cycles, chk.cycles)
+    drop = 1 - chk.k_fe / healthy_spur.k_fe
     assert drop[(chk.cycles >= 0) & (chk.cycles < 2)].max() > (0.02 if crack == "working"
                                                                 else 1e-4)
     assert np.all(np.abs(drop[chk.cycles < 0]) < 0.01)

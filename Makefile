@@ -50,10 +50,12 @@ run: sysdeps
 	$(BIN)/gearsim reproduce --out $(OUT)
 
 # Every core (pytest-xdist; whole files to one worker, so an expensive module fixture such
-# as the reproduction is built once, not once per worker); the 20 slowest
+# as the reproduction is built once, not once per worker), one BLAS thread per worker (a
+# second one would only spin against the other worker); the 20 slowest
 # tests are printed at the end.
 test: sysdeps browser
-	$(BIN)/python -m pytest -q -n auto --dist loadfile --durations=20 tests --doctest-modules src/gearsim
+	OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 \
+	  $(BIN)/python -m pytest -q -n auto --dist loadfile --durations=20 tests --doctest-modules src/gearsim
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks

@@ -3,9 +3,11 @@
 Table-1 train (``idler-table1``), working-flank crack of ``--cases`` different depths
 (each case a different mesh-stiffness table and simulation), 1 s simulated at 50 kHz,
 analysed with every shaft's sidebands. Each worker configuration is the default path of
-``gearsim sweep``: ``run_study(..., workers=N)`` starts a ``LocalCluster`` (processes, 1
-thread each), whose fresh workers import gearsim and load the numba cache, and writes the
-part files and the final store; all of that is timed. The serial reference runs the same
+``gearsim sweep``: ``run_study(..., workers=N)`` runs the first group in this process,
+timed, and starts a ``LocalCluster`` (processes, 1 thread each, whose fresh workers import
+gearsim and load the numba cache) for the rest only when that pays for its start-up
+(``CLUSTER_START_S``; else the rest runs here too), and writes the part files and the
+final store; all of that is timed. The serial reference runs the same
 cases in a plain loop in this process (warmed up first, no Dask, no files), once with
 numba's default thread count and once with one thread (a Dask worker has one thread, so
 that is the per-core reference). Prints cases per minute and the scaling ratio

@@ -113,7 +113,8 @@ def test_expansion_and_serial_numbers(study, serial):
 
 
 def test_two_worker_cluster_equals_serial(study, serial, tmp_path):
-    res = run_study(study, tmp_path / "s.nc", workers=2, progress=False)
+    # adaptive=False: the cluster, which a study this small would not start by itself
+    res = run_study(study, tmp_path / "s.nc", workers=2, progress=False, adaptive=False)
     assert (res.n_cases, res.computed, res.skipped, res.failed) == (48, 48, 0, 0)
     ds = xr.load_dataset(tmp_path / "s.nc", engine="h5netcdf")
     xr.testing.assert_identical(ds, serial)

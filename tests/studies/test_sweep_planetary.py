@@ -139,7 +139,8 @@ def test_store_rows_and_crack_trend(store):
 
 
 def test_local_cluster_equals_serial(study, store, tmp_path):
-    res = run_study(study, tmp_path / "s.nc", workers=2, progress=False)
+    # adaptive=False: the cluster although four short cases would not pay for its start
+    res = run_study(study, tmp_path / "s.nc", workers=2, progress=False, adaptive=False)
     assert (res.n_cases, res.computed, res.failed) == (4, 4, 0)
     import xarray as xr
 

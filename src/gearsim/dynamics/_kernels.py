@@ -225,13 +225,8 @@ def _rk4(contacts, profiled, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_re
     v = v0.copy()
     qt = np.empty(n)
     vt = np.empty(n)
-    k1q = np.empty(n)
-    k1v = np.empty(n)
-    k2q = np.empty(n)
-    k2v = np.empty(n)
-    k3q = np.empty(n)
-    k3v = np.empty(n)
-    k4v = np.empty(n)
+    kq = np.empty((3, n))  # q' of stages 1-3 (that of stage 4 is vt)
+    kv = np.empty((4, n))  # v' of the four stages
     f = np.empty(nm)
     d = np.empty(nm)
     rec_q = np.zeros((n_rec, n))
@@ -243,40 +238,38 @@ def _rk4(contacts, profiled, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_re
     next_rec = rec_start
     for s in range(n_steps + 1):
         t = t0 + s * dt
-        rhs(t, q, v, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam,
-            contacts, profiled, k1v, f, d)
-        if s == next_rec and r < n_rec:
-            for j in range(n):
-                rec_q[r, j] = q[j]
-                rec_v[r, j] = v[j]
-            for i in range(nm):
-                rec_f[r, i] = f[i]
-            r += 1
-            next_rec += rec_every
+        for j in range(n):
+            qt[j] = q[j]
+            vt[j] = v[j]
+        # the four stages in one loop, so that the right-hand side is compiled (inlined)
+        # once, not four times; the arithmetic is the classical RK4's, in its order
+        for stage in range(4):
+            ts = t if stage == 0 else (t + dt if stage == 3 else t + h2)
+            rhs(ts, qt, vt, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx,
+                lam, contacts, profiled, kv[stage], f, d)
+            if stage == 0:
+                if s == next_rec and r < n_rec:
+                    for j in range(n):
+                        rec_q[r, j] = q[j]
+                        rec_v[r, j] = v[j]
+                    for i in range(nm):
+                        rec_f[r, i] = f[i]
+                    r += 1
+                    next_rec += rec_every
+                if s == n_steps:
+                    break
+            if stage < 3:
+                a = dt if stage == 2 else h2
+                for j in range(n):
+                    kq[stage, j] = vt[j]
+                    qt[j] = q[j] + a * vt[j]
+                    vt[j] = v[j] + a * kv[stage, j]
         if s == n_steps:
             break
-        for j in range(n):
-            k1q[j] = v[j]
-            qt[j] = q[j] + h2 * v[j]
-            vt[j] = v[j] + h2 * k1v[j]
-        rhs(t + h2, qt, vt, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam,
-            contacts, profiled, k2v, f, d)
-        for j in range(n):
-            k2q[j] = vt[j]
-            qt[j] = q[j] + h2 * vt[j]
-            vt[j] = v[j] + h2 * k2v[j]
-        rhs(t + h2, qt, vt, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam,
-            contacts, profiled, k3v, f, d)
-        for j in range(n):
-            k3q[j] = vt[j]
-            qt[j] = q[j] + dt * vt[j]
-            vt[j] = v[j] + dt * k3v[j]
-        rhs(t + dt, qt, vt, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam,
-            contacts, profiled, k4v, f, d)
         bad = False
         for j in range(n):
-            q[j] += h6 * (k1q[j] + 2.0 * k2q[j] + 2.0 * k3q[j] + vt[j])
-            v[j] += h6 * (k1v[j] + 2.0 * k2v[j] + 2.0 * k3v[j] + k4v[j])
+            q[j] += h6 * (kq[0, j] + 2.0 * kq[1, j] + 2.0 * kq[2, j] + vt[j])
+            v[j] += h6 * (kv[0, j] + 2.0 * kv[1, j] + 2.0 * kv[2, j] + kv[3, j])
             if not (abs(q[j]) <= qlim):  # also catches NaN
                 bad = True
         if bad:

@@ -46,7 +46,7 @@ import numpy as np
 from gearsim.dynamics.lta import build_lta
 from gearsim.dynamics.model import DynamicModel, nominal_inertia, static_equilibrium
 from gearsim.dynamics.settings import DynamicsSettings
-from gearsim.dynamics.stage import StageDynamics, build_stage_model, simulate_stage
+from gearsim.dynamics.stage import StageDynamics, build_stage_model, model_radii, simulate_stage
 from gearsim.dynamics.tables import MeshTable
 from gearsim.errors import InputError, require
 from gearsim.system import GearTrain
@@ -179,8 +179,7 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
     n, rows = n1 + n2, r1 + r2 + 1
     out = output_member(train)
     iu = sm.dof_labels.index(f"{out}.u")
-    r_o = {"sun": train.stage.sun.base_radius, "ring": train.stage.ring.base_radius,
-           "carrier": train.stage.centre_distance}[out]
+    r_o = model_radii(train.stage)[out]
     t_model = train.model_torques[out]
     require(t_model != 0.0, "stage", out, "the output member carries no torque")
     s = -math.copysign(1.0, t_model)  # the output turns against its load in the model frame

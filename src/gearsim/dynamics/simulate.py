@@ -60,7 +60,7 @@ from gearsim.system.train import GearTrain
 __all__ = ["FORCE_ENV", "MAX_STEPS", "MEMORY_FRACTION", "Raw", "RunCost", "build_model",
            "check_cost", "cost_bounds_lifted", "integration_step",
            "physical_memory", "record", "reference_mesh_forces", "reference_rhs", "run_kernel",
-           "settings_of", "simulate", "summary"]
+           "settings_of", "simulate", "summary", "tacho_variable"]
 
 #: |q| limit [m or rad] beyond which a run counts as diverged.
 Q_LIMIT = 1.0
@@ -638,6 +638,26 @@ TACHO_VOLTS = 5.0
 TACHO_WIDTH = 0.2 * math.pi
 
 
+def tacho_variable(angles: np.ndarray) -> tuple:
+    """The simulated tacho of shafts at ``angles`` [rad], as an xarray variable.
+
+    Parameters
+    ----------
+    angles : ndarray, shape (n_time, n_shaft)
+        Each shaft's angle in its own sense of rotation [rad].
+
+    Returns
+    -------
+    tuple
+        ``(("time", "shaft"), pulses [V], attrs)``: :data:`TACHO_VOLTS` while the angle is
+        within :data:`TACHO_WIDTH` after a whole revolution, else 0 (one pulse per rev).
+    """
+    return (("time", "shaft"), np.where(np.mod(angles, 2 * np.pi) < TACHO_WIDTH,
+                                        TACHO_VOLTS, 0.0),
+            {"units": "V", "long_name": "once-per-revolution tacho pulse of each shaft",
+             "pulses_per_rev": 1})
+
+
 def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient):
     import xarray as xr
 
@@ -685,10 +705,7 @@ def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient)
     angles = np.stack(angles, axis=1)
     data["shaft_angle"] = (("time", "shaft"), angles, {
         "units": "rad", "long_name": "angle of each shaft in its own sense of rotation"})
-    data["tacho"] = (("time", "shaft"), np.where(np.mod(angles, 2 * np.pi) < TACHO_WIDTH,
-                                                 TACHO_VOLTS, 0.0), {
-        "units": "V", "long_name": "once-per-revolution tacho pulse of each shaft",
-        "pulses_per_rev": 1})
+    data["tacho"] = tacho_variable(angles)
     md = modes(model)
     attrs = {
         "title": f"gearsim train dynamics: {train.name}",

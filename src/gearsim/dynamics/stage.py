@@ -53,14 +53,15 @@ from gearsim.dynamics.modal import modes
 from gearsim.dynamics.model import DynamicModel, constrain, nominal_inertia, static_equilibrium
 from gearsim.dynamics.planetary import LinParkerModel, PlanetaryMode
 from gearsim.dynamics.settings import DynamicsSettings
-from gearsim.dynamics.simulate import MAX_STEPS, TACHO_VOLTS, TACHO_WIDTH, cost_bounds_lifted, record
+from gearsim.dynamics.simulate import MAX_STEPS, cost_bounds_lifted, record, tacho_variable
 from gearsim.dynamics.tables import MeshTable, contact_table
 from gearsim.errors import InputError, require
 from gearsim.system import graph as bounds
 from gearsim.system.planetary import PlanetaryTrain, planet_name
 
-__all__ = ["StageDynamics", "build_stage_model", "lin_parker_of", "nominal_velocity",
-           "sensor_window", "check_stage_settings", "simulate_stage", "stage_summary"]
+__all__ = ["StageDynamics", "build_stage_model", "lin_parker_of", "model_radii",
+           "nominal_velocity", "sensor_window", "check_stage_settings", "simulate_stage",
+           "stage_summary"]
 
 _MEMBERS = ("carrier", "ring", "sun")
 #: Largest RK4 step as a fraction of 1 / omega_max (RK4's stability limit is 2.78).
@@ -184,8 +185,7 @@ def lin_parker_of(train: PlanetaryTrain, dyn: StageDynamics,
     """
     st = train.stage
     mi = dyn.mass_inertia(train)
-    radius = {"sun": st.sun.base_radius, "planet": st.planet.base_radius,
-              "ring": st.ring.base_radius, "carrier": st.centre_distance}
+    radius = model_radii(st)
     tabs = train.tables()
     ksp = float(np.mean([np.mean(t.k) for t in tabs[0::2]]))
     krp = float(np.mean([np.mean(t.k) for t in tabs[1::2]]))
@@ -320,8 +320,7 @@ def build_stage_model(train: PlanetaryTrain, dyn: StageDynamics | None = None,
             row = 4 * j + q
             tables.append(MeshTable(k=np.array([k_all[row]]), positions_per_cycle=1, period=1))
             cm[row] = 2.0 * zb * math.sqrt(k_all[row] * m_p)
-    radius = {"sun": st.sun.base_radius, "ring": st.ring.base_radius,
-              "carrier": st.centre_distance}
+    radius = model_radii(st)
     tq = train.model_torques
     fext = np.zeros(n)
     for m in _MEMBERS:
@@ -371,6 +370,24 @@ def build_stage_model(train: PlanetaryTrain, dyn: StageDynamics | None = None,
         kept.index(r) for r in mesh_rows), "row_names": tuple(row_names[r] for r in kept)})
 
 
+def model_radii(stage) -> dict[str, float]:
+    """Radii of the Lin & Parker rotational coordinates u = r theta [m]: the base radii
+    of sun, planet and ring, the planet-centre radius of the carrier.
+
+    Parameters
+    ----------
+    stage : gearsim.geometry.planetary.PlanetaryStage
+        The stage's geometry.
+
+    Returns
+    -------
+    dict
+        ``{"sun", "planet", "ring", "carrier"}`` -> radius [m].
+    """
+    return {"sun": stage.sun.base_radius, "planet": stage.planet.base_radius,
+            "ring": stage.ring.base_radius, "carrier": stage.centre_distance}
+
+
 def nominal_velocity(train: PlanetaryTrain, labels: list[str] | tuple[str, ...]) -> np.ndarray:
     """Velocity of each coordinate of the stage model in its nominal motion [m/s].
 
@@ -397,17 +414,15 @@ def nominal_velocity(train: PlanetaryTrain, labels: list[str] | tuple[str, ...])
     st = train.stage
     sgn = -1.0 if train.mirrored else 1.0
     om = {m: sgn * v for m, v in train.speeds.items()}
-    radius = {"sun": st.sun.base_radius, "ring": st.ring.base_radius,
-              "carrier": st.centre_distance}
+    radius = model_radii(st)
     spin = om["carrier"] - st.sun_teeth / st.planet_teeth * (om["sun"] - om["carrier"])
     w = np.zeros(len(labels))
     for i, lab in enumerate(labels):
         body, coord = lab.split(".")
         if coord == "u":
-            w[i] = (radius[body] * om[body] if body in radius
-                    else st.planet.base_radius * spin)
+            w[i] = radius[body] * om[body] if body in om else radius["planet"] * spin
         elif coord == "eta":
-            w[i] = st.centre_distance * om["carrier"]
+            w[i] = radius["carrier"] * om["carrier"]
     return w
 
 
@@ -535,7 +550,8 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     ring = [model.dof_labels.index(f"ring.{a}") for a in "xy" if f"ring.{a}" in model.dof_labels]
     acc = (np.gradient(v[:, ring], t, axis=0) if n_out > 2 and ring
            else np.zeros((n_out, 2)))
-    theta_c = train.speeds["carrier"] * model.nominal(t)[0]  # follows a speed profile
+    tau = model.nominal(t)[0]  # nominal time: the angles follow a speed profile
+    theta_c = train.speeds["carrier"] * tau
     psi = train.stage.planet_angles_value
     ring_f = forces[:, 1::2]
     dyn_f = ring_f - ring_f.mean(axis=0)
@@ -571,18 +587,13 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
                        "static_shaft_torque": float(model.static_force[-1])}
     # once-per-revolution tacho of every turning shaft (the stage's members, then a
     # driven chain's shafts), each in its own sense, following a speed profile
-    tau = model.nominal(t)[0]
     shafts = [(m, abs(train.speeds[m])) for m in ("carrier", "sun", "ring")
               if train.speeds[m] != 0.0]
     if "chain_rows" in model.info:
         ch = model.info["chain"]
         shafts += [(sh.name, abs(ch.speed(ch.gear_index(sh.gears[0]))))
                    for sh in ch.flow.shafts]
-    angles = np.stack([w * tau for _, w in shafts], axis=1)
-    extra["tacho"] = (("time", "shaft"), np.where(np.mod(angles, 2 * np.pi) < TACHO_WIDTH,
-                                                  TACHO_VOLTS, 0.0), {
-        "units": "V", "long_name": "once-per-revolution tacho pulse of each shaft",
-        "pulses_per_rev": 1})
+    extra["tacho"] = tacho_variable(np.stack([w * tau for _, w in shafts], axis=1))
     extra_coords["shaft"] = [name for name, _ in shafts]
     constant = all(model.tables[i].k.size == 1 for i in list(model.info["mesh_rows"])
                    + list(model.info.get("chain_rows", ())))

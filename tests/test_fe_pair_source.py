@@ -116,7 +116,7 @@ def test_fe_pair_table_is_cached(fe_pair_train, fe_pair_cache, monkeypatch):
     monkeypatch.setenv("GEARSIM_CACHE", str(fe_pair_cache))
     first = fe_pair_train.mesh_stiffness(0)
     # from the disk: the in-memory tables emptied, the FE model refused
-    monkeypatch.setattr(train_module, "_TABLES", type(train_module._TABLES)())
+    monkeypatch.setattr(train_module, "_TABLES", type(train_module._TABLES)(1))
 
     def refuse(*a, **k):
         raise AssertionError("FE model built although the table is cached")

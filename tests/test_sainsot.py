@@ -147,12 +147,11 @@ def test_cli_prints_the_range_warning_as_one_line(capsys, monkeypatch):
     a new ``gearsim`` process, the run starts without the in-memory stiffness tables an
     earlier in-process run of the same example left (a cached table is not recomputed,
     so it does not warn again)."""
-    from collections import OrderedDict
-
     import gearsim.system.train as train_module
     from gearsim.cli import run
+    from gearsim.system.memo import Memo
 
-    monkeypatch.setattr(train_module, "_TABLES", OrderedDict())
+    monkeypatch.setattr(train_module, "_TABLES", Memo(train_module.TABLE_CACHE_SIZE))
     assert run(["stiffness", "spur-19-48"]) == 0
     err = capsys.readouterr().err.strip().splitlines()
     assert err == ["gearsim: warning: Sainsot foundation of gear pinion: theta_f = 0.1586 rad "

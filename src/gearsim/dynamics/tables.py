@@ -26,13 +26,12 @@ lcm(z1, z2) when both gears differ).
 from __future__ import annotations
 
 import math
-import threading
-from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
 
 from gearsim.system import GearTrain
+from gearsim.system.memo import Memo
 
 __all__ = ["MeshTable", "contact_table", "mesh_tables"]
 
@@ -107,8 +106,7 @@ FINE_POSITIONS = 2000
 #: contact law) share the healthy derivative instead of recomputing it (two healthy
 #: tables at FINE_POSITIONS per cycle, 5-15 s of CPU per mesh).
 DERIVATIVE_CACHE_SIZE = 16
-_DERIVATIVES: OrderedDict = OrderedDict()
-_DERIVATIVES_LOCK = threading.Lock()  # Dask workers run tasks in threads
+_DERIVATIVES = Memo(DERIVATIVE_CACHE_SIZE)
 
 
 def centre_distance_derivative(train: GearTrain, mesh: int, table: MeshTable,
@@ -152,11 +150,9 @@ def centre_distance_derivative(train: GearTrain, mesh: int, table: MeshTable,
     # everything the result depends on (the force only under the line contact law)
     key = (pair, train.stiffness, force if train.stiffness.contact == "line" else None,
            float(step), table.positions_per_cycle, table.period)
-    with _DERIVATIVES_LOCK:
-        hit = _DERIVATIVES.get(key)
-        if hit is not None:
-            _DERIVATIVES.move_to_end(key)
-            return hit.copy()
+    hit = _DERIVATIVES.get(key)
+    if hit is not None:
+        return hit.copy()
     st = dataclasses.replace(train.stiffness, positions_per_cycle=FINE_POSITIONS)
     fine = np.arange(FINE_POSITIONS) / FINE_POSITIONS  # nominal cycles of one mesh cycle
     ks = []
@@ -182,10 +178,7 @@ def centre_distance_derivative(train: GearTrain, mesh: int, table: MeshTable,
         avg = np.array([d[(np.mod(fine - a, 1.0) < b - a)].mean()
                         for a, b in zip(edges[:-1], edges[1:], strict=True)])
     out = np.tile(avg, table.period)
-    with _DERIVATIVES_LOCK:
-        _DERIVATIVES[key] = out.copy()
-        while len(_DERIVATIVES) > DERIVATIVE_CACHE_SIZE:
-            _DERIVATIVES.popitem(last=False)
+    _DERIVATIVES.put(key, out.copy())
     return out
 
 

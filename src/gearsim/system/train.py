@@ -14,8 +14,6 @@ from __future__ import annotations
 
 import math
 import numbers
-import threading
-from collections import OrderedDict
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 
@@ -36,6 +34,7 @@ from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance
 from gearsim.system.faults import check_faults, flank_side, mesh_flanks
 from gearsim.system.fe_pair import fe_pair_train_stiffness
 from gearsim.system.graph import MeshSpec, PowerFlow, Shaft, power_flow
+from gearsim.system.memo import Memo
 
 __all__ = ["CRACK_CHOICES", "DEFAULT_CRACK", "GearTrain", "Operating", "body_coupling",
            "tooth_compliance"]
@@ -51,8 +50,7 @@ DEFAULT_CRACK: dict[str, float | int] = {"tooth": 0, "depth": 2e-3, "angle": mat
 #: load-independent contact law) share their tables instead of recomputing them (0.1-0.5 s
 #: a revolution). The key holds everything a table depends on; the arrays are read-only.
 TABLE_CACHE_SIZE = 64
-_TABLES: OrderedDict = OrderedDict()
-_TABLES_LOCK = threading.Lock()  # Dask workers run tasks in threads
+_TABLES = Memo(TABLE_CACHE_SIZE)
 
 #: Fault variants :meth:`GearTrain.with_crack` knows.
 CRACK_CHOICES = ("none", *FLANKS)
@@ -429,11 +427,9 @@ class GearTrain:
         # everything the table depends on (the force only under the line contact law)
         key = (pair, cracks, settings, revolution_of,
                force if settings.contact == "line" else None)
-        with _TABLES_LOCK:
-            hit = _TABLES.get(key)
-            if hit is not None:
-                _TABLES.move_to_end(key)
-                return hit
+        hit = _TABLES.get(key)
+        if hit is not None:
+            return hit
         ms = mesh_stiffness(pair, cracks=cracks, settings=settings,
                             revolution_of=revolution_of,
                             compliance=tooth_compliance(settings.source), force=force,
@@ -442,10 +438,7 @@ class GearTrain:
                     ms.pair_tooth2, *ms.components.values()):
             if isinstance(arr, np.ndarray):
                 arr.flags.writeable = False  # shared by every caller of the cache
-        with _TABLES_LOCK:
-            _TABLES[key] = ms
-            while len(_TABLES) > TABLE_CACHE_SIZE:
-                _TABLES.popitem(last=False)
+        _TABLES.put(key, ms)
         return ms
 
     def has_contact_changes(self, mesh: int) -> bool:

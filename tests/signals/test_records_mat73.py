@@ -97,3 +97,25 @@ def test_v73_that_is_not_hdf5_is_one_clear_error(tmp_path):
     p.write_bytes(_header("MATLAB 7.3 MAT-file, Platform: GLNXA64") + b"\x00" * 600)
     with pytest.raises(InputError, match="broken.mat"):
         read_record(p)
+
+
+@pytest.mark.parametrize("rate", [np.inf, np.nan, 0.0, -RATE, 1e300, 1e-300, 1e10, 1e-4])
+def test_v73_impossible_stored_rate_is_refused(tmp_path, rate):
+    """A stored rate outside [1e-3 Hz, 1 GHz] (gearsim.io.record) is a unit or exponent
+    mistake: one error naming the file, the rate as stored and the range."""
+    p = _v73(tmp_path / "bad.mat", _signals(1), {"Head_1": {"SampFreq": rate}})
+    with pytest.raises(InputError) as exc:
+        read_record(p)
+    text = str(exc.value)
+    assert len(text.splitlines()) == 1 and "bad.mat" in text and "[0.001, 1e+09] Hz" in text
+    assert repr(float(rate)) in text
+
+
+@pytest.mark.parametrize("given", ["1e300", "1e-300", "0", "-25600", "inf", "nan"])
+def test_impossible_given_rate_is_refused_in_one_line(tmp_path, given, capsys):
+    from gearsim.cli import run
+
+    p = _v73(tmp_path / "bare.mat", _signals(1), {})
+    assert run(["analyze", str(p), "--fs", given]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("gearsim: error:") and "--fs" in err[0], err

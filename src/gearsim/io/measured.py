@@ -85,7 +85,15 @@ import numpy as np
 from gearsim.errors import InputError
 from gearsim.io.compression import SUFFIXES, decompress, sniff_compression
 from gearsim.io.csvtext import decode_text, parse_table
-from gearsim.io.record import DroppedSamples, MeasuredSignal, ReadProblems, Record, raise_all
+from gearsim.io.record import (
+    MAX_SAMPLING_RATE,
+    MIN_SAMPLING_RATE,
+    DroppedSamples,
+    MeasuredSignal,
+    ReadProblems,
+    Record,
+    raise_all,
+)
 
 __all__ = [
     "FORMATS",
@@ -739,8 +747,9 @@ def _read(path: str | Path, channels: Sequence[str] | None, fs: float | None,
             fs_user = float(fs)
         except (TypeError, ValueError):
             fs_user = math.nan
-        if isinstance(fs, bool) or not (math.isfinite(fs_user) and fs_user > 0):
-            problems.append(InputError("fs", fs, "must be a finite number > 0 (Hz)"))
+        if isinstance(fs, bool) or not (MIN_SAMPLING_RATE <= fs_user <= MAX_SAMPLING_RATE):
+            problems.append(InputError("fs", fs, f"must be a number in [{MIN_SAMPLING_RATE:g}, "
+                                       f"{MAX_SAMPLING_RATE:g}] Hz"))
             fs_user = None
     if fmt is not None and fmt not in FORMATS:
         problems.append(InputError("fmt", fmt, f"must be one of {sorted(FORMATS)}"))
@@ -783,9 +792,10 @@ def _read(path: str | Path, channels: Sequence[str] | None, fs: float | None,
         r = raw.fs_per_channel.get(c, raw.fs)
         if r is None:
             continue
-        if not (math.isfinite(r) and r > 0):
+        if not (MIN_SAMPLING_RATE <= r <= MAX_SAMPLING_RATE):
             problems.append(_fail(p, kind, f"stored sampling rate {r!r} of {c!r} is not a "
-                                  "positive number"))
+                                  f"number in [{MIN_SAMPLING_RATE:g}, {MAX_SAMPLING_RATE:g}] "
+                                  "Hz"))
         else:
             rates[c] = r
     fs_file = next(iter(rates.values()), None)

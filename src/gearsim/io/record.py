@@ -13,7 +13,15 @@ import numpy as np
 
 from gearsim.errors import InputError
 
-__all__ = ["DroppedSamples", "MeasuredSignal", "ReadProblems", "Record", "raise_all"]
+__all__ = ["MAX_SAMPLING_RATE", "MIN_SAMPLING_RATE", "DroppedSamples", "MeasuredSignal",
+           "ReadProblems", "Record", "raise_all"]
+
+#: Sampling rates a record can have [Hz]. Vibration, speed and acoustic-emission
+#: acquisition runs from slow trend logging (a sample every few minutes, ~1e-2 Hz) to AE
+#: digitisers of tens of MHz: a rate below 1e-3 Hz or above 1 GHz, stored in a file or
+#: given, can only be a mistake (a unit or an exponent wrong), and is refused.
+MIN_SAMPLING_RATE = 1e-3
+MAX_SAMPLING_RATE = 1e9
 
 
 class ReadProblems(InputError):

@@ -12,6 +12,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from gearsim.errors import InputError
+from gearsim.io.record import MAX_SAMPLING_RATE, MIN_SAMPLING_RATE
 
 #: Supported windows and the half width of their main lobe in bins (first zero of the
 #: window transform): a line is resolved from its neighbour when they are at least
@@ -88,8 +89,14 @@ def check_positive(name: str, value: float) -> float:
 
 
 def check_fs(fs: float) -> float:
-    """Return the sampling rate ``fs`` (Hz) after checking it is finite and > 0."""
-    return check_positive("fs", fs)
+    """Return the sampling rate ``fs`` (Hz) after checking it is a number in
+    [:data:`~gearsim.io.record.MIN_SAMPLING_RATE`,
+    :data:`~gearsim.io.record.MAX_SAMPLING_RATE`] (outside: a unit or exponent mistake)."""
+    v = check_positive("fs", fs)
+    if not MIN_SAMPLING_RATE <= v <= MAX_SAMPLING_RATE:
+        raise InputError("fs", fs, f"must be in [{MIN_SAMPLING_RATE:g}, "
+                         f"{MAX_SAMPLING_RATE:g}] Hz")
+    return v
 
 
 def check_below_nyquist(fs: float, f_max: float, what: str) -> None:

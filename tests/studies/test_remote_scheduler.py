@@ -20,7 +20,7 @@ import pytest
 import xarray as xr
 
 from gearsim.studies.sweep import loads_study
-from gearsim.studies.sweep_run import groups, parts_dir, run_serial, run_study
+from gearsim.studies.sweep_run import PART_SUFFIX, groups, parts_dir, read_part, run_serial, run_study
 
 #: Twelve cases of the Table-1 train (0.15 s at 20 kHz: the shortest record resolving
 #: the input-shaft sidebands), in groups that share their tables.
@@ -117,7 +117,7 @@ def test_scheduler_lost_mid_study_keeps_the_parts_and_resumes(cluster, study, se
                              str(store), "--scheduler", address, "--no-progress"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 120
-    while not list(parts.glob("*.nc")) and time.monotonic() < deadline:
+    while not list(parts.glob(f"*{PART_SUFFIX}")) and time.monotonic() < deadline:
         assert proc.poll() is None, proc.communicate()
         time.sleep(0.02)
     _stop(sched)
@@ -127,12 +127,11 @@ def test_scheduler_lost_mid_study_keeps_the_parts_and_resumes(cluster, study, se
     assert len(lines) == 1 and lines[0].startswith(
         f"gearsim: failed: sweep: lost the scheduler {address} mid-study"), err
     assert "resumes" in lines[0]
-    done = sorted(parts.glob("*.nc"))
+    done = sorted(parts.glob(f"*{PART_SUFFIX}"))
     assert 1 <= len(done) < len(groups(study)) and not store.exists()
     n_done = 0
     for p in done:
-        with xr.open_dataset(p, engine="h5netcdf") as part:
-            n_done += part.sizes["case"]
+        n_done += read_part(p).sizes["case"]
     again = run_study(study, store, workers=1, progress=False)
     assert (again.skipped, again.computed) == (n_done, 12 - n_done)
     xr.testing.assert_identical(xr.load_dataset(store, engine="h5netcdf"), serial)

@@ -19,7 +19,7 @@ import xarray as xr
 from gearsim.errors import InputError
 from gearsim.studies.sweep import expand, loads_study
 from gearsim.studies.sweep_case import build_case
-from gearsim.studies.sweep_run import groups, parts_dir, run_serial, run_study
+from gearsim.studies.sweep_run import PART_SUFFIX, groups, parts_dir, read_part, run_serial, run_study
 
 # The fault-injection hook below runs in Dask worker processes, which cannot import this
 # test module: pickle its functions by value.
@@ -134,16 +134,16 @@ def test_killed_study_resumes_without_recomputing(study, serial, tmp_path):
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         deadline = time.monotonic() + 120
-        while len(list(parts.glob("*.nc"))) < 2 and time.monotonic() < deadline:
+        while len(list(parts.glob(f"*{PART_SUFFIX}"))) < 2 and time.monotonic() < deadline:
             assert proc.poll() is None, "the study finished or failed before the kill"
             time.sleep(0.02)
     finally:
         os.killpg(proc.pid, signal.SIGKILL)  # the client and its cluster, like a power cut
         proc.wait()
-    finished = {p: p.stat().st_mtime_ns for p in parts.glob("*.nc")}
+    finished = {p: p.stat().st_mtime_ns for p in parts.glob(f"*{PART_SUFFIX}")}
     assert 2 <= len(finished) < len(groups(study))
     assert not store.exists()
-    n_done = sum(xr.open_dataset(p, engine="h5netcdf").sizes["case"] for p in finished)
+    n_done = sum(read_part(p).sizes["case"] for p in finished)
     # resumed in this process (workers=1: no cluster): which parts are finished is decided
     # before the groups are run, the same for the serial and the Dask path; the Dask path
     # writing a store equal to the serial one is test_two_worker_cluster_equals_serial's

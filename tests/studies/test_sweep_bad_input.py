@@ -20,7 +20,7 @@ from gearsim import cli
 from gearsim.errors import InputError
 from gearsim.studies.sweep import Case, case_count, expand, loads_study
 from gearsim.studies.sweep_case import run_group
-from gearsim.studies.sweep_run import lock_path, parts_dir, plan_workers, store_lock
+from gearsim.studies.sweep_run import PART_SUFFIX, lock_path, parts_dir, plan_workers, store_lock
 
 GEARSIM = [sys.executable, "-m", "gearsim.cli"]
 
@@ -320,7 +320,7 @@ def test_sigint_during_sweep_exit_130_then_resume(tmp_path):
         signal.signal(signal.SIGINT, previous if previous is not None else signal.SIG_DFL)
     try:
         deadline = time.monotonic() + 120
-        while len(list(parts.glob("*.nc"))) < 2 and time.monotonic() < deadline:
+        while len(list(parts.glob(f"*{PART_SUFFIX}"))) < 2 and time.monotonic() < deadline:
             assert proc.poll() is None, proc.communicate()
             time.sleep(0.02)
         os.killpg(proc.pid, signal.SIGINT)
@@ -332,7 +332,7 @@ def test_sigint_during_sweep_exit_130_then_resume(tmp_path):
     assert proc.returncode == 130, err
     assert err.strip().splitlines() == ["gearsim: interrupted"], err
     assert out == ""
-    finished = {p: p.stat().st_mtime_ns for p in parts.glob("*.nc")}
+    finished = {p: p.stat().st_mtime_ns for p in parts.glob(f"*{PART_SUFFIX}")}
     assert len(finished) == 2
     assert not store.exists() and not lock_path(store).exists()
     assert not [p for p in tmp_path.rglob(".*.tmp")]  # no half-written part
@@ -350,7 +350,7 @@ def test_sigint_during_sweep_exit_130_then_resume(tmp_path):
     assert {p: p.stat().st_mtime_ns for p in finished} == finished  # not recomputed
     ds = xr.load_dataset(store, engine="h5netcdf")
     assert ds.sizes["case"] == 3 and (ds["status"].values == "ok").all()
-    assert len(list(parts.glob("*.nc"))) == 3 and not lock_path(store).exists()
+    assert len(list(parts.glob(f"*{PART_SUFFIX}"))) == 3 and not lock_path(store).exists()
 
 
 def test_aliasing_at_the_highest_speed_is_refused_before_any_case(tmp_path):

@@ -5,8 +5,9 @@ Design (see ``docs/studies.md``, "Parameter sweeps"):
 * The cases of :func:`gearsim.studies.sweep.expand` are grouped by simulation
   (:meth:`Study.simulation_key`); each group is one Dask task
   (:func:`gearsim.studies.sweep_case.run_group`, see :func:`group_runner`).
-* The worker encodes a group's table as NetCDF bytes; the client writes them atomically
-  (temporary file + rename) as its own small NetCDF file ``STORE.parts/<simulation key>.nc``. Keys hash
+* The worker encodes a group's table as bytes (:mod:`gearsim.io.npzset`: ``.npz``, far
+  cheaper than NetCDF for such small tables); the client writes them atomically
+  (temporary file + rename) as its own part file ``STORE.parts/<simulation key>.npz``. Keys hash
   the case parameters and the study fingerprint (base config, dynamics overrides,
   analysed signal, seed), so a restarted study skips every group whose part exists, and
   a changed study never reuses a stale part.
@@ -46,9 +47,10 @@ from gearsim.io.targets import check_output_file
 if TYPE_CHECKING:  # the simulation modules load on first use (gearsim analyze needs none)
     from gearsim.studies.sweep import Case, Study
 
-__all__ = ["ALLOWED_FAILURES", "CONNECT_TIMEOUT", "RETRIES", "SweepResult", "check_scheduler",
-           "combine", "group_runner", "groups", "lock_path", "part_bytes", "parts_dir", "plan_workers",
-           "run_serial", "run_study", "store_lock"]
+__all__ = ["ALLOWED_FAILURES", "CONNECT_TIMEOUT", "PART_SUFFIX", "RETRIES", "SweepResult",
+           "check_scheduler", "combine", "group_runner", "groups", "lock_path", "part_bytes",
+           "part_path", "parts_dir", "plan_workers", "read_part", "run_serial", "run_study",
+           "store_lock"]
 
 #: Worker deaths a task may cause before the scheduler gives up on it (local cluster).
 ALLOWED_FAILURES = 3
@@ -61,6 +63,8 @@ RETRIES = 2
 CLUSTER_START_S = 5.0
 #: How long to wait for a remote scheduler (``--scheduler``).
 CONNECT_TIMEOUT = "10s"
+#: Suffix of a part file (:func:`part_path`; :mod:`gearsim.io.npzset` archives).
+PART_SUFFIX = ".npz"
 #: Seconds the local cluster's workers may take to start, and to be spawned.
 WORKER_START_TIMEOUT = 120.0
 SPAWN_WAIT = 10.0
@@ -157,13 +161,12 @@ def _write_nc(ds, path: str | Path) -> Path:
 
 
 def part_bytes(study: Study, cases: Sequence[Case], hook: Callable | None = None) -> bytes:
-    """Run a group (:func:`group_runner`) and encode its table as NetCDF bytes (the Dask task).
+    """Run a group (:func:`group_runner`) and encode its table as part bytes (the Dask task).
 
-    The features are stacked in one 2-D variable ``features``: HDF5 writes each variable
-    with its dimension scales, ~60 feature variables take ~0.5 s, stacked ~0.04 s
-    (measured). Encoding in the worker keeps HDF5 calls out of the client, whose
-    threads (scheduler, comms) contend for the GIL with them (a part write measured
-    0.04 s alone, 0.55 s beside a running local cluster).
+    The table is encoded by :func:`gearsim.io.npzset.to_bytes` (``.npz``, no HDF5): a
+    part is written and read once, by gearsim; as NetCDF a 64-variable part cost ~0.25 s
+    to write and ~0.14 s to read, more than the case's analysis (measured,
+    ``benchmarks/bench_sweep.py``). The store stays NetCDF (:func:`run_study`).
 
     Parameters
     ----------
@@ -177,40 +180,57 @@ def part_bytes(study: Study, cases: Sequence[Case], hook: Callable | None = None
     Returns
     -------
     bytes
-        The group's table as an in-memory NetCDF-4 file; the messages of the warnings
-        the group raised (once each) in its attribute ``warnings``.
+        The group's table; the messages of the warnings the group raised (once each) in
+        its attribute ``warnings``.
     """
+    from gearsim.io.npzset import to_bytes
+
     with warnings.catch_warnings(record=True) as caught:  # not on the worker's stderr: the
         ds = group_runner(study)(study, cases, hook)  # client says them (run_study)
     if caught:
         ds.attrs["warnings"] = "\n".join(dict.fromkeys(
             f"{w.category.__name__}\t{' '.join(str(w.message).split())}" for w in caught))
-    names = [v for v in ds.data_vars if ds[v].dims == ("case",) and ds[v].dtype.kind == "f"]
-    if names:
-        stacked = ds[names].to_dataarray("feature").transpose("case", "feature")
-        ds = ds.drop_vars(names).assign(features=stacked)
-    import dask
-
-    # inside a Dask worker xarray would pick a distributed lock, unknown for in-memory
-    # output; the encoding is local to this task, so a local scheduler's lock is right
-    with dask.config.set(scheduler="synchronous"):
-        return bytes(ds.to_netcdf(engine="h5netcdf"))
+    return to_bytes(ds)
 
 
-def _read_part(path: Path):
-    """Read a part written from :func:`part_bytes` (one variable per feature again)."""
-    import xarray as xr
+def part_path(store: str | Path, key: str) -> Path:
+    """The part file of simulation group ``key`` of ``store``.
+
+    Parameters
+    ----------
+    store : str or Path
+        The study store.
+    key : str
+        :meth:`Study.simulation_key` of the group.
+
+    Returns
+    -------
+    Path
+        ``STORE.parts/<key>.npz``.
+    """
+    return parts_dir(store) / f"{key}{PART_SUFFIX}"
+
+
+def read_part(path: str | Path):
+    """Read a part file written from :func:`part_bytes` bytes.
+
+    Parameters
+    ----------
+    path : str or Path
+        A part file (:func:`part_path`).
+
+    Returns
+    -------
+    xarray.Dataset or None
+        The group's table; ``None`` if the file cannot be read or is not a part (it is
+        then recomputed).
+    """
+    from gearsim.io.npzset import from_bytes
 
     try:
-        with xr.open_dataset(path, engine="h5netcdf") as ds:
-            ds = ds.load()
-    except Exception:  # unreadable part: recompute it (never happens with atomic writes)
+        return from_bytes(Path(path).read_bytes())
+    except (OSError, ValueError):  # unreadable part: recompute it (atomic writes: never)
         return None
-    if "features" in ds:
-        feats = ds["features"].to_dataset("feature")
-        ds = xr.merge([ds.drop_vars(["features", "feature"]), feats], join="exact",
-                      compat="no_conflicts", combine_attrs="override")
-    return ds
 
 
 def combine(study: Study, parts: Sequence):
@@ -676,12 +696,11 @@ def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
     cases = expand(study)
     grouped = groups(study, cases)
     with store_lock(store):
-        pdir = parts_dir(store)  # created with the first part (atomic_write)
         done: dict[str, object] = {}
         for key in grouped:
-            path = pdir / f"{key}.nc"
+            path = part_path(store, key)
             if path.exists():
-                part = _read_part(path)
+                part = read_part(path)
                 if part is not None and part.sizes.get("case") == len(grouped[key]):
                     done[key] = part
         todo = [k for k in grouped if k not in done]
@@ -695,7 +714,7 @@ def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
 
             def keep(key: str, data: bytes) -> None:
                 nonlocal computed
-                atomic_write(pdir / f"{key}.nc", lambda p, d=data: p.write_bytes(d))
+                atomic_write(part_path(store, key), lambda p, d=data: p.write_bytes(d))
                 computed += len(grouped[key])
                 if bar is not None:
                     bar[0].advance(bar[1], len(grouped[key]))
@@ -755,9 +774,9 @@ def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
                 if bar is not None:
                     bar[0].stop()
         for key in todo:  # read after the cluster is gone (no GIL contention with it)
-            done[key] = _read_part(pdir / f"{key}.nc")
+            done[key] = read_part(part_path(store, key))
             if done[key] is None:
-                raise SimulationError(f"sweep: part {pdir / key}.nc cannot be read")
+                raise SimulationError(f"sweep: part {part_path(store, key)} cannot be read")
         for line in dict.fromkeys(w for p in done.values() for w in
                                   str(p.attrs.get("warnings", "")).splitlines()):
             kind, _, text = line.partition("\t")  # the workers' warnings, once each

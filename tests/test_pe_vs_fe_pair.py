@@ -12,8 +12,6 @@ table models (docs/stiffness.md, "Beyond the seed").
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 import pytest
 
@@ -135,11 +133,15 @@ def test_options_need_their_inputs(pair):
         StiffnessSettings(contact="hertz")
 
 
-def test_mesh_of_contacts_refuses_the_options(spur):
-    """The contact mesh (faults) supports the seed's contact law only: refused, named."""
-    tr = dataclasses.replace(spur, stiffness=StiffnessSettings(contact="line"))
-    with pytest.raises(InputError, match="stiffness.contact"):
-        tr.mesh_contacts(0)
+def test_mesh_of_contacts_needs_the_options_inputs(pair):
+    """The mesh of contacts takes the line contact and the coupling (tests/test_contacts.py)
+    and, like the table, needs the force and the coupling model for them: refused, named."""
+    from gearsim.stiffness.contacts import contact_grid
+
+    with pytest.raises(InputError, match="force"):
+        contact_grid(pair, settings=StiffnessSettings(contact="line"))
+    with pytest.raises(InputError, match="stiffness.coupling"):
+        contact_grid(pair, settings=StiffnessSettings(coupling="fe"))
 
 
 #: Approach of two discs: load derivative against 2D elasticity. The FE approach of the

@@ -32,13 +32,16 @@ def _settings(tr, revs=3, **kw):
     return DynamicsSettings(duration=revs / tr.shaft_frequency(0), fs=40 * fm, **kw)
 
 
-@pytest.mark.parametrize("nonlinear", [True, False])
-def test_zero_separations_reproduce_the_table_path(spur, nonlinear):
+@pytest.mark.parametrize("nonlinear, law", [(True, {}), (False, {}),
+                                            (True, {"contact": "line", "coupling": "fe"})])
+def test_zero_separations_reproduce_the_table_path(spur, nonlinear, law):
     """A healthy mesh run as a mesh of contacts (without the tip-corner contacts, which
-    the stiffness table does not have) gives the table path's 0.1 s result."""
+    the stiffness table does not have) gives the table path's 0.1 s result, with the
+    seed's contact and with the line contact and body coupling (both linearised at the
+    static force)."""
     s = DynamicsSettings(duration=0.1, fs=20_000.0, nonlinear=nonlinear)
     tr = dataclasses.replace(spur, stiffness=dataclasses.replace(spur.stiffness,
-                                                                 corner_contact=False))
+                                                                 corner_contact=False, **law))
     a = simulate(tr, s)
     b = simulate(tr, dataclasses.replace(s, contact_mesh=True))
     for name in ("mesh_force_1", "dte_1", "acceleration"):

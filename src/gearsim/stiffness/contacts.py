@@ -9,8 +9,10 @@ driven, along the transverse line of action) is
     F(c, delta) = sum_j k_j(c) max(0, delta - s_j(c))                         [N]
 
 (docs/contacts.md). The stiffness of a slice is its carried face width times the
-series compliance of Hertz contact and both teeth per unit width (the potential-energy
-or FE tooth of :mod:`gearsim.stiffness.source`); its separation is the sum over both
+series compliance of the contact and both teeth per unit width (the tooth model of
+:mod:`gearsim.stiffness.source`; the contact law and body coupling of the tables,
+:func:`gearsim.stiffness.mesh.pair_law`, linearised at the static force: seed Hertz by
+default, or the 2D line contact and the FE coupling); its separation is the sum over both
 flanks of profile and lead modifications, pitch position deviations and wear
 (:mod:`gearsim.stiffness.modifications`, :mod:`gearsim.stiffness.faults`). A slice
 partly covered by a spall or pits is split into two springs, the intact part at s_j and
@@ -43,7 +45,7 @@ import numpy as np
 from gearsim.errors import require
 from gearsim.geometry.pair import GearPair
 from gearsim.stiffness.faults import Patch
-from gearsim.stiffness.mesh import in_path_fraction
+from gearsim.stiffness.mesh import in_path_fraction, pair_law
 from gearsim.stiffness.modifications import Modification
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance, ToothCrack
@@ -328,7 +330,8 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
                  flank1: FlankState | None = None, flank2: FlankState | None = None,
                  settings: StiffnessSettings | None = None,
                  compliance: ToothCompliance | None = None, period: int | None = None,
-                 corner: bool = False) -> ContactGrid:
+                 corner: bool = False, force: float | None = None,
+                 coupling=None) -> ContactGrid:
     """Stiffness and no-load separation of every contact of ``pair``.
 
     Parameters
@@ -350,6 +353,12 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     corner : bool
         Add the tip-corner contacts of the pairs just outside the path of contact
         (:func:`corner_separation`).
+    force : float, optional
+        Transverse line-of-action force of the mesh [N]: the load at which the line
+        contact law (``settings.contact = "line"``) is linearised (required then).
+    coupling : optional
+        Body coupling of neighbouring teeth (``settings.coupling = "fe"``), as for
+        :func:`gearsim.stiffness.mesh.mesh_stiffness`.
 
     Returns
     -------
@@ -359,16 +368,26 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     ------
     InputError
         If ``period`` is not a multiple of the natural period, the model does not match
-        ``settings.source``, or the grid would exceed :data:`MAX_GRID` entries.
+        ``settings.source``, the grid would exceed :data:`MAX_GRID` entries, or the line
+        contact has no force or the coupling no model.
+
+    Notes
+    -----
+    The contact law and the coupling are those of the TVMS tables
+    (:func:`gearsim.stiffness.mesh.pair_law`), evaluated per mesh cycle from the
+    contacts' tooth compliances (cracks included): the line contact's compliance at the
+    load per unit width each contact carries when all contacts are closed at ``force``,
+    and the coupled pairs condensed to one spring each at a common approach
+    (q = C^-1 1). A healthy grid without separations therefore sums to the table. The
+    contact springs stay linear in the dynamics: a contact that a fault opens or
+    overloads keeps the linearised values (the line compliance varies as ln of the load;
+    the body coupling of an opened neighbour, a few per cent of a pair's compliance, is
+    not removed).
     """
     settings = settings or StiffnessSettings()
     flank1 = flank1 or FlankState()
     flank2 = flank2 or FlankState()
     model = compliance if compliance is not None else PotentialEnergyCompliance()
-    for name, value, plain in (("contact", settings.contact, "yang-lin"),
-                               ("coupling", settings.coupling, "none")):
-        require(value == plain, f"stiffness.{name}", value,
-                f'the mesh of contacts (faults, modifications) supports "{plain}" only')
     require(model.name == settings.source, "stiffness.source", settings.source,
             f"the tooth-compliance model passed is {model.name!r}")
     g1, g2 = pair.driver, pair.driven
@@ -404,6 +423,9 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     cr2 = {tc.crack.tooth: table(g2, r2, tc) for tc in cracks if tc.gear == 2}
     ch = 1.0 / hertz_stiffness(g1.material, g2.material, 1.0)
     width = frac * dz
+    law = None
+    if settings.contact != "yang-lin" or settings.coupling != "none":
+        law = pair_law(pair, settings, lmid, width, r1, r2, force=force, coupling=coupling)
     # corner contacts: outside the path, at the whole slice width, with the stiffness
     # of the pair at the nearer end of the path
     corner_mask = np.zeros(frac.shape, dtype=bool)
@@ -466,9 +488,12 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
                         cover[:, m] = 1.0 - (1.0 - cover[:, m]) * (1.0 - f)
                         depth[:, m] = np.where(f > 0, np.minimum(depth[:, m], p.depth),
                                                depth[:, m])
-        with np.errstate(divide="ignore"):
-            kunit = np.where(inside, 1.0 / (ch + comp), 0.0)
-        kfull = kunit * width
+        if law is None:  # the seed's contact, independent pairs
+            with np.errstate(divide="ignore"):
+                kunit = np.where(inside, 1.0 / (ch + comp), 0.0)
+            kfull = kunit * width
+        else:
+            kfull = law(comp)[0]
         if corner:
             kfull = np.where(corner_mask, kc_unit * dz, kfull)
         keep = 1.0 - lost
@@ -482,4 +507,6 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
         tooth2=t2, l=np.tile(l_grid, (period, 1, 1)), zfrac=zfrac, slice_width=dz,
         base_radius2=g2.base_radius,
         attrs={"closure": settings.closure, "slices": ns, "positions_per_cycle": npc,
-               "plane": settings.plane, "source": model.name, "corner_contact": int(corner)})
+               "plane": settings.plane, "source": model.name, "corner_contact": int(corner),
+               "contact": settings.contact, "coupling": settings.coupling,
+               **({"contact_force": float(force)} if settings.contact == "line" else {})})

@@ -48,7 +48,7 @@ from gearsim.stiffness.tooth import hertz_stiffness, line_contact_compliance
 
 __all__ = ["COMPONENTS", "DEFAULT_SLICES", "MeshStiffness", "StiffnessSettings", "ToothCrack",
            "assemble_revolution", "centre_line_depth", "in_path_fraction", "mesh_stiffness",
-           "slice_grid"]
+           "pair_law", "slice_grid"]
 
 COMPONENTS = ("hertz", "bending_1", "shear_1", "axial_1", "foundation_1",
               "bending_2", "shear_2", "axial_2", "foundation_2")
@@ -327,6 +327,103 @@ def _slice_stiffness(diag: np.ndarray, width: np.ndarray, cross: np.ndarray | No
     return np.where(inside, width * np.moveaxis(q, -1, 1), 0.0)
 
 
+def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
+             width: np.ndarray, r1: np.ndarray, r2: np.ndarray, *,
+             force: float | None = None, coupling=None
+             ) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
+    """The contact law and coupling of a mesh's slice contacts, as a function of the teeth.
+
+    One law for the TVMS tables (:func:`mesh_stiffness`) and the mesh of contacts
+    (:func:`gearsim.stiffness.contacts.contact_grid`): per slice contact the series
+    compliance of the contact and both teeth per unit width; under ``settings.contact =
+    "line"`` the contact compliance is the 2D Hertz line contact up to the tooth centre
+    lines (Johnson 1985, eq. 5.79; :func:`gearsim.stiffness.tooth.line_contact_compliance`)
+    at the load per unit width the contact carries, found by :data:`LINE_ITERATIONS`
+    fixed-point passes from the mesh ``force`` shared by the contacts' stiffnesses; under
+    ``settings.coupling = "fe"`` the pairs of a slice are coupled through both gear bodies
+    (module docstring: q = C^-1 1 at a unit approach). Otherwise the load-independent
+    Hertz compliance 1/k_h (seed eq. 8) and independent pairs.
+
+    Parameters
+    ----------
+    pair : GearPair
+        The mesh.
+    settings : StiffnessSettings
+        ``contact``, ``coupling``, ``plane``.
+    lmid : ndarray, shape (npc, n_age, ns)
+        Contact position of each slice contact along the line of action, from the
+        driver's base tangent point T1 [m].
+    width : ndarray, shape (npc, n_age, ns)
+        Carried width of each slice contact [m] (0: not in the path of contact).
+    r1, r2 : ndarray, shape (npc, n_age, ns)
+        Contact radii on driver and driven gear [m] (any value where ``width`` is 0).
+    force : float, optional
+        Transverse line-of-action force of the mesh [N]; needed under the line contact.
+    coupling : optional
+        Body coupling model with ``cross(gear, r_read, r_load)`` [m^2/N]
+        (:class:`gearsim.fem.coupling.FiniteElementCoupling`); needed with coupling.
+
+    Returns
+    -------
+    callable
+        ``law(teeth) -> (ks, chs)``: from the summed tooth compliances of both gears per
+        unit width [m^2/N], shape (npc, n_age, ns), the stiffness of each slice contact
+        [N/m] and the contact compliance per unit width used [m^2/N].
+
+    Raises
+    ------
+    InputError
+        The line contact without a finite force > 0; coupling without a model.
+    """
+    g1, g2 = pair.driver, pair.driven
+    inside = width > 0
+    shape = width.shape
+    ch = 1.0 / hertz_stiffness(g1.material, g2.material, 1.0)  # per unit width
+    line = settings.contact == "line"
+    if line:
+        require(force is not None and math.isfinite(force) and force > 0, "force", force,
+                'the line contact law (stiffness.contact = "line") needs the mesh force, '
+                "a finite number > 0 N")
+        rho1 = np.where(inside, lmid, 1.0)
+        rho2 = np.where(inside, pair.line_length - lmid, 1.0)
+        dep1 = np.where(inside, centre_line_depth(g1, np.where(inside, r1, g1.base_radius)),
+                        1.0)
+        dep2 = np.where(inside, centre_line_depth(g2, np.where(inside, r2, g2.base_radius)),
+                        1.0)
+    cross = None
+    if settings.coupling != "none":
+        require(coupling is not None and hasattr(coupling, "cross"), "stiffness.coupling",
+                settings.coupling, "needs a body-coupling model: pass coupling= (gearsim."
+                "fem.coupling.FiniteElementCoupling) or use GearTrain.mesh_stiffness")
+        # tooth of age m + 1 (older pair) is the +x neighbour of the driver tooth of age m
+        # (the drive flank faces the way the driver turns) and the -x neighbour of the
+        # driven tooth of age m; X is symmetric in the two loaded teeth (Maxwell)
+        both = inside[:, :-1] & inside[:, 1:]
+        x1 = np.where(both, coupling.cross(g1, np.where(both, r1[:, :-1], g1.tip_radius),
+                                           np.where(both, r1[:, 1:], g1.tip_radius)), 0.0)
+        x2 = np.where(both, coupling.cross(g2, np.where(both, r2[:, 1:], g2.tip_radius),
+                                           np.where(both, r2[:, :-1], g2.tip_radius)), 0.0)
+        cross = x1 + x2  # (npc, n_age - 1, ns)
+
+    def law(teeth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        chs = np.full(shape, ch)
+        ks = _slice_stiffness(chs + teeth, width, cross)
+        if line:
+            # fixed point on the load per unit width of each contact (ln dependence:
+            # three passes change k by < 1e-6)
+            for _ in range(LINE_ITERATIONS):
+                kt = ks.sum(axis=(1, 2))
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    q = np.where(width > 0, force * ks / (kt[:, None, None] * width), 1.0)
+                chs = np.where(inside, line_contact_compliance(
+                    np.maximum(q, 1e-3), rho1, rho2, dep1, dep2, g1.material, g2.material,
+                    settings.plane), ch)
+                ks = _slice_stiffness(chs + teeth, width, cross)
+        return ks, chs
+
+    return law
+
+
 def assemble_revolution(teeth: tuple[int, int], z_rev: int, npc: int,
                         healthy: tuple[np.ndarray, np.ndarray],
                         cracked: tuple[dict[int, np.ndarray], dict[int, np.ndarray]],
@@ -445,7 +542,6 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     lmid, frac, dz, n_age, ns, zfrac = _slice_grid(pair, settings)
     npc = settings.positions_per_cycle
     inside = frac > 0
-    shape = (npc, n_age, ns)
     r1 = np.where(inside, np.hypot(g1.base_radius, lmid), 0.0)
     r2 = np.where(inside, np.hypot(g2.base_radius, pair.line_length - lmid), 0.0)
 
@@ -460,49 +556,8 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
         gear, radii, store = (g1, r1, cracked1) if tc.gear == 1 else (g2, r2, cracked2)
         store[tc.crack.tooth] = table(gear, radii, tc)
 
-    # Hertz compliance per unit width
-    ch = 1.0 / hertz_stiffness(g1.material, g2.material, 1.0)
     width = frac * dz  # carried face width of each slice [m]
-    line = settings.contact == "line"
-    if line:
-        require(force is not None and math.isfinite(force) and force > 0, "force", force,
-                'the line contact law (stiffness.contact = "line") needs the mesh force, '
-                "a finite number > 0 N")
-        rho1 = np.where(inside, lmid, 1.0)
-        rho2 = np.where(inside, pair.line_length - lmid, 1.0)
-        dep1 = np.where(inside, centre_line_depth(g1, np.where(inside, r1, g1.base_radius)),
-                        1.0)
-        dep2 = np.where(inside, centre_line_depth(g2, np.where(inside, r2, g2.base_radius)),
-                        1.0)
-    coupled = settings.coupling != "none"
-    if coupled:
-        require(coupling is not None and hasattr(coupling, "cross"), "stiffness.coupling",
-                settings.coupling, "needs a body-coupling model: pass coupling= (gearsim."
-                "fem.coupling.FiniteElementCoupling) or use GearTrain.mesh_stiffness")
-        # tooth of age m + 1 (older pair) is the +x neighbour of the driver tooth of age m
-        # (the drive flank faces the way the driver turns) and the -x neighbour of the
-        # driven tooth of age m; X is symmetric in the two loaded teeth (Maxwell)
-        both = inside[:, :-1] & inside[:, 1:]
-        x1 = np.where(both, coupling.cross(g1, np.where(both, r1[:, :-1], g1.tip_radius),
-                                           np.where(both, r1[:, 1:], g1.tip_radius)), 0.0)
-        x2 = np.where(both, coupling.cross(g2, np.where(both, r2[:, 1:], g2.tip_radius),
-                                           np.where(both, r2[:, :-1], g2.tip_radius)), 0.0)
-        cross = x1 + x2  # (npc, n_age - 1, ns)
-    def pairs(teeth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        chs = np.full(shape, ch)
-        ks = _slice_stiffness(chs + teeth, width, cross if coupled else None)
-        if line:
-            # fixed point on the load per unit width of each contact (ln dependence:
-            # three passes change k by < 1e-6)
-            for _ in range(LINE_ITERATIONS):
-                kt = ks.sum(axis=(1, 2))
-                with np.errstate(divide="ignore", invalid="ignore"):
-                    q = np.where(width > 0, force * ks / (kt[:, None, None] * width), 1.0)
-                chs = np.where(inside, line_contact_compliance(
-                    np.maximum(q, 1e-3), rho1, rho2, dep1, dep2, g1.material, g2.material,
-                    settings.plane), ch)
-                ks = _slice_stiffness(chs + teeth, width, cross if coupled else None)
-        return ks, chs
+    pairs = pair_law(pair, settings, lmid, width, r1, r2, force=force, coupling=coupling)
 
     z_rev = g1.teeth if revolution_of == 1 else g2.teeth
     k, comp, pair_k, t1, t2 = assemble_revolution(
@@ -525,5 +580,5 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
                "positions_per_cycle": npc, "plane": settings.plane,
                "gauss_points": settings.gauss_points, "source": model.name,
                "contact": settings.contact, "coupling": settings.coupling,
-               **({"force": float(force)} if line else {})},
+               **({"force": float(force)} if settings.contact == "line" else {})},
     )

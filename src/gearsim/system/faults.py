@@ -274,11 +274,14 @@ def grown_wear(train: GearTrain, f: Wear, mesh: int, which: int):
     from gearsim.stiffness.contacts import contact_grid
     from gearsim.stiffness.ltca import loaded_contact
     from gearsim.stiffness.wear import archard_wear
+    from gearsim.system.train import body_coupling, tooth_compliance
 
     pair = train.pairs[mesh]
     st = train.stiffness
-    grid = contact_grid(pair, settings=st)
-    lc = loaded_contact(grid, train.static_mesh_force(mesh))
+    force = train.static_mesh_force(mesh)
+    grid = contact_grid(pair, settings=st, compliance=tooth_compliance(st.source), force=force,
+                        coupling=body_coupling(st))
+    lc = loaded_contact(grid, force)
     ll = lc.line_load.ravel()
     lpos = grid.l.ravel()
     on = ll > 0

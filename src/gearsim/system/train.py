@@ -479,7 +479,9 @@ class GearTrain:
         return contact_grid(self.pairs[mesh], cracks=self.mesh_cracks(mesh), flank1=f1,
                             flank2=f2, settings=settings, period=period,
                             compliance=tooth_compliance(settings.source),
-                            corner=settings.corner_contact)
+                            corner=settings.corner_contact,
+                            force=self.static_mesh_force(mesh),
+                            coupling=body_coupling(settings))
 
     def with_faults(self, faults: tuple[Fault, ...] = (),
                     modifications: tuple[Modification, ...] | None = None) -> GearTrain:

@@ -148,8 +148,10 @@ def life(
                f"{float(res.path.seconds_per_step.mean()):.3g} s FE each")
     typer.echo("alarm fractions: " + ", ".join(
         f"{k} {'not crossed' if v is None else f'{v:.3g}'}" for k, v in cross.items()))
-    typer.echo(f"gearsim: store written to {path} ({ds.sizes['fraction']} fractions x "
-               f"{ds.sizes['seed']} seeds)")
+    n_broken = int(ds["broken"].sum())
+    tail = ", the last the broken tooth" if n_broken else ""
+    typer.echo(f"gearsim: store written to {path} ({ds.sizes['fraction']} records x "
+               f"{ds.sizes['seed']} seeds{tail})")
 
 
 def register(app: typer.Typer) -> None:

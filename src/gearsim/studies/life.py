@@ -62,7 +62,7 @@ __all__ = ["DEFAULT_THRESHOLD_MPA", "DEFAULT_TOUGHNESS_MPA", "ALARM_LEVELS", "Ge
            "CrackState", "default_law", "mesh_cycle_loads", "gear_life", "life_fractions",
            "LifeStiffness", "equivalent_crack", "stiffness_along_life",
            "DEFAULT_NOISE", "record_duration", "life_records", "write_store",
-           "indicator_trends", "alarm_fractions"]
+           "indicator_trends", "alarm_fractions", "FRACTURE_ENDS"]
 
 #: dK_th of the default law [MPa sqrt(m)]: Barsom & Rolfe (1999, ch. 9), lower bound
 #: for steels at R < 0.1, 5.5 ksi sqrt(in).
@@ -692,9 +692,23 @@ def record_duration(gb: Gearbox) -> float:
     return 4.2 / gb.slowest_shaft()[1]
 
 
+#: Ends of a life after which the tooth is gone (:attr:`GearLife.end`).
+FRACTURE_ENDS = ("K_max >= K_IC", "tooth loss")
+
+
+def _broken_box(gb: Gearbox, crack) -> Gearbox:
+    """The gearbox after the tooth fracture: the crack replaced by the whole tooth gone."""
+    from gearsim.stiffness.faults import BrokenTooth
+
+    tr = gb.train.with_cracks(tuple(c for c in gb.train.cracks if c is not crack))
+    tr = tr.with_faults((*tr.faults, BrokenTooth(gear=crack.gear, tooth=crack.tooth)),
+                        tr.modifications)
+    return dataclasses.replace(gb, train=tr)
+
+
 def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seeds: int, *,
                  duration: float | None = None, noise: float = DEFAULT_NOISE,
-                 signal: str | None = None) -> Any:
+                 signal: str | None = None, broken: bool = True) -> Any:
     """Vibration records with ground truth at fractions of a life.
 
     For each fraction (sorted ascending) the gearbox with the equivalent straight crack
@@ -707,6 +721,14 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
     normalised by the mean residual variance of the records of the same seed up to this
     fraction (the run history of Zakrajsek et al. 1993), and ``residual_kurtosis``
     (NA4 of the record alone).
+
+    When the life ends in fracture (:data:`FRACTURE_ENDS`) and ``broken`` is true, the
+    records end with the **broken tooth**: one more row at fraction 1 (coordinate
+    ``broken`` = 1; the cracked rows have 0) where the cracked tooth is gone over the
+    whole face (:class:`gearsim.stiffness.faults.BrokenTooth`, simulated on the mesh of
+    contacts), the crack length that of the end of life and the equivalent crack NaN;
+    every record of such a life is then simulated on the mesh of contacts (one model
+    along the life: the tables lack the tip-corner contacts).
 
     Parameters
     ----------
@@ -724,6 +746,8 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
         Noise RMS over the record's standard deviation [-] (>= 0).
     signal : str, optional
         Record to analyse (:meth:`Gearbox.signals`); default :attr:`Gearbox.default_signal`.
+    broken : bool
+        End with the broken tooth's record after a fracture (see above).
 
     Returns
     -------
@@ -731,8 +755,8 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
         Dims ``fraction``, ``seed`` (features), ``vertex`` (the grown path) and
         ``life_point`` (the life curve); ground truth as coordinates along ``fraction``:
         ``crack_length`` [m], ``equivalent_depth`` [m], ``equivalent_angle`` [rad],
-        ``clipped``, ``cycles``, ``hours`` [h]; attributes gear, flank, end, law,
-        loads, signal, noise.
+        ``clipped``, ``broken``, ``cycles``, ``hours`` [h]; attributes gear, flank, end,
+        law, loads, signal, noise.
     """
     import xarray as xr
 
@@ -754,9 +778,21 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
     truth = []
     residuals: list[list[np.ndarray]] = [[] for _ in range(seeds)]
     sim_seconds = []
-    for s in states:
-        eq, clipped = equivalent_crack(crack, s.crack)
-        box = _cracked_box(gb, crack, eq)
+    rows = [(s, *equivalent_crack(crack, s.crack)) for s in states]
+    gone = broken and result.end in FRACTURE_ENDS
+    if gone:  # the tooth is lost at the end of the life
+        # every record on the mesh of contacts, which the broken tooth needs: the tables
+        # lack the tip-corner contacts that engage under load (at 4x the Table-1 torque
+        # the table path's RMS is twice the contacts' for the same healthy mesh), so
+        # mixing the two paths would show the change of model as a change of damage
+        gb = dataclasses.replace(gb, dynamics=dataclasses.replace(gb.dynamics,
+                                                                  contact_mesh=True))
+        rows.append((CrackState(fraction=1.0, cycles=result.cycles_end,
+                                hours=float(result.hours(result.cycles_end)),
+                                length=float(result.life.a_end), crack=result.path.crack),
+                     None, False))
+    for s, eq, clipped in rows:
+        box = _cracked_box(gb, crack, eq) if eq is not None else _broken_box(gb, crack)
         t1 = time.perf_counter()
         x = box.select(box.simulate(duration=d), spec)
         sim_seconds.append(time.perf_counter() - t1)
@@ -770,7 +806,9 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
             f["residual_kurtosis"] = na4([a.residual])
             row.append(f)
         feats.append(row)
-        truth.append((s.fraction, s.length, eq.depth, eq.angle, clipped, s.cycles, s.hours))
+        truth.append((s.fraction, s.length, eq.depth if eq is not None else np.nan,
+                      eq.angle if eq is not None else np.nan, clipped, int(eq is None),
+                      s.cycles, s.hours))
     names = sorted({k for row in feats for f in row for k in f})
     cols = list(zip(*truth, strict=True))
     data = {n: (("fraction", "seed"), np.array([[f.get(n, np.nan) for f in row]
@@ -785,8 +823,9 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
             "equivalent_depth": ("fraction", np.asarray(cols[2]), {"units": "m"}),
             "equivalent_angle": ("fraction", np.asarray(cols[3]), {"units": "rad"}),
             "clipped": ("fraction", np.asarray(cols[4], dtype=np.int8)),
-            "cycles": ("fraction", np.asarray(cols[5]), {"units": "1"}),
-            "hours": ("fraction", np.asarray(cols[6]), {"units": "h"}),
+            "broken": ("fraction", np.asarray(cols[5], dtype=np.int8)),
+            "cycles": ("fraction", np.asarray(cols[6]), {"units": "1"}),
+            "hours": ("fraction", np.asarray(cols[7]), {"units": "h"}),
         })
     ds["path_x"] = ("vertex", pts[:, 0], {"units": "m"})
     ds["path_y"] = ("vertex", pts[:, 1], {"units": "m"})
@@ -803,10 +842,12 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
         "dynamic_load_factor": result.dynamic_load_factor,
         "speed_rad_s": gb.operating()[0], "torque_n_m": gb.operating()[1],
         "signal": spec, "noise": noise, "duration_s": d, "fs_hz": fs,
+        "contact_mesh": int(gone),
         "reference_shaft_hz": f_ref, "seconds": time.perf_counter() - t0,
         "sideband_feature": f"sb_ser_o1_shaft{gb.train.gear_index(g.name) + 1}",
         "ground_truth": "crack_length along the grown path; equivalent_depth/angle: the "
-                        "straight crack simulated (docs/fracture.md)",
+                        "straight crack simulated (docs/fracture.md); broken = 1: the "
+                        "tooth gone after the fracture",
     })
     return ds
 

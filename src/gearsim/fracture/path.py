@@ -106,7 +106,9 @@ def grow_path(gear: Gear, crack: CrackPath, radius: float, increment: float, *,
         Largest number of increments (1 to 500).
     **options
         Passed to :func:`gearsim.fracture.tooth.tooth_crack_sif` (``force``,
-        ``n_teeth``, ``plane``, ``refinement``, ``bore_radius``).
+        ``n_teeth``, ``plane``, ``refinement``, ``bore_radius``, ``web``: with a
+        :class:`gearsim.fracture.tooth.RimWeb` the path also ends, ``"broken"``, when
+        the tip reaches the rim's inner radius).
 
     Returns
     -------
@@ -253,7 +255,8 @@ def grow_cycle_path(gear: Gear, crack: CrackPath, radii, forces, increment: floa
         ``"no growth"`` (one analysed tip).
     **options
         Passed to :func:`gearsim.fracture.tooth.cycle_intensity` (``n_teeth``,
-        ``plane``, ``refinement``, ``bore_radius``).
+        ``plane``, ``refinement``, ``bore_radius``, ``web``: with a web the path also
+        ends, ``"broken"``, when the tip reaches the rim's inner radius).
 
     Returns
     -------
@@ -269,8 +272,11 @@ def grow_cycle_path(gear: Gear, crack: CrackPath, radii, forces, increment: floa
     require(math.isfinite(increment) and increment > 0.0, "crack.increment", increment,
             "must be > 0 m")
     t0 = time.perf_counter()
+    web = options.get("web")
     poly, _ = sector_polygon(gear, options.get("n_teeth", 3),
-                             bore_radius=options.get("bore_radius"))
+                             bore_radius=options.get("bore_radius"), web=web)
+    r_rim = (gear.bore_radius_value if options.get("bore_radius") is None
+             else float(options["bore_radius"]))
     edges = (poly, np.roll(poly, -1, axis=0))
     rows: list[tuple] = []
     status, message = "steps done", ""
@@ -300,6 +306,11 @@ def grow_cycle_path(gear: Gear, crack: CrackPath, radii, forces, increment: floa
             status = "broken"
             message = ("crack.path: the grown crack leaves the body or reaches its outline: "
                        "the tooth (or rim) is broken at this increment")
+            break
+        if web is not None and float(np.hypot(*new)) < r_rim + 0.25 * increment:
+            status = "broken"
+            message = ("crack.path: the grown crack reaches the rim's inner radius (the "
+                       "web): the rim is broken at this increment")
             break
         crack = CrackPath(points=(*crack.points, (float(new[0]), float(new[1]))),
                           tips=crack.tips)

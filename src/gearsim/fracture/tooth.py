@@ -51,7 +51,7 @@ from gearsim.fracture.sif import StressIntensity, interaction_integral
 from gearsim.geometry.gear import Gear
 from gearsim.geometry.profile import ToothProfile
 
-__all__ = ["RING_FRACTION", "TIP_DIVISIONS", "CycleIntensity", "ToothCrackResult",
+__all__ = ["RING_FRACTION", "TIP_DIVISIONS", "CycleIntensity", "RimWeb", "ToothCrackResult",
            "cycle_intensity", "fillet_stress", "grow_crack", "initial_crack",
            "sector_polygon", "tooth_crack_sif"]
 
@@ -63,6 +63,54 @@ TIP_DIVISIONS = 30.0
 #: Points per fillet / involute of the middle tooth and of the other teeth.
 FINE_POINTS = (160, 60)
 COARSE_POINTS = (8, 10)
+
+
+@dataclass(frozen=True)
+class RimWeb:
+    """A web below the rim: the support that lets a thin rim bend.
+
+    The sector then runs from the teeth down to ``hub_radius`` instead of stopping at
+    the rim's inner radius (``bore_radius`` of :func:`sector_polygon`): the ring
+    between ``hub_radius`` and ``bore_radius`` is the web, modelled in 2D plane stress
+    with its own thickness (the element stiffness there scaled by
+    ``thickness_ratio`` = web thickness / face width); the hub circle and the sides
+    are fixed. The rim above is a ring on an elastic web that bends under the tooth
+    load, as in the thin-rim test gears of Lewicki & Ballarini (1997, NASA
+    TM-107229), made by machining a web into a solid gear, and in Curà, Mura & Rosso
+    (2014), whose thin-rim gears have a web below the rim. The web dimensions of the
+    test gears are not given here: ``hub_radius`` and ``thickness_ratio`` are inputs.
+
+    Parameters
+    ----------
+    hub_radius
+        Radius where the web meets the (rigid, fixed) hub [m]; > 0 and below the rim's
+        inner radius.
+    thickness_ratio
+        Web thickness over the face width [-], in (0, 1] (1: a solid disc).
+
+    Raises
+    ------
+    InputError
+        ``hub_radius`` not finite and > 0, or ``thickness_ratio`` outside (0, 1].
+
+    References
+    ----------
+    D. G. Lewicki, R. Ballarini, Effect of rim thickness on gear crack propagation
+    path, J. Mech. Des. 119 (1997) 88-95 (NASA TM-107229). F. Curà, A. Mura,
+    C. Rosso, Investigation about crack propagation paths in thin rim gears, Frattura
+    ed Integrità Strutturale 30 (2014) 446-453.
+    """
+
+    hub_radius: float
+    thickness_ratio: float
+
+    def __post_init__(self) -> None:
+        r = self.hub_radius
+        w = self.thickness_ratio
+        require(isinstance(r, (int, float)) and math.isfinite(r) and r > 0.0,
+                "web.hub_radius", r, "must be > 0 m")
+        require(isinstance(w, (int, float)) and math.isfinite(w) and 0.0 < w <= 1.0,
+                "web.thickness_ratio", w, "must be in (0, 1] (web thickness / face width)")
 
 
 @dataclass(frozen=True)
@@ -127,8 +175,8 @@ def _tooth(half: np.ndarray, n_tip: int) -> np.ndarray:
     return np.vstack([half, tip, left])
 
 
-def sector_polygon(gear: Gear, n_teeth: int = 3, *, bore_radius: float | None = None
-                   ) -> tuple[np.ndarray, np.ndarray]:
+def sector_polygon(gear: Gear, n_teeth: int = 3, *, bore_radius: float | None = None,
+                   web: RimWeb | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Outline polygon of a gear sector with the middle tooth on +y.
 
     Parameters
@@ -142,19 +190,24 @@ def sector_polygon(gear: Gear, n_teeth: int = 3, *, bore_radius: float | None = 
         :attr:`Gear.bore_radius_value`. Thin rims (backup ratio
         (r_f - r_bore) / (r_a - r_f) below 1, Lewicki & Ballarini 1997) need it: the
         ``Gear`` itself keeps its bore below 0.9 r_f.
+    web
+        ``None`` (default): the bore is fixed. A :class:`RimWeb`: the outline goes on
+        down to ``web.hub_radius`` (the web, below the rim's inner radius
+        ``bore_radius``), and the hub circle is fixed instead of the bore.
 
     Returns
     -------
     polygon : ndarray, shape (n, 2)
-        Counter-clockwise along the teeth, then the left side, the bore and the right
-        side [m].
+        Counter-clockwise along the teeth, then the left side, the bore (or hub) and
+        the right side [m].
     fixed : ndarray, shape (k, 2, 2)
-        Segments of the fixed boundary (sides and bore) [m].
+        Segments of the fixed boundary (sides and bore, or sides and hub) [m].
 
     Raises
     ------
     InputError
-        Even or out-of-range ``n_teeth``, or a bore not below the root circle.
+        Even or out-of-range ``n_teeth``, a bore not below the root circle, or a hub
+        not below the bore (``web.hub_radius``).
     """
     z = gear.teeth
     require(isinstance(n_teeth, int) and n_teeth >= 3 and n_teeth % 2 == 1 and n_teeth < z,
@@ -166,6 +219,11 @@ def sector_polygon(gear: Gear, n_teeth: int = 3, *, bore_radius: float | None = 
     bore = gear.bore_radius_value if bore_radius is None else float(bore_radius)
     require(math.isfinite(bore) and 0.0 < bore < r_root, "fracture.bore_radius", bore,
             f"must be in (0, root radius {r_root:.6g} m)")
+    if web is not None:
+        require(isinstance(web, RimWeb), "web", type(web).__name__, "must be a RimWeb or None")
+        require(web.hub_radius < bore, "web.hub_radius", web.hub_radius,
+                f"must be below the rim's inner radius {bore:.6g} m")
+        bore = web.hub_radius
     pitch = 2.0 * math.pi / z
     m = n_teeth // 2
     half_side = 0.5 * n_teeth * pitch
@@ -292,11 +350,48 @@ def _tip_clearance(poly: np.ndarray, crack: CrackPath, *, ahead: bool = False) -
     return float(dist[front].min()) if np.any(front) else math.inf
 
 
-def _sector_model(gear: Gear, p: np.ndarray, t: np.ndarray, fixed: np.ndarray, plane: str
-                  ) -> tuple[ElasticModel, np.ndarray]:
-    """P2 model of a sector mesh and its fixed dofs (nodes on the sides and the bore)."""
+def _rim_radius(gear: Gear, bore_radius: float | None) -> float:
+    """Inner radius of the rim [m] (the bore of :func:`sector_polygon`)."""
+    return gear.bore_radius_value if bore_radius is None else float(bore_radius)
+
+
+def _scale_web(model: ElasticModel, rim_radius: float, web: RimWeb) -> None:
+    """Scale the stiffness below ``rim_radius`` by ``web.thickness_ratio`` (in place).
+
+    The thickness is a field over the quadrature points (order 6) of the elements that
+    reach below the rim radius: the mesh does not follow the rim/web circle, an
+    element across it gets the stiffness of its parts.
+    """
+    from skfem import Basis, BilinearForm
+    from skfem.helpers import ddot, sym_grad, trace
+
+    mesh = model.mesh
+    r_nodes = np.hypot(*mesh.p)
+    low = np.nonzero(r_nodes[mesh.t].min(axis=0) < rim_radius)[0]
+    if low.size == 0:
+        return
+    lam, mu = plane_lame(model.youngs_modulus, model.poisson_ratio, model.plane)
+    ratio = float(web.thickness_ratio)
+
+    @BilinearForm
+    def softer(u, v, w):
+        r = np.hypot(w.x[0], w.x[1])
+        c = np.where(r < rim_radius, ratio - 1.0, 0.0)
+        eu, ev = sym_grad(u), sym_grad(v)
+        return c * (2.0 * mu * ddot(eu, ev) + lam * trace(eu) * trace(ev))
+
+    basis = Basis(mesh, model.element, elements=low, intorder=6)
+    model.K = (model.K + softer.assemble(basis)).tocsr()
+
+
+def _sector_model(gear: Gear, p: np.ndarray, t: np.ndarray, fixed: np.ndarray, plane: str,
+                  web: tuple[float, RimWeb] | None = None) -> tuple[ElasticModel, np.ndarray]:
+    """P2 model of a sector mesh and its fixed dofs (nodes on the sides and the bore);
+    ``web`` = (rim radius, :class:`RimWeb`): the web's stiffness scaled."""
     mat = gear.material
     model = ElasticModel(p, t, mat.youngs_modulus, mat.poisson_ratio, plane=plane, order=2)
+    if web is not None:
+        _scale_web(model, *web)
     pts = p.T
     dmin = np.full(pts.shape[0], np.inf)
     for a, b in fixed:
@@ -332,10 +427,10 @@ def _flank_load(model: ElasticModel, gear: Gear, radius: float, force: float, h:
 
 
 def _loaded_model(gear: Gear, p: np.ndarray, t: np.ndarray, fixed: np.ndarray, radius: float,
-                  force: float, plane: str, h: float
+                  force: float, plane: str, h: float, web: tuple[float, RimWeb] | None = None
                   ) -> tuple[ElasticModel, np.ndarray, np.ndarray]:
     """P2 model of a sector mesh, its flank load vector and its fixed dofs."""
-    model, fixed_dofs = _sector_model(gear, p, t, fixed, plane)
+    model, fixed_dofs = _sector_model(gear, p, t, fixed, plane, web)
     return model, _flank_load(model, gear, radius, force, h), fixed_dofs
 
 
@@ -350,7 +445,8 @@ def _check_load(gear: Gear, radius: float, force: float, refinement: float) -> N
 
 def fillet_stress(gear: Gear, radius: float, *, force: float = 1e5,
                   start_angle: float = math.radians(30.0), n_teeth: int = 3,
-                  plane: str = "stress", h_focus: float | None = None) -> float:
+                  plane: str = "stress", h_focus: float | None = None,
+                  bore_radius: float | None = None, web: RimWeb | None = None) -> float:
     """Tangential stress at a fillet point of the uncracked tooth under a flank load.
 
     At a free surface the stress is uniaxial along the outline:
@@ -376,6 +472,9 @@ def fillet_stress(gear: Gear, radius: float, *, force: float = 1e5,
         ``"stress"`` or ``"strain"``.
     h_focus
         Element size at the point [m]; default 1/20 of the outline segment there.
+    bore_radius, web
+        Inner rim radius [m] and rim support (:func:`sector_polygon`); default: the
+        gear's bore, fixed.
 
     Returns
     -------
@@ -393,7 +492,8 @@ def fillet_stress(gear: Gear, radius: float, *, force: float = 1e5,
     prof = ToothProfile(gear)
     g, _ = prof.tangent_point(start_angle)
     pt = np.array(prof.fillet_point(g))
-    poly, fixed = sector_polygon(gear, n_teeth)
+    poly, fixed = sector_polygon(gear, n_teeth, bore_radius=bore_radius, web=web)
+    web_model = None if web is None else (_rim_radius(gear, bore_radius), web)
     # evaluate in the middle of the outline segment that starts at the fillet point:
     # the polygon vertices are very obtuse corners whose weak singularity must not be
     # sampled (docs/fracture.md)
@@ -406,7 +506,7 @@ def fillet_stress(gear: Gear, radius: float, *, force: float = 1e5,
     h = gear.normal_module / 4.0
     hf = seg / 20.0 if h_focus is None else float(h_focus)
     p, t = mesh_polygon(poly, h=h, focus=pt[None, :], h_focus=hf)
-    model, f, fixed_dofs = _loaded_model(gear, p, t, fixed, radius, force, plane, h)
+    model, f, fixed_dofs = _loaded_model(gear, p, t, fixed, radius, force, plane, h, web_model)
     u = model.solve(f, fixed_dofs)
     inward = np.array([-tan[1], tan[0]])
     if inward[0] > 0.0:
@@ -433,10 +533,23 @@ def _inside(poly: np.ndarray, pt: np.ndarray) -> bool:
     return bool(np.count_nonzero(cond & (pt[0] < xc)) % 2 == 1)
 
 
+def _web_clearance(gear: Gear, poly: np.ndarray, crack: CrackPath,
+                   bore_radius: float | None, web: RimWeb | None) -> float:
+    """Distance from the tip to the outline and, with a web, to the rim's inner circle."""
+    clearance = _tip_clearance(poly, crack)
+    if web is None:
+        return clearance
+    tip, _ = crack.tip_frame(1)
+    gap = float(np.hypot(*tip)) - _rim_radius(gear, bore_radius)
+    require(gap > 0.0, "crack.points", tuple(tip),
+            "the tip must lie in the rim, above its inner radius (the web)")
+    return min(clearance, gap)
+
+
 def tooth_crack_sif(gear: Gear, crack: CrackPath, radius: float, *, force: float = 1e5,
                     n_teeth: int = 3, plane: str = "stress", refinement: float = 1.0,
-                    bore_radius: float | None = None, closure: str = "open"
-                    ) -> ToothCrackResult:
+                    bore_radius: float | None = None, closure: str = "open",
+                    web: RimWeb | None = None) -> ToothCrackResult:
     """K_I, K_II at the tip of a root crack under a flank load.
 
     Parameters
@@ -463,6 +576,10 @@ def tooth_crack_sif(gear: Gear, crack: CrackPath, radius: float, *, force: float
         ``"contact"``: frictionless face contact (:mod:`gearsim.fracture.contact`; a
         straight crack only), needed on the compressed (unloaded-flank) fillet, where
         free faces would overlap; a closed tip has K_I = 0.
+    web
+        Rim support (:class:`RimWeb`, :func:`sector_polygon`): ``None`` (default) fixes
+        the bore. With a web the tip must stay in the rim (above ``bore_radius``), and
+        the integral's ring stays inside the rim (homogeneous material).
 
     Returns
     -------
@@ -477,18 +594,20 @@ def tooth_crack_sif(gear: Gear, crack: CrackPath, radius: float, *, force: float
     t0 = time.perf_counter()
     _check_load(gear, radius, force, refinement)
     require(closure in ("open", "contact"), "closure", closure, 'must be "open" or "contact"')
-    poly, fixed = sector_polygon(gear, n_teeth, bore_radius=bore_radius)
+    poly, fixed = sector_polygon(gear, n_teeth, bore_radius=bore_radius, web=web)
     start = crack.array[0]
     on = float(_dist_to_segments(start, poly, np.roll(poly, -1, axis=0)).min())
     require(on <= 1e-3 * gear.normal_module, "crack.points[0]", tuple(start),
             "the crack must start on the tooth outline")
     poly = _insert_vertex(poly, start)
-    clearance = _tip_clearance(poly, crack)
+    clearance = _web_clearance(gear, poly, crack, bore_radius, web)
     r_out = RING_FRACTION * min(crack.last_segment_length(1), clearance)
     h_tip = r_out / (TIP_DIVISIONS * refinement)
     h = gear.normal_module / (4.0 * refinement)
     cm = mesh_cracked_polygon(poly, crack, h=h, h_tip=h_tip, growth=0.3)
-    model, f, fixed_dofs = _loaded_model(gear, cm.p, cm.t, fixed, radius, force, plane, h)
+    web_model = None if web is None else (_rim_radius(gear, bore_radius), web)
+    model, f, fixed_dofs = _loaded_model(gear, cm.p, cm.t, fixed, radius, force, plane, h,
+                                         web_model)
     if closure == "contact":
         sif = closed_crack_intensity(model, cm, f, fixed_dofs, r_out=r_out).sif
     else:
@@ -539,8 +658,8 @@ class CycleIntensity:
 
 def cycle_intensity(gear: Gear, crack: CrackPath, radii, forces, *, n_teeth: int = 3,
                     plane: str = "stress", refinement: float = 1.0,
-                    bore_radius: float | None = None, closure: str = "open"
-                    ) -> CycleIntensity:
+                    bore_radius: float | None = None, closure: str = "open",
+                    web: RimWeb | None = None) -> CycleIntensity:
     """K at the crack tip for the loads of a mesh cycle, on one mesh and one factorisation.
 
     Parameters
@@ -554,7 +673,7 @@ def cycle_intensity(gear: Gear, crack: CrackPath, radii, forces, *, n_teeth: int
     forces
         Normal force per unit face width at each radius [N/m] (>= 0; the share of the
         mesh force this tooth carries, from a load-sharing or dynamic analysis).
-    n_teeth, plane, refinement, bore_radius, closure
+    n_teeth, plane, refinement, bore_radius, closure, web
         As :func:`tooth_crack_sif` (with ``"contact"`` each position is a separate
         active-set solve).
 
@@ -578,17 +697,20 @@ def cycle_intensity(gear: Gear, crack: CrackPath, radii, forces, *, n_teeth: int
     for ri in r:
         _check_load(gear, float(ri), 1.0, refinement)
     require(closure in ("open", "contact"), "closure", closure, 'must be "open" or "contact"')
-    poly, fixed = sector_polygon(gear, n_teeth, bore_radius=bore_radius)
+    poly, fixed = sector_polygon(gear, n_teeth, bore_radius=bore_radius, web=web)
     start = crack.array[0]
     on = float(_dist_to_segments(start, poly, np.roll(poly, -1, axis=0)).min())
     require(on <= 1e-3 * gear.normal_module, "crack.points[0]", tuple(start),
             "the crack must start on the tooth outline")
     poly = _insert_vertex(poly, start)
-    r_out = RING_FRACTION * min(crack.last_segment_length(1), _tip_clearance(poly, crack))
+    r_out = RING_FRACTION * min(crack.last_segment_length(1),
+                                _web_clearance(gear, poly, crack, bore_radius, web))
     h_tip = r_out / (TIP_DIVISIONS * refinement)
     h = gear.normal_module / (4.0 * refinement)
     cm = mesh_cracked_polygon(poly, crack, h=h, h_tip=h_tip, growth=0.3)
-    model, fixed_dofs = _sector_model(gear, cm.p, cm.t, fixed, plane)
+    model, fixed_dofs = _sector_model(gear, cm.p, cm.t, fixed, plane,
+                                      None if web is None else
+                                      (_rim_radius(gear, bore_radius), web))
     loads = np.column_stack([_flank_load(model, gear, float(ri), 1.0, h) * fi
                              for ri, fi in zip(r, fz, strict=True)])
     tip, d = crack.tip_frame(1)
@@ -635,7 +757,7 @@ def grow_crack(gear: Gear, crack: CrackPath, radius: float, increment: float,
         ligament before the direction is updated).
     **options
         Passed to :func:`tooth_crack_sif` (``force``, ``n_teeth``, ``plane``,
-        ``refinement``, ``bore_radius``, ``closure``).
+        ``refinement``, ``bore_radius``, ``closure``, ``web``).
 
     Returns
     -------
@@ -648,13 +770,15 @@ def grow_crack(gear: Gear, crack: CrackPath, radius: float, increment: float,
     ------
     InputError
         Bad increment (one line naming ``crack.increment``), a new tip outside the body
-        or closer to the outline than da / 4 (``crack.path``: the tooth breaks), or the
-        errors of :func:`tooth_crack_sif`.
+        or closer to the outline than da / 4 (``crack.path``: the tooth breaks), with a
+        ``web`` a new tip below the rim's inner radius (``crack.path``: the rim
+        breaks), or the errors of :func:`tooth_crack_sif`.
     """
     require(math.isfinite(increment) and increment > 0.0, "crack.increment", increment,
             "must be > 0 m")
+    web = options.get("web")
     poly, _ = sector_polygon(gear, options.get("n_teeth", 3),
-                             bore_radius=options.get("bore_radius"))
+                             bore_radius=options.get("bore_radius"), web=web)
     clearance = _tip_clearance(poly, crack, ahead=True)
     require(increment <= 0.5 * clearance, "crack.increment", increment,
             f"is too large for the local geometry: at most half the distance from the tip "
@@ -668,4 +792,11 @@ def grow_crack(gear: Gear, crack: CrackPath, radius: float, increment: float,
         raise InputError("crack.path", f"tip at {tuple(np.round(new * 1e3, 4))} mm",
                          "the grown crack leaves the body or reaches its outline: the tooth "
                          "(or rim) is broken at this increment")
+    if web is not None:
+        r_rim = _rim_radius(gear, options.get("bore_radius"))
+        if float(np.hypot(*new)) < r_rim + 0.25 * increment:
+            raise InputError("crack.path", f"tip at {tuple(np.round(new * 1e3, 4))} mm",
+                             f"the grown crack reaches the rim's inner radius "
+                             f"{r_rim * 1e3:.4g} mm (the web): the rim is broken at this "
+                             "increment")
     return res, grown

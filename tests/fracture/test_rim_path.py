@@ -14,7 +14,7 @@ a web from the rim's inner radius r_f - m_B h down to a fixed hub at that same
 16.91 mm, 2D plane stress with the web's stiffness scaled by web thickness / face
 width = ``WEB_RATIO`` (:class:`gearsim.fracture.tooth.RimWeb`). The web thickness of
 the test gears is not known here: 0.25 is an assumption, and the m_B = 0.3 result
-depends on it (rim for 0.1 and 0.25, tooth for 0.35 and 0.5; fine runs below).
+depends on it (rim for 0.1 and 0.25, tooth for 0.3, 0.35 and 0.5; docs/fracture.md).
 
 Classification: the path ends ("broken") either where the tip reaches the rim's inner
 radius (the web): **rim** fracture; or at the outline on the other side of the tooth

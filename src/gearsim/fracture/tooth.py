@@ -8,6 +8,9 @@ points of :meth:`ToothProfile.outline` (fine on the middle tooth, coarse on the 
 and arcs (tips, tooth spaces, bore); the crack is a polyline from the fillet
 (:class:`gearsim.fracture.mesh.CrackPath`), so that a grown, kinked path is meshed as
 it is (:func:`gearsim.fracture.mesh.mesh_cracked_polygon`, remeshed at every step).
+With ``web=RimWeb(...)`` the sector goes on below the rim down to a fixed hub through a
+web whose stiffness is scaled by its thickness / face width (:class:`RimWeb`), so that a
+thin rim bends under the tooth load (docs/fracture.md, "Rim thickness").
 
 Load: a force per unit face width on the loaded (+x) flank at a contact radius r,
 along the contact normal of :func:`gearsim.fem.tooth.load_geometry` (the PE line of

@@ -31,6 +31,7 @@ import numpy as np
 
 from gearsim.model import load
 from gearsim.stiffness.mesh import mesh_stiffness
+from gearsim.stiffness.settings import MODELS
 from gearsim.studies.fe_pair_check import PE_POSITIONS, fe_pair_check, section_tvms
 from gearsim.system.train import body_coupling, tooth_compliance
 
@@ -56,7 +57,8 @@ def cost() -> None:
     from gearsim.fem import calibration
 
     train = load("idler-table1").train
-    seed = dataclasses.replace(train.stiffness, slices=40, positions_per_cycle=40)
+    seed = dataclasses.replace(train.stiffness, slices=40, positions_per_cycle=40,
+                               **MODELS["seed"])
     cal = dataclasses.replace(seed, source="calibrated", contact="line", coupling="fe")
     pe_line = dataclasses.replace(seed, contact="line", coupling="fe")
     _revolution(train, seed)  # compile the kernels

@@ -16,6 +16,7 @@ from gearsim.stiffness.faults import BrokenTooth, ChippedTip, Pitting, Spall
 from gearsim.stiffness.ltca import loaded_contact, solve_deflection
 from gearsim.stiffness.mesh import mesh_stiffness
 from gearsim.stiffness.modifications import Modification, single_pitch_tolerance
+from gearsim.stiffness.settings import MODELS
 
 #: Round-off level for results that must be identical to another route (sums of the
 #: same floating-point terms in another order).
@@ -23,9 +24,11 @@ IDENTICAL = 1e-9
 
 
 def _plain(tr, **kw):
-    """Without the tip-corner contacts (on by default): contacts on the path only."""
+    """Without the tip-corner contacts (on by default): contacts on the path only; the
+    seed's contact law, whose closed forms the checks below use (the accurate model's
+    grid is checked against its table in test_accurate_law_contacts_are_the_stiffness_table)."""
     return dataclasses.replace(tr, stiffness=dataclasses.replace(
-        tr.stiffness, corner_contact=False, **kw))
+        tr.stiffness, corner_contact=False, **{**MODELS["seed"], **kw}))
 
 
 @pytest.fixture(scope="module")

@@ -11,6 +11,8 @@ from gearsim.cli import run
 #: The verb's FE numbers are those of the model (same level, positions); the PE/FE
 #: ratio in double contact of the 19/48 pair at 100 N m is 1.32-1.34 (docs/fem.md).
 PE_RATIO_BAND = (1.25, 1.40)
+#: The configuration's model (spur-19-48: the accurate default) against the FE pair.
+DEFAULT_TARGET = 0.03
 
 
 def test_json_report(capsys):
@@ -31,6 +33,10 @@ def test_json_report(capsys):
         assert r["stiffness_N_per_m"] == pytest.approx(f / r["transmission_error_m"], rel=1e-9)
     ratio = double["k_pe_N_per_m"] / double["stiffness_N_per_m"]
     assert PE_RATIO_BAND[0] < ratio < PE_RATIO_BAND[1]
+    # the configuration's own model, gearsim's default: within the 3 % inside the
+    # zones (tests/stiffness/test_calibrated.py: +1.2 ... +1.8 % on this pair)
+    for r in rows:
+        assert abs(r["k_config_N_per_m"] / r["stiffness_N_per_m"] - 1) < DEFAULT_TARGET
 
 
 @pytest.mark.parametrize("args, name", [

@@ -76,6 +76,24 @@ def test_fe_tooth_curve_equals_the_fe_pair_inside_the_zones(check, table1):
     assert np.all(np.abs(rel) < ZONE_TOL), rel
 
 
+#: gearsim's default model (calibrated PE tooth, 2D line contact, FE coupling) against the
+#: FE pair inside the zones of the Table-1 section: the issue's target (issue 25, 3 %).
+DEFAULT_TARGET = 0.03
+
+
+def test_default_model_curve_within_target_inside_the_zones(check, table1):
+    """The default model on the Table-1 mesh I transverse section: within 3 % of the FE
+    gear pair inside both contact zones (away from the transitions, where the loaded FE
+    pair touches outside the nominal path), and far closer than the seed's method."""
+    eps = table1.pairs[0].transverse_contact_ratio
+    u = np.mod(check.cycles, 1.0)
+    inside = ((u > 0.1) & (u < eps - 1 - 0.1)) | ((u > eps - 1 + 0.1) & (u < 0.9))
+    rel = check.curves["accurate"][inside] / check.k_fe[inside] - 1
+    assert np.all(np.abs(rel) < DEFAULT_TARGET), rel
+    seed = check.curves["pe"][inside] / check.k_fe[inside] - 1
+    assert np.min(np.abs(seed)) > 3 * np.max(np.abs(rel))
+
+
 def test_differences_and_summary(check):
     d = check.differences("pe")
     assert set(d) == {"max", "min", "mean"}

@@ -133,8 +133,11 @@ def test_cli_refuses_a_decreasing_profile_in_one_line(tmp_path, gearsim_here):
 def test_analyze_with_the_own_tacho_reports_each_stage_mesh_orders(runup, tmp_path,
                                                                    gearsim_here):
     """gearsim analyze of a run-up result: with its own tacho channel the order spectrum
-    of mesh force i is made of the harmonics of that stage's mesh order (32 and 19.2
-    input-shaft orders), the bearing acceleration of both."""
+    of every channel is made of harmonics of the stages' mesh orders (32 and 19.2
+    input-shaft orders), and the strongest lines of mesh force i are harmonics of its own
+    stage's (the stages are coupled through the intermediate shaft: with the accurate
+    stiffness model the 14th harmonic of stage 2, order 268.8, shows in mesh force 1 at
+    a third of its strongest line)."""
     import json
 
     nc = tmp_path / "runup.nc"
@@ -147,7 +150,8 @@ def test_analyze_with_the_own_tacho_reports_each_stage_mesh_orders(runup, tmp_pa
         rec = json.loads(r.stdout)["records"][0]
         assert rec["speed_provenance"] == "file"
         osp = rec["tiers"]["shaft"]["order_spectrum"]
-        return [o["order"] for o in osp["lines"]], osp["resolution_orders"]
+        ranked = sorted(osp["lines"], key=lambda o: -o["amplitude"])
+        return [o["order"] for o in ranked], osp["resolution_orders"]
 
     def harmonic(order, base, res):
         # a bin and a half, or o f_max / fs: a tacho edge is known to one sample, so the
@@ -156,9 +160,11 @@ def test_analyze_with_the_own_tacho_reports_each_stage_mesh_orders(runup, tmp_pa
         return abs(order / base - round(order / base)) * base <= max(1.5 * res,
                                                                      order * 30.0 / 20e3)
 
-    for channel, bases in (("mesh_force_1", (32.0,)), ("mesh_force_2", (19.2,)),
-                           ("acceleration[shaft=intermediate,axis=y]", (32.0, 19.2))):
-        orders, res = lines(channel)
+    for channel, own in (("mesh_force_1", 32.0), ("mesh_force_2", 19.2),
+                         ("acceleration[shaft=intermediate,axis=y]", None)):
+        orders, res = lines(channel)  # strongest first
         assert len(orders) >= 4
-        bad = [o for o in orders if not any(harmonic(o, b, res) for b in bases)]
+        bad = [o for o in orders if not any(harmonic(o, b, res) for b in (32.0, 19.2))]
         assert not bad, (channel, bad, orders)
+        if own is not None:
+            assert all(harmonic(o, own, res) for o in orders[:3]), (channel, orders)

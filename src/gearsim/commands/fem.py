@@ -182,6 +182,7 @@ def fe_pair_command(
     from gearsim.errors import InputError
     from gearsim.fem.pair import FEPairModel
     from gearsim.model import load
+    from gearsim.stiffness.settings import MODELS
     from gearsim.studies.fe_pair_check import section_tvms
 
     u = _positions(positions)
@@ -195,10 +196,11 @@ def fe_pair_command(
         model = FEPairModel(pair, torque=train.torque(mesh), level=level,
                             plane=train.stiffness.plane)
     results = [model.solve(v) for v in u]
-    base = dataclasses.replace(train.stiffness, source="pe")
+    seed = dataclasses.replace(train.stiffness, **MODELS["seed"])
     curves = {}
-    for name, st in (("pe", base), ("fe_tooth_line_coupling", dataclasses.replace(
-            base, source="fe", contact="line", coupling="fe"))):
+    for name, st in (("pe", seed), ("fe_tooth_line_coupling", dataclasses.replace(
+            seed, source="fe", contact="line", coupling="fe")),
+                     ("config", train.stiffness)):
         x, k = section_tvms(train, mesh, st, 400)
         curves[name] = np.interp(u, x, k, period=float(pair.driver.teeth))
     rows = []
@@ -221,7 +223,7 @@ def fe_pair_command(
                f"section; driver torque {train.torque(mesh):.6g} N m; FE level {model.level} "
                f"(contact elements {model.h_contact * 1e6:.3g} um)")
     typer.echo(f"{'u':>6} {'k_FE GN/m':>10} {'TE um':>8} {'shares':>14} {'b um':>12} "
-               f"{'root MPa':>9} {'PE/FE':>6} {'FE+line/FE':>10}")
+               f"{'root MPa':>9} {'PE/FE':>6} {'FE+line/FE':>10} {'model/FE':>8}")
     for row in rows:
         k = row["stiffness_N_per_m"]
         shares = "/".join(f"{v:.2f}" for v in row["load_share"])
@@ -230,7 +232,11 @@ def fe_pair_command(
         typer.echo(f"{row['position']:6.3f} {k / 1e9:10.4f} "
                    f"{row['transmission_error_m'] * 1e6:8.3f} {shares:>14} {widths:>12} "
                    f"{root:9.1f} {row['k_pe_N_per_m'] / k:6.3f} "
-                   f"{row['k_fe_tooth_line_coupling_N_per_m'] / k:10.3f}")
+                   f"{row['k_fe_tooth_line_coupling_N_per_m'] / k:10.3f} "
+                   f"{row['k_config_N_per_m'] / k:8.3f}")
+    typer.echo("PE: the seed's method; FE+line: FE tooth, line contact, body coupling; "
+               f"model: the configuration's stiffness ({train.stiffness.source}, "
+               f"{train.stiffness.contact}, {train.stiffness.coupling})")
 
 
 def register(app: typer.Typer) -> None:

@@ -28,7 +28,11 @@ from gearsim.errors import InputError
 from gearsim.geometry import _kernels as K
 from gearsim.geometry.gear import Gear
 
-__all__ = ["ToothProfile"]
+__all__ = ["OUTLINE_SNAP", "ToothProfile"]
+
+#: Consecutive outline points closer than this fraction of the tip radius are one point
+#: (round-off copies of the form point; the outline's own spacing is > 1e-4 of it).
+OUTLINE_SNAP = 1e-12
 
 
 @dataclass(frozen=True)
@@ -162,8 +166,16 @@ class ToothProfile:
         ndarray, shape (n_fillet + n_involute, 2)
             (x, y) points [m].
         """
-        out = np.empty((n_fillet + n_involute, 2))
-        return K.sample_outline(self.packed, n_fillet, n_involute, out)
+        out = K.sample_outline(self.packed, n_fillet, n_involute,
+                               np.empty((n_fillet + n_involute, 2)))
+        # the fillet ends where the involute starts (the form point, sampled by both):
+        # a copy that differs by round-off (1e-17 m measured) is made exact, so that the
+        # outline has no edge of round-off length, whose direction is noise (a polygon
+        # check then sees a crossing: the 23-tooth pinion of wind-turbine-grc)
+        near = np.flatnonzero(np.hypot(*np.diff(out, axis=0).T)
+                              <= OUTLINE_SNAP * float(np.hypot(*out[-1])))
+        out[near + 1] = out[near]
+        return out
 
     def full_outline(self, n_fillet: int = 60, n_involute: int = 80) -> np.ndarray:
         """Outline of one tooth, both flanks: ``+x`` root to tip, then ``-x`` tip to root.

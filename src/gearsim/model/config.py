@@ -47,7 +47,7 @@ from gearsim.model.planetary import parse_planetary
 from gearsim.sections import as_written, convert
 from gearsim.signals.settings import parse_analysis
 from gearsim.stiffness.modifications import Modification
-from gearsim.stiffness.settings import StiffnessSettings
+from gearsim.stiffness.settings import StiffnessSettings, model_options
 from gearsim.system.graph import MeshSpec, Shaft, power_flow
 from gearsim.system.train import GearTrain, Operating
 from gearsim.units import plain_numbers_are_si
@@ -78,7 +78,7 @@ OPERATING_KEYS = {"speed": "speed", "torque": "torque"}
 STIFFNESS_KEYS = {"closure": "str", "slices": "int", "positions_per_cycle": "int",
                   "gauss_points": "int", "plane": "str", "source": "str",
                   "corner_contact": "bool", "contact": "str", "coupling": "str",
-                  "fe_pair_positions": "int"}
+                  "fe_pair_positions": "int", "model": "str"}
 MODIFICATION_KEYS = {"gear": "str", "tip_relief": "length", "tip_relief_length": "length",
                      "root_relief": "length", "root_relief_length": "length",
                      "relief_shape": "str", "crowning": "length", "helix_slope": "length",
@@ -183,8 +183,8 @@ def parse(doc: dict[str, Any]) -> Gearbox:
     op_kw = convert(op_raw, OPERATING_KEYS, "operating")
     with as_written(op_raw, "operating"):
         operating = Operating(**op_kw)
-    stiffness = StiffnessSettings(**convert(doc.get("stiffness", {}), STIFFNESS_KEYS,
-                                            "stiffness"))
+    stiffness = StiffnessSettings(**model_options(
+        convert(doc.get("stiffness", {}), STIFFNESS_KEYS, "stiffness"), "stiffness"))
     cracks_raw = doc.get("cracks", [])
     cracks = parse_cracks(cracks_raw)
     name = doc.get("name", "gear train")

@@ -51,7 +51,7 @@ from gearsim.model.damage import parse_cracks, parse_faults
 from gearsim.model.gearbox import Gearbox
 from gearsim.sections import as_written, convert
 from gearsim.signals.settings import parse_analysis
-from gearsim.stiffness.settings import StiffnessSettings
+from gearsim.stiffness.settings import StiffnessSettings, model_options
 from gearsim.system import GearTrain
 from gearsim.system.graph import MAX_SHAFT_STIFFNESS, MIN_SHAFT_STIFFNESS
 from gearsim.system.planetary import PlanetaryTrain, StageOperating
@@ -123,8 +123,9 @@ def parse_planetary(doc: dict[str, Any], material: Material,
     stiffness_kw = convert(doc.get("stiffness", {}), {
         "closure": "str", "slices": "int", "positions_per_cycle": "int",
         "gauss_points": "int", "plane": "str", "source": "str", "contact": "str",
-        "coupling": "str"}, "stiffness")
-    stiffness = StiffnessSettings(**stiffness_kw)
+        "coupling": "str", "model": "str"}, "stiffness")
+    # the internal (ring-planet) mesh has the seed's law only (issue 25 item 5)
+    stiffness = StiffnessSettings(**model_options(stiffness_kw, "stiffness", "seed"))
     cracks = parse_cracks(doc.get("cracks", []))
     name = doc.get("name", "planetary stage")
     if not isinstance(name, str):

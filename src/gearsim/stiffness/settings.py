@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 from gearsim.errors import require
 
-__all__ = ["CLOSURES", "CONTACTS", "COUPLINGS", "DEFAULT_SLICES", "PLANES", "SOURCES",
-           "StiffnessSettings"]
+__all__ = ["CLOSURES", "CONTACTS", "COUPLINGS", "DEFAULT_MODEL", "DEFAULT_SLICES", "MODELS",
+           "PLANES", "SOURCES", "StiffnessSettings", "model_options"]
 
 #: Tooth-compliance models ``stiffness.source`` may name.
 SOURCES = ("pe", "fe", "fe-pair", "calibrated")
@@ -19,6 +20,20 @@ PLANES = ("stress", "strain")
 CONTACTS = ("yang-lin", "line")
 #: Tooth-coupling models ``stiffness.coupling`` may name.
 COUPLINGS = ("none", "fe")
+
+#: Named stiffness models (``[stiffness] model`` of a configuration file) and the options
+#: each stands for: ``"seed"``, the source paper's potential-energy method (PE tooth,
+#: Yang-Lin contact, independent pairs; +24 % on the cycle mean of the 19/48 pair against
+#: the FE gear pair); ``"accurate"``, the calibrated tooth with the 2D line contact and
+#: the FE body coupling (within 3 % of the FE gear pair inside the contact zones,
+#: healthy; docs/stiffness.md, section 4c).
+MODELS = {"seed": {"source": "pe", "contact": "yang-lin", "coupling": "none"},
+          "accurate": {"source": "calibrated", "contact": "line", "coupling": "fe"}}
+#: The model of a gear train (or a stage's chain) whose file names none of ``model``,
+#: ``source``, ``contact``, ``coupling``. A planetary stage's meshes keep the seed's (the
+#: internal mesh has the Yang-Lin contact only). The Python default of
+#: :class:`StiffnessSettings` stays the seed's options (the library's building block).
+DEFAULT_MODEL = "accurate"
 
 #: Default number of slices of a helical face width. From the convergence study in
 #: ``tests/test_stiffness_mesh.py::test_slice_convergence`` (Table-1 mesh I, largest
@@ -102,7 +117,7 @@ class StiffnessSettings:
         require(self.plane in PLANES, "stiffness.plane", self.plane,
                 'must be "stress" or "strain"')
         require(self.source in SOURCES, "stiffness.source", self.source,
-                'must be "pe", "fe" or "fe-pair"')
+                'must be "pe", "fe", "fe-pair" or "calibrated"')
         require(isinstance(self.corner_contact, bool), "stiffness.corner_contact",
                 self.corner_contact, "must be true or false")
         require(self.contact in CONTACTS, "stiffness.contact", self.contact,
@@ -114,3 +129,43 @@ class StiffnessSettings:
                     self.source, 'needs contact = "line" and coupling = "fe" (the model '
                     "calibrated against the FE gear pair, docs/stiffness.md 4c); got "
                     f"contact = {self.contact!r}, coupling = {self.coupling!r}")
+
+
+def model_options(kw: dict[str, Any], where: str, default: str = DEFAULT_MODEL
+                  ) -> dict[str, Any]:
+    """Keyword arguments of :class:`StiffnessSettings` from a ``[stiffness]`` table.
+
+    ``model = "seed"`` or ``"accurate"`` stands for its options (:data:`MODELS`); a
+    table that names none of ``model``, ``source``, ``contact`` and ``coupling`` gets
+    ``default``'s; a table that names ``source``, ``contact`` or ``coupling`` itself
+    keeps the others' class defaults.
+
+    Parameters
+    ----------
+    kw : dict
+        The converted table (:data:`gearsim.model.config.STIFFNESS_KEYS`).
+    where : str
+        Its name in the file, for messages (``"stiffness"``, ``"chain.stiffness"``).
+    default : str
+        The model of a table that names none.
+
+    Returns
+    -------
+    dict
+
+    Raises
+    ------
+    InputError
+        An unknown model, or a model together with ``source``, ``contact`` or
+        ``coupling`` (one would override the other).
+    """
+    kw = dict(kw)
+    model = kw.pop("model", None)
+    own = [k for k in ("source", "contact", "coupling") if k in kw]
+    if model is None:
+        return kw if own else {**MODELS[default], **kw}
+    require(model in MODELS, f"{where}.model", model,
+            "must be " + " or ".join(f'"{m}"' for m in MODELS))
+    require(not own, f"{where}.model", model,
+            f"names {', '.join(own)} itself: give either model or those keys")
+    return {**kw, **MODELS[model]}

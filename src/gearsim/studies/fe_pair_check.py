@@ -6,11 +6,13 @@ maximum, minimum and mean). :func:`fe_pair_check` does the same on the transvers
 of a mesh: the FE gear pair in contact (:mod:`gearsim.fem.pair`, through the cached table
 of :func:`gearsim.fem.pair_table.fe_pair_mesh_stiffness`) against
 
-* ``pe``: the PE model with the train's options (the seed's: Yang-Lin contact, pairs in
-  parallel),
+* ``pe``: the seed's method (PE tooth, Yang-Lin contact, pairs in parallel; the train's
+  other options),
 * ``pe_line``: the PE tooth with the 2D line contact and the FE body coupling
   (``stiffness.contact = "line"``, ``stiffness.coupling = "fe"``; docs/stiffness.md 4b),
 * ``fe_tooth``: the single-tooth FE compliance with the same two options,
+* ``accurate``: gearsim's default model (``[stiffness] model = "accurate"``: the
+  calibrated PE tooth with both options; docs/stiffness.md 4c),
 
 all on the section at z = 0 (the FE pair's convention: driver tooth k touches at
 l_A + (u + k) p_b), over a window of mesh cycles.
@@ -24,13 +26,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from gearsim.stiffness.mesh import mesh_stiffness
+from gearsim.stiffness.settings import MODELS
 from gearsim.system.fe_pair import FE_PAIR_LEVEL
 from gearsim.system.train import GearTrain, body_coupling, tooth_compliance
 
 __all__ = ["CURVES", "FEPairCheck", "fe_pair_check", "section_tvms"]
 
 #: The model curves compared with the FE pair.
-CURVES = ("pe", "pe_line", "fe_tooth")
+CURVES = ("pe", "pe_line", "fe_tooth", "accurate")
 #: Positions per cycle of the PE curves (interpolated at the FE positions).
 PE_POSITIONS = 400
 
@@ -184,11 +187,12 @@ def fe_pair_check(train: GearTrain, mesh: int = 0, *, crack: str = "none",
     npc = positions_per_cycle
     idx = (first * npc + np.arange(cycles * npc)) % (z_rev * npc)
     u = first + np.arange(cycles * npc) / npc
-    base = dataclasses.replace(tr.stiffness, source="pe")
+    base = dataclasses.replace(tr.stiffness, **MODELS["seed"])  # whatever the file's model
     variants = {
         "pe": base,
         "pe_line": dataclasses.replace(base, contact="line", coupling="fe"),
         "fe_tooth": dataclasses.replace(base, source="fe", contact="line", coupling="fe"),
+        "accurate": dataclasses.replace(base, **MODELS["accurate"]),
     }
     curves = {}
     for name, st in variants.items():

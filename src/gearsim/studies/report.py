@@ -168,7 +168,9 @@ def _fe_html(rep: Reproduction) -> str:
 
 _FE_PAIR_CURVES = {"pe": "PE (seed: Yang-Lin contact, independent pairs)",
                    "pe_line": "PE tooth, 2D line contact, FE body coupling",
-                   "fe_tooth": "FE tooth, 2D line contact, FE body coupling"}
+                   "fe_tooth": "FE tooth, 2D line contact, FE body coupling",
+                   "accurate": "gearsim's default: calibrated PE tooth, 2D line contact, "
+                               "FE body coupling"}
 
 
 def _fe_pair_html(rep: Reproduction) -> str:
@@ -196,7 +198,9 @@ def _fe_pair_html(rep: Reproduction) -> str:
             "quarter of the 2D contact compliance and it treats the pairs in double contact "
             "as independent; with the 2D line contact and the coupling through the gear "
             "body the FE tooth agrees within about 2 %, the PE tooth stays 5-11 % softer "
-            "(docs/stiffness.md, section 4b). Near the ends of the single-contact zone the "
+            "(docs/stiffness.md, section 4b); gearsim's default model (the PE tooth "
+            "calibrated by the FE tooth once per gear, section 4c) keeps the PE speed with "
+            "the FE tooth's accuracy. Near the ends of the single-contact zone the "
             "loaded FE pair touches outside the nominal path of contact (extended "
             "contact), which no table has.</p>")
 

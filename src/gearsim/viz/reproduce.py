@@ -124,7 +124,10 @@ def plot_stiffness(rep: Reproduction, *, fig: Figure | None = None) -> Figure:
 
 _PAIR_CURVES = {"pe": ("-", "PE, seed options"),
                 "pe_line": ("--", "PE tooth + line contact + coupling"),
-                "fe_tooth": (":", "FE tooth + line contact + coupling")}
+                "fe_tooth": (":", "FE tooth + line contact + coupling"),
+                "accurate": ("--", "gearsim default (calibrated)")}
+#: The model curves drawn against the FE pair: the seed's and gearsim's default.
+_DRAWN = ("pe", "accurate")
 
 
 def _plot_fe_pair(rep: Reproduction, ax_k, ax_bar) -> None:
@@ -135,7 +138,7 @@ def _plot_fe_pair(rep: Reproduction, ax_k, ax_bar) -> None:
         color = COLORS[label]
         ax_k.plot(chk.cycles, chk.k_fe / 1e9, "o", color=color, ms=3.5,
                   label=f"FE gear pair, {label}")
-        for curve in ("pe", "pe_line"):
+        for curve in _DRAWN:
             ls, name = _PAIR_CURVES[curve]
             ax_k.plot(chk.cycles, chk.curves[curve] / 1e9, ls, color=color, lw=1.1,
                       label=f"{name}, {label}" if crack == "none" else None)
@@ -145,12 +148,12 @@ def _plot_fe_pair(rep: Reproduction, ax_k, ax_bar) -> None:
     ax_k.legend(fontsize=7, ncols=2)
     names = ["max", "min", "mean"]
     xs = np.arange(3)
-    n = 1 + 2 * len(rep.fe_pair)
+    n = 1 + len(_DRAWN) * len(rep.fe_pair)
     width = 0.8 / n
     ax_bar.bar(xs - 0.4 + 0.5 * width, [6.7, 5.6, 6.3], width, color="grey",
                label="seed |error|")
     j = 1
-    for curve, hatch in (("pe", ""), ("pe_line", "//")):
+    for curve, hatch in zip(_DRAWN, ("", "//"), strict=True):
         for crack, chk in rep.fe_pair.items():
             label = {"none": "healthy"}.get(crack, crack)
             d = chk.differences(curve)

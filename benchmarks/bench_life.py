@@ -69,14 +69,15 @@ def main() -> None:
         write_store(ds, Path(tmp) / "life.nc")
     t_store = time.perf_counter() - t1
     n = ds.sizes["fraction"] * ds.sizes["seed"]
-    print(f"store: {n} records ({ds.sizes['fraction']} fractions x {ds.sizes['seed']} seeds, "
+    print(f"store: {n} records ({ds.sizes['fraction']} rows x {ds.sizes['seed']} seeds, "
           f"{ds.attrs['duration_s']:.4g} s each): {t_store:.1f} s (target < 300 s); "
           f"simulations {float(ds['simulation_seconds'].sum()):.1f} s")
     trends = indicator_trends(ds)
     print("fraction  length[mm]  " + "  ".join(f"{k:>17s}" for k in trends))
     for i, f in enumerate(ds["fraction"].values):
         print(f"{f:8.3f}  {ds['crack_length'].values[i] * 1e3:10.3f}  "
-              + "  ".join(f"{trends[k][i]:17.4f}" for k in trends))
+              + "  ".join(f"{trends[k][i]:17.4f}" for k in trends)
+              + ("  broken tooth" if ds["broken"].values[i] else ""))
     print("alarm fractions:", {k: None if v is None else round(v, 3)
                                for k, v in alarm_fractions(ds).items()})
 

@@ -41,3 +41,20 @@ def test_fem_cantilever_convergence_rate_p1():
     errs = [solve_cantilever(h=h, order=1).error for h in hs]
     rate = convergence_rate(hs, errs)
     assert 1.7 <= rate <= 2.5, f"P1 rate {rate:.3f}, errors {errs}"
+
+
+def test_stiffness_matrix_equals_scikit_fem_linear_elasticity():
+    """ElasticModel assembles 2 mu eps:eps + lam div div itself (3x faster than
+    skfem.models.elasticity.linear_elasticity, which builds the 4th-order tensor at every
+    quadrature point): the same matrix to round-off, P1 and P2, stress and strain."""
+    from skfem import MeshTri
+    from skfem.models.elasticity import linear_elasticity
+
+    from gearsim.fem.solve import ElasticModel, plane_lame
+
+    mesh = MeshTri.init_circle(3)
+    for order in (1, 2):
+        for plane in ("stress", "strain"):
+            m = ElasticModel(mesh.p, mesh.t, 206e9, 0.3, plane=plane, order=order)
+            ref = linear_elasticity(*plane_lame(206e9, 0.3, plane)).assemble(m.basis).tocsr()
+            assert abs(m.K - ref).max() <= 1e-13 * abs(ref).max()

@@ -38,6 +38,7 @@ References
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import zipfile
@@ -51,6 +52,7 @@ from gearsim.fem.geometry import SectorOptions
 from gearsim.fem.tables import CACHE_VERSION, DEFAULT_LEVEL, _write_npz, cache_dir, fe_compliance
 from gearsim.fem.tables import fe_nodes as _fe_nodes
 from gearsim.geometry.gear import Gear
+from gearsim.io.atomic import exclusive
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCrack
 from gearsim.stiffness.tooth import ToothModel
@@ -172,16 +174,22 @@ def calibration_ratio(gear: Gear, *, plane: str = "stress", level: int = DEFAULT
     nodes = _fe_nodes(gear)
     path = calibration_dir() / f"{key}.npz"
     ratio = _read(path, doc, nodes) if use_cache else None
-    if ratio is None:
-        st = StiffnessSettings(plane=plane, gauss_points=gauss_points)
-        # the FE tooth is solved afresh (its table cache does not name the gearsim
-        # version): a rebuilt calibration never rests on a stale FE table
-        c_fe = fe_compliance(gear, nodes, settings=st, options=SectorOptions(level=level),
-                             use_cache=False)[:, 0]
-        c_pe = ToothModel(gear, plane=plane, gauss_points=gauss_points).compliance(nodes)
-        ratio = c_fe / c_pe.sum(axis=1)
-        if use_cache:
-            _write_npz(path, key=np.array(doc), radii=nodes, ratio=ratio)
+    if ratio is not None:
+        return nodes, ratio
+    # one process computes a gear's ratio at a time (test workers, Dask workers, the
+    # install's warm-up): the others wait and read its result
+    with exclusive(path.with_suffix(".lock")) if use_cache else contextlib.nullcontext():
+        ratio = _read(path, doc, nodes) if use_cache else None
+        if ratio is None:
+            st = StiffnessSettings(plane=plane, gauss_points=gauss_points)
+            # the FE tooth is solved afresh (its table cache does not name the gearsim
+            # version): a rebuilt calibration never rests on a stale FE table
+            c_fe = fe_compliance(gear, nodes, settings=st, options=SectorOptions(level=level),
+                                 use_cache=False)[:, 0]
+            c_pe = ToothModel(gear, plane=plane, gauss_points=gauss_points).compliance(nodes)
+            ratio = c_fe / c_pe.sum(axis=1)
+            if use_cache:
+                _write_npz(path, key=np.array(doc), radii=nodes, ratio=ratio)
     return nodes, ratio
 
 

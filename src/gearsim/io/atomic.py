@@ -8,10 +8,11 @@ from __future__ import annotations
 import os
 import tempfile
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
-__all__ = ["atomic_write", "current_umask"]
+__all__ = ["atomic_write", "current_umask", "exclusive"]
 
 _UMASK_LOCK = threading.Lock()
 
@@ -57,3 +58,32 @@ def atomic_write(path: str | Path, write: Callable[[Path], None]) -> Path:
         tmp_path.unlink(missing_ok=True)
         raise
     return target
+
+
+@contextmanager
+def exclusive(path: str | Path) -> Iterator[None]:
+    """Hold an exclusive lock on the file ``path`` (created if needed) for the block.
+
+    Processes that compute the same cache entry take turns: the second one waits, then
+    finds the first one's result (the caller reads the cache again inside the block).
+    POSIX advisory lock (``fcntl.flock``); released when the block ends or the process
+    dies. Where ``fcntl`` does not exist the block runs unlocked (each process computes).
+
+    Parameters
+    ----------
+    path
+        The lock file (its folder is created if needed); left in place.
+    """
+    try:
+        import fcntl
+    except ImportError:  # not POSIX
+        yield
+        return
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    with open(target, "a") as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)

@@ -68,10 +68,14 @@ def cluster(tmp_path):
     procs = [sched]
     try:
         deadline = time.monotonic() + START_TIMEOUT
-        while not file.exists() and time.monotonic() < deadline:
+        address = None
+        while address is None and time.monotonic() < deadline:
             assert sched.poll() is None, (tmp_path / "cluster.log").read_text()
-            time.sleep(0.05)
-        address = json.loads(file.read_text())["address"]
+            try:  # the scheduler may have created the file and not yet written it
+                address = json.loads(file.read_text())["address"]
+            except (OSError, ValueError, KeyError):
+                time.sleep(0.05)
+        assert address is not None, (tmp_path / "cluster.log").read_text()
         procs.append(_start(["distributed.cli.dask_worker", address, "--nthreads", "1",
                              "--nworkers", "1", "--no-dashboard", "--local-directory",
                              str(tmp_path / "worker")], log))

@@ -41,7 +41,9 @@ browser:
 $(STAMP): pyproject.toml constraints.txt
 	$(PY) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --upgrade pip
-	$(BIN)/python -m pip install -q -c constraints.txt -e ".[test]"
+	@# --no-compile: Python writes the bytecode of each module on its first import;
+	@# compiling every installed file up front was ~55 s of one core (measured)
+	$(BIN)/python -m pip install -q --no-compile -c constraints.txt -e ".[test]"
 	@# compile the numba kernels once into their cache (every integrator variant: tables
 	@# or contacts, constant speed or a profile), so test workers do not each compile them;
 	@# two processes, one per core (the contact variants in one, the table ones in the other)

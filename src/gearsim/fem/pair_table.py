@@ -23,6 +23,7 @@ import hashlib
 import json
 import math
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -121,21 +122,30 @@ def fe_pair_mesh_stiffness(pair: GearPair, *, torque: float, cracks: tuple = (),
     crack_doc = None if tc is None else [tc.gear, tc.crack.tooth, tc.crack.depth,
                                          tc.crack.angle, tc.crack.start_radius, tc.side,
                                          closure]
-    path = cache_dir() / (f"pair-{_key(pair, torque, npc, level, plane, crack_doc, revolution_of)}"
-                          ".npz")
-    k = None
-    if use_cache and path.exists():
+    def table_path(doc) -> Path:
+        return cache_dir() / f"pair-{_key(pair, torque, npc, level, plane, doc, revolution_of)}.npz"
+
+    def cached(where: Path, size: int) -> tuple[np.ndarray, float] | None:
+        if not (use_cache and where.exists()):
+            return None
         try:
-            with np.load(path) as data:
-                k = np.array(data["k"])
-                seconds = float(data["seconds"])
+            with np.load(where) as data:
+                found = np.array(data["k"]), float(data["seconds"])
         except (OSError, ValueError, KeyError):
-            k = None  # unreadable: recompute and overwrite
-    expected = npc if tc is None else z_rev * npc
-    if k is None or k.size != expected:
+            return None  # unreadable: recompute and overwrite
+        return found if found[0].size == size else None
+
+    path = table_path(crack_doc)
+    hit = cached(path, npc if tc is None else z_rev * npc)
+    k, seconds = hit if hit is not None else (None, 0.0)
+    if k is None:
         t0 = time.perf_counter()
         model = FEPairModel(pair, torque=torque, level=level, plane=plane)
-        k = np.array([model.solve(i / npc).stiffness for i in range(npc)])
+        # a cracked table's healthy cycles are the healthy table's (the same model and
+        # solves): read from the cache when a healthy table was computed before
+        healthy = cached(table_path(None), npc) if tc is not None else None
+        k = (healthy[0] if healthy is not None
+             else np.array([model.solve(i / npc).stiffness for i in range(npc)]))
         if tc is not None:
             z = g1.teeth if tc.gear == 1 else g2.teeth
             k = np.tile(k, z_rev)

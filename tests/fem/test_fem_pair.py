@@ -197,6 +197,10 @@ def test_reversed_torque_loads_the_back_flanks(pair, model1):
         assert abs(rb.stiffness / rf.stiffness - 1) < MIRROR_TOL
         assert sorted(np.round(rb.load_share, 2)) == pytest.approx(
             sorted(np.round(rf.load_share, 2)), abs=0.011)
+    # the labels of a model without meshing it (as the cracked FE pair table reads them
+    # when the healthy table is cached) are those of the meshed models, both flanks
+    assert fp.FEPairModel.tooth_labels(pair, torque=-TORQUE) == back.teeth
+    assert fp.FEPairModel.tooth_labels(pair, torque=TORQUE) == model1.teeth
     # and the back-flank contacts are on the -x involutes of the driver: the driver
     # flank normal at a contact point points to +x in the tooth frame when mirrored
     b1 = back.bodies[0]

@@ -112,7 +112,7 @@ def test_crack_out_of_contact_acts_through_the_body_only(crack, models, healthy)
 
 
 def test_revolution_table_dips_where_the_pe_table_does(spur, pair, crack, models,
-                                                      monkeypatch):
+                                                      monkeypatch, tmp_path):
     """Cycles where the FE-pair table drops by > 1 % are the cycles the cracked tooth is
     in the path of contact (those the PE table marks), tooth 0 at cycles 0 and 1."""
     tc = ToothCrack(gear=1, crack=crack, side=1)
@@ -132,6 +132,23 @@ def test_revolution_table_dips_where_the_pe_table_does(spur, pair, crack, models
     pe_h = spur.with_cracks(()).mesh_stiffness(0).k.reshape(-1, 40)
     pe_drop = (1 - pe / pe_h).max(axis=1)
     assert set(np.flatnonzero(drop > 0.01)) == set(np.flatnonzero(pe_drop > 0.01)) == {0, 1}
+    # through a cache: the cracked table then takes the cached healthy cycles and the tooth
+    # labels from the geometry (no healthy model built): the same table
+    monkeypatch.setenv("GEARSIM_CACHE", str(tmp_path))
+    shared.tooth_labels = fp.FEPairModel.tooth_labels
+    kw["use_cache"] = True
+    assert np.array_equal(fe_pair_mesh_stiffness(pair, **kw).k, healthy)
+    built = []
+
+    def recorded(p, **k):
+        built.append(k.get("crack"))
+        return shared(p, **k)
+
+    recorded.tooth_labels = fp.FEPairModel.tooth_labels
+    monkeypatch.setattr(pair_table, "FEPairModel", recorded)
+    again = fe_pair_mesh_stiffness(pair, cracks=(tc,), closure="open", **kw).k
+    assert np.array_equal(again, cracked)
+    assert None not in built and len(built) > 0  # cracked models only
 
 
 def test_bad_cracks_are_refused(pair, spur, crack):

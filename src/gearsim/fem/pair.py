@@ -1010,6 +1010,40 @@ class FEPairModel:
             return pair.start_of_contact + (position + tooth) * pair.base_pitch
         return pair.start_of_contact + (self.back_offset - position - tooth) * pair.base_pitch
 
+    @classmethod
+    def tooth_labels(cls, pair: GearPair, *, torque: float) -> tuple[int, ...]:
+        """Driver tooth labels k of the model of ``pair`` at ``torque``, without meshing.
+
+        The labels depend on the pair's geometry and the loaded flanks only (the teeth
+        whose contact reaches the path within ``TOOTH_MARGIN`` base pitches over a
+        cycle); they equal :attr:`teeth` of ``FEPairModel(pair, torque=torque)`` at any
+        level.
+
+        Parameters
+        ----------
+        pair
+            The gear pair.
+        torque
+            Driver torque [N m] (its sign selects the flanks).
+
+        Returns
+        -------
+        tuple of int
+            The labels, ascending.
+
+        Raises
+        ------
+        InputError
+            A zero or non-finite torque, or back flanks that do not touch.
+        """
+        self = cls.__new__(cls)
+        torque = _check_torque(torque)
+        self.pair = pair
+        self.side = 1 if torque > 0 else -1
+        self.torque_scale = abs(torque)
+        self._place()
+        return self._teeth()
+
     def _teeth(self) -> tuple[int, ...]:
         pair = self.pair
         eps = pair.transverse_contact_ratio

@@ -140,18 +140,23 @@ def fe_pair_mesh_stiffness(pair: GearPair, *, torque: float, cracks: tuple = (),
     k, seconds = hit if hit is not None else (None, 0.0)
     if k is None:
         t0 = time.perf_counter()
-        model = FEPairModel(pair, torque=torque, level=level, plane=plane)
         # a cracked table's healthy cycles are the healthy table's (the same model and
-        # solves): read from the cache when a healthy table was computed before
+        # solves): read from the cache when a healthy table was computed before, and then
+        # the healthy model is not built (its tooth labels come from the geometry alone)
         healthy = cached(table_path(None), npc) if tc is not None else None
-        k = (healthy[0] if healthy is not None
-             else np.array([model.solve(i / npc).stiffness for i in range(npc)]))
+        if healthy is not None:
+            k = healthy[0]
+            labels = FEPairModel.tooth_labels(pair, torque=torque)
+        else:
+            model = FEPairModel(pair, torque=torque, level=level, plane=plane)
+            k = np.array([model.solve(i / npc).stiffness for i in range(npc)])
+            labels = model.teeth
         if tc is not None:
             z = g1.teeth if tc.gear == 1 else g2.teeth
             k = np.tile(k, z_rev)
             cracked: dict[int, np.ndarray] = {}
             for c in range(z_rev):
-                lab = _label(c, tc.crack.tooth, z, model.teeth)
+                lab = _label(c, tc.crack.tooth, z, labels)
                 if lab is None:
                     continue
                 if lab not in cracked:

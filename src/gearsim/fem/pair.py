@@ -82,6 +82,8 @@ References
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
 import time
 from dataclasses import dataclass, field
@@ -156,6 +158,8 @@ class _Body:
     dofloc: np.ndarray = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
+        if self.lu is not None:  # factorised before (a shared healthy body)
+            return
         n = self.model.ndofs
         self.free = np.setdiff1d(np.arange(n), self.fixed)
         kff = self.model.K[self.free][:, self.free].tocsc()
@@ -215,6 +219,32 @@ class _Compliance:
         if not idx:
             return np.zeros((self.k, 0))
         return np.column_stack([self.cache[j] for j in idx])
+
+
+#: Healthy gear bodies kept per process (mesh, assembled model, factorisation): the
+#: cracked models of an FE pair table mesh the cracked gear anew for each tooth label,
+#: the other gear is the same body each time.
+HEALTHY_BODIES = 4
+
+
+@functools.lru_cache(maxsize=HEALTHY_BODIES)
+def _healthy_body(gear, level: int, teeth: tuple[int, ...], side: int, size: float,
+                  growth: float, plane: str):
+    """Mesh, elastic model and bore-clamped factorisation of an uncracked gear body.
+
+    The arguments are those of the mesher and the model (all hashable); the returned
+    parts are read-only for their users: a model wraps them in its own :class:`_Body`
+    (whose placement angle it sets), so sharing them changes no number.
+    """
+    mesh = mesh_sector(gear, options=SectorOptions(level=level),
+                       refine=FlankRefinement(teeth=teeth, sides=(side,), size=size,
+                                              growth=growth))
+    mat = gear.material
+    model = ElasticModel(mesh.p, mesh.t, mat.youngs_modulus, mat.poisson_ratio,
+                         plane=plane, order=2)
+    fixed = model.dofs_on_facets(model.facets_on_nodes(mesh.bore))
+    body = _Body(model=model, fixed=fixed, mode=_rigid_rotation(model), centre=np.zeros(2))
+    return mesh, body
 
 
 def _rigid_rotation(model: ElasticModel) -> np.ndarray:
@@ -864,25 +894,24 @@ class FEPairModel:
         for gi, (gear, ks) in enumerate(((g1, self.teeth),
                                          (g2, tuple(wrap(n - k) for k in self.teeth)))):
             cracked = crack is not None and crack.gear == gi + 1
+            centre = np.array([0.0, 0.0]) if gi == 0 else np.array([0.0, pair.centre_distance])
             if cracked:
                 z = gear.teeth
                 kc = crack.pair if gi == 0 else wrap(n - crack.pair)
                 lo = z // 2 - z + 1  # tooth indices of the whole-gear mesh: [lo, z // 2]
                 mesh = self._cracked_mesh(gear, ks, kc, side * crack.side, level,
                                           crack.crack, lambda i, z=z, lo=lo: lo + (i - lo) % z)
-            else:
-                mesh = mesh_sector(gear, options=SectorOptions(level=level),
-                                   refine=FlankRefinement(teeth=tuple(sorted(ks)),
-                                                          sides=(side,),
-                                                          size=self.h_contact,
-                                                          growth=self.growth))
-            mat = gear.material
-            model = ElasticModel(mesh.p, mesh.t, mat.youngs_modulus, mat.poisson_ratio,
-                                 plane=plane, order=2)
-            fixed = model.dofs_on_facets(model.facets_on_nodes(mesh.bore))
-            centre = np.array([0.0, 0.0]) if gi == 0 else np.array([0.0, pair.centre_distance])
-            bodies.append(_Body(model=model, fixed=fixed, mode=_rigid_rotation(model),
-                                centre=centre))
+                mat = gear.material
+                model = ElasticModel(mesh.p, mesh.t, mat.youngs_modulus, mat.poisson_ratio,
+                                     plane=plane, order=2)
+                fixed = model.dofs_on_facets(model.facets_on_nodes(mesh.bore))
+                bodies.append(_Body(model=model, fixed=fixed, mode=_rigid_rotation(model),
+                                    centre=centre))
+            else:  # the same body for every model of the process (a copy placed here)
+                mesh, shared = _healthy_body(gear, level, tuple(sorted(ks)), side,
+                                             self.h_contact, self.growth, plane)
+                model = shared.model
+                bodies.append(dataclasses.replace(shared, centre=centre))
             if cracked and crack.closure == "contact":
                 dofs, weights = _contact_pairs(model, mesh)
                 self.crack_rows = dofs

@@ -34,6 +34,15 @@ Four integrators share one RK4 body (:func:`_rk4`, inlined): with or without mes
 contacts, with or without speed and load profiles. Kept apart, the table-only,
 constant-speed integrator compiles without the contact and profile code and keeps its
 speed (the profile code in the same function made it 1.6x slower).
+
+A right-hand side is two passes over the mesh rows: the parts that depend on the
+nominal time only (:func:`_mesh_time`: table samples and stiffness, harmonics), then
+those of the state (:func:`_mesh_state`: deflections, force laws). RK4's stages 2 and 3
+are at the same time t + dt/2, so a step computes the time parts three times, not four.
+Per run, :func:`_rk4` finds each row's length without the ELL padding and the rows
+with nonzero harmonics: the loops skip the padding's zero products and the rows without
+harmonics their harmonic loops. Each value is computed with the same operations in the
+same order as row by row over the padded rows (results identical to the bit).
 """
 
 from __future__ import annotations
@@ -54,11 +63,19 @@ TOFF, TLEN, CON, CROW = range(4)
 
 @njit(cache=True, inline="always", error_model="numpy")
 def _table_index(length, npc, period, c):
-    """Samples (i, j) around cycle ``c`` of a periodic table and the weight of j."""
-    cm = c - period * math.floor(c / period)
+    """Samples (i, j) around cycle ``c`` of a periodic table and the weight of j.
+
+    The floors stay floats (np.floor: math.floor's integer, converted back to a float for
+    the products, is the same value); ``period == 1`` (most tables) skips the division
+    (c / 1.0 and 1.0 * floor are exact)."""
+    if period == 1.0:
+        cm = c - np.floor(c)
+    else:
+        cm = c - period * np.floor(c / period)
     pos = cm * npc
-    i = int(math.floor(pos))
-    w = pos - i
+    fl = np.floor(pos)
+    w = pos - fl
+    i = int(fl)
     if i >= length:
         i -= length
     j = i + 1
@@ -131,50 +148,105 @@ def _contact_force(x, xd, b2, cm, ks, tab, tabz, dk, off, i, j, w, ptr, row0, cx
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def mesh_forces(tau, taud, q, v, vcol, vval, mp, mi, tab, tabz, tabd, harm, ptr, cx, contacts,
-                f_out, d_out):
-    """Mesh forces f_i [N] (into ``f_out``) and deflections V_i.q [m] (into ``d_out``) at
-    nominal time ``tau`` (rate ``taud`` = tau').
-
-    ``contacts`` is a literal at each call site: with ``False`` the meshes-of-contacts
-    branch is dead code."""
-    nm = vcol.shape[0]
-    w_v = vcol.shape[1]
+def _harmonic_rows(harm):
+    """Harmonics in use: ``hn`` (2, n_mesh), 1 + the last harmonic with a nonzero amplitude
+    of each row (STE, centre distance; 0: none), and the rows that have any."""
+    nm = harm.shape[1]
+    hn = np.zeros((2, nm), dtype=np.int64)
     for i in range(nm):
-        d = 0.0
-        dd = 0.0
-        for p in range(w_v):  # the row's nonzero entries, by column (padding: 0 at col 0)
-            j = vcol[i, p]
-            d += vval[i, p] * q[j]
-            dd += vval[i, p] * v[j]
-        d_out[i] = d
+        for h in range(harm.shape[2]):
+            if harm[0, i, h] != 0.0:
+                hn[0, i] = h + 1
+            if harm[3, i, h] != 0.0:
+                hn[1, i] = h + 1
+    return hn, np.nonzero(hn[0] + hn[1])[0]
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _row_lengths(vval):
+    """1 + the last nonzero entry of each ELL row (the padding after it is skipped)."""
+    nz = np.zeros(vval.shape[0], dtype=np.int64)
+    for i in range(vval.shape[0]):
+        for p in range(vval.shape[1]):
+            if vval[i, p] != 0.0:
+                nz[i] = p + 1
+    return nz
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _mesh_time(tau, taud, mp, mi, tab, tabd, harm, hn, hrows, contacts, tm, ti):
+    """The parts of the mesh forces that depend on the nominal time only: per row, into
+    ``tm`` e, e', the table weight w, dk and k (meshes of tables), into ``ti`` the
+    table samples (i, j).
+
+    Every row's table first, then the rows with harmonics (STE: e, e'; centre distance:
+    dk and k again): the arithmetic of each value is the same as row by row."""
+    nm = mp.shape[0]
+    for i in range(nm):
+        off = mi[i, TOFF]
+        i0, j0, w = _table_index(mi[i, TLEN], mp[i, NPC], mp[i, PERIOD],
+                                 mp[i, FREQ] * tau + mp[i, PHASE])
+        tm[i, 0] = mp[i, E0]
+        tm[i, 1] = 0.0
+        tm[i, 2] = w
+        tm[i, 3] = 0.0
+        ti[i, 0] = i0
+        ti[i, 1] = j0
+        if not (contacts and mi[i, CON] != 0):
+            # dk = 0 here (the rows with harmonics are redone below): the sum with dk
+            tm[i, 4] = mp[i, KSCALE] * (tab[off + i0] * (1.0 - w) + tab[off + j0] * w + 0.0)
+    for r in range(hrows.size):
+        i = hrows[r]
         e = mp[i, E0]
         ed = 0.0
-        for h in range(harm.shape[2]):
+        for h in range(hn[0, i]):
             a = harm[0, i, h]
             if a != 0.0:
                 arg = harm[1, i, h] * tau + harm[2, i, h]
                 e += a * math.sin(arg)
                 ed += a * harm[1, i, h] * taud * math.cos(arg)
-        x = d - e
-        xd = dd - ed
+        tm[i, 0] = e
+        tm[i, 1] = ed
+        if hn[1, i] > 0:  # centre-distance change (eccentric gears)
+            dk = 0.0
+            for h in range(hn[1, i]):
+                a = harm[3, i, h]
+                if a != 0.0:
+                    dk += a * math.sin(harm[4, i, h] * tau + harm[5, i, h])
+            off = mi[i, TOFF]
+            i0 = ti[i, 0]
+            j0 = ti[i, 1]
+            w = tm[i, 2]
+            if dk != 0.0:
+                dk *= tabd[off + i0] * (1.0 - w) + tabd[off + j0] * w
+            tm[i, 3] = dk
+            if not (contacts and mi[i, CON] != 0):
+                tm[i, 4] = mp[i, KSCALE] * (tab[off + i0] * (1.0 - w) + tab[off + j0] * w + dk)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _mesh_state(q, v, vcol, vval, nz, mp, mi, tab, tabz, ptr, cx, contacts, tm, ti, f_out,
+                d_out):
+    """Mesh forces f_i (into ``f_out``) and deflections V_i.q (into ``d_out``) from the state
+    and the time parts ``tm``, ``ti`` of :func:`_mesh_time` (``nz``: the rows' lengths)."""
+    nm = vcol.shape[0]
+    for i in range(nm):
+        d = 0.0
+        dd = 0.0
+        for p in range(nz[i]):  # the row's nonzero entries, by column (padding: 0 at col 0)
+            j = vcol[i, p]
+            d += vval[i, p] * q[j]
+            dd += vval[i, p] * v[j]
+        d_out[i] = d
+        x = d - tm[i, 0]
+        xd = dd - tm[i, 1]
         b2 = mp[i, CLEAR]
         cmi = mp[i, CM]
-        off = mi[i, TOFF]
-        i0, j0, w = _table_index(mi[i, TLEN], mp[i, NPC], mp[i, PERIOD],
-                                 mp[i, FREQ] * tau + mp[i, PHASE])
-        dk = 0.0
-        for h in range(harm.shape[2]):  # centre-distance change (eccentric gears)
-            a = harm[3, i, h]
-            if a != 0.0:
-                dk += a * math.sin(harm[4, i, h] * tau + harm[5, i, h])
-        if dk != 0.0:
-            dk *= tabd[off + i0] * (1.0 - w) + tabd[off + j0] * w
         if contacts and mi[i, CON] != 0:
-            f = _contact_force(x, xd, b2, cmi, mp[i, KSCALE], tab, tabz, dk, off, i0, j0, w,
-                               ptr, mi[i, CROW], cx)
+            f = _contact_force(x, xd, b2, cmi, mp[i, KSCALE], tab, tabz, tm[i, 3], mi[i, TOFF],
+                               ti[i, 0], ti[i, 1], tm[i, 2], ptr, mi[i, CROW], cx)
         else:
-            k = mp[i, KSCALE] * (tab[off + i0] * (1.0 - w) + tab[off + j0] * w + dk)
+            k = tm[i, 4]
             if b2 == np.inf:  # linear mesh
                 f = k * x + cmi * xd
             elif x > 0.0:  # working flanks in contact: contact force cannot pull
@@ -186,33 +258,54 @@ def mesh_forces(tau, taud, q, v, vcol, vval, mp, mi, tab, tabz, tabd, harm, ptr,
         f_out[i] = mp[i, KAPPA] * f
 
 
+@njit(cache=True, error_model="numpy")
+def mesh_forces(tau, taud, q, v, vcol, vval, mp, mi, tab, tabz, tabd, harm, ptr, cx, contacts,
+                f_out, d_out):
+    """Mesh forces f_i [N] (into ``f_out``) and deflections V_i.q [m] (into ``d_out``) at
+    nominal time ``tau`` (rate ``taud`` = tau'); ``contacts`` as in :func:`rhs`."""
+    nm = vcol.shape[0]
+    tm = np.zeros((nm, 5))
+    ti = np.zeros((nm, 2), dtype=np.int64)
+    hn, hrows = _harmonic_rows(harm)
+    _mesh_time(tau, taud, mp, mi, tab, tabd, harm, hn, hrows, contacts, tm, ti)
+    _mesh_state(q, v, vcol, vval, _row_lengths(vval), mp, mi, tab, tabz, ptr, cx, contacts, tm,
+                ti, f_out, d_out)
+
+
 @njit(cache=True, inline="always", error_model="numpy")
+def _accelerations(taudd, load, profiled, q, v, dof, vcol, vval, nz, f, a_out):
+    """M^-1 (lambda F_ext + g tau'' - K_b q - C_b q' - V^T f) into ``a_out`` (``nz``: the
+    rows' lengths, :func:`_row_lengths`)."""
+    n = q.size
+    nm = vcol.shape[0]
+    for j in range(n):
+        s = load * dof[3, j] - dof[1, j] * q[j] - dof[2, j] * v[j]
+        if profiled and taudd != 0.0:
+            s += taudd * dof[4, j]
+        a_out[j] = s
+    for i in range(nm):  # - V^T f over the nonzero entries, rows in order (as dense)
+        fi = f[i]
+        for p in range(nz[i]):
+            a_out[vcol[i, p]] -= vval[i, p] * fi
+    for j in range(n):
+        a_out[j] *= dof[0, j]
+
+
+@njit(cache=True, error_model="numpy")
 def rhs(t, q, v, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam,
         contacts, profiled, a_out, f_out, d_out):
     """Accelerations M^-1 (lambda F_ext + g tau'' - K_b q - C_b q' - sum V_i f_i) into
-    ``a_out``. ``profiled`` is a literal at each call site: with ``False`` (constant speed
-    and load, tau = t) the profile code is not compiled in, which keeps the constant-speed
-    kernel as fast as it was."""
+    ``a_out``, mesh forces into ``f_out`` and deflections into ``d_out`` (one evaluation;
+    :func:`_rk4` calls the parts directly). ``contacts`` with ``False``: no meshes of
+    contacts; ``profiled`` with ``False``: constant speed and load, tau = t."""
     if profiled:
         tau, taud, taudd, load = nominal(t, prof, lam)
     else:
         tau, taud, taudd, load = t, 1.0, 0.0, 1.0
     mesh_forces(tau, taud, q, v, vcol, vval, mp, mi, tab, tabz, tabd, harm, ptr, cx, contacts,
                 f_out, d_out)
-    n = q.size
-    nm = vcol.shape[0]
-    w_v = vcol.shape[1]
-    for j in range(n):
-        s = load * dof[3, j] - dof[1, j] * q[j] - dof[2, j] * v[j]
-        if taudd != 0.0:
-            s += taudd * dof[4, j]
-        a_out[j] = s
-    for i in range(nm):  # - V^T f over the nonzero entries, rows in order (as dense)
-        fi = f_out[i]
-        for p in range(w_v):
-            a_out[vcol[i, p]] -= vval[i, p] * fi
-    for j in range(n):
-        a_out[j] *= dof[0, j]
+    _accelerations(taudd, load, profiled, q, v, dof, vcol, vval, _row_lengths(vval), f_out,
+                   a_out)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -229,6 +322,10 @@ def _rk4(contacts, profiled, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_re
     kv = np.empty((4, n))  # v' of the four stages
     f = np.empty(nm)
     d = np.empty(nm)
+    hn, hrows = _harmonic_rows(harm)
+    nz = _row_lengths(vval)
+    tm = np.zeros((nm, 5))
+    ti = np.zeros((nm, 2), dtype=np.int64)
     rec_q = np.zeros((n_rec, n))
     rec_v = np.zeros((n_rec, n))
     rec_f = np.zeros((n_rec, nm))
@@ -241,12 +338,20 @@ def _rk4(contacts, profiled, q0, v0, t0, dt, n_steps, rec_start, rec_every, n_re
         for j in range(n):
             qt[j] = q[j]
             vt[j] = v[j]
+        tau, taud, taudd, load = t, 1.0, 0.0, 1.0
         # the four stages in one loop, so that the right-hand side is compiled (inlined)
         # once, not four times; the arithmetic is the classical RK4's, in its order
         for stage in range(4):
-            ts = t if stage == 0 else (t + dt if stage == 3 else t + h2)
-            rhs(ts, qt, vt, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx,
-                lam, contacts, profiled, kv[stage], f, d)
+            # stages 2 and 3 are at the same time: the time parts are those of stage 2
+            if stage != 2:
+                ts = t if stage == 0 else (t + dt if stage == 3 else t + h2)
+                if profiled:
+                    tau, taud, taudd, load = nominal(ts, prof, lam)
+                else:
+                    tau = ts
+                _mesh_time(tau, taud, mp, mi, tab, tabd, harm, hn, hrows, contacts, tm, ti)
+            _mesh_state(qt, vt, vcol, vval, nz, mp, mi, tab, tabz, ptr, cx, contacts, tm, ti, f, d)
+            _accelerations(taudd, load, profiled, qt, vt, dof, vcol, vval, nz, f, kv[stage])
             if stage == 0:
                 if s == next_rec and r < n_rec:
                     for j in range(n):

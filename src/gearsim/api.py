@@ -14,7 +14,8 @@ from typing import TYPE_CHECKING, Any
 
 from gearsim.io.measured import MeasuredSignal, read_signal
 from gearsim.model import Gearbox, load
-from gearsim.signals.analysis import Analysis, analyze
+from gearsim.signals.analysis import Analysis
+from gearsim.signals.analysis import analyze as _analyze
 from gearsim.studies.reproduce import ReproduceOptions, Reproduction, run_reproduction
 from gearsim.studies.sweep import load_study
 from gearsim.studies.sweep_run import SweepResult, run_study
@@ -28,6 +29,59 @@ __all__ = ["Analysis", "MeasuredSignal", "analyze", "read_signal", "reproduce", 
 
 def _gearbox(model: Gearbox | str | Path) -> Gearbox:
     return model if isinstance(model, Gearbox) else load(model)
+
+
+def analyze(x: Any, fs: float, *, gearbox: Gearbox | str | Path | None = None,
+            **options: Any) -> Analysis:
+    """Analyse a record (:func:`gearsim.signals.analysis.analyze`), optionally of a gearbox.
+
+    Parameters
+    ----------
+    x : array_like or xarray.DataArray
+        The record (any units, e.g. a mesh force [N] of :func:`simulate`).
+    fs : float
+        Sampling rate [Hz].
+    gearbox : Gearbox, str or Path, optional
+        The simulated gearbox (or a TOML file or example name): what ``options`` do not
+        give is taken from it, the reference shaft frequency (``shaft_frequency`` [Hz],
+        unless a ``tacho`` is given), the train (:meth:`~gearsim.model.Gearbox.
+        analysis_stages` for a compound train, every stage's mesh analysed; else the
+        tooth counts of :meth:`~gearsim.model.Gearbox.reference`, as for a simple
+        train or a planetary stage) and the ``[analysis]`` settings.
+    **options
+        Keywords of :func:`gearsim.signals.analysis.analyze`: ``teeth`` or ``stages``,
+        ``shaft_frequency`` or ``tacho``, ``baseline``, ``settings``, analysis options.
+
+    Returns
+    -------
+    Analysis
+        Every result; ``to_dict()`` for JSON, ``plot(kind)`` for figures.
+
+    Raises
+    ------
+    InputError
+        As :func:`gearsim.signals.analysis.analyze`.
+
+    Examples
+    --------
+    >>> import gearsim as gs
+    >>> gb = gs.example("two-stage-reducer")
+    >>> run = gs.simulate(gb, duration=0.5, fs=20e3)  # doctest: +SKIP
+    >>> a = gs.analyze(run["mesh_force_1"], 20e3, gearbox=gb)  # doctest: +SKIP
+    >>> [s["mesh_frequency_hz"] for s in a.to_dict()["train"]["stages"]]  # doctest: +SKIP
+    [960.0, 576.0]
+    """
+    values = getattr(x, "values", x)
+    if gearbox is not None:
+        gb = _gearbox(gearbox)
+        _, f_ref, teeth = gb.reference()
+        if "teeth" not in options and "stages" not in options:
+            stages = gb.analysis_stages()
+            options |= {"stages": stages} if stages is not None else {"teeth": teeth}
+        if "shaft_frequency" not in options and options.get("tacho") is None:
+            options["shaft_frequency"] = f_ref
+        options.setdefault("settings", gb.analysis)
+    return _analyze(values, fs, **options)
 
 
 def simulate(gearbox: Gearbox | str | Path, /, *, crack: str | None = None,

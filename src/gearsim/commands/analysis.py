@@ -74,6 +74,83 @@ def _teeth(values: list[str] | None, extra: list[str], problems: list[str]) -> t
     return zs
 
 
+#: The form of ``--stages``, named in its refusals.
+STAGES_FORM = ("DRIVING/DRIVEN teeth of each stage in power-flow order, stages separated by "
+               "commas, stage 1's driving gear on the measured shaft (e.g. --stages "
+               "32/80,48/64)")
+
+
+def _stages(text: str | None, problems: list[str]) -> tuple[tuple[int, int], ...] | None:
+    """``--stages 32/80,48/64`` to ``((32, 80), (48, 64))``: every stage two integer tooth
+    counts >= 1 (a compound train, :func:`gearsim.signals.analysis.kinematics`)."""
+    import re
+
+    if text is None:
+        return None
+    pairs = []
+    for k, item in enumerate(text.split(","), start=1):
+        m = re.fullmatch(r"\s*([+-]?\d+)\s*/\s*([+-]?\d+)\s*", item)
+        if m is None:
+            why = (f"stage {k} ({item.strip()}): tooth counts must be integers >= 1"
+                   if item.count("/") == 1 and all(p.strip() for p in item.split("/"))
+                   else f"stage {k} ({item.strip() or 'empty'}) is not DRIVING/DRIVEN")
+            problems.append(f"--stages = {text}: {why}; give {STAGES_FORM}")
+            return None
+        z_d, z_n = int(m.group(1)), int(m.group(2))
+        if min(z_d, z_n) < 1:
+            problems.append(f"--stages = {text}: stage {k} ({item.strip()}): tooth counts "
+                            f"must be integers >= 1; give {STAGES_FORM}")
+            return None
+        pairs.append((z_d, z_n))
+    return tuple(pairs)
+
+
+def _restage(records: list, stages: tuple[tuple[int, int], ...] | None) -> None:
+    """Complete the gear tier of each analysed record for a compound train.
+
+    The gear tier ran as the simple train of stage 1 (its TSA, indicators and spectrum
+    need no more); :func:`gearsim.signals.analysis.restage` adds every stage's mesh
+    harmonics, sideband families and bands. ``stages`` None: the stages of a gearsim
+    result of a compound train (its configuration), when the record's tooth counts came
+    from that file. A stage refused (e.g. a record too short for its slowest shaft) is
+    a skipped tier ``gear.stages`` with the reason.
+    """
+    from gearsim.signals.analysis import restage
+    from gearsim.signals.tiers import RecordAnalysis
+
+    for rec in records:
+        if not isinstance(rec, RecordAnalysis) or getattr(rec, "analysis", None) is None:
+            continue
+        st = stages if stages is not None else (
+            _file_stages(rec.source.get("file")) if rec.teeth_provenance == "file" else None)
+        if st is None:
+            continue
+        try:
+            full = restage(rec.analysis, st)
+        except InputError as exc:
+            rec.skipped.append({"tier": "gear.stages", "reason": str(exc).splitlines()[0]})
+            continue
+        rec.analysis = full
+        rec.tiers["gear"]["analysis"] = full.to_dict()
+        rec.teeth = tuple(full.kinematics.teeth)
+
+
+def _file_stages(path: str | None) -> tuple[tuple[int, int], ...] | None:
+    """The stages of a gearsim result (NetCDF) of a compound gear train, else None."""
+    if not path or not str(path).endswith(".nc"):
+        return None
+    try:
+        import xarray as xr
+
+        from gearsim.model import loads
+
+        with xr.open_dataset(path) as ds:
+            config = ds.attrs.get("config")
+        return loads(config).analysis_stages() if isinstance(config, str) else None
+    except Exception:  # not a gearsim train result: the file's teeth as they are
+        return None
+
+
 def _speed_search(text: str | None, problems: list[str]) -> tuple[float, float] | None:
     """``LO,HI`` with an optional unit to ``(lo, hi)`` in Hz: bare numbers are Hz (the unit
     of the API); ``Hz`` (``hertz``, ``1/s``) or ``rpm`` (``r/min``, ``rev/min``,
@@ -231,6 +308,10 @@ def analyze(
     teeth: Annotated[list[str] | None, typer.Option(
         help="tooth counts [-], gear on the measured shaft first: --teeth 32 80, "
              "--teeth 32,80 or --teeth 32 --teeth 80")] = None,
+    stages: Annotated[str | None, typer.Option(
+        help="a compound train instead of --teeth: DRIVING/DRIVEN teeth [-] of each stage, "
+             "stage 1's driving gear on the measured shaft, e.g. --stages 32/80,48/64; "
+             "every stage's mesh is analysed (in this process: no --workers)")] = None,
     labels: Annotated[Path | None, typer.Option(
         help="CSV with columns file,label or file,channel,label: adds a separability "
              "report")] = None,
@@ -321,6 +402,19 @@ def analyze(
     ints = [f for f in files if f.strip().isdigit() and not Path(f).exists()] if teeth else []
     files = [f for f in files if f not in ints]
     zs = _teeth(teeth, ints, problems)
+    stg = _stages(stages, problems)
+    if stages is not None and teeth:
+        given = " ".join(map(str, zs)) if zs else " ".join(teeth)
+        problems.append(f"--teeth/--stages = {given} / {stages}: give one, --teeth "
+                        "for a simple train or --stages for a compound one")
+    if stages is not None and stage is not None:
+        problems.append(f"--stage/--stages = {stage} / {stages}: give one, --stage for a "
+                        "planetary stage or --stages for a parallel-shaft compound train")
+    if stages is not None and (workers > 1 or scheduler is not None):
+        problems.append(f"--stages = {stages}: runs in this process; give no --workers or "
+                        "--scheduler with it")
+    if stg is not None:
+        zs = stg[0]  # the tiers analyse stage 1 as a simple pair; _restage adds the rest
     stage_z = _stage(stage, problems)
     if stage_z is not None and shaft_rpm is None:
         problems.append(f"--stage = {stage}: needs the carrier speed --shaft-rpm (the "
@@ -370,6 +464,7 @@ def analyze(
                              keep_analysis=workers == 1 and scheduler is None,
                              out=out_path, note=lambda line: typer.echo(line, err=True),
                              **options)
+        _restage(res.records, stg)  # a compound train: every stage's mesh
         res.problems[:0] = problems  # the option problems first, then those of the files
         if (baseline is not None or plot is not None) and len(res.records) > 1:
             res.problems.append(f"--baseline/--plot: need exactly one record; "
@@ -414,6 +509,9 @@ def analyze(
 
     for r in res.records:
         typer.echo(r.text() if isinstance(r, RecordAnalysis) else _text_of(r["record"]))
+        if isinstance(r, RecordAnalysis) and "gear" in r.tiers:
+            for line in _stages_text(r.tiers["gear"]["analysis"], r.units):
+                typer.echo(line)
     if rep is not None:
         typer.echo(_separability_text(rep))
     if out_path is not None:
@@ -425,6 +523,24 @@ def analyze(
     if plot_path is not None:
         typer.echo("figures: " + (", ".join(figures) if figures else
                                   "none (the gear tier was skipped)"))
+
+
+def _stages_text(full: dict, units: str | None) -> list[str]:
+    """Lines of the stages after the first of a compound gear tier (stage 1's are the
+    gear tier's own lines)."""
+    u = f" {units}" if units else ""
+    lines = []
+    for st in full.get("stages", [])[1:]:
+        f = st["shaft_frequencies_hz"]
+        lines.append(f"  gear stage {st['stage']} ({st['teeth'][0]}/{st['teeth'][1]}): f_m "
+                     f"{st['mesh_frequency_hz']:.6g} Hz, shafts " + ", ".join(
+                         f"{k} {v:.5g} Hz" for k, v in f.items()))
+        for h in st["mesh_harmonics"]:
+            fams = [x for x in st["sidebands"] if x["order"] == h["order"]]
+            lines.append(f"    {h['order']} f_m {h['frequency_hz']:.6g} Hz  A "
+                         f"{h['amplitude']:.4g}{u}  SER " + "  ".join(
+                             f"{x['shaft']} {x['ser']:.3g}" for x in fams))
+    return lines
 
 
 def _text_of(d: dict) -> str:

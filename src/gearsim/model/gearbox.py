@@ -646,6 +646,48 @@ class Gearbox:
             freq = abs(tr.speeds[member]) / (2.0 * math.pi)
         return member, freq, teeth[:1] if shafts == "reference" else teeth
 
+    def analysis_stages(self) -> tuple[tuple[int, int], ...] | None:
+        """The stages of a compound gear train for the signal analysis, or None.
+
+        A train whose meshes form one serial path from the input shaft, at least one of
+        whose intermediate shafts carries two gears (the driven gear of one mesh and the
+        driving gear of the next, e.g. the two-stage reducer), has one mesh frequency per
+        stage: ``(driving teeth, driven teeth)`` of each mesh in power-flow order, for
+        :func:`gearsim.signals.analysis.analyze` (``stages=``) with the reference shaft
+        and frequency of :meth:`reference`. Shaft ``k + 1`` then turns at
+        ``f_k z_k^d / z_k^n`` and stage ``k`` meshes at ``f_k z_k^d`` [Hz].
+
+        Returns
+        -------
+        tuple of (int, int) or None
+            The stages; None when the simple-train analysis of :meth:`reference` applies
+            (a planetary stage, a chain of idlers sharing one mesh frequency) or when the
+            meshes do not form one serial path (a branched train: :meth:`reference`'s tooth
+            counts are then used as before).
+
+        Examples
+        --------
+        >>> import gearsim as gs
+        >>> gs.example("two-stage-reducer").analysis_stages()
+        ((32, 80), (48, 64))
+        >>> gs.example("idler-table1").analysis_stages() is None
+        True
+        """
+        if self.stage is not None or self.train is None:
+            return None
+        tr = self.train
+        flow = tr.flow
+        meshes = flow.meshes
+        if not meshes or flow.shaft_of[meshes[0][0]] != 0:
+            return None
+        for (_, driven), (driver, _) in zip(meshes, meshes[1:], strict=False):
+            if flow.shaft_of[driver] != flow.shaft_of[driven]:
+                return None  # not one serial path
+        if all(driver == driven for (_, driven), (driver, _) in
+               zip(meshes, meshes[1:], strict=False)):
+            return None  # idlers: every mesh at one mesh frequency, the simple train
+        return tuple((tr.gear(a).teeth, tr.gear(b).teeth) for a, b in meshes)
+
     def at(self, *, speed: float, torque: float) -> Gearbox:
         """The gearbox at another input speed [rad/s] and torque [N m] (checked).
 

@@ -13,6 +13,15 @@ is given or whose tacho is recorded, assumed to carry the gear under watch, as t
 input gear of the seed); ``teeth[1:]`` are the other gears in mesh order. With a single
 mesh frequency ``f_m = f_r1 Z_1`` shared by all meshes of a simple (idler) train, shaft
 ``j`` turns at ``f_m / Z_j``.
+
+A compound (multi-stage parallel-shaft) train is given as ``stages`` instead: stage ``k``
+is a pair ``(z_k^d, z_k^n)`` of driving and driven teeth whose driving gear sits on the
+driven shaft of stage ``k - 1`` (stage 1's on the reference shaft). Shaft 1 turns at
+``f_r1``, shaft ``k + 1`` at ``f_{k+1} = f_k z_k^d / z_k^n`` and stage ``k`` meshes at
+``f_{m,k} = f_k z_k^d``, modulated by its two shafts ``k`` and ``k + 1``. Every stage
+gets its own mesh harmonics, sideband families (of its two shafts) and STFT bands; the
+time domain, the impacts and the TSA with its condition indicators stay on the reference
+shaft with the reference gear's teeth ``z_1^d``.
 """
 
 from __future__ import annotations
@@ -73,65 +82,231 @@ __all__ = [
     "STFT_FRAMES_PER_REV",
     "Analysis",
     "Kinematics",
+    "MeshStage",
+    "StageLines",
     "analyze",
+    "check_stages",
     "kinematics",
+    "restage",
 ]
 
 
 @dataclass(frozen=True)
+class MeshStage:
+    """One mesh of a compound train, as the signal analysis sees it.
+
+    Parameters
+    ----------
+    index : int
+        Stage number, 1 for the mesh of the reference shaft.
+    teeth : tuple of int
+        ``(z_d, z_n)``: teeth of the driving gear (on the driving shaft) and of the
+        driven gear.
+    mesh_frequency : float
+        ``f_{m,k} = f_k z_d`` (Hz), ``f_k`` the driving shaft's frequency.
+    shafts : tuple of str
+        Labels of the driving and the driven shaft (``"shaft{k}"``, ``"shaft{k+1}"``),
+        keys of :attr:`Kinematics.shafts`.
+    """
+
+    index: int
+    teeth: tuple[int, int]
+    mesh_frequency: float
+    shafts: tuple[str, str]
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-serialisable summary.
+
+        Returns
+        -------
+        dict of str to Any
+            ``stage``, ``teeth`` (driving, driven), ``mesh_frequency_hz`` (Hz) and
+            ``shafts`` (driving, driven labels).
+        """
+        return {"stage": self.index, "teeth": list(self.teeth),
+                "mesh_frequency_hz": self.mesh_frequency, "shafts": list(self.shafts)}
+
+
+@dataclass(frozen=True)
 class Kinematics:
-    """Tooth counts and frequencies of a simple train, as the signal analysis sees it.
+    """Tooth counts and frequencies of a train, as the signal analysis sees it.
 
     Not the physical train (:class:`gearsim.system.GearTrain`): only what is needed to
-    place the spectral lines.
+    place the spectral lines. A simple train (:func:`kinematics` with ``teeth``) has one
+    mesh frequency and no ``stages``; a compound train (with ``stages``) one
+    :class:`MeshStage` per mesh.
 
     Parameters
     ----------
     teeth : tuple of int
-        Tooth counts, reference gear first.
+        Tooth counts, reference gear first (a compound train: the stages' pairs in order,
+        ``(z_1^d, z_1^n, z_2^d, z_2^n, ...)``).
     mesh_frequency : float
-        ``f_m = f_r1 Z_1`` (Hz).
+        ``f_m = f_r1 Z_1`` (Hz): the mesh of the reference gear (stage 1).
     shafts : dict
-        Shaft label (``"shaft1"``, ...) to shaft frequency ``f_m / Z_j`` (Hz).
+        Shaft label (``"shaft1"``, ...) to shaft frequency (Hz): ``f_m / Z_j`` for a
+        simple train, ``f_{k+1} = f_k z_k^d / z_k^n`` for a compound one.
+    stages : tuple of MeshStage
+        The meshes of a compound train in power-flow order; empty for a simple train.
     """
 
     teeth: tuple[int, ...]
     mesh_frequency: float
     shafts: dict[str, float]
+    stages: tuple[MeshStage, ...] = ()
 
     @property
     def reference_frequency(self) -> float:
         """Frequency of the reference shaft ``f_r1`` (Hz)."""
         return self.shafts["shaft1"]
 
+    @property
+    def compound(self) -> bool:
+        """True for a train given by stages (one mesh frequency per stage)."""
+        return bool(self.stages)
 
-def kinematics(*, shaft_frequency: float, teeth: Sequence[int]) -> Kinematics:
-    """Frequencies of a simple train from its reference shaft speed and tooth counts.
+
+def check_stages(stages: object, *, name: str = "stages") -> tuple[tuple[int, int], ...]:
+    """The stages of a compound train as pairs of integers, each checked >= 1.
+
+    Parameters
+    ----------
+    stages : sequence of (int, int)
+        ``(driving teeth, driven teeth)`` of each stage, in power-flow order.
+    name : str
+        Name used in the error message.
+
+    Returns
+    -------
+    tuple of (int, int)
+        The stages.
+
+    Raises
+    ------
+    InputError
+        If ``stages`` is not a non-empty sequence of pairs of integers >= 1.
+    """
+    from gearsim.signals._checks import check_int
+
+    rule = "must be a non-empty list of (driving teeth, driven teeth) pairs"
+    if isinstance(stages, (str, bytes)):
+        raise InputError(name, stages, rule)
+    try:
+        items = list(stages)  # type: ignore[call-overload]
+    except TypeError:
+        raise InputError(name, stages, rule) from None
+    if not items:
+        raise InputError(name, items, rule)
+    out = []
+    for k, pair in enumerate(items):
+        try:
+            zs = list(pair)
+        except TypeError:
+            zs = []
+        if len(zs) != 2 or isinstance(pair, (str, bytes)):
+            raise InputError(f"{name}[{k}]", pair, "must be a pair (driving teeth, driven teeth)")
+        out.append((check_int(f"{name}[{k}][0]", zs[0], minimum=1),
+                    check_int(f"{name}[{k}][1]", zs[1], minimum=1)))
+    return tuple(out)
+
+
+def kinematics(
+    *,
+    shaft_frequency: float,
+    teeth: Sequence[int] | None = None,
+    stages: Sequence[tuple[int, int]] | None = None,
+) -> Kinematics:
+    """Frequencies of a train from its reference shaft speed and tooth counts.
+
+    Simple train (``teeth``): one mesh frequency ``f_m = f_r1 Z_1`` and shaft ``j`` at
+    ``f_m / Z_j``. Compound train (``stages``): shaft 1 at ``f_1 = f_r1``, shaft ``k + 1``
+    at ``f_{k+1} = f_k z_k^d / z_k^n`` and stage ``k`` meshing at ``f_{m,k} = f_k z_k^d``.
 
     Parameters
     ----------
     shaft_frequency : float
         Frequency of the reference shaft ``f_r1`` [Hz].
-    teeth : sequence of int
-        Tooth counts, reference gear first, then the other gears in mesh order.
+    teeth : sequence of int, optional
+        Simple train: tooth counts, reference gear first, then the other gears in mesh
+        order.
+    stages : sequence of (int, int), optional
+        Compound train: ``(driving teeth, driven teeth)`` of each stage in power-flow
+        order, the driving gear of stage ``k`` on the driven shaft of stage ``k - 1``
+        (stage 1's on the reference shaft). Give exactly one of ``teeth`` and ``stages``.
 
     Returns
     -------
     Kinematics
-        ``f_m = f_r1 Z_1`` [Hz] and shaft ``j`` at ``f_m / Z_j`` [Hz].
+        Mesh frequency or frequencies [Hz] and shaft frequencies [Hz].
 
     Raises
     ------
     InputError
-        If ``shaft_frequency`` is not > 0 or a tooth count is not an integer >= 1 (or none
-        is given).
+        If ``shaft_frequency`` is not > 0, not exactly one of ``teeth`` and ``stages`` is
+        given, or a tooth count is not an integer >= 1 (or none is given).
+
+    Examples
+    --------
+    >>> kin = kinematics(shaft_frequency=30.0, stages=((32, 80), (48, 64)))
+    >>> [round(f, 9) for f in kin.shafts.values()], [s.mesh_frequency for s in kin.stages]
+    ([30.0, 12.0, 9.0], [960.0, 576.0])
     """
     f_r = check_positive("shaft_frequency", shaft_frequency)
-    zs = check_teeth(teeth)
-    f_m = f_r * zs[0]
-    shafts = {f"shaft{j + 1}": f_m / z for j, z in enumerate(zs)}
-    shafts["shaft1"] = f_r
-    return Kinematics(teeth=zs, mesh_frequency=f_m, shafts=shafts)
+    if (teeth is None) == (stages is None):
+        raise InputError("teeth/stages", "both" if teeth is not None else "neither",
+                         "give exactly one: teeth for a simple train, stages for a "
+                         "compound one")
+    if stages is None:
+        zs = check_teeth(teeth)
+        f_m = f_r * zs[0]
+        shafts = {f"shaft{j + 1}": f_m / z for j, z in enumerate(zs)}
+        shafts["shaft1"] = f_r
+        return Kinematics(teeth=zs, mesh_frequency=f_m, shafts=shafts)
+    pairs = check_stages(stages)
+    shafts = {"shaft1": f_r}
+    out: list[MeshStage] = []
+    f_k = f_r
+    for k, (z_d, z_n) in enumerate(pairs, start=1):
+        f_next = f_k * z_d / z_n
+        out.append(MeshStage(index=k, teeth=(z_d, z_n), mesh_frequency=f_k * z_d,
+                             shafts=(f"shaft{k}", f"shaft{k + 1}")))
+        shafts[f"shaft{k + 1}"] = f_next
+        f_k = f_next
+    return Kinematics(teeth=tuple(z for p in pairs for z in p),
+                      mesh_frequency=out[0].mesh_frequency, shafts=shafts, stages=tuple(out))
+
+
+@dataclass(frozen=True)
+class StageLines:
+    """The lines of one stage of a compound train (built by :func:`analyze`).
+
+    Parameters
+    ----------
+    stage : MeshStage
+        The stage: teeth, mesh frequency ``f_{m,k}`` (Hz), its two shafts.
+    harmonics : list of Tone
+        Mesh harmonics ``n f_{m,k}``, one per analysed order (Hz, signal units).
+    families : list of SidebandFamily
+        Sideband family of each of the stage's two shafts around every harmonic.
+    band_energy : dict of int to ndarray
+        Order ``n`` to the mean-square value in ``n f_{m,k} +- f_{m,k}/2`` per STFT
+        frame (signal units squared).
+    band_width_spectrum : dict of int to float
+        Order to the occupied band width (Hz) from the amplitude spectrum.
+    band_width_stft : dict of int to float
+        Order to the occupied band width (Hz) from the time-averaged STFT PSD.
+    band_modulation : dict of int to float
+        Order to the relative modulation of the band energy at the driving shaft's
+        frequency (dimensionless).
+    """
+
+    stage: MeshStage
+    harmonics: list[Tone]
+    families: list[SidebandFamily]
+    band_energy: dict[int, np.ndarray]
+    band_width_spectrum: dict[int, float]
+    band_width_stft: dict[int, float]
+    band_modulation: dict[int, float]
 
 
 def _finite(v: float) -> float | None:
@@ -193,6 +368,9 @@ class Analysis:
         Ratios current / baseline of the time-domain statistics, if a baseline was given.
     emd_selection : Selection or None
         The IMF selection, if EMD was used.
+    stages : tuple of StageLines
+        A compound train: the lines of every stage (stage 1's are the ``harmonics``,
+        ``families`` and bands above); empty for a simple train.
     """
 
     signal: np.ndarray
@@ -217,6 +395,7 @@ class Analysis:
     baseline_stats: TimeStats | None = None
     ratios: dict[str, float] | None = None
     emd_selection: Selection | None = None
+    stages: tuple[StageLines, ...] = ()
 
     @property
     def orders(self) -> tuple[int, ...]:
@@ -232,7 +411,10 @@ class Analysis:
             Version, record, train, options, time domain, impacts, mesh harmonics,
             sidebands, time-frequency bands, TSA indicators and timings; frequencies in
             Hz and times in s (keys ending ``_hz``, ``_s``), amplitudes in signal units.
-            Baseline statistics and ratios, and the EMD selection, when present.
+            Baseline statistics and ratios, and the EMD selection, when present. A
+            compound train adds ``train["stages"]`` (teeth, mesh frequency and shafts of
+            each stage) and ``stages``: each stage's mesh harmonics, sideband families
+            and STFT bands (modulation at the stage's driving shaft).
         """
         t1 = 1.0 / self.kinematics.reference_frequency
         out: dict[str, Any] = {
@@ -288,6 +470,10 @@ class Analysis:
         if self.baseline_stats is not None:
             out["baseline_time_domain"] = dict(self.baseline_stats.__dict__)
             out["ratios_to_baseline"] = dict(self.ratios or {})
+        if self.kinematics.stages:
+            out["train"]["stages"] = [st.to_dict() for st in self.kinematics.stages]
+            out["stages"] = [_stage_dict(sl, self.orders, self.kinematics.shafts)
+                             for sl in self.stages]
         if self.emd_selection is not None:
             s = self.emd_selection
             out["emd"] = {
@@ -337,6 +523,35 @@ class Analysis:
         return figures(self, units=units)
 
 
+def _stage_dict(sl: StageLines, orders: Sequence[int], shafts: dict[str, float]) -> dict:
+    """JSON summary of the lines of one stage (see :meth:`Analysis.to_dict`)."""
+    st = sl.stage
+
+    def cv(e: np.ndarray) -> float | None:
+        m = float(np.mean(e))
+        return _finite(float(np.std(e)) / m) if m > 0 else None
+
+    return st.to_dict() | {
+        "shaft_frequencies_hz": {k: shafts[k] for k in st.shafts},
+        "mesh_harmonics": [
+            {"order": n, "frequency_hz": h.frequency, "amplitude": h.amplitude}
+            for n, h in zip(orders, sl.harmonics, strict=True)
+        ],
+        "sidebands": [f.to_dict() for f in sl.families],
+        "bands": [
+            {
+                "order": n,
+                "energy_mean": float(np.mean(sl.band_energy[n])),
+                "energy_cv": cv(sl.band_energy[n]),
+                "modulation_at_driving_shaft": _finite(sl.band_modulation[n]),
+                "width_spectrum_hz": _finite(sl.band_width_spectrum[n]),
+                "width_stft_hz": _finite(sl.band_width_stft[n]),
+            }
+            for n in orders
+        ],
+    }
+
+
 def _samples_per_rev(fs: float, f_r: float) -> int:
     """Power of two at least the number of samples per revolution (no down-sampling)."""
     return int(2 ** math.ceil(math.log2(fs / f_r)))
@@ -346,7 +561,8 @@ def analyze(
     x: np.ndarray,
     fs: float,
     *,
-    teeth: Sequence[int],
+    teeth: Sequence[int] | None = None,
+    stages: Sequence[tuple[int, int]] | None = None,
     shaft_frequency: float | None = None,
     tacho: np.ndarray | None = None,
     baseline: np.ndarray | None = None,
@@ -362,8 +578,15 @@ def analyze(
         Signal (any units, e.g. N for a mesh force or m/s^2 for an acceleration).
     fs : float
         Sampling rate [Hz].
-    teeth : sequence of int
-        Tooth counts, reference gear first (see module docstring).
+    teeth : sequence of int, optional
+        Simple train: tooth counts, reference gear first (see module docstring).
+    stages : sequence of (int, int), optional
+        Compound train: ``(driving teeth, driven teeth)`` of each stage in power-flow
+        order, stage 1's driving gear on the reference shaft (see module docstring and
+        :func:`kinematics`). Every stage's mesh harmonics, sideband families (of its two
+        shafts) and STFT bands are analysed; the time domain, impacts, TSA and condition
+        indicators stay on the reference shaft with stage 1's driving teeth. Give exactly
+        one of ``teeth`` and ``stages``.
     shaft_frequency : float, optional
         Reference shaft frequency [Hz]; give this or ``tacho``.
     tacho : array_like, optional
@@ -389,9 +612,10 @@ def analyze(
     ------
     InputError
         If an input or option is invalid: not exactly one of ``shaft_frequency`` and
-        ``tacho``, a tacho of another length or with less than one revolution, a line
-        above Nyquist, a record too short to resolve the sidebands or shorter than two
-        revolutions, or an EMD threshold that selects no IMF.
+        ``tacho`` or of ``teeth`` and ``stages``, a tacho of another length or with less
+        than one revolution, a line above Nyquist, a record too short to resolve the
+        sidebands (of every stage's shafts) or shorter than two revolutions, or an EMD
+        threshold that selects no IMF.
 
     References
     ----------
@@ -417,13 +641,19 @@ def analyze(
             raise InputError("tacho", f"{pulses.size} pulses",
                              f"must hold at least {ppr + 1} pulses (one revolution)")
         shaft_frequency = n_rev / (pulses[n_rev * ppr] - pulses[0])
-    kin = kinematics(shaft_frequency=shaft_frequency, teeth=teeth)
+    kin = kinematics(shaft_frequency=shaft_frequency, teeth=teeth, stages=stages)
     orders = opt.orders
     f_m = kin.mesh_frequency
-    check_sideband_request(
-        a.size, fs, mesh_frequency=f_m, shafts=kin.shafts, orders=orders,
-        n_sidebands=opt.n_sidebands, window=opt.window,
-    )
+    # the shafts whose sidebands are measured around each mesh frequency: every shaft of
+    # a simple train; of a compound train, the two shafts of each stage
+    stage_shafts = [{k: kin.shafts[k] for k in st.shafts} for st in kin.stages]
+    for mesh_f, shafts in ([(st.mesh_frequency, sh) for st, sh in zip(kin.stages, stage_shafts,
+                                                                       strict=True)]
+                           or [(f_m, kin.shafts)]):
+        check_sideband_request(
+            a.size, fs, mesh_frequency=mesh_f, shafts=shafts, orders=orders,
+            n_sidebands=opt.n_sidebands, window=opt.window,
+        )
     f_r1 = kin.reference_frequency
     if a.size / fs < 2.0 / f_r1:
         raise InputError("record duration", f"{a.size / fs:.4g} s",
@@ -461,10 +691,15 @@ def analyze(
 
     t0 = time.perf_counter()
     spec = amplitude_spectrum(a, fs, window=opt.window)
-    harmonics = mesh_harmonics(spec, mesh_frequency=f_m, orders=orders,
-                               search=SEARCH_FRACTION * min(kin.shafts.values()))
-    fams = sideband_families(spec, mesh_frequency=f_m, shafts=kin.shafts,
-                             orders=orders, n_sidebands=opt.n_sidebands)
+    stage_spec: list[tuple[list[Tone], list[SidebandFamily]]] = []
+    if kin.stages:
+        stage_spec = _stage_spectrum(kin, spec, orders, opt.n_sidebands)
+        harmonics, fams = stage_spec[0]
+    else:
+        harmonics = mesh_harmonics(spec, mesh_frequency=f_m, orders=orders,
+                                   search=SEARCH_FRACTION * min(kin.shafts.values()))
+        fams = sideband_families(spec, mesh_frequency=f_m, shafts=kin.shafts,
+                                 orders=orders, n_sidebands=opt.n_sidebands)
     half = 0.5 * f_m
     bw_spec = {
         n: band_width(spec.frequency, spec.amplitude**2, center=n * f_m,
@@ -491,6 +726,8 @@ def analyze(
         bw_stft[n] = band_width(sg.frequency, mean_psd, center=n * f_m,
                                 half_window=half, fraction=opt.band_fraction)
         mod_peak[n] = modulation_index(e, sg.time, frequency=f_r1)
+    stage_out = _stage_lines(kin, spec, sg, orders, opt.band_fraction, stage_spec,
+                             (energies, bw_spec, bw_stft, mod_peak))
     timings["time_frequency"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -529,8 +766,119 @@ def analyze(
         band_width_spectrum=bw_spec, band_width_stft=bw_stft,
         band_modulation=mod_peak, tsa=t_avg, indicators=ind, difference=diff,
         residual=resid, options=options, timings=timings, baseline_stats=base_stats,
-        ratios=ratios, emd_selection=selection,
+        ratios=ratios, emd_selection=selection, stages=tuple(stage_out),
     )
+
+
+def _stage_spectrum(kin: Kinematics, spec: Spectrum, orders: Sequence[int],
+                    n_sidebands: int) -> list[tuple[list[Tone], list[SidebandFamily]]]:
+    """Mesh harmonics and sideband families (of its two shafts) of every stage; a line
+    of another stage within the resolution makes a sideband not ``isolated``."""
+    shafts = [{k: kin.shafts[k] for k in st.shafts} for st in kin.stages]
+    out = []
+    for st, sh in zip(kin.stages, shafts, strict=True):
+        others = [line for o, osh in zip(kin.stages, shafts, strict=True) if o is not st
+                  for line in _lines(o.mesh_frequency, osh, orders, n_sidebands)]
+        out.append((
+            mesh_harmonics(spec, mesh_frequency=st.mesh_frequency, orders=orders,
+                           search=SEARCH_FRACTION * min(sh.values())),
+            sideband_families(spec, mesh_frequency=st.mesh_frequency, shafts=sh,
+                              orders=orders, n_sidebands=n_sidebands, other_lines=others),
+        ))
+    return out
+
+
+def _stage_lines(kin: Kinematics, spec: Spectrum, sg: Spectrogram, orders: Sequence[int],
+                 band_fraction: float,
+                 stage_spec: list[tuple[list[Tone], list[SidebandFamily]]],
+                 first: tuple[dict, dict, dict, dict]) -> list[StageLines]:
+    """:class:`StageLines` of every stage; stage 1's bands are ``first`` (energy, widths
+    from the spectrum and the STFT, modulation at ``f_r1``), the others' computed here."""
+    mean_psd = sg.psd.mean(axis=1)
+    out: list[StageLines] = []
+    for k, st in enumerate(kin.stages):
+        if k == 0:
+            s_e, s_ws, s_wt, s_mod = first
+        else:
+            fk, hk = st.mesh_frequency, 0.5 * st.mesh_frequency
+            f_drive = kin.shafts[st.shafts[0]]
+            s_e, s_ws, s_wt, s_mod = {}, {}, {}, {}
+            for n in orders:
+                s_e[n] = band_energy(sg, center=n * fk, half_width=hk)
+                s_ws[n] = band_width(spec.frequency, spec.amplitude**2, center=n * fk,
+                                     half_window=hk, fraction=band_fraction)
+                s_wt[n] = band_width(sg.frequency, mean_psd, center=n * fk,
+                                     half_window=hk, fraction=band_fraction)
+                s_mod[n] = modulation_index(s_e[n], sg.time, frequency=f_drive)
+        out.append(StageLines(
+            stage=st, harmonics=stage_spec[k][0], families=stage_spec[k][1],
+            band_energy=s_e, band_width_spectrum=s_ws, band_width_stft=s_wt,
+            band_modulation=s_mod))
+    return out
+
+
+def restage(analysis: Analysis, stages: Sequence[tuple[int, int]]) -> Analysis:
+    """A simple-train analysis of stage 1's mesh, completed for a compound train.
+
+    The time domain, impacts, spectrum, STFT, TSA and indicators of a compound
+    analysis depend only on the reference shaft and stage 1's driving teeth, so they are
+    taken over; the kinematics become those of ``stages`` and every stage's mesh
+    harmonics, sideband families and bands are measured on the analysis's spectrum and
+    STFT. The result equals ``analyze(x, fs, stages=stages, ...)`` with the same record
+    and options (except the timings).
+
+    Parameters
+    ----------
+    analysis : Analysis
+        An :func:`analyze` result of a simple train (``teeth``) whose reference gear has
+        stage 1's driving teeth, e.g. ``teeth=(z_1^d, z_1^n)``.
+    stages : sequence of (int, int)
+        ``(driving teeth, driven teeth)`` of each stage (see :func:`kinematics`).
+
+    Returns
+    -------
+    Analysis
+        The compound analysis (``stages`` filled, frequencies in Hz).
+
+    Raises
+    ------
+    InputError
+        If ``analysis`` is already compound, stage 1's driving teeth differ from its
+        reference gear's, or a stage's lines fail
+        :func:`~gearsim.signals.sidebands.check_sideband_request` (Nyquist, resolution).
+    """
+    old = analysis.kinematics
+    if old.compound:
+        raise InputError("analysis", "compound", "must be a simple-train analysis to restage")
+    kin = kinematics(shaft_frequency=old.reference_frequency, stages=stages)
+    if kin.teeth[0] != old.teeth[0]:
+        raise InputError("stages[0][0]", kin.teeth[0], f"must equal the analysed reference "
+                         f"gear's teeth {old.teeth[0]} (its TSA and indicators)")
+    opt = analysis.options
+    orders = list(opt["orders"])
+    spec = analysis.spectrum
+    for st in kin.stages:
+        check_sideband_request(
+            spec.n_samples, spec.fs, mesh_frequency=st.mesh_frequency,
+            shafts={k: kin.shafts[k] for k in st.shafts}, orders=orders,
+            n_sidebands=opt["n_sidebands"], window=spec.window)
+    stage_spec = _stage_spectrum(kin, spec, orders, opt["n_sidebands"])
+    lines = _stage_lines(kin, spec, analysis.stft, orders, opt["band_fraction"], stage_spec,
+                         (analysis.band_energy, analysis.band_width_spectrum,
+                          analysis.band_width_stft, analysis.band_modulation))
+    return dataclasses.replace(analysis, kinematics=kin, harmonics=stage_spec[0][0],
+                               families=stage_spec[0][1], stages=tuple(lines))
+
+
+def _lines(mesh_frequency: float, shafts: dict[str, float], orders: Sequence[int],
+           n_sidebands: int) -> list[float]:
+    """Every line of one mesh: its harmonics and their sidebands of each shaft (Hz)."""
+    out = [n * mesh_frequency for n in orders]
+    for n in orders:
+        for fr in shafts.values():
+            out.extend(n * mesh_frequency + k * fr for k in range(-n_sidebands, n_sidebands + 1)
+                       if k)
+    return out
 
 
 def _settings(settings: AnalysisSettings | None, overrides: dict[str, Any]) -> AnalysisSettings:

@@ -354,6 +354,7 @@ def sideband_families(
     shafts: Mapping[str, float],
     orders: Sequence[int],
     n_sidebands: int,
+    other_lines: Sequence[float] = (),
 ) -> list[SidebandFamily]:
     """Measure the sideband family of every shaft around every mesh harmonic.
 
@@ -373,6 +374,9 @@ def sideband_families(
         Mesh harmonics ``n`` to examine.
     n_sidebands : int
         ``K``, sidebands per side.
+    other_lines : sequence of float, optional
+        Frequencies (Hz) of lines of other meshes (e.g. the other stages of a compound
+        train): a sideband within the resolution of one is flagged not ``isolated``.
 
     Returns
     -------
@@ -397,6 +401,7 @@ def sideband_families(
     for n in orders:
         for fr in shafts.values():
             all_lines.extend(n * mesh_frequency + k * fr)
+    all_lines.extend(float(f) for f in other_lines)
     all_lines_arr = np.sort(np.asarray(all_lines))
     out: list[SidebandFamily] = []
     for n in orders:

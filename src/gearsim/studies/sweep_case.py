@@ -123,7 +123,13 @@ def features(summary: dict) -> dict[str, float]:
     count; ``sb_{ser,cv,flatness}_o{n}_{shaft}`` sideband energy ratio and uniformity of
     each sideband family; ``band_{energy,cv,modulation}_o{n}`` STFT band energy around
     each mesh harmonic; ``tsa_{fm0,fm4,na4,m6a,m8a}`` condition indicators of the
-    time-synchronous average; ``mesh_amplitude_o{n}``.
+    time-synchronous average; ``mesh_amplitude_o{n}``. A compound train (an analysis
+    with ``stages``) keeps these names for stage 1 (the reference gear's mesh, with the
+    families of its two shafts) and adds those of every further stage ``k`` with the
+    prefix ``stage{k}_``: ``stage{k}_mesh_amplitude_o{n}``,
+    ``stage{k}_sb_{ser,cv,flatness}_o{n}_{shaft}`` (the stage's two shafts) and
+    ``stage{k}_band_{energy,cv,modulation}_o{n}`` (modulation at the stage's driving
+    shaft).
 
     Parameters
     ----------
@@ -149,6 +155,19 @@ def features(summary: dict) -> dict[str, float]:
         out[f"band_modulation_o{b['order']}"] = _num(b["modulation_at_fr1"])
     for k in ("fm0", "fm4", "na4", "m6a", "m8a"):
         out[f"tsa_{k}"] = _num(summary["tsa"][k])
+    for st in summary.get("stages", []):
+        if st["stage"] == 1:  # the names above
+            continue
+        p = f"stage{st['stage']}_"
+        for h in st["mesh_harmonics"]:
+            out[f"{p}mesh_amplitude_o{h['order']}"] = _num(h["amplitude"])
+        for f in st["sidebands"]:
+            for k in ("ser", "cv", "flatness"):
+                out[f"{p}sb_{k}_o{f['order']}_{f['shaft']}"] = _num(f[k])
+        for b in st["bands"]:
+            out[f"{p}band_energy_o{b['order']}"] = _num(b["energy_mean"])
+            out[f"{p}band_cv_o{b['order']}"] = _num(b["energy_cv"])
+            out[f"{p}band_modulation_o{b['order']}"] = _num(b["modulation_at_driving_shaft"])
     return out
 
 
@@ -213,7 +232,10 @@ def run_group(study: Study, cases: Sequence[Case],
         fs = float(gb.dynamics.fs)
         x = gb.select(gb.simulate(), study.signal)
         _, f_ref, teeth = gb.reference(study.shafts)
-        kwargs = {"teeth": teeth, "shaft_frequency": f_ref, "settings": gb.analysis}
+        # a compound train: every stage's mesh (unless only the reference is analysed)
+        stages = gb.analysis_stages() if study.shafts != "reference" else None
+        kwargs = {"shaft_frequency": f_ref, "settings": gb.analysis}
+        kwargs |= {"stages": stages} if stages is not None else {"teeth": teeth}
     except (InputError, SimulationError) as exc:
         return _table(study, cases, rows, ["failed"] * n, [str(exc)] * n, signals, fs)
     except Exception as exc:  # keep the study going; the message says what it was

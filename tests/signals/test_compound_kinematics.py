@@ -8,6 +8,7 @@ lines of every stage on a synthetic and a simulated record, the unchanged simple
 output, the CLI's ``--stages`` refusals and one real SpectraQuest record.
 """
 
+import functools
 import hashlib
 import json
 import math
@@ -126,6 +127,15 @@ def test_synthetic_record_with_teeth_misses_the_second_mesh():
 
 
 # ----------------------------------------------------------------- simulated reducer
+@functools.cache
+def _reducer_run(gear: int):
+    """1 s of the two-stage reducer at 20 kHz with a 10 um runout on gear ``gear``."""
+    runout = [0.0] * 4
+    runout[gear] = 10e-6
+    return gs.simulate(gs.example("two-stage-reducer"), duration=1.0, fs=20e3,
+                       runout=tuple(runout))
+
+
 @pytest.mark.parametrize(("gear", "shaft"), [(2, "shaft2"), (3, "shaft3")])
 def test_simulated_two_stage_reducer(gear, shaft):
     """The reducer with a runout (10 um) on the intermediate pinion (gear 2, turning with
@@ -139,9 +149,7 @@ def test_simulated_two_stage_reducer(gear, shaft):
     f_out = f_int * stages[1][0] / stages[1][1]
     f_m2 = f_int * stages[1][0]
     fs = 20e3
-    runout = [0.0] * 4
-    runout[gear] = 10e-6
-    run = gs.simulate(gb, duration=1.0, fs=fs, runout=tuple(runout))
+    run = _reducer_run(gear)
     a = gs.analyze(run["mesh_force_2"], fs, gearbox=gb, orders=(1, 2, 3, 4, 5, 6))
     assert [s.stage.mesh_frequency for s in a.stages] == pytest.approx([f_in * 32, f_m2])
     assert a.kinematics.shafts == pytest.approx(
@@ -181,6 +189,24 @@ def test_simulated_two_stage_reducer(gear, shaft):
                      settings=gb.analysis)
     assert all(not math.isclose(f, f_out) for f in old.kinematics.shafts.values())
     assert all(abs(h.frequency - f_m2) > 100.0 for h in old.harmonics)
+
+
+def test_cli_analyses_a_compound_result_by_its_stages(tmp_path, monkeypatch, capsys):
+    """gearsim analyze of a simulated reducer needs no --stages: its configuration gives
+    them (and its input speed the reference shaft's)."""
+    from gearsim.io.results import write_results
+
+    nc = write_results(_reducer_run(2), tmp_path / "reducer.nc")
+    code, out, err = _run(monkeypatch, capsys, "analyze", nc, "--channel", "mesh_force_2",
+                          "--json")
+    assert code == 0, err
+    rec = json.loads(out)["records"][0]
+    assert rec["teeth"] == [32, 80, 48, 64] and rec["teeth_provenance"] == "file"
+    g = rec["tiers"]["gear"]["analysis"]
+    f_in = gs.example("two-stage-reducer").reference()[1]
+    assert [s["mesh_frequency_hz"] for s in g["stages"]] == pytest.approx(
+        [f_in * 32, f_in * 32 / 80 * 48])
+    assert g["train"]["shaft_frequencies_hz"]["shaft3"] == pytest.approx(f_in * 0.4 * 0.75)
 
 
 # ----------------------------------------------------------------- simple trains unchanged

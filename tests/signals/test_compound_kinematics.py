@@ -353,3 +353,34 @@ def test_spectraquest_record_second_mesh(monkeypatch, capsys):
                             12800.0)
     floor = np.median(sp.amplitude[np.abs(sp.frequency - h1["frequency_hz"]) < 60.0])
     assert h1["amplitude"] > 4 * floor
+
+
+def test_study_case_of_the_reducer_has_stage_features():
+    """A study of the two-stage reducer analyses both meshes (sweep_case.run_group): stage
+    1's features under the simple names with its two shafts, stage 2's prefixed."""
+    from gearsim.studies.sweep import expand, loads_study
+    from gearsim.studies.sweep_case import run_group
+
+    study = loads_study("""
+[study]
+name = "compound"
+config = "two-stage-reducer"
+replicates = 1
+seed = 3
+signal = "mesh_force_2"
+shafts = "all"
+[study.dynamics]
+duration = "0.6 s"
+fs = "20 kHz"
+[parameters]
+flank = ["none"]
+noise = [0.0]
+""")
+    ds = run_group(study, expand(study)[:1])
+    assert list(ds["status"].values) == ["ok"], ds["error"].values
+    names = set(ds.data_vars)
+    assert {"sb_ser_o1_shaft1", "sb_ser_o1_shaft2", "stage2_sb_ser_o1_shaft2",
+            "stage2_sb_ser_o1_shaft3", "stage2_band_energy_o1"} <= names
+    assert "sb_ser_o1_shaft3" not in names and "sb_ser_o1_shaft4" not in names
+    # mesh force II: the stage-2 fundamental is larger than stage 1's
+    assert float(ds["stage2_mesh_amplitude_o1"][0]) > float(ds["mesh_amplitude_o1"][0])

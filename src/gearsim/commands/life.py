@@ -2,9 +2,17 @@
 
 Everything the user gives is checked before any work, each refusal one line (exit 2):
 the output targets, the fractions (numbers in [0, 1]), the seeds (>= 1), the Paris
-constants (:class:`gearsim.fracture.paris.ParisLaw` ranges), the increment, the torque
-and a gear without a crack. A load that never reaches the threshold is an answer:
-``end: no growth`` with its dK and the threshold, exit 0, and no store is written.
+constants (:class:`gearsim.fracture.paris.ParisLaw` ranges), the increment, the torque,
+the records' loads and speeds (the model's operating bounds and the simulation's checks
+at each speed), the workers and the scheduler (its address, and that it answers) and a
+gear without a crack. A load that never reaches the threshold is an answer: ``end: no
+growth`` with its dK and the threshold, exit 0, and no store is written.
+
+The crack grows at the config's operating point (``--torque``): that one life is the
+crack's history. The records are simulated at each of its crack states at every
+``--loads`` x ``--speeds`` (default: that operating point), on Dask with ``--workers``
+> 1 or ``--scheduler`` (more workers than simulations or CPU cores: reduced, with a
+note, as ``gearsim sweep``).
 """
 
 from __future__ import annotations
@@ -12,8 +20,10 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import re
 from typing import Annotated
 
+import numpy as np
 import typer
 
 from gearsim.commands._options import as_options, with_torque
@@ -36,6 +46,65 @@ def _fractions(text: str) -> list[float]:
     if len(set(vals)) != len(vals):
         raise InputError("--fractions", text, "must not repeat a fraction")
     return sorted(vals)
+
+
+def _quantities(text: str, kind: str, option: str) -> list[tuple[str, float]]:
+    """Comma-separated quantities, a unit after the last applying to the bare numbers
+    before it (``"100,200 N*m"``, ``"1500,1900 rpm"``): (item as read, SI value)."""
+    from gearsim.commands._options import MIN_TORQUE
+    from gearsim.units import to_si
+
+    parts = [p.strip() for p in text.split(",")]
+    if not all(parts):
+        raise InputError(option, text, "must list values without empty items, e.g. "
+                         + ("'2000,4000 N*m'" if kind == "torque" else "'1500,1900 rpm'"))
+
+    def bare(p: str) -> bool:
+        try:
+            float(p)
+        except ValueError:
+            return False
+        return True
+
+    m = re.fullmatch(r"[+-]?(?:\d+\.?\d*(?:e[+-]?\d+)?|\.\d+(?:e[+-]?\d+)?|inf(?:inity)?|nan)"
+                     r"\s*(.*)", parts[-1], flags=re.IGNORECASE)
+    unit = m.group(1).strip() if m is not None else ""
+    out = []
+    for p in parts:
+        item = f"{p} {unit}" if bare(p) and unit else p
+        try:
+            v = to_si(item, kind, option)
+        except InputError as exc:
+            raise InputError(option, text, f"{item}: {exc.limit}") from None
+        if kind == "torque" and 0 < v < MIN_TORQUE:
+            raise InputError(option, text, f"{item}: must be >= {MIN_TORQUE:g} N*m (a smaller "
+                             "torque can only be a slip of unit or exponent)")
+        out.append((item, v))
+    return out
+
+
+def _conditions(gb, loads: str | None, speeds: str | None, duration: float | None):
+    """The records' loads [N m] and speeds [rad/s] of ``--loads``/``--speeds``, checked
+    item by item (:func:`gearsim.studies.life.operating_conditions`)."""
+    from gearsim.studies.life import operating_conditions
+
+    out = []
+    for option, text, kind, name in (("--loads", loads, "torque", "loads"),
+                                     ("--speeds", speeds, "speed", "speeds")):
+        if text is None:
+            out.append(None)
+            continue
+        items = _quantities(text, kind, option)
+        for item, v in items:
+            try:
+                operating_conditions(gb, **{name: [v]}, duration=duration)
+            except InputError as exc:
+                raise InputError(option, text, f"{item}: {exc.limit}") from None
+        vals = [v for _, v in items]
+        if len(set(vals)) != len(vals):
+            raise InputError(option, text, "must not repeat a value")
+        out.append(vals)
+    return out[0], out[1]
 
 
 def life(
@@ -62,6 +131,19 @@ def life(
         help="noise RMS / record standard deviation (>= 0; 0.1 = SNR 20 dB)")] = 0.1,
     duration: Annotated[float | None, typer.Option(
         help="record duration in s (default 4.2 revolutions of the slowest shaft)")] = None,
+    loads: Annotated[str | None, typer.Option(
+        help="input torques of the records, comma-separated, a unit after the last, e.g. "
+             "'10000,19504 N*m' (default: the life's torque); the crack grows at the "
+             "life's")] = None,
+    speeds: Annotated[str | None, typer.Option(
+        help="input shaft speeds of the records, e.g. '1500,1900 rpm' (default: the "
+             "config's)")] = None,
+    workers: Annotated[int, typer.Option(
+        help="local Dask worker processes for the records' simulations (1 thread each; "
+             "at most one per CPU core and per simulation; 1: in this process)")] = 1,
+    scheduler: Annotated[str | None, typer.Option(
+        help="address of a running Dask scheduler for the records' simulations, e.g. "
+             "tcp://host:8786")] = None,
     plot: Annotated[str | None, typer.Option(
         help="figure of the indicators over the life and their alarm fractions (.png)")] = None,
     json_: Annotated[bool, typer.Option("--json", help="print a JSON summary")] = False,
@@ -77,6 +159,7 @@ def life(
     from gearsim.io.targets import check_output_file
     from gearsim.model import load
     from gearsim.studies import life as lf
+    from gearsim.studies.sweep_run import check_scheduler, cluster_client, plan_workers
     from gearsim.viz import check_plot_file
 
     # every input is checked before any work
@@ -91,6 +174,9 @@ def life(
             "--increment", increment, "must be > 0 mm")
     require(duration is None or (math.isfinite(duration) and duration > 0.0), "--duration",
             duration, "must be > 0 s")
+    plan_workers(workers, 1)  # --workers: an integer >= 1
+    if scheduler is not None:
+        scheduler = check_scheduler(scheduler)
     require(steel in STEEL_CLASSES, "--steel", steel, f"must be one of {', '.join(STEEL_CLASSES)}")
     for name, value, (lo, hi) in (("--threshold", threshold, THRESHOLD_RANGE),
                                   ("--toughness", toughness, TOUGHNESS_RANGE)):
@@ -105,6 +191,10 @@ def life(
                                                                  "crack growth"), torque))
     with as_options({"gear": "--gear"}):
         lf._crack_of(gb, gear)  # a gear without a crack: refused here, before the FE
+    record_loads, record_speeds = _conditions(gb, loads, speeds, duration)
+    if scheduler is not None:  # a scheduler that does not answer: refused before the FE
+        with cluster_client(1, scheduler):
+            pass
     da = None if increment is None else increment * 1e-3
     with as_options({"crack.increment": "--increment", "increment": "--increment"}):
         res = lf.gear_life(gb, gear, increment=da, steps=steps, law=law)
@@ -120,18 +210,33 @@ def life(
                    f"{law.threshold / MPA_SQRT_M:.4g} MPa sqrt(m) (DLF "
                    f"{res.dynamic_load_factor:.4f}); the crack does not grow, no store written")
         return
-    ds = lf.life_records(gb, res, fr, seeds, duration=duration, noise=noise)
+    ds = lf.life_records(gb, res, fr, seeds, duration=duration, noise=noise,
+                         loads=record_loads, speeds=record_speeds, workers=workers,
+                         scheduler=scheduler, note=lambda line: typer.echo(line, err=True))
     path = lf.write_store(ds, target)
-    cross = lf.alarm_fractions(ds)
+    # the alarms at the life's operating point if recorded, else at the first condition
+    own_speed, own_torque = gb.operating()
+    lv, sv = ds["load"].values, ds["speed"].values
+    at_load = own_torque if np.isclose(lv, own_torque, rtol=1e-9).any() else float(lv[0])
+    at_speed = own_speed if np.isclose(sv, own_speed, rtol=1e-9).any() else float(sv[0])
+    cross = lf.alarm_fractions(ds, load=at_load, speed=at_speed)
     summary["store"] = str(path)
+    summary["loads_n_m"] = lv.tolist()
+    summary["speeds_rad_s"] = sv.tolist()
+    summary["alarm_condition"] = {"load_n_m": at_load, "speed_rad_s": at_speed}
     summary["alarm_fractions"] = cross
+    if lv.size * sv.size > 1:
+        summary["alarm_fractions_by_condition"] = [
+            {"load_n_m": float(t), "speed_rad_s": float(w),
+             "alarm_fractions": lf.alarm_fractions(ds, load=float(t), speed=float(w))}
+            for t in lv for w in sv]
     summary["alarm_levels"] = {k: {"level": v[0], "source": v[1]}
                                for k, v in lf.ALARM_LEVELS.items()}
     if plot is not None:
         from gearsim.viz import save
         from gearsim.viz.life import plot_life_alarms
 
-        trends = lf.indicator_trends(ds)
+        trends = lf.indicator_trends(ds, load=at_load, speed=at_speed)
         levels = {n: lf.ALARM_LEVELS[n][0] * (trends[n][0] if n == "sideband_energy" else 1)
                   for n in trends}
         save(plot_life_alarms(ds["fraction"].values, trends, levels, cross,
@@ -146,11 +251,13 @@ def life(
                f"{res.shaft_frequency:.6g} Hz; static {res.static_force:.6g} N/m, DLF "
                f"{res.dynamic_load_factor:.4f}; {res.path.lengths.size} increments, "
                f"{float(res.path.seconds_per_step.mean()):.3g} s FE each")
-    typer.echo("alarm fractions: " + ", ".join(
+    typer.echo(f"alarm fractions at {at_load:.6g} N*m, {at_speed * 30 / math.pi:.6g} rpm: "
+               + ", ".join(
         f"{k} {'not crossed' if v is None else f'{v:.3g}'}" for k, v in cross.items()))
     n_broken = int(ds["broken"].sum())
     tail = ", the last the broken tooth" if n_broken else ""
     typer.echo(f"gearsim: store written to {path} ({ds.sizes['fraction']} records x "
+               f"{ds.sizes['load']} loads x {ds.sizes['speed']} speeds x "
                f"{ds.sizes['seed']} seeds{tail})")
 
 

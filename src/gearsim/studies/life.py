@@ -43,7 +43,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -61,8 +61,9 @@ from gearsim.model.gearbox import Gearbox
 __all__ = ["DEFAULT_THRESHOLD_MPA", "DEFAULT_TOUGHNESS_MPA", "ALARM_LEVELS", "GearLife",
            "CrackState", "default_law", "mesh_cycle_loads", "gear_life", "life_fractions",
            "LifeStiffness", "equivalent_crack", "stiffness_along_life",
-           "DEFAULT_NOISE", "record_duration", "life_records", "write_store",
-           "indicator_trends", "alarm_fractions", "FRACTURE_ENDS"]
+           "DEFAULT_NOISE", "record_duration", "operating_conditions", "life_records",
+           "write_store", "record_condition", "indicator_trends", "alarm_fractions",
+           "FRACTURE_ENDS"]
 
 #: dK_th of the default law [MPa sqrt(m)]: Barsom & Rolfe (1999, ch. 9), lower bound
 #: for steels at R < 0.1, 5.5 ksi sqrt(in).
@@ -706,21 +707,129 @@ def _broken_box(gb: Gearbox, crack) -> Gearbox:
     return dataclasses.replace(gb, train=tr)
 
 
+def operating_conditions(gb: Gearbox, loads: Sequence[float] | None = None,
+                         speeds: Sequence[float] | None = None, *,
+                         duration: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The loads and speeds of the records, checked before any work.
+
+    Each load and speed is checked as the model checks an operating point
+    (:class:`gearsim.system.train.Operating`: finite, > 0, at most ``MAX_TORQUE`` N m and
+    ``MAX_SPEED`` rad/s), and the record at each speed as a simulation is
+    (:meth:`Gearbox.check_run`: the output rate against the mesh frequency, the cost
+    bounds), with the record duration of that speed.
+
+    Parameters
+    ----------
+    gb : Gearbox
+        The gearbox of the life (its operating point is the default).
+    loads : sequence of float, optional
+        Input torques [N m]; default the gearbox's own.
+    speeds : sequence of float, optional
+        Input shaft speeds [rad/s]; default the gearbox's own.
+    duration : float, optional
+        Record duration [s]; default :func:`record_duration` at each speed.
+
+    Returns
+    -------
+    loads : ndarray
+        Input torques [N m], ascending.
+    speeds : ndarray
+        Input speeds [rad/s], ascending.
+
+    Raises
+    ------
+    InputError
+        ``loads`` or ``speeds``: empty, repeated, not finite, <= 0 or above the model's
+        ceiling; a speed whose record the simulation refuses (``dynamics.fs`` aliasing,
+        cost bounds; the limit of that check, the parameter ``speeds``).
+    """
+    from gearsim.system import Operating
+
+    own_speed, own_torque = gb.operating()
+    out = []
+    for name, given, own in (("loads", loads, own_torque), ("speeds", speeds, own_speed)):
+        vals = [own] if given is None else list(given)
+        require(len(vals) >= 1, name, vals, "must list at least one value")
+        for v in vals:
+            try:
+                if name == "loads":
+                    Operating(speed=own_speed, torque=v)
+                else:
+                    Operating(speed=v, torque=own_torque)
+            except InputError as exc:
+                raise InputError(name, v, exc.limit) from None
+        arr = np.asarray(vals, dtype=float)
+        require(np.unique(arr).size == arr.size, name, vals, "must not repeat a value")
+        out.append(np.sort(arr))
+    for s in out[1]:
+        box = gb.at(speed=float(s), torque=own_torque)
+        d = record_duration(box) if duration is None else float(duration)
+        try:
+            dataclasses.replace(box, dynamics=dataclasses.replace(
+                box.dynamics, duration=d)).check_run()
+        except InputError as exc:
+            raise InputError("speeds", float(s), f"its record is refused: {exc}") from None
+    return out[0], out[1]
+
+
+def _record_task(box: Gearbox, duration: float, spec: str, noise: float, seeds: int,
+                 ) -> tuple[list[dict], list[np.ndarray], float]:
+    """One simulation of the records (a Dask task): the features of each seed's noisy
+    record (``residual_kurtosis`` too), the residuals, the simulation's wall time."""
+    from gearsim.signals import analyze
+    from gearsim.signals.tsa import na4
+    from gearsim.studies.sweep_case import add_noise, features
+
+    _, f_ref, teeth = box.reference()
+    fs = float(box.dynamics.fs)
+    t1 = time.perf_counter()
+    x = box.select(box.simulate(duration=duration), spec)
+    seconds = time.perf_counter() - t1
+    feats, residuals = [], []
+    for k in range(seeds):
+        a = analyze(add_noise(x, noise, k), fs, teeth=teeth, shaft_frequency=f_ref,
+                    settings=box.analysis)
+        f = features(a.to_dict())
+        f["residual_kurtosis"] = na4([a.residual])
+        feats.append(f)
+        residuals.append(np.asarray(a.residual))
+    return feats, residuals, seconds
+
+
 def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seeds: int, *,
                  duration: float | None = None, noise: float = DEFAULT_NOISE,
-                 signal: str | None = None, broken: bool = True) -> Any:
-    """Vibration records with ground truth at fractions of a life.
+                 signal: str | None = None, broken: bool = True,
+                 loads: Sequence[float] | None = None, speeds: Sequence[float] | None = None,
+                 workers: int = 1, scheduler: str | None = None,
+                 cluster_kwargs: dict | None = None,
+                 note: Callable[[str], None] | None = None) -> Any:
+    """Vibration records with ground truth at fractions of a life, loads and speeds.
 
-    For each fraction (sorted ascending) the gearbox with the equivalent straight crack
-    of the state (:func:`equivalent_crack`) is simulated once (:meth:`Gearbox.simulate`,
-    deterministic); for each seed white noise of RMS ``noise`` x std(record) is added
-    (:func:`gearsim.studies.sweep_case.add_noise`, seed = seed index) and the record is
-    analysed (:func:`gearsim.signals.analyze`, the gearbox's reference shaft and teeth
-    and ``[analysis]`` settings). Besides the features of
+    **The crack states are those of the one life** ``result``, computed at the
+    gearbox's operating point: the life is the crack's history. The records are what a
+    test rig measures at each of those crack states when it is run at several loads and
+    speeds (``loads`` x ``speeds``); the crack does not grow differently at another
+    load here.
+
+    For each fraction (sorted ascending), load and speed the gearbox with the equivalent
+    straight crack of the state (:func:`equivalent_crack`) at that input torque and
+    speed (:meth:`Gearbox.at`) is simulated once (:meth:`Gearbox.simulate`,
+    deterministic; record duration :func:`record_duration` at that speed unless
+    ``duration`` is given); for each seed white noise of RMS ``noise`` x std(record) is
+    added (:func:`gearsim.studies.sweep_case.add_noise`, seed = seed index) and the
+    record is analysed (:func:`gearsim.signals.analyze`, the reference shaft and teeth
+    at that speed and the ``[analysis]`` settings). Besides the features of
     :func:`gearsim.studies.sweep_case.features`: ``na4_history``, NA4 of the residual
-    normalised by the mean residual variance of the records of the same seed up to this
-    fraction (the run history of Zakrajsek et al. 1993), and ``residual_kurtosis``
-    (NA4 of the record alone).
+    normalised by the mean residual variance of the records of the same load, speed and
+    seed up to this fraction (the run history of Zakrajsek et al. 1993), and
+    ``residual_kurtosis`` (NA4 of the record alone).
+
+    The simulations (one per fraction x load x speed, with the noise and analysis of
+    every seed) run on Dask when ``workers`` > 1 or a ``scheduler`` is given
+    (:func:`gearsim.studies.sweep_run.cluster_client`; a local cluster of at most one
+    worker per task and CPU core, :func:`gearsim.studies.sweep_run.plan_workers`), in
+    this process otherwise; the numbers are the same either way. ``na4_history`` is
+    formed here from the tasks' residuals.
 
     When the life ends in fracture (:data:`FRACTURE_ENDS`) and ``broken`` is true, the
     records end with the **broken tooth**: one more row at fraction 1 (coordinate
@@ -733,51 +842,74 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
     Parameters
     ----------
     gb : Gearbox
-        The gearbox of the life (its operating point).
+        The gearbox of the life (its operating point: that of the life).
     result : GearLife
         The life (a finite end).
     fractions : sequence of float
         Life fractions in [0, 1].
     seeds : int
-        Noise seeds per fraction (>= 1).
+        Noise seeds per fraction, load and speed (>= 1).
     duration : float, optional
-        Record duration [s]; default :func:`record_duration`.
+        Record duration [s]; default :func:`record_duration` at each speed (4.2
+        revolutions of the slowest shaft).
     noise : float
         Noise RMS over the record's standard deviation [-] (>= 0).
     signal : str, optional
         Record to analyse (:meth:`Gearbox.signals`); default :attr:`Gearbox.default_signal`.
     broken : bool
         End with the broken tooth's record after a fracture (see above).
+    loads : sequence of float, optional
+        Input torques [N m] of the records; default the gearbox's own (checked by
+        :func:`operating_conditions`).
+    speeds : sequence of float, optional
+        Input shaft speeds [rad/s] of the records; default the gearbox's own.
+    workers : int
+        Local Dask worker processes (>= 1); 1 and no ``scheduler``: this process.
+    scheduler : str, optional
+        Address of a running Dask scheduler (``tcp://host:8786``).
+    cluster_kwargs : dict, optional
+        Extra keyword arguments of the local ``LocalCluster``.
+    note : callable, optional
+        Called with a one-line note when fewer local workers than asked are started.
 
     Returns
     -------
     xarray.Dataset
-        Dims ``fraction``, ``seed`` (features), ``vertex`` (the grown path) and
-        ``life_point`` (the life curve); ground truth as coordinates along ``fraction``:
+        Features over dims ``fraction``, ``load``, ``speed``, ``seed``; ``vertex`` (the
+        grown path) and ``life_point`` (the life curve); coordinates ``load`` [N*m] and
+        ``speed`` [rad/s], along ``speed`` ``reference_shaft_frequency`` [Hz] (the
+        analysis' f_r1), ``mesh_frequency`` [Hz] (of the cracked gear's first mesh) and
+        ``duration`` [s]; ground truth as coordinates along ``fraction``:
         ``crack_length`` [m], ``equivalent_depth`` [m], ``equivalent_angle`` [rad],
-        ``clipped``, ``broken``, ``cycles``, ``hours`` [h]; attributes gear, flank, end,
-        law, loads, signal, noise.
+        ``clipped``, ``broken``, ``cycles``, ``hours`` [h]; ``simulation_seconds`` over
+        (fraction, load, speed); attributes gear, flank, end, law, the life's operating
+        point (``speed_rad_s``, ``torque_n_m``), signal, noise, ``dask_workers`` (0: run
+        in this process) (``duration_s`` and ``reference_shaft_hz`` when one value holds
+        for every speed).
+
+    Raises
+    ------
+    InputError
+        Bad ``seeds``, ``noise``, ``fractions``, ``loads``, ``speeds``, ``workers`` or
+        scheduler address; a scheduler that cannot be reached.
     """
     import xarray as xr
 
-    from gearsim.signals import analyze
     from gearsim.signals.tsa import na4
-    from gearsim.studies.sweep_case import add_noise, features
+    from gearsim.studies.sweep_run import check_scheduler, plan_workers
 
     require(isinstance(seeds, int) and not isinstance(seeds, bool) and seeds >= 1, "seeds",
             seeds, "must be an integer >= 1")
     require(math.isfinite(noise) and noise >= 0.0, "noise", noise, "must be >= 0")
+    plan_workers(workers, 1)  # the type and sign of workers, before any work
+    if scheduler is not None:
+        scheduler = check_scheduler(scheduler)
     t0 = time.perf_counter()
     states = sorted(life_fractions(result, fractions), key=lambda s: s.fraction)
     g, crack = _crack_of(gb, result.gear)
-    d = record_duration(gb) if duration is None else float(duration)
+    mesh, _ = _mesh_of(gb, g.name)
     spec = gb.default_signal if signal is None else signal
-    _, f_ref, teeth = gb.reference()
     fs = float(gb.dynamics.fs)
-    feats: list[list[dict]] = []
-    truth = []
-    residuals: list[list[np.ndarray]] = [[] for _ in range(seeds)]
-    sim_seconds = []
     rows = [(s, *equivalent_crack(crack, s.crack)) for s in states]
     gone = broken and result.end in FRACTURE_ENDS
     if gone:  # the tooth is lost at the end of the life
@@ -791,33 +923,64 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
                                 hours=float(result.hours(result.cycles_end)),
                                 length=float(result.life.a_end), crack=result.path.crack),
                      None, False))
-    for s, eq, clipped in rows:
-        box = _cracked_box(gb, crack, eq) if eq is not None else _broken_box(gb, crack)
-        t1 = time.perf_counter()
-        x = box.select(box.simulate(duration=d), spec)
-        sim_seconds.append(time.perf_counter() - t1)
-        row = []
-        for k in range(seeds):
-            a = analyze(add_noise(x, noise, k), fs, teeth=teeth, shaft_frequency=f_ref,
-                        settings=gb.analysis)
-            f = features(a.to_dict())
-            residuals[k].append(a.residual)
-            f["na4_history"] = na4(residuals[k])
-            f["residual_kurtosis"] = na4([a.residual])
-            row.append(f)
-        feats.append(row)
-        truth.append((s.fraction, s.length, eq.depth if eq is not None else np.nan,
-                      eq.angle if eq is not None else np.nan, clipped, int(eq is None),
-                      s.cycles, s.hours))
-    names = sorted({k for row in feats for f in row for k in f})
+    load_v, speed_v = operating_conditions(gb, loads, speeds, duration=duration)
+    d_v = np.array([record_duration(gb.at(speed=float(s), torque=float(load_v[0])))
+                    if duration is None else float(duration) for s in speed_v])
+    ref_v = np.array([gb.at(speed=float(s), torque=float(load_v[0])).reference()[1]
+                      for s in speed_v])
+    fm_v = np.array([gb.at(speed=float(s), torque=float(load_v[0])).train
+                     .mesh_frequencies[mesh] for s in speed_v])
+    tasks = []  # (fraction row, load, speed) in this order
+    for _, eq, _ in rows:
+        for t in load_v:
+            for j, s in enumerate(speed_v):
+                at = gb.at(speed=float(s), torque=float(t))
+                box = _cracked_box(at, crack, eq) if eq is not None else _broken_box(at, crack)
+                tasks.append((box, float(d_v[j]), spec, noise, seeds))
+    n_workers, msg = plan_workers(workers, len(tasks), "simulation")
+    if msg is not None and scheduler is None and note is not None:
+        note(msg)
+    if scheduler is None and n_workers == 1:
+        done = [_record_task(*task) for task in tasks]
+        dask_workers = 0
+    else:
+        from gearsim.studies.sweep_run import RETRIES, cluster_client
+
+        with cluster_client(n_workers, scheduler, cluster_kwargs) as client:
+            dask_workers = len(client.scheduler_info().get("workers", {}))
+            futures = [client.submit(_record_task, *task, pure=False, retries=RETRIES)
+                       for task in tasks]
+            done = client.gather(futures)
+    nf, nl, ns = len(rows), load_v.size, speed_v.size
+    grid = np.empty((nf, nl, ns), dtype=object)
+    for i, out in enumerate(done):
+        grid[np.unravel_index(i, (nf, nl, ns))] = out
+    for il in range(nl):  # NA4 with the run history of each load, speed and seed
+        for js in range(ns):
+            for k in range(seeds):
+                history: list[np.ndarray] = []
+                for i in range(nf):
+                    feats, residuals, _ = grid[i, il, js]
+                    history.append(residuals[k])
+                    feats[k]["na4_history"] = na4(history)
+    names = sorted({n for out in done for f in out[0] for n in f})
+    dims = ("fraction", "load", "speed", "seed")
+    data = {n: (dims, np.array([[[[f.get(n, np.nan) for f in grid[i, il, js][0]]
+                                  for js in range(ns)] for il in range(nl)]
+                                for i in range(nf)], dtype=float)) for n in names}
+    sim_seconds = np.array([[[grid[i, il, js][2] for js in range(ns)] for il in range(nl)]
+                            for i in range(nf)])
+    truth = [(s.fraction, s.length, eq.depth if eq is not None else np.nan,
+              eq.angle if eq is not None else np.nan, clipped, int(eq is None),
+              s.cycles, s.hours) for s, eq, clipped in rows]
     cols = list(zip(*truth, strict=True))
-    data = {n: (("fraction", "seed"), np.array([[f.get(n, np.nan) for f in row]
-                                                for row in feats])) for n in names}
     pts = result.path.crack.array
     ds = xr.Dataset(
         data,
         coords={
             "fraction": ("fraction", np.asarray(cols[0])),
+            "load": ("load", load_v, {"units": "N*m", "long_name": "input torque"}),
+            "speed": ("speed", speed_v, {"units": "rad/s", "long_name": "input shaft speed"}),
             "seed": ("seed", np.arange(seeds)),
             "crack_length": ("fraction", np.asarray(cols[1]), {"units": "m"}),
             "equivalent_depth": ("fraction", np.asarray(cols[2]), {"units": "m"}),
@@ -826,12 +989,15 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
             "broken": ("fraction", np.asarray(cols[5], dtype=np.int8)),
             "cycles": ("fraction", np.asarray(cols[6]), {"units": "1"}),
             "hours": ("fraction", np.asarray(cols[7]), {"units": "h"}),
+            "reference_shaft_frequency": ("speed", ref_v, {"units": "Hz"}),
+            "mesh_frequency": ("speed", fm_v, {"units": "Hz"}),
+            "duration": ("speed", d_v, {"units": "s"}),
         })
     ds["path_x"] = ("vertex", pts[:, 0], {"units": "m"})
     ds["path_y"] = ("vertex", pts[:, 1], {"units": "m"})
     ds["life_a"] = ("life_point", result.life.a, {"units": "m"})
     ds["life_cycles"] = ("life_point", result.life.cycles, {"units": "1"})
-    ds["simulation_seconds"] = ("fraction", np.asarray(sim_seconds), {"units": "s"})
+    ds["simulation_seconds"] = (("fraction", "load", "speed"), sim_seconds, {"units": "s"})
     law = result.law
     ds.attrs.update({
         "gearbox": gb.name, "gear": result.gear, "flank": result.flank, "end": result.end,
@@ -841,14 +1007,20 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
         "law_source": law.source, "static_force_n_per_m": result.static_force,
         "dynamic_load_factor": result.dynamic_load_factor,
         "speed_rad_s": gb.operating()[0], "torque_n_m": gb.operating()[1],
-        "signal": spec, "noise": noise, "duration_s": d, "fs_hz": fs,
-        "contact_mesh": int(gone),
-        "reference_shaft_hz": f_ref, "seconds": time.perf_counter() - t0,
+        "operating_point": "speed_rad_s and torque_n_m: the life's (the crack states); "
+                           "the records at the coordinates load and speed",
+        "signal": spec, "noise": noise, "fs_hz": fs,
+        "contact_mesh": int(gone), "dask_workers": dask_workers,
+        "seconds": time.perf_counter() - t0,
         "sideband_feature": f"sb_ser_o1_shaft{gb.train.gear_index(g.name) + 1}",
         "ground_truth": "crack_length along the grown path; equivalent_depth/angle: the "
                         "straight crack simulated (docs/fracture.md); broken = 1: the "
                         "tooth gone after the fracture",
     })
+    if np.all(d_v == d_v[0]):
+        ds.attrs["duration_s"] = float(d_v[0])
+    if np.all(ref_v == ref_v[0]):
+        ds.attrs["reference_shaft_hz"] = float(ref_v[0])
     return ds
 
 
@@ -880,8 +1052,50 @@ def _sideband_name(ds: Any, shaft: str | None = None) -> str | None:
     return names[0] if names else None
 
 
-def indicator_trends(ds: Any, shaft: str | None = None) -> dict[str, np.ndarray]:
-    """Health indicators over the life, mean over seeds.
+def record_condition(ds: Any, load: float | None = None, speed: float | None = None) -> Any:
+    """The records of one load and speed (the ``load`` and ``speed`` dims dropped).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        :func:`life_records` (a store without ``load``/``speed`` dims is returned as is).
+    load : float, optional
+        Input torque [N m], one of the coordinate ``load`` (relative tolerance 1e-9);
+        default: the only load, else the life's (attribute ``torque_n_m``) if recorded.
+    speed : float, optional
+        Input speed [rad/s], likewise (attribute ``speed_rad_s``).
+
+    Returns
+    -------
+    xarray.Dataset
+        Features over ``fraction`` and ``seed``.
+
+    Raises
+    ------
+    InputError
+        ``load``/``speed`` not among the recorded values, or no default (several values,
+        the life's not among them).
+    """
+    for dim, value, attr, unit in (("load", load, "torque_n_m", "N*m"),
+                                   ("speed", speed, "speed_rad_s", "rad/s")):
+        if dim not in ds.dims:
+            continue
+        vals = np.asarray(ds[dim].values, dtype=float)
+        if value is None and vals.size == 1:
+            want = float(vals[0])
+        else:
+            want = float(ds.attrs.get(attr, np.nan) if value is None else value)
+        hit = np.nonzero(np.isclose(vals, want, rtol=1e-9, atol=0.0))[0]
+        listed = ", ".join(f"{v:g}" for v in vals)
+        require(hit.size == 1, dim, "the life's" if value is None else value,
+                f"is not recorded: give one of {listed} {unit}")
+        ds = ds.isel({dim: int(hit[0])}, drop=True)
+    return ds
+
+
+def indicator_trends(ds: Any, shaft: str | None = None, *, load: float | None = None,
+                     speed: float | None = None) -> dict[str, np.ndarray]:
+    """Health indicators over the life at one load and speed, mean over seeds.
 
     Parameters
     ----------
@@ -891,13 +1105,22 @@ def indicator_trends(ds: Any, shaft: str | None = None) -> dict[str, np.ndarray]
         Shaft label of the first-order sideband energy ratio (``sb_ser_o1_<shaft>``, the
         analysis labels ``shaft1``, ``shaft2``, ... in gear order); default the cracked
         gear's (attribute ``sideband_feature``).
+    load, speed : float, optional
+        The records' input torque [N m] and speed [rad/s] (:func:`record_condition`;
+        default the only one, else the life's operating point).
 
     Returns
     -------
     dict of str to ndarray
         ``na4`` (with run history), ``fm4``, ``residual_kurtosis``, ``sideband_energy``
         (first-order sideband energy ratio of mesh order 1), each over ``fraction``.
+
+    Raises
+    ------
+    InputError
+        A load or speed not recorded (:func:`record_condition`).
     """
+    ds = record_condition(ds, load, speed)
     out = {"na4": ds["na4_history"], "fm4": ds["tsa_fm4"],
            "residual_kurtosis": ds["residual_kurtosis"]}
     sb = _sideband_name(ds, shaft)
@@ -906,8 +1129,10 @@ def indicator_trends(ds: Any, shaft: str | None = None) -> dict[str, np.ndarray]
     return {k: np.asarray(v.mean("seed").values, dtype=float) for k, v in out.items()}
 
 
-def alarm_fractions(ds: Any, shaft: str | None = None) -> dict[str, float | None]:
-    """Life fraction at which each indicator's seed mean first crosses its alarm level.
+def alarm_fractions(ds: Any, shaft: str | None = None, *, load: float | None = None,
+                    speed: float | None = None) -> dict[str, float | None]:
+    """Life fraction at which each indicator's seed mean first crosses its alarm level,
+    at one load and speed.
 
     Levels and sources: :data:`ALARM_LEVELS` (the sideband energy relative to its value
     at the first fraction). Linear interpolation between the recorded fractions.
@@ -918,15 +1143,22 @@ def alarm_fractions(ds: Any, shaft: str | None = None) -> dict[str, float | None
         :func:`life_records`.
     shaft : str, optional
         As :func:`indicator_trends`.
+    load, speed : float, optional
+        As :func:`indicator_trends`.
 
     Returns
     -------
     dict of str to float or None
         ``None``: not crossed within the recorded fractions.
+
+    Raises
+    ------
+    InputError
+        A load or speed not recorded (:func:`record_condition`).
     """
     f = np.asarray(ds["fraction"].values, dtype=float)
     out: dict[str, float | None] = {}
-    for name, y in indicator_trends(ds, shaft).items():
+    for name, y in indicator_trends(ds, shaft, load=load, speed=speed).items():
         level = ALARM_LEVELS[name][0] * (y[0] if name == "sideband_energy" else 1.0)
         above = np.nonzero(y > level)[0]
         if above.size == 0:

@@ -48,9 +48,9 @@ if TYPE_CHECKING:  # the simulation modules load on first use (gearsim analyze n
     from gearsim.studies.sweep import Case, Study
 
 __all__ = ["ALLOWED_FAILURES", "CONNECT_TIMEOUT", "PART_SUFFIX", "RETRIES", "SweepResult",
-           "check_scheduler", "combine", "group_runner", "groups", "lock_path", "part_bytes",
-           "part_path", "parts_dir", "plan_workers", "read_part", "run_serial", "run_study",
-           "store_lock"]
+           "check_scheduler", "cluster_client", "combine", "group_runner", "groups",
+           "lock_path", "part_bytes", "part_path", "parts_dir", "plan_workers", "read_part",
+           "run_serial", "run_study", "store_lock"]
 
 #: Worker deaths a task may cause before the scheduler gives up on it (local cluster).
 ALLOWED_FAILURES = 3
@@ -587,44 +587,82 @@ def _scheduler_lost(exc: BaseException, client) -> bool:
         getattr(client, "status", "running") in ("closing", "closed", "connecting")
 
 
-def _run_on_dask(study: Study, grouped: dict, todo: list[str], hook: Callable | None,
-                 scheduler: str | None, n_workers: int, cluster_kwargs: dict | None,
-                 keep: Callable[[str, bytes], None]) -> None:
-    """Run the groups ``todo`` as Dask tasks (local cluster or ``scheduler``); ``keep``
-    each part as it arrives; the cluster is shut down whatever happens."""
+@contextmanager
+def cluster_client(workers: int, scheduler: str | None = None,
+                   cluster_kwargs: dict | None = None) -> Iterator:
+    """A Dask client on a new local cluster or a running scheduler, shut down on exit.
+
+    The machinery of :func:`run_study`: a ``LocalCluster`` of ``workers`` processes
+    with one thread each whose workers ignore Ctrl-C (only this process handles it), or
+    a client of ``scheduler``; ``distributed.scheduler.allowed-failures`` set to
+    :data:`ALLOWED_FAILURES` meanwhile; client and cluster closed quietly whatever
+    happens (also after Ctrl-C).
+
+    Parameters
+    ----------
+    workers : int
+        Local worker processes (>= 1; give :func:`plan_workers`' number); ignored with
+        ``scheduler``.
+    scheduler : str, optional
+        Address of a running Dask scheduler (checked by :func:`check_scheduler` first).
+    cluster_kwargs : dict, optional
+        Extra keyword arguments of ``LocalCluster``.
+
+    Yields
+    ------
+    distributed.Client
+
+    Raises
+    ------
+    InputError
+        ``--scheduler``: the scheduler cannot be reached within :data:`CONNECT_TIMEOUT`.
+    SimulationError
+        The local workers did not start within ``WORKER_START_TIMEOUT``.
+    """
     import dask
-    from distributed import as_completed
+    import distributed  # noqa: F401  (its config defaults before the set below: a
+    # section that did not exist when it was set is dropped whole when it is restored)
 
     live: dict = {}
     with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES}):
         try:
             if scheduler is None:
-                _start_local(n_workers, cluster_kwargs, live)
+                _start_local(workers, cluster_kwargs, live)
             else:
                 _connect(scheduler, live)
-            client = live["client"]
-            futures = {client.submit(part_bytes, study, grouped[k], hook, key=f"case-{k}",
-                                     pure=False, retries=RETRIES): k for k in todo}
-            kept = 0
-            for fut in as_completed(futures):
-                key = futures[fut]
-                try:
-                    data = fut.result()
-                except Exception as exc:
-                    if _scheduler_lost(exc, client):
-                        where = scheduler or "of the local cluster"
-                        raise SimulationError(
-                            f"sweep: lost the scheduler {where} mid-study: {kept} of the "
-                            f"{len(todo)} groups to compute are written; the same command "
-                            "resumes from them") from exc
-                    raise SimulationError(
-                        f"sweep: cases {[c.index for c in grouped[key]]} failed after"
-                        f" retries: {_first_line(exc)}") from exc
-                keep(key, data)
-                kept += 1
-                fut.release()
+            yield live["client"]
         finally:
             _shutdown(live.get("client"), live.get("cluster"))
+
+
+def _run_on_dask(study: Study, grouped: dict, todo: list[str], hook: Callable | None,
+                 scheduler: str | None, n_workers: int, cluster_kwargs: dict | None,
+                 keep: Callable[[str, bytes], None]) -> None:
+    """Run the groups ``todo`` as Dask tasks (local cluster or ``scheduler``); ``keep``
+    each part as it arrives; the cluster is shut down whatever happens."""
+    from distributed import as_completed
+
+    with cluster_client(n_workers, scheduler, cluster_kwargs) as client:
+        futures = {client.submit(part_bytes, study, grouped[k], hook, key=f"case-{k}",
+                                 pure=False, retries=RETRIES): k for k in todo}
+        kept = 0
+        for fut in as_completed(futures):
+            key = futures[fut]
+            try:
+                data = fut.result()
+            except Exception as exc:
+                if _scheduler_lost(exc, client):
+                    where = scheduler or "of the local cluster"
+                    raise SimulationError(
+                        f"sweep: lost the scheduler {where} mid-study: {kept} of the "
+                        f"{len(todo)} groups to compute are written; the same command "
+                        "resumes from them") from exc
+                raise SimulationError(
+                    f"sweep: cases {[c.index for c in grouped[key]]} failed after"
+                    f" retries: {_first_line(exc)}") from exc
+            keep(key, data)
+            kept += 1
+            fut.release()
 
 
 def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,

@@ -892,6 +892,10 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
     InputError
         Bad ``seeds``, ``noise``, ``fractions``, ``loads``, ``speeds``, ``workers`` or
         scheduler address; a scheduler that cannot be reached.
+    SimulationError
+        The local cluster's workers did not start
+        (:func:`gearsim.studies.sweep_run.cluster_client`); a task's own exception is
+        raised as it is, after the Dask retries.
     """
     import xarray as xr
 

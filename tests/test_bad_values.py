@@ -372,6 +372,21 @@ def test_speed_with_units_and_examples_parse():
         assert load(name).train.operating.speed > 0
 
 
+@pytest.mark.parametrize("text,rad_s", [
+    ("30 Hz", 30 * 2 * math.pi),        # a shaft at 30 rev/s, as records are labelled
+    ("0.03 kHz", 30 * 2 * math.pi),
+    ("1800 1/min", 1800 * 2 * math.pi / 60),
+    ("1800 rpm", 1800 * 2 * math.pi / 60),
+    ("188.5 rad/s", 188.5),
+    ("360 deg/s", 2 * math.pi),
+])
+def test_speed_in_a_frequency_unit_is_revolutions_per_time(text, rad_s):
+    """pint reads Hz as 1/s, the same dimension as rad/s (the radian is a number): a
+    shaft speed in Hz would be 2 pi too slow without the revolutions."""
+    speed = _parse_with("operating", "speed", text).train.operating.speed
+    assert speed == pytest.approx(rad_s, rel=1e-12)
+
+
 def test_effective_config_with_si_speed_reads_back():
     """Results files store the effective configuration (plain SI numbers, declared)."""
     gb = load("spur-19-48")

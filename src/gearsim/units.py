@@ -133,7 +133,9 @@ def to_si(value: Any, kind: str, parameter: str) -> float:
     Returns
     -------
     float
-        The value in SI units (angles in rad, speeds in rad/s).
+        The value in SI units (angles in rad, speeds in rad/s; a speed in a frequency
+        unit without an angle, such as Hz or 1/min, is read as revolutions per unit
+        time).
 
     Raises
     ------
@@ -148,6 +150,8 @@ def to_si(value: Any, kind: str, parameter: str) -> float:
     0.006
     >>> round(to_si("1900 rpm", "speed", "speed"), 4)  # 1900 x 2 pi / 60
     198.9675
+    >>> round(to_si("30 Hz", "speed", "speed"), 4)  # a shaft at 30 rev/s: 30 x 2 pi
+    188.4956
     >>> round(to_si("13 deg", "angle", "helix_angle"), 6)
     0.226893
     >>> to_si("inf mm", "length", "face_width")
@@ -189,6 +193,12 @@ def to_si(value: Any, kind: str, parameter: str) -> float:
     if not any(c.isdigit() for c in value) and q.dimensionality == target.dimensionality:
         raise InputError(parameter, value, f'is a unit without a number; write e.g. '
                          f'"{EXAMPLES[kind]}"')
+    if kind == "speed" and q.dimensionality == target.dimensionality \
+            and "radian" not in q.to_base_units().units._units:
+        # a frequency without an angle (Hz, kHz, 1/s, 1/min) is a shaft's rotation
+        # frequency in revolutions per unit time, as shaft speeds are quoted in Hz:
+        # pint reads Hz as 1/s = rad/s (the radian is dimensionless), 2 pi too small
+        q = q * registry().Quantity(1.0, "turn")
     try:
         si = float(q.to(target).magnitude)
     except pint.DimensionalityError:

@@ -104,6 +104,22 @@ def _app_for(args: list[str]) -> typer.Typer:
     return new
 
 
+#: click commands built from the apps, by verb module ("" for the whole app): typer
+#: converts an app to click on every call (~10 ms), a process calling :func:`run` many
+#: times (tests, notebooks) converts each once; a click command is reusable (each call
+#: makes its own context).
+_COMMANDS: dict[str, Any] = {}
+
+
+def _command_for(args: list[str]) -> Any:
+    """The click command that runs ``args`` (built once per verb module and process)."""
+    verb = next((a for a in args if not a.startswith("-")), None)
+    key = VERB_MODULES.get(verb or "") or ""
+    if key not in _COMMANDS:
+        _COMMANDS[key] = typer.main.get_command(_app_for(args))
+    return _COMMANDS[key]
+
+
 def __getattr__(name: str) -> Any:
     if name == "app":
         return _build_app()
@@ -274,7 +290,8 @@ def run(argv: list[str] | None = None) -> int:
         warnings.simplefilter("always", ModelRangeWarning)
         warnings.showwarning = partial(_keep_warning, seen)
         try:
-            rv = _app_for(args)(args=args, prog_name="gearsim", standalone_mode=False)
+            rv = _command_for(args).main(args=args, prog_name="gearsim",
+                                         standalone_mode=False)
         except BaseException as exc:  # noqa: BLE001  (the one error path of the CLI)
             code = _finish(exc, debug, args)
             if code != 2:  # a refusal is one line; the warnings of its checks are moot

@@ -299,8 +299,13 @@ def run_kernel(model: DynamicModel, *, dt: float, n_steps: int, rec_start: int =
                  (True, False): _kernels.integrate_rk4_contacts,
                  (False, True): _kernels.integrate_rk4_profile,
                  (True, True): _kernels.integrate_rk4_contacts_profile}[contacts, profiled]
+    # records allocated by numpy (huge pages for large arrays: fewer page faults than the
+    # kernel's own allocation, _kernels.integrate_rk4)
+    n_rec = int(n_rec)
+    rec = (np.zeros((n_rec, model.n_dof)), np.zeros((n_rec, model.n_dof)),
+           np.zeros((n_rec, model.n_mesh)))
     status, step, rq, rv, rf, q, v = integrate(
-        q0, v0, float(t0), float(dt), int(n_steps), int(rec_start), int(rec_every), int(n_rec),
+        q0, v0, float(t0), float(dt), int(n_steps), int(rec_start), int(rec_every), *rec,
         Q_LIMIT, *_kernel_args(model))
     if status != 0:
         raise SimulationError(

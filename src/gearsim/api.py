@@ -74,10 +74,10 @@ def analyze(x: Any, fs: float, *, gearbox: Gearbox | str | Path | None = None,
     values = getattr(x, "values", x)
     if gearbox is not None:
         gb = _gearbox(gearbox)
-        _, f_ref, teeth = gb.reference()
+        train = gb.analysis_train()
+        f_ref = train.pop("shaft_frequency")
         if "teeth" not in options and "stages" not in options:
-            stages = gb.analysis_stages()
-            options |= {"stages": stages} if stages is not None else {"teeth": teeth}
+            options |= train
         if "shaft_frequency" not in options and options.get("tacho") is None:
             options["shaft_frequency"] = f_ref
         options.setdefault("settings", gb.analysis)

@@ -365,3 +365,25 @@ def test_aliasing_at_the_highest_speed_is_refused_before_any_case(tmp_path):
     assert not out.exists() and not parts_dir(out).exists()
     with pytest.raises(InputError, match=r"study.dynamics.fs .*3000 rpm"):
         loads_study(study.read_text())
+
+
+def test_compound_train_duration_covers_its_slowest_shaft(capsys, tmp_path):
+    """The two-stage reducer (32/80, then 48/64) analysed with every shaft: its output
+    shaft turns at f_1 (32/80)(48/64) = 0.3 f_1, the slowest sideband spacing, so a study
+    needs 2 x (window bins) / (0.3 f_1) [s]; the simple-train reading of its teeth (shaft
+    j at f_1 32 / z_j) put the slowest at f_1 32/80 and accepted shorter records, whose
+    every case then failed in the analysis."""
+    import gearsim as gs
+    from gearsim.signals._checks import WINDOWS
+
+    gb = gs.example("two-stage-reducer")
+    f_1 = gb.reference()[1]
+    need = 2 * WINDOWS[gb.analysis.window] / (f_1 * 32 / 80 * 48 / 64)
+    old = 2 * WINDOWS[gb.analysis.window] / (f_1 * 32 / 80)
+    text = (SMALL.replace('config = "idler-table1"', 'config = "two-stage-reducer"')
+            .replace('shafts = "reference"', 'shafts = "all"')
+            .replace('duration = "0.3 s"', f'duration = "{(need + old) / 2:.4f} s"')
+            .replace('torque = ["2000 N*m", "4876 N*m"]', 'torque = ["100 N*m"]')
+            .replace('crack_depth = ["2 mm"]\n', "").replace(
+                'flank = ["none", "working", "non-working"]', 'flank = ["none"]'))
+    assert f"must be >= {need:.6g} s" in _refused(capsys, tmp_path, text)

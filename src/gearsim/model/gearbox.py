@@ -688,6 +688,36 @@ class Gearbox:
             return None  # idlers: every mesh at one mesh frequency, the simple train
         return tuple((tr.gear(a).teeth, tr.gear(b).teeth) for a, b in meshes)
 
+    def analysis_train(self, shafts: str = "all") -> dict[str, Any]:
+        """The train and speed arguments of the analysis of a record of this gearbox.
+
+        Parameters
+        ----------
+        shafts : {"all", "reference"}
+            Every stage and shaft, or the reference gear's mesh only.
+
+        Returns
+        -------
+        dict
+            ``shaft_frequency`` [Hz] of :meth:`reference`, and ``stages``
+            (:meth:`analysis_stages`, a compound train with ``shafts="all"``) or ``teeth``
+            (:meth:`reference`'s tooth counts): keywords of
+            :func:`gearsim.signals.analysis.analyze` and
+            :func:`gearsim.signals.analysis.kinematics`.
+
+        Examples
+        --------
+        >>> import gearsim as gs
+        >>> gs.example("two-stage-reducer").analysis_train()["stages"]
+        ((32, 80), (48, 64))
+        >>> gs.example("spur-19-48").analysis_train("reference")["teeth"]
+        [19]
+        """
+        _, f_ref, teeth = self.reference(shafts)
+        stages = self.analysis_stages() if shafts != "reference" else None
+        return {"shaft_frequency": f_ref,
+                **({"stages": stages} if stages is not None else {"teeth": teeth})}
+
     def at(self, *, speed: float, torque: float) -> Gearbox:
         """The gearbox at another input speed [rad/s] and torque [N m] (checked).
 

@@ -63,7 +63,7 @@ __all__ = ["DEFAULT_THRESHOLD_MPA", "DEFAULT_TOUGHNESS_MPA", "ALARM_LEVELS", "Ge
            "LifeStiffness", "equivalent_crack", "stiffness_along_life",
            "DEFAULT_NOISE", "record_duration", "operating_conditions", "life_records",
            "write_store", "record_condition", "indicator_trends", "alarm_fractions",
-           "FRACTURE_ENDS"]
+           "FRACTURE_ENDS", "sideband_feature"]
 
 #: dK_th of the default law [MPa sqrt(m)]: Barsom & Rolfe (1999, ch. 9), lower bound
 #: for steels at R < 0.1, 5.5 ksi sqrt(in).
@@ -780,15 +780,14 @@ def _record_task(box: Gearbox, duration: float, spec: str, noise: float, seeds: 
     from gearsim.signals.tsa import na4
     from gearsim.studies.sweep_case import add_noise, features
 
-    _, f_ref, teeth = box.reference()
+    train = box.analysis_train()  # every stage's mesh of a compound train
     fs = float(box.dynamics.fs)
     t1 = time.perf_counter()
     x = box.select(box.simulate(duration=duration), spec)
     seconds = time.perf_counter() - t1
     feats, residuals = [], []
     for k in range(seeds):
-        a = analyze(add_noise(x, noise, k), fs, teeth=teeth, shaft_frequency=f_ref,
-                    settings=box.analysis)
+        a = analyze(add_noise(x, noise, k), fs, settings=box.analysis, **train)
         f = features(a.to_dict())
         f["residual_kurtosis"] = na4([a.residual])
         feats.append(f)
@@ -1016,7 +1015,7 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
         "signal": spec, "noise": noise, "fs_hz": fs,
         "contact_mesh": int(gone), "dask_workers": dask_workers,
         "seconds": time.perf_counter() - t0,
-        "sideband_feature": f"sb_ser_o1_shaft{gb.train.gear_index(g.name) + 1}",
+        "sideband_feature": sideband_feature(gb, g.name),
         "ground_truth": "crack_length along the grown path; equivalent_depth/angle: the "
                         "straight crack simulated (docs/fracture.md); broken = 1: the "
                         "tooth gone after the fracture",
@@ -1047,8 +1046,45 @@ def write_store(ds: Any, path: str | Path) -> Path:
     return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf"))
 
 
+def sideband_feature(gb: Gearbox, gear: str) -> str:
+    """Name of the first-order sideband energy ratio of the shaft carrying ``gear``.
+
+    The family of the gear's own shaft around the harmonics of the gear's mesh
+    (:func:`gearsim.studies.sweep_case.features`): ``sb_ser_o1_shaft{j}`` for a simple
+    train (shaft j = gear j); for a compound train (:meth:`Gearbox.analysis_stages`) the
+    mesh of stage k joins shafts k and k + 1, its names prefixed ``stage{k}_`` for k >= 2.
+
+    Parameters
+    ----------
+    gb : Gearbox
+        A gearbox of gears (no planetary stage).
+    gear : str
+        Name of one of its gears.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> import gearsim as gs
+    >>> sideband_feature(gs.example("two-stage-reducer"), "intermediate-pinion")
+    'stage2_sb_ser_o1_shaft2'
+    >>> sideband_feature(gs.example("idler-table1"), "output")
+    'sb_ser_o1_shaft3'
+    """
+    i = gb.train.gear_index(gear)
+    if gb.analysis_stages() is None:
+        return f"sb_ser_o1_shaft{i + 1}"
+    for k, (a, b) in enumerate(gb.train.flow.meshes, start=1):
+        if gear in (a, b):
+            prefix = "" if k == 1 else f"stage{k}_"
+            return f"{prefix}sb_ser_o1_shaft{k if gear == a else k + 1}"
+    raise InputError("gear", gear, "meshes no gear of the train")
+
+
 def _sideband_name(ds: Any, shaft: str | None = None) -> str | None:
-    names = [str(n) for n in ds.data_vars if str(n).startswith("sb_ser_o1_")]
+    names = [str(n) for n in ds.data_vars if "sb_ser_o1_" in str(n)]
     want = (f"sb_ser_o1_{shaft}" if shaft is not None
             else ds.attrs.get("sideband_feature"))
     if want in names:

@@ -674,8 +674,9 @@ def check_study(study: Study) -> None:
 
     # the analysis of every case needs two revolutions of the reference shaft (TSA) and
     # 2 L window bins per sideband spacing of each analysed shaft
-    ref, f_in, teeth = slowest.reference(study.shafts)
-    kin = kinematics(shaft_frequency=f_in, teeth=teeth)
+    ref = slowest.reference(study.shafts)[0]
+    kin = kinematics(**slowest.analysis_train(study.shafts))
+    f_in = kin.reference_frequency
     window = gb.analysis.window
     need = max(2.0 / f_in, 2 * WINDOWS[window] / min(kin.shafts.values()))
     if duration < need * (1 - 1e-9):
@@ -684,9 +685,9 @@ def check_study(study: Study) -> None:
                          f"speed of the study, {min(speeds) * rpm:.6g} rpm (two revolutions of "
                          f"{ref}, {2 * WINDOWS[window]} {window} bins per sideband spacing "
                          f"of the slowest analysed shaft, {min(kin.shafts.values()):.4g} Hz)")
-    _, f_fast, teeth = fastest.reference(study.shafts)
-    kin = kinematics(shaft_frequency=f_fast, teeth=teeth)
-    f_top = n * f_fast * teeth[0] + gb.analysis.n_sidebands * max(kin.shafts.values())
+    kin = kinematics(**fastest.analysis_train(study.shafts))
+    f_mesh = max([kin.mesh_frequency, *(st.mesh_frequency for st in kin.stages)])
+    f_top = n * f_mesh + gb.analysis.n_sidebands * max(kin.shafts.values())
     if not gb.dynamics.fs > 2.0 * f_top:
         raise InputError("study.dynamics.fs", gb.dynamics.fs,
                          f"must be > {2 * f_top:.6g} Hz, twice the highest line the analysis "

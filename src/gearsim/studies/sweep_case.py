@@ -231,11 +231,8 @@ def run_group(study: Study, cases: Sequence[Case],
         gb = build_case(study, cases[0])
         fs = float(gb.dynamics.fs)
         x = gb.select(gb.simulate(), study.signal)
-        _, f_ref, teeth = gb.reference(study.shafts)
         # a compound train: every stage's mesh (unless only the reference is analysed)
-        stages = gb.analysis_stages() if study.shafts != "reference" else None
-        kwargs = {"shaft_frequency": f_ref, "settings": gb.analysis}
-        kwargs |= {"stages": stages} if stages is not None else {"teeth": teeth}
+        kwargs = gb.analysis_train(study.shafts) | {"settings": gb.analysis}
     except (InputError, SimulationError) as exc:
         return _table(study, cases, rows, ["failed"] * n, [str(exc)] * n, signals, fs)
     except Exception as exc:  # keep the study going; the message says what it was

@@ -66,3 +66,19 @@ def test_cli_refuses_a_nanometre_crack_before_any_work(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and "1e-06 m" in err[0] and "--depth" in err[0]
     assert not out.exists()
+
+
+@pytest.mark.parametrize("kw,parameter", [
+    ({"teeth": [32, 1_000_000]}, "teeth[1]"),
+    ({"teeth": [0]}, "teeth[0]"),
+    ({"stages": [(32, 80), (48, 100_000)]}, "stages[1][1]"),
+])
+def test_analysis_refuses_tooth_counts_no_gear_has(kw, parameter):
+    """A million teeth (a speed or a ratio typed where teeth go) used to be analysed:
+    mesh lines far above any record's band, every tier empty, no word."""
+    from gearsim.signals._checks import MAX_TEETH
+    from gearsim.signals.analysis import kinematics
+
+    with pytest.raises(InputError, match=parameter.replace("[", r"\[")) as err:
+        kinematics(shaft_frequency=30.0, **kw)
+    assert f"[1, {MAX_TEETH}]" in err.value.limit

@@ -130,8 +130,10 @@ def check_resolution(
             )
 
 
-def check_int(name: str, value: object, *, minimum: int, allow: tuple[int, ...] = ()) -> int:
-    """Return ``value`` as int after checking that it is a whole number >= ``minimum``.
+def check_int(name: str, value: object, *, minimum: int, allow: tuple[int, ...] = (),
+              maximum: int | None = None) -> int:
+    """Return ``value`` as int after checking that it is a whole number >= ``minimum``
+    (and <= ``maximum`` when given).
 
     Values listed in ``allow`` (e.g. ``-1`` for "no limit") are accepted as well. Booleans
     are refused (``True`` is not a count).
@@ -144,12 +146,22 @@ def check_int(name: str, value: object, *, minimum: int, allow: tuple[int, ...] 
         ok = False
     if not ok or (v < minimum and v not in allow):
         extra = "".join(f" or {a}" for a in allow)
+        if maximum is not None:
+            raise InputError(name, value, f"must be an integer in [{minimum}, {maximum}]{extra}")
         raise InputError(name, value, f"must be an integer >= {minimum}{extra}")
+    if maximum is not None and v > maximum and v not in allow:
+        raise InputError(name, value, f"must be an integer in [{minimum}, {maximum}]")
     return v
 
 
+#: Most teeth of a gear in a record's train: the bound of the gears gearsim models
+#: (``gearsim.geometry.gear.MAX_TEETH``; the largest ring and bull gears in service have
+#: a few hundred). More can only be a mistake (a speed or a ratio typed as teeth).
+MAX_TEETH = 1000
+
+
 def check_teeth(teeth: object, *, name: str = "teeth") -> tuple[int, ...]:
-    """Return the tooth counts as a tuple of ints after checking that each is >= 1.
+    """Return the tooth counts as a tuple of ints after checking each is in [1, MAX_TEETH].
 
     ``teeth`` is a sequence (reference gear first, see :mod:`gearsim.signals.analysis`);
     an empty sequence is refused.
@@ -160,7 +172,8 @@ def check_teeth(teeth: object, *, name: str = "teeth") -> tuple[int, ...]:
         raise InputError(name, teeth, "must be a list of tooth counts") from None
     if not items:
         raise InputError(name, items, "must list at least the reference gear's teeth")
-    return tuple(check_int(f"{name}[{j}]", z, minimum=1) for j, z in enumerate(items))
+    return tuple(check_int(f"{name}[{j}]", z, minimum=1, maximum=MAX_TEETH)
+                 for j, z in enumerate(items))
 
 
 def check_speed_source(

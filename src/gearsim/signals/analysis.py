@@ -184,9 +184,10 @@ def check_stages(stages: object, *, name: str = "stages") -> tuple[tuple[int, in
     Raises
     ------
     InputError
-        If ``stages`` is not a non-empty sequence of pairs of integers >= 1.
+        If ``stages`` is not a non-empty sequence of pairs of integers in
+        [1, ``MAX_TEETH``].
     """
-    from gearsim.signals._checks import check_int
+    from gearsim.signals._checks import MAX_TEETH, check_int
 
     rule = "must be a non-empty list of (driving teeth, driven teeth) pairs"
     if isinstance(stages, (str, bytes)):
@@ -205,8 +206,8 @@ def check_stages(stages: object, *, name: str = "stages") -> tuple[tuple[int, in
             zs = []
         if len(zs) != 2 or isinstance(pair, (str, bytes)):
             raise InputError(f"{name}[{k}]", pair, "must be a pair (driving teeth, driven teeth)")
-        out.append((check_int(f"{name}[{k}][0]", zs[0], minimum=1),
-                    check_int(f"{name}[{k}][1]", zs[1], minimum=1)))
+        out.append((check_int(f"{name}[{k}][0]", zs[0], minimum=1, maximum=MAX_TEETH),
+                    check_int(f"{name}[{k}][1]", zs[1], minimum=1, maximum=MAX_TEETH)))
     return tuple(out)
 
 

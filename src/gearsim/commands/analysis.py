@@ -105,52 +105,6 @@ def _stages(text: str | None, problems: list[str]) -> tuple[tuple[int, int], ...
     return tuple(pairs)
 
 
-def _restage(records: list, stages: tuple[tuple[int, int], ...] | None) -> None:
-    """Complete the gear tier of each analysed record for a compound train.
-
-    The gear tier ran as the simple train of stage 1 (its TSA, indicators and spectrum
-    need no more); :func:`gearsim.signals.analysis.restage` adds every stage's mesh
-    harmonics, sideband families and bands. ``stages`` None: the stages of a gearsim
-    result of a compound train (its configuration), when the record's tooth counts came
-    from that file. A stage refused (e.g. a record too short for its slowest shaft) is
-    a skipped tier ``gear.stages`` with the reason.
-    """
-    from gearsim.signals.analysis import restage
-    from gearsim.signals.tiers import RecordAnalysis
-
-    for rec in records:
-        if not isinstance(rec, RecordAnalysis) or getattr(rec, "analysis", None) is None:
-            continue
-        st = stages if stages is not None else (
-            _file_stages(rec.source.get("file")) if rec.teeth_provenance == "file" else None)
-        if st is None:
-            continue
-        try:
-            full = restage(rec.analysis, st)
-        except InputError as exc:
-            rec.skipped.append({"tier": "gear.stages", "reason": str(exc).splitlines()[0]})
-            continue
-        rec.analysis = full
-        rec.tiers["gear"]["analysis"] = full.to_dict()
-        rec.teeth = tuple(full.kinematics.teeth)
-
-
-def _file_stages(path: str | None) -> tuple[tuple[int, int], ...] | None:
-    """The stages of a gearsim result (NetCDF) of a compound gear train, else None."""
-    if not path or not str(path).endswith(".nc"):
-        return None
-    try:
-        import xarray as xr
-
-        from gearsim.model import loads
-
-        with xr.open_dataset(path) as ds:
-            config = ds.attrs.get("config")
-        return loads(config).analysis_stages() if isinstance(config, str) else None
-    except Exception:  # not a gearsim train result: the file's teeth as they are
-        return None
-
-
 def _speed_search(text: str | None, problems: list[str]) -> tuple[float, float] | None:
     """``LO,HI`` with an optional unit to ``(lo, hi)`` in Hz: bare numbers are Hz (the unit
     of the API); ``Hz`` (``hertz``, ``1/s``) or ``rpm`` (``r/min``, ``rev/min``,
@@ -311,7 +265,8 @@ def analyze(
     stages: Annotated[str | None, typer.Option(
         help="a compound train instead of --teeth: DRIVING/DRIVEN teeth [-] of each stage, "
              "stage 1's driving gear on the measured shaft, e.g. --stages 32/80,48/64; "
-             "every stage's mesh is analysed (in this process: no --workers)")] = None,
+             "every stage's mesh is analysed; a gearsim result of a compound train "
+             "brings its own")] = None,
     labels: Annotated[Path | None, typer.Option(
         help="CSV with columns file,label or file,channel,label: adds a separability "
              "report")] = None,
@@ -410,11 +365,6 @@ def analyze(
     if stages is not None and stage is not None:
         problems.append(f"--stage/--stages = {stage} / {stages}: give one, --stage for a "
                         "planetary stage or --stages for a parallel-shaft compound train")
-    if stages is not None and (workers > 1 or scheduler is not None):
-        problems.append(f"--stages = {stages}: runs in this process; give no --workers or "
-                        "--scheduler with it")
-    if stg is not None:
-        zs = stg[0]  # the tiers analyse stage 1 as a simple pair; _restage adds the rest
     stage_z = _stage(stage, problems)
     if stage_z is not None and shaft_rpm is None:
         problems.append(f"--stage = {stage}: needs the carrier speed --shaft-rpm (the "
@@ -452,6 +402,8 @@ def analyze(
                                "tacho": tacho, "pulses_per_rev": pulses_per_rev,
                                "speed_search": search, "teeth": zs, "settings": settings,
                                "drop_nonfinite": drop_nonfinite, "stage": stage_z}
+    if stg is not None:  # only when given: the part keys of simple batches stay the same
+        options["stages"] = stg
     with ExitStack() as stack:  # OUT's lock, from the first part to the table
         if out_path is not None:
             from gearsim.studies.sweep_run import store_lock
@@ -464,7 +416,6 @@ def analyze(
                              keep_analysis=workers == 1 and scheduler is None,
                              out=out_path, note=lambda line: typer.echo(line, err=True),
                              **options)
-        _restage(res.records, stg)  # a compound train: every stage's mesh
         res.problems[:0] = problems  # the option problems first, then those of the files
         if (baseline is not None or plot is not None) and len(res.records) > 1:
             res.problems.append(f"--baseline/--plot: need exactly one record; "
@@ -509,9 +460,6 @@ def analyze(
 
     for r in res.records:
         typer.echo(r.text() if isinstance(r, RecordAnalysis) else _text_of(r["record"]))
-        if isinstance(r, RecordAnalysis) and "gear" in r.tiers:
-            for line in _stages_text(r.tiers["gear"]["analysis"], r.units):
-                typer.echo(line)
     if rep is not None:
         typer.echo(_separability_text(rep))
     if out_path is not None:
@@ -525,24 +473,6 @@ def analyze(
                                   "none (the gear tier was skipped)"))
 
 
-def _stages_text(full: dict, units: str | None) -> list[str]:
-    """Lines of the stages after the first of a compound gear tier (stage 1's are the
-    gear tier's own lines)."""
-    u = f" {units}" if units else ""
-    lines = []
-    for st in full.get("stages", [])[1:]:
-        f = st["shaft_frequencies_hz"]
-        lines.append(f"  gear stage {st['stage']} ({st['teeth'][0]}/{st['teeth'][1]}): f_m "
-                     f"{st['mesh_frequency_hz']:.6g} Hz, shafts " + ", ".join(
-                         f"{k} {v:.5g} Hz" for k, v in f.items()))
-        for h in st["mesh_harmonics"]:
-            fams = [x for x in st["sidebands"] if x["order"] == h["order"]]
-            lines.append(f"    {h['order']} f_m {h['frequency_hz']:.6g} Hz  A "
-                         f"{h['amplitude']:.4g}{u}  SER " + "  ".join(
-                             f"{x['shaft']} {x['ser']:.3g}" for x in fams))
-    return lines
-
-
 def _text_of(d: dict) -> str:
     """Text of a record dict (records from Dask workers come back as dicts)."""
     from gearsim.signals.tiers import RecordAnalysis
@@ -552,7 +482,9 @@ def _text_of(d: dict) -> str:
                        speed_provenance=d["speed_provenance"],
                        teeth=tuple(d["teeth"]) if d["teeth"] else None,
                        teeth_provenance=d["teeth_provenance"], tiers=d["tiers"],
-                       skipped=d["skipped"], source=d["source"], units=d["units"])
+                       skipped=d["skipped"], source=d["source"], units=d["units"],
+                       stages=tuple(tuple(p) for p in d["stages"]) if d.get("stages")
+                       else None)
     return r.text()
 
 
@@ -589,6 +521,7 @@ def _one_with_baseline(path: str, baseline: Path | None, options: dict):
     rec = analyze_record(sig.data, sig.fs, speed=options["speed"], tacho=tach,
                          pulses_per_rev=options["pulses_per_rev"],
                          speed_search=options["speed_search"], teeth=options["teeth"],
+                         stages=options.get("stages"),
                          settings=options["settings"], baseline=b, baseline_tacho=bt,
                          fs_provenance="file" if sig.fs_source == "file" else "given",
                          source={"file": sig.path, "channel": sig.channel,

@@ -14,9 +14,10 @@ shaft       a sampling rate and a shaft speed      shaft frequency, shaft-order 
             estimated from the signal in a         cepstral shaft period, impact periodicity
             search range)
 gear        sampling rate, speed and tooth counts  full gear analysis (:func:`~gearsim.signals.
-                                                   analyze.analyze`: mesh harmonics, sidebands,
-                                                   STFT bands, TSA indicators), TSA of every
-                                                   gear, gear indicators, demodulation
+            (or the stages of a compound train)    analyze.analyze`: mesh harmonics, sidebands,
+                                                   STFT bands, TSA indicators; every stage's
+                                                   mesh), TSA of every further gear, gear
+                                                   indicators, demodulation
 ==========  =====================================  ===========================================
 
 :func:`analyze_record` computes every tier its inputs allow and lists the others in
@@ -60,6 +61,7 @@ __all__ = [
     "TIERS",
     "RecordAnalysis",
     "analyze_record",
+    "stage_features",
     "statistics",
 ]
 
@@ -195,6 +197,10 @@ class RecordAnalysis:
         figures), if computed.
     timings : dict
         Wall-clock time per tier [s].
+    stages : tuple of (int, int) or None
+        A compound train: ``(driving teeth, driven teeth)`` of each stage in power-flow
+        order (:func:`gearsim.signals.analysis.kinematics`); ``teeth`` then lists the
+        stages' pairs in order. None for a simple train.
     """
 
     n_samples: int
@@ -210,6 +216,7 @@ class RecordAnalysis:
     units: str | None = None
     analysis: Any = None
     timings: dict[str, float] = field(default_factory=dict)
+    stages: tuple[tuple[int, int], ...] | None = None
 
     @property
     def frequency_unit(self) -> str:
@@ -220,7 +227,9 @@ class RecordAnalysis:
         """Flat indicators of the record: name to ``(value, unit)``, for tables.
 
         Amplitudes are in ``signal`` units (the ``units`` of the record); frequencies in
-        Hz, or in cycles per sample when the name ends in ``_cps``.
+        Hz, or in cycles per sample when the name ends in ``_cps``. A compound train's
+        gear tier gives stage 1's lines under the simple-train names and every further
+        stage ``k`` as ``stage{k}_mesh_frequency_hz`` and the :func:`stage_features`.
 
         Returns
         -------
@@ -270,6 +279,9 @@ class RecordAnalysis:
             for k in ("fm0", "fm4", "na4", "m6a", "m8a"):
                 out[k] = (full["tsa"].get(k), "1")
             out["impact_period_ratio"] = (full["impacts"].get("period_ratio_to_T1"), "1")
+            for st in full.get("stages", [])[1:]:
+                out[f"stage{st['stage']}_mesh_frequency_hz"] = (st["mesh_frequency_hz"], "Hz")
+            out |= stage_features(full)
             for gear in g.get("gears", []):
                 for k in ("fm0", "fm4", "m6a", "m8a"):
                     if gear.get(k) is not None:
@@ -301,8 +313,9 @@ class RecordAnalysis:
         -------
         dict
             ``source``, ``n_samples``, ``fs_hz`` and its provenance, ``speed_hz``,
-            ``speed_rpm`` and provenance, ``teeth`` and provenance, ``frequency_unit``,
-            ``tiers``, ``skipped``, ``timings_s``.
+            ``speed_rpm`` and provenance, ``teeth`` and provenance (with ``stages``, the
+            ``[driving, driven]`` teeth of each stage, for a compound train),
+            ``frequency_unit``, ``tiers``, ``skipped``, ``timings_s``.
         """
         return {
             "source": dict(self.source), "units": self.units, "n_samples": self.n_samples,
@@ -313,6 +326,7 @@ class RecordAnalysis:
             "speed_provenance": self.speed_provenance,
             "teeth": list(self.teeth) if self.teeth else None,
             "teeth_provenance": self.teeth_provenance,
+            **({"stages": [list(p) for p in self.stages]} if self.stages else {}),
             "frequency_unit": self.frequency_unit,
             "tiers": self.tiers, "skipped": list(self.skipped),
             "timings_s": dict(self.timings),
@@ -336,7 +350,10 @@ class RecordAnalysis:
         if self.speed is not None:
             rests.append(f"speed {60 * self.speed:.6g} rpm = {self.speed:.6g} Hz "
                          f"({self.speed_provenance})")
-        if self.teeth:
+        if self.stages:
+            rests.append("stages " + ", ".join(f"{d}/{n}" for d, n in self.stages)
+                         + f" ({self.teeth_provenance})")
+        elif self.teeth:
             rests.append(f"teeth {', '.join(map(str, self.teeth))} ({self.teeth_provenance})")
         lines.append("  rests on: " + "; ".join(rests))
         st = self.tiers.get("statistics")
@@ -386,13 +403,18 @@ class RecordAnalysis:
         if g_:
             r = g_["rests_on"]
             full = g_["analysis"]
+            stages = full.get("stages", [])
+            first = (f" (stage 1, {stages[0]['teeth'][0]}/{stages[0]['teeth'][1]})"
+                     if stages else "")
             lines.append(f"  gear [teeth {r['teeth']}, speed {r['speed']}, fs {r['fs']}]: "
-                         f"f_m {full['train']['mesh_frequency_hz']:.6g} Hz")
-            for h in full["mesh_harmonics"]:
-                fams = [f for f in full["sidebands"] if f["order"] == h["order"]]
-                lines.append(f"    {h['order']} f_m {h['frequency_hz']:.6g} Hz  A "
-                             f"{h['amplitude']:.4g}{u}  SER " + "  ".join(
-                                 f"{f['shaft']} {f['ser']:.3g}" for f in fams))
+                         f"f_m {full['train']['mesh_frequency_hz']:.6g} Hz{first}")
+            lines += _harmonic_lines(full["mesh_harmonics"], full["sidebands"], u, "    ")
+            for st in stages[1:]:  # a compound train: a line per further stage
+                lines.append(f"    gear stage {st['stage']} ({st['teeth'][0]}/"
+                             f"{st['teeth'][1]}): f_m {st['mesh_frequency_hz']:.6g} Hz, "
+                             "shafts " + ", ".join(f"{k} {v:.5g} Hz" for k, v in
+                                                   st["shaft_frequencies_hz"].items()))
+                lines += _harmonic_lines(st["mesh_harmonics"], st["sidebands"], u, "      ")
             t = full["tsa"]
             lines.append(f"    TSA ({t['n_averages']} revs): FM0 {t['fm0']:.4g}  FM4 "
                          f"{t['fm4']:.4g}  NA4 {t['na4']:.4g}  M6A {t['m6a']:.4g}  M8A "
@@ -442,6 +464,59 @@ class RecordAnalysis:
         for s in self.skipped:
             lines.append(f"  skipped {s['tier']}: {s['reason']}")
         return "\n".join(lines)
+
+
+def _harmonic_lines(harmonics: list[dict], sidebands: list[dict], u: str,
+                    indent: str) -> list[str]:
+    """Text lines of mesh harmonics (``to_dict`` rows) with the SER of each family."""
+    lines = []
+    for h in harmonics:
+        fams = [f for f in sidebands if f["order"] == h["order"]]
+        lines.append(f"{indent}{h['order']} f_m {h['frequency_hz']:.6g} Hz  A "
+                     f"{h['amplitude']:.4g}{u}  SER " + "  ".join(
+                         f"{f['shaft']} {_fmt(f['ser'], '.3g')}" for f in fams))
+    return lines
+
+
+def stage_features(summary: dict) -> dict[str, tuple[Any, str]]:
+    """Features of the stages after the first of a compound-train analysis.
+
+    Stage 1 of a compound train is the reference gear's mesh, whose features keep the
+    simple-train names; every further stage ``k`` is named with the prefix
+    ``stage{k}_``. One flattening for the batch table
+    (:meth:`RecordAnalysis.features`) and the study features
+    (:func:`gearsim.studies.sweep_case.features`).
+
+    Parameters
+    ----------
+    summary : dict
+        :meth:`gearsim.signals.analysis.Analysis.to_dict` of an analysis (a simple train
+        has no ``stages`` and gives no feature).
+
+    Returns
+    -------
+    dict of str to tuple
+        Name to ``(value or None, unit)``: ``stage{k}_mesh_amplitude_o{n}`` (signal units),
+        ``stage{k}_sb_{ser,cv,flatness}_o{n}_{shaft}`` of the stage's two shafts (1),
+        ``stage{k}_band_energy_o{n}`` (mean-square value in the STFT band, signal units
+        squared), ``stage{k}_band_cv_o{n}`` (1) and ``stage{k}_band_modulation_o{n}`` (1,
+        modulation at the stage's driving shaft).
+    """
+    out: dict[str, tuple[Any, str]] = {}
+    for st in summary.get("stages", []):
+        if st["stage"] == 1:  # the simple-train names
+            continue
+        p = f"stage{st['stage']}_"
+        for h in st["mesh_harmonics"]:
+            out[f"{p}mesh_amplitude_o{h['order']}"] = (h["amplitude"], "signal")
+        for f in st["sidebands"]:
+            for k in ("ser", "cv", "flatness"):
+                out[f"{p}sb_{k}_o{f['order']}_{f['shaft']}"] = (f[k], "1")
+        for b in st["bands"]:
+            out[f"{p}band_energy_o{b['order']}"] = (b["energy_mean"], "signal^2")
+            out[f"{p}band_cv_o{b['order']}"] = (b["energy_cv"], "1")
+            out[f"{p}band_modulation_o{b['order']}"] = (b["modulation_at_driving_shaft"], "1")
+    return out
 
 
 def _hann_amplitude(a: np.ndarray) -> np.ndarray:
@@ -663,7 +738,12 @@ def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
 
 
 def _gear_tier(a, fs, f_r, teeth, pulses_tacho, settings, rests, skipped,
-               baseline, baseline_tacho) -> tuple[dict | None, Any]:
+               baseline, baseline_tacho, stages=None) -> tuple[dict | None, Any]:
+    """The gear tier: :func:`~gearsim.signals.analysis.analyze` of the simple train
+    ``teeth`` or the compound train ``stages`` (every stage's mesh in one analysis),
+    and the TSA of the gear on every further shaft. A compound analysis refused for a
+    stage after the first (e.g. a record too short for the slowest shaft's sidebands)
+    falls back to stage 1's pair, with the reason as the skipped tier ``gear.stages``."""
     from gearsim.signals.analysis import analyze
 
     kw: dict[str, Any] = {"settings": settings}
@@ -673,28 +753,37 @@ def _gear_tier(a, fs, f_r, teeth, pulses_tacho, settings, rests, skipped,
             kw["baseline_tacho"] = baseline_tacho
     else:
         kw["shaft_frequency"] = f_r
+    train = {"stages": stages} if stages else {"teeth": teeth}
     try:
-        full = analyze(a, fs, teeth=teeth, baseline=baseline, **kw)
+        try:
+            full = analyze(a, fs, baseline=baseline, **train, **kw)
+        except InputError as exc:
+            if not stages or exc.parameter.startswith(("analysis.", "settings")):
+                raise
+            full = analyze(a, fs, teeth=stages[0], baseline=baseline, **kw)
+            skipped.append({"tier": "gear.stages", "reason": _first_line(exc)})
     except InputError as exc:
         if exc.parameter.startswith(("analysis.", "settings")):
             raise
         skipped.append({"tier": "gear", "reason": _first_line(exc)})
         return None, None
     out: dict[str, Any] = {"rests_on": rests, "analysis": full.to_dict()}
-    # TSA of every other gear, at its own shaft frequency
+    # TSA of the gear on every further shaft, at its shaft frequency: a simple train's
+    # gear j on shaft j; a compound train's driven gear of stage k on shaft k + 1
     from gearsim.signals.analysis import _samples_per_rev
     from gearsim.signals.tsa import condition_indicators, tsa
 
     gears = []
     kin = full.kinematics
-    for j, z in enumerate(teeth[1:], start=2):
-        f_j = kin.shafts[f"shaft{j}"]
-        row: dict[str, Any] = {"shaft": f"shaft{j}", "teeth": int(z),
-                               "shaft_frequency_hz": f_j}
+    further = ([(st.shafts[1], st.teeth[1]) for st in kin.stages] if kin.compound else
+               [(f"shaft{j}", z) for j, z in enumerate(kin.teeth[1:], start=2)])
+    for label, z in further:
+        f_j = kin.shafts[label]
+        row: dict[str, Any] = {"shaft": label, "teeth": int(z), "shaft_frequency_hz": f_j}
         if a.size / fs < MIN_REVOLUTIONS / f_j:
-            skipped.append({"tier": f"gear.tsa.shaft{j}", "reason": f"record "
+            skipped.append({"tier": f"gear.tsa.{label}", "reason": f"record "
                             f"{a.size / fs:.4g} s shorter than {MIN_REVOLUTIONS:g} "
-                            f"revolutions of shaft{j} ({MIN_REVOLUTIONS / f_j:.4g} s)"})
+                            f"revolutions of {label} ({MIN_REVOLUTIONS / f_j:.4g} s)"})
             continue
         try:
             t = tsa(a, fs, samples_per_rev=_samples_per_rev(fs, f_j), shaft_frequency=f_j)
@@ -702,7 +791,7 @@ def _gear_tier(a, fs, f_r, teeth, pulses_tacho, settings, rests, skipped,
                                              shaft_harmonics=full.options["shaft_harmonics"],
                                              sideband_orders=full.options["sideband_orders"])
         except InputError as exc:
-            skipped.append({"tier": f"gear.tsa.shaft{j}", "reason": _first_line(exc)})
+            skipped.append({"tier": f"gear.tsa.{label}", "reason": _first_line(exc)})
             continue
         row |= {"n_averages": ind.n_averages, "fm0": _f(ind.fm0), "fm4": _f(ind.fm4),
                 "m6a": _f(ind.m6a), "m8a": _f(ind.m8a)}
@@ -795,6 +884,7 @@ def analyze_record(
     pulses_per_rev: int = 1,
     speed_search: tuple[float, float] | None = None,
     teeth: Sequence[int] | None = None,
+    stages: Sequence[tuple[int, int]] | None = None,
     settings: Any = None,
     baseline: np.ndarray | None = None,
     baseline_tacho: np.ndarray | None = None,
@@ -829,6 +919,12 @@ def analyze_record(
         no ``teeth`` are given.
     teeth : sequence of int, optional
         Tooth counts, gear on the measured shaft first; enables the gear tier.
+    stages : sequence of (int, int), optional
+        A compound train instead of ``teeth``: ``(driving teeth, driven teeth)`` of each
+        stage in power-flow order, stage 1's driving gear on the measured shaft
+        (:func:`gearsim.signals.analysis.kinematics`). The gear tier analyses every
+        stage's mesh in one :func:`~gearsim.signals.analysis.analyze` call and the TSA of
+        each stage's driven gear on its shaft; ``teeth_provenance`` applies to them.
     settings : AnalysisSettings, optional
         Options of the gear tier (:class:`gearsim.signals.settings.AnalysisSettings`);
         ``remove_mean`` also applies to the statistics.
@@ -859,7 +955,8 @@ def analyze_record(
     ------
     InputError
         An unusable signal (fewer than 2 samples, non-finite), an invalid ``fs``,
-        ``speed``, ``teeth``, ``pulses_per_rev``, ``speed_search`` (also one the record
+        ``speed``, ``teeth`` or ``stages`` (or both given), ``pulses_per_rev``,
+        ``speed_search`` (also one the record
         cannot resolve: too short, or too close to Nyquist) or provenance, more than one
         speed source, a tacho of another length, or invalid settings.
     """
@@ -879,7 +976,17 @@ def analyze_record(
         from gearsim.signals.speed import check_speed_search
 
         speed_search = check_speed_search(a.size, fs, speed_search, name="speed_search")
-    zs = check_teeth(teeth) if teeth is not None else None
+    pairs = None
+    if stages is not None:
+        from gearsim.signals.analysis import check_stages
+
+        if teeth is not None:
+            raise InputError("teeth/stages", "both", "give at most one: teeth for a simple "
+                             "train, stages for a compound one")
+        pairs = check_stages(stages)
+        zs = tuple(z for p in pairs for z in p)  # the reference gear first, as teeth
+    else:
+        zs = check_teeth(teeth) if teeth is not None else None
     if settings is not None:
         from gearsim.signals.settings import AnalysisSettings
 
@@ -907,7 +1014,8 @@ def analyze_record(
 
     rec = RecordAnalysis(n_samples=int(a.size), fs=fs, fs_provenance=prov_fs if fs else None,
                          speed=None, speed_provenance=None, teeth=zs,
-                         teeth_provenance=prov_teeth, source=dict(source or {}), units=units)
+                         teeth_provenance=prov_teeth, source=dict(source or {}), units=units,
+                         stages=pairs)
     skipped = rec.skipped
     skipped.extend(early_skips)
     if estimates:
@@ -1015,10 +1123,12 @@ def analyze_record(
 
                 settings = dataclasses.replace(settings, pulses_per_rev=ppr)
             g, full = _gear_tier(a, fs, f_r, zs, pulses_tacho, settings, rests, skipped,
-                                 baseline, baseline_tacho)
+                                 baseline, baseline_tacho, stages=pairs)
             if g is not None:
                 rec.tiers["gear"] = g
                 rec.analysis = full
+                if pairs and not full.kinematics.compound:  # stage 1 only (gear.stages)
+                    rec.teeth, rec.stages = tuple(full.kinematics.teeth), None
     rec.timings["gear"] = time.perf_counter() - t0
     if stage is not None:
         t0 = time.perf_counter()

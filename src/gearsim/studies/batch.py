@@ -48,6 +48,7 @@ __all__ = [
     "Batch",
     "analyze_file",
     "expand_inputs",
+    "file_stages",
     "labels_from_csv",
     "labels_from_pattern",
     "part_key",
@@ -224,6 +225,7 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
                  teeth: Sequence[int] | None = None, settings: Any = None,
                  drop_nonfinite: bool = False, keep_analysis: bool = False,
                  stage: Sequence[int] | None = None,
+                 stages: Sequence[tuple[int, int]] | None = None,
                  ) -> tuple[list[Any], list[str]]:
     """Read one file and analyse each of its channels (a Dask task of :func:`run_batch`).
 
@@ -258,6 +260,12 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
         ``(z_sun, z_planet, z_ring, planets)`` of a planetary stage with the ring held;
         the measured shaft (``speed``, ``tacho``) is then the carrier. A gearsim stage
         result (NetCDF) brings its own stage and carrier speed, used when this is None.
+    stages : sequence of (int, int), optional
+        A compound train instead of ``teeth``: ``(driving teeth, driven teeth)`` of each
+        stage, stage 1's driving gear on the measured shaft; every stage's mesh is
+        analysed in the gear tier (:func:`~gearsim.signals.tiers.analyze_record`). A
+        gearsim result of a compound train brings its own (:func:`file_stages`), used
+        when neither ``teeth`` nor ``stages`` is given.
 
     Returns
     -------
@@ -274,10 +282,17 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
     except InputError as exc:
         return [], [_problem(path, exc)]
     out, problems = [], []
+    # a gearsim result brings its tooth counts, and a compound train's its stages
+    own = teeth is None and stages is None and any(ch.get("teeth") for ch in chans)
+    own_stages = file_stages(path) if own else None
     for ch in chans:
         file_rpm = ch.get("rpm") if speed is None and tacho is None and speed_search is None \
             else None
-        file_teeth = ch.get("teeth") if teeth is None else None
+        file_teeth = ch.get("teeth") if own else None
+        if file_teeth:
+            train = {"stages": own_stages} if own_stages else {"teeth": file_teeth}
+        else:
+            train = {"stages": stages} if stages is not None else {"teeth": teeth}
         src = {"file": path, "channel": ch["channel"]}
         if ch.get("dropped"):
             src["dropped"] = ch["dropped"]
@@ -287,7 +302,7 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
                 ch["data"], ch["fs"], speed=file_rpm / 60.0 if file_rpm else speed,
                 speed_provenance="file" if file_rpm else None, tacho=ch["tacho"],
                 pulses_per_rev=pulses_per_rev, speed_search=speed_search,
-                teeth=file_teeth or teeth, teeth_provenance="file" if file_teeth else None,
+                **train, teeth_provenance="file" if file_teeth else None,
                 settings=settings, fs_provenance=ch["fs_source"],
                 source=src, units=ch["units"], stage=spec,
             )
@@ -298,6 +313,52 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
             rec = {"record": rec.to_dict(), "features": rec.features()}
         out.append(rec)
     return out, problems
+
+
+def file_stages(path: str | Path) -> tuple[tuple[int, int], ...] | None:
+    """The stages of a gearsim result (NetCDF) of a compound gear train, else None.
+
+    Read from the result's ``analysis_stages`` attribute (``"32/80,48/64"``, written by
+    :func:`gearsim.dynamics.simulate`), or for a result written before that attribute,
+    from its stored configuration (:meth:`gearsim.model.Gearbox.analysis_stages`).
+
+    Parameters
+    ----------
+    path : str or Path
+        The result file.
+
+    Returns
+    -------
+    tuple of (int, int) or None
+        ``(driving teeth, driven teeth)`` of each stage; None for a simple train, a
+        planetary stage or a file that is not a readable gearsim train result (its
+        tooth counts are then analysed as a simple train).
+    """
+    try:
+        import xarray as xr
+
+        with xr.open_dataset(path) as ds:
+            attrs = dict(ds.attrs)
+    except Exception:  # not a NetCDF file xarray opens: no stages
+        return None
+    text = attrs.get("analysis_stages")
+    if isinstance(text, str):
+        from gearsim.signals.analysis import check_stages
+
+        try:
+            return check_stages([tuple(int(z) for z in st.split("/"))
+                                 for st in text.split(",")], name="analysis_stages")
+        except (ValueError, InputError):
+            return None
+    config = attrs.get("config")
+    if not isinstance(config, str):
+        return None
+    from gearsim.model import loads
+
+    try:
+        return loads(config).analysis_stages()
+    except Exception:  # a configuration this version cannot read: the teeth as they are
+        return None
 
 
 def _stage_spec(stage: Sequence[int] | None, ch: dict, speed: float | None):
@@ -779,7 +840,8 @@ def run_batch(files: Sequence[str | Path], *, channels: Sequence[str] | None = N
               fs: float | None = None, fmt: str | None = None, speed: float | None = None,
               tacho: str | None = None, pulses_per_rev: int = 1,
               speed_search: tuple[float, float] | None = None,
-              teeth: Sequence[int] | None = None, settings: Any = None,
+              teeth: Sequence[int] | None = None,
+              stages: Sequence[tuple[int, int]] | None = None, settings: Any = None,
               drop_nonfinite: bool = False, labels: Mapping | str | Path | None = None,
               label_pattern: str | None = None, workers: int = 1,
               scheduler: str | None = None,
@@ -810,6 +872,10 @@ def run_batch(files: Sequence[str | Path], *, channels: Sequence[str] | None = N
         ``(low, high)`` [Hz]: estimate the speed from each record.
     teeth : sequence of int, optional
         Tooth counts, gear on the measured shaft first.
+    stages : sequence of (int, int), optional
+        A compound train instead of ``teeth``: ``(driving teeth, driven teeth)`` of each
+        stage (:func:`analyze_file`); the records are analysed with them in this process
+        and on Dask workers alike.
     settings : AnalysisSettings, optional
         Options of the gear tier.
     drop_nonfinite : bool
@@ -862,7 +928,9 @@ def run_batch(files: Sequence[str | Path], *, channels: Sequence[str] | None = N
                         hook=hook, note=progress, channels=channels, fs=fs, fmt=fmt,
                         speed=speed, tacho=tacho, pulses_per_rev=pulses_per_rev,
                         speed_search=speed_search, teeth=teeth, settings=settings,
-                        drop_nonfinite=drop_nonfinite)
+                        drop_nonfinite=drop_nonfinite,
+                        # only when given: the part keys of simple batches stay as they were
+                        **({"stages": stages} if stages is not None else {}))
         batch.problems[:0] = problems
         batch.raise_problems()
         ds = records_table(batch.records, batch.labels if lab else None)

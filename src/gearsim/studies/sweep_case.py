@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -22,6 +23,7 @@ from gearsim.errors import InputError, SimulationError
 from gearsim.model import Gearbox, loads
 from gearsim.model.variants import fault_variant
 from gearsim.signals import analyze
+from gearsim.signals.tiers import stage_features
 from gearsim.studies.sweep import PARAMETERS, Case, Study
 
 __all__ = ["FEATURE_GROUPS", "add_noise", "build_case", "features", "run_group"]
@@ -34,6 +36,13 @@ PARAM_UNITS = {"crack_depth": "m", "speed": "rad/s", "torque": "N*m",
                "replicate": "", "fault": "", "severity": "1"}
 #: Parameters stored only for studies that vary the fault class.
 FAULT_PARAMETERS = ("fault", "severity")
+
+
+@lru_cache(maxsize=8)
+def _base(config_text: str) -> Gearbox:
+    """The study's base gearbox, parsed once per process (a frozen value; every case
+    derives its own by :meth:`~gearsim.model.Gearbox.at`, ``with_crack``, ``replace``)."""
+    return loads(config_text)
 
 
 def build_case(study: Study, case: Case) -> Gearbox:
@@ -65,7 +74,7 @@ def build_case(study: Study, case: Case) -> Gearbox:
     InputError
         If the crack does not fit its tooth or a setting is out of range.
     """
-    gb = loads(study.config_text).at(speed=case.speed, torque=case.torque)
+    gb = _base(study.config_text).at(speed=case.speed, torque=case.torque)
     if case.fault is None:
         depth = None if case.flank == "none" else case.crack_depth
         gb = gb.with_crack(case.flank, depth=depth, closure=case.closure)
@@ -129,7 +138,8 @@ def features(summary: dict) -> dict[str, float]:
     prefix ``stage{k}_``: ``stage{k}_mesh_amplitude_o{n}``,
     ``stage{k}_sb_{ser,cv,flatness}_o{n}_{shaft}`` (the stage's two shafts) and
     ``stage{k}_band_{energy,cv,modulation}_o{n}`` (modulation at the stage's driving
-    shaft).
+    shaft), as :func:`gearsim.signals.tiers.stage_features` names them for the batch
+    table too.
 
     Parameters
     ----------
@@ -155,19 +165,8 @@ def features(summary: dict) -> dict[str, float]:
         out[f"band_modulation_o{b['order']}"] = _num(b["modulation_at_fr1"])
     for k in ("fm0", "fm4", "na4", "m6a", "m8a"):
         out[f"tsa_{k}"] = _num(summary["tsa"][k])
-    for st in summary.get("stages", []):
-        if st["stage"] == 1:  # the names above
-            continue
-        p = f"stage{st['stage']}_"
-        for h in st["mesh_harmonics"]:
-            out[f"{p}mesh_amplitude_o{h['order']}"] = _num(h["amplitude"])
-        for f in st["sidebands"]:
-            for k in ("ser", "cv", "flatness"):
-                out[f"{p}sb_{k}_o{f['order']}_{f['shaft']}"] = _num(f[k])
-        for b in st["bands"]:
-            out[f"{p}band_energy_o{b['order']}"] = _num(b["energy_mean"])
-            out[f"{p}band_cv_o{b['order']}"] = _num(b["energy_cv"])
-            out[f"{p}band_modulation_o{b['order']}"] = _num(b["modulation_at_driving_shaft"])
+    # the further stages of a compound train, flattened as in the batch table
+    out |= {k: _num(v) for k, (v, _) in stage_features(summary).items()}
     return out
 
 

@@ -675,18 +675,9 @@ class Gearbox:
         """
         if self.stage is not None or self.train is None:
             return None
-        tr = self.train
-        flow = tr.flow
-        meshes = flow.meshes
-        if not meshes or flow.shaft_of[meshes[0][0]] != 0:
-            return None
-        for (_, driven), (driver, _) in zip(meshes, meshes[1:], strict=False):
-            if flow.shaft_of[driver] != flow.shaft_of[driven]:
-                return None  # not one serial path
-        if all(driver == driven for (_, driven), (driver, _) in
-               zip(meshes, meshes[1:], strict=False)):
-            return None  # idlers: every mesh at one mesh frequency, the simple train
-        return tuple((tr.gear(a).teeth, tr.gear(b).teeth) for a, b in meshes)
+        from gearsim.dynamics.simulate import compound_stages
+
+        return compound_stages(self.train)  # the rule the results' attribute follows
 
     def analysis_train(self, shafts: str = "all") -> dict[str, Any]:
         """The train and speed arguments of the analysis of a record of this gearbox.

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -203,7 +204,7 @@ def crack_geometry(profile: ToothProfile, crack: Crack, depth: float | None = No
     """
     gear = profile.gear
     if crack.start_radius is None:
-        g, _ = profile.tangent_point()
+        g = _tangent_param(profile)
     else:
         g = profile.fillet_param_at_radius(crack.start_radius)
     xs, ys = profile.fillet_point(g)
@@ -217,6 +218,24 @@ def crack_geometry(profile: ToothProfile, crack: Crack, depth: float | None = No
     xt = xs - q * math.sin(crack.angle)
     yt = ys - q * math.cos(crack.angle)
     return CrackGeometry(start=(xs, ys), tip=(xt, yt), max_depth=q_max)
+
+
+@lru_cache(maxsize=64)
+def _tangent_param(profile: ToothProfile) -> float:
+    """Rack-round angle of the 30 deg tangent point (:meth:`ToothProfile.tangent_point`).
+
+    The default crack start of every crack on this outline, whatever its depth: computed
+    once per outline (a frozen value) and process, not once per section and case.
+    """
+    return profile.tangent_point()[0]
+
+
+@lru_cache(maxsize=64)
+def _outline(profile: ToothProfile) -> np.ndarray:
+    """``profile.outline(400, 400)`` (read-only), computed once per outline and process."""
+    pts = profile.outline(400, 400)
+    pts.flags.writeable = False
+    return pts
 
 
 def _locate(profile: ToothProfile, y: float) -> tuple[int, float]:
@@ -266,7 +285,7 @@ def crack_record(profile: ToothProfile, crack: Crack, depth: float, side: int) -
     xt, yt = geo.tip
     y_lo = max(yt, profile.root_height)
     # g_c: first height above the tip where the outline half width falls to h_c
-    pts = profile.outline(400, 400)
+    pts = _outline(profile)
     above = pts[:, 1] > y_lo
     idx = np.nonzero(above & (pts[:, 0] <= xt))[0]
     if idx.size == 0:

@@ -470,17 +470,27 @@ def assemble_revolution(teeth: tuple[int, int], z_rev: int, npc: int,
     t2 = np.zeros((n_pos, n_age), dtype=np.int64)
     with np.errstate(divide="ignore", invalid="ignore"):
         inv_w = np.where(width > 0, 1.0 / width, 0.0)
+    # a cycle's result depends only on which tables its pairs use (healthy or a cracked
+    # tooth's): the cycles whose teeth are all healthy are computed once and copied
+    done: dict[tuple, slice] = {}
     for c in range(z_rev):
         sl = slice(c * npc, (c + 1) * npc)
+        i1 = [(c - m) % teeth[0] for m in range(n_age)]
+        i2 = [(c - m) % teeth[1] for m in range(n_age)]
+        t1[sl] = i1
+        t2[sl] = i2
+        key = (tuple(i if i in cracked[0] else -1 for i in i1),
+               tuple(i if i in cracked[1] else -1 for i in i2))
+        if key in done:
+            src = done[key]
+            k[sl], pair_k[sl], comp[sl] = k[src], pair_k[src], comp[src]
+            continue
+        done[key] = sl
         c1 = np.empty(healthy[0].shape)
         c2 = np.empty(healthy[1].shape)
         for m in range(n_age):
-            i1 = (c - m) % teeth[0]
-            i2 = (c - m) % teeth[1]
-            t1[sl, m] = i1
-            t2[sl, m] = i2
-            c1[:, m] = cracked[0].get(i1, healthy[0])[:, m]
-            c2[:, m] = cracked[1].get(i2, healthy[1])[:, m]
+            c1[:, m] = cracked[0].get(i1[m], healthy[0])[:, m]
+            c2[:, m] = cracked[1].get(i2[m], healthy[1])[:, m]
         ks, chs = pairs(c1.sum(-1) + c2.sum(-1))
         kt = ks.sum(axis=(1, 2))
         k[sl] = kt

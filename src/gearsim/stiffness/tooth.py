@@ -387,14 +387,51 @@ class ToothModel:
             Compliances [m/N] (seed eqs. 4-7), each 1/k for the given width.
         """
         r = np.ascontiguousarray(np.atleast_1d(radii), dtype=float)
-        cr = _broadcast_records(crack_records, r.shape[0])
+        if crack_records is None:  # a healthy tooth: the same for every case of a study
+            return _healthy_compliance(self, r.tobytes()) / width
+        return self._batch(r, _broadcast_records(crack_records, r.shape[0])) / width
+
+    def _batch(self, r: np.ndarray, records: np.ndarray) -> np.ndarray:
+        """The compiled kernel at radii ``r`` (n,) with crack records (n, C_SIZE), L = 1 m."""
         e, g = self.beam_moduli
         nodes, weights = gauss_rule(self.gauss_points)
         out = np.empty((r.shape[0], 4))
-        K.tooth_compliance_batch(self.profile.packed, r, cr, self.model_code, e, g,
+        K.tooth_compliance_batch(self.profile.packed, r, records, self.model_code, e, g,
                                  self.gear.material.youngs_modulus, self.sainsot, nodes,
                                  weights, out)
-        return out / width
+        return out
+
+
+#: Healthy-tooth compliance tables kept per process (:func:`_healthy_compliance`).
+HEALTHY_CACHE_SIZE = 32
+
+
+@lru_cache(maxsize=HEALTHY_CACHE_SIZE)
+def _healthy_compliance(model: ToothModel, radii: bytes) -> np.ndarray:
+    """Compliances of the healthy tooth of ``model`` at the radii packed in ``radii``.
+
+    The cases of a study crack one gear at different depths; the healthy teeth of every
+    gear (and of the cracked gear) load at the same radii in each case, so their tables
+    are computed once per process. The key is the model's value (gear, plane, quadrature,
+    closure, all frozen) and the radii's bytes; the array is read-only (callers get
+    ``table / width``, a new array).
+
+    Parameters
+    ----------
+    model : ToothModel
+        The tooth.
+    radii : bytes
+        ``float64`` contact radii [m] (``ndarray.tobytes()``).
+
+    Returns
+    -------
+    ndarray, shape (n, 4)
+        As :meth:`ToothModel.compliance` with ``width = 1``.
+    """
+    r = np.frombuffer(radii, dtype=float).copy()  # writeable: the kernel's compiled signature
+    out = model._batch(r, np.zeros((r.shape[0], K.C_SIZE)))
+    out.flags.writeable = False
+    return out
 
 
 def _broadcast_records(records: np.ndarray | None, n: int) -> np.ndarray:

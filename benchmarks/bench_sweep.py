@@ -61,13 +61,22 @@ def warm_up() -> None:
 
 
 def forget_tables() -> None:
-    """Empty this process's in-memory table caches, so that every configuration computes
-    its cases' tables (as a fresh worker would), not the serial loop alone."""
+    """Empty this process's in-memory caches of what the cases share (mesh tables, the
+    healthy teeth's compliances, the crack start and outline, the parsed base gearbox,
+    the spectrum's window), so that every configuration computes them (as a fresh worker
+    would), not the serial loop alone."""
     import gearsim.dynamics.tables as dt
+    import gearsim.signals.spectrum as sp
+    import gearsim.stiffness.crack as cr
+    import gearsim.stiffness.tooth as to
+    import gearsim.studies.sweep_case as sc
     import gearsim.system.train as tm
 
     tm._TABLES.clear()
     dt._DERIVATIVES.clear()
+    for cache in (to._healthy_compliance, cr._tangent_param, cr._outline, sc._base,
+                  sp._cached_window):
+        cache.cache_clear()
 
 
 def main() -> None:

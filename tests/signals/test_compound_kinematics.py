@@ -284,10 +284,14 @@ def record_csv(tmp_path_factory):
 
 @pytest.mark.parametrize(("value", "pattern"), [
     ("32/80,48", "--stages = 32/80,48: stage 2 (48) is not DRIVING/DRIVEN"),
-    ("32/0,48/64", "--stages = 32/0,48/64: stage 1 (32/0): tooth counts must be integers >= 1"),
+    ("32/0,48/64", "--stages = 32/0,48/64: stage 1 (32/0): tooth counts must be integers in "
+                   "[1, 1000]"),
     ("32/80,-48/64", "--stages = 32/80,-48/64: stage 2 (-48/64): tooth counts must be "
-                     "integers >= 1"),
-    ("32.5/80", "--stages = 32.5/80: stage 1 (32.5/80): tooth counts must be integers >= 1"),
+                     "integers in [1, 1000]"),
+    ("32.5/80", "--stages = 32.5/80: stage 1 (32.5/80): tooth counts must be integers in "
+                "[1, 1000]"),
+    ("32/80,48/5000", "--stages = 32/80,48/5000: stage 2 (48/5000): tooth counts must be "
+                      "integers in [1, 1000]"),
     ("32/80,,48/64", "--stages = 32/80,,48/64: stage 2 (empty) is not DRIVING/DRIVEN"),
 ])
 def test_cli_refuses_bad_stages(record_csv, monkeypatch, capsys, value, pattern):

@@ -55,6 +55,8 @@ def _speed(shaft_rpm: float | None, tacho: str | None) -> None:
 def _teeth(values: list[str] | None, extra: list[str], problems: list[str]) -> tuple[int, ...] | None:
     """Tooth counts from ``--teeth`` values (each an integer or a comma list) and the bare
     integers typer left among the files (``--teeth 32 80``)."""
+    from gearsim.signals._checks import MAX_TEETH
+
     if not values:
         return None
     items = [t.strip() for v in [*values, *extra] for t in str(v).split(",") if t.strip()]
@@ -68,8 +70,8 @@ def _teeth(values: list[str] | None, extra: list[str], problems: list[str]) -> t
         problems.append(f"--teeth = {' '.join(items)}: must be integers >= 1 (e.g. --teeth 32 "
                         "80 or --teeth 32,80)")
         return None
-    if any(z < 1 for z in zs):
-        problems.append(f"--teeth = {' '.join(items)}: must be integers >= 1")
+    if any(not 1 <= z <= MAX_TEETH for z in zs):
+        problems.append(f"--teeth = {' '.join(items)}: must be integers in [1, {MAX_TEETH}]")
         return None
     return zs
 
@@ -82,8 +84,10 @@ STAGES_FORM = ("DRIVING/DRIVEN teeth of each stage in power-flow order, stages s
 
 def _stages(text: str | None, problems: list[str]) -> tuple[tuple[int, int], ...] | None:
     """``--stages 32/80,48/64`` to ``((32, 80), (48, 64))``: every stage two integer tooth
-    counts >= 1 (a compound train, :func:`gearsim.signals.analysis.kinematics`)."""
+    counts in [1, MAX_TEETH] (a compound train, :func:`gearsim.signals.analysis.kinematics`)."""
     import re
+
+    from gearsim.signals._checks import MAX_TEETH
 
     if text is None:
         return None
@@ -91,15 +95,16 @@ def _stages(text: str | None, problems: list[str]) -> tuple[tuple[int, int], ...
     for k, item in enumerate(text.split(","), start=1):
         m = re.fullmatch(r"\s*([+-]?\d+)\s*/\s*([+-]?\d+)\s*", item)
         if m is None:
-            why = (f"stage {k} ({item.strip()}): tooth counts must be integers >= 1"
+            why = (f"stage {k} ({item.strip()}): tooth counts must be integers in "
+                   f"[1, {MAX_TEETH}]"
                    if item.count("/") == 1 and all(p.strip() for p in item.split("/"))
                    else f"stage {k} ({item.strip() or 'empty'}) is not DRIVING/DRIVEN")
             problems.append(f"--stages = {text}: {why}; give {STAGES_FORM}")
             return None
         z_d, z_n = int(m.group(1)), int(m.group(2))
-        if min(z_d, z_n) < 1:
+        if min(z_d, z_n) < 1 or max(z_d, z_n) > MAX_TEETH:
             problems.append(f"--stages = {text}: stage {k} ({item.strip()}): tooth counts "
-                            f"must be integers >= 1; give {STAGES_FORM}")
+                            f"must be integers in [1, {MAX_TEETH}]; give {STAGES_FORM}")
             return None
         pairs.append((z_d, z_n))
     return tuple(pairs)

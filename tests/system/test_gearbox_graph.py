@@ -275,8 +275,9 @@ def test_a_chain_through_the_graph_uses_the_chain_formulas_exactly():
 
 def test_a_result_brings_its_speed_and_teeth_to_the_analysis(box, tmp_path):
     """``gearsim analyze`` of a simulated two-stage reducer needs no --teeth or speed: the
-    result file carries the input speed (1800 rpm, the example's) and the first stage's
-    tooth counts (32/80), so the gear tier reads f_m = 30 Hz x 32 = 960 Hz."""
+    result file carries the input speed (1800 rpm, the example's) and both stages (32/80,
+    48/64), so the gear tier reads f_m1 = 30 Hz x 32 = 960 Hz and f_m2 = 12 Hz x 48 =
+    576 Hz, shafts at 30, 12 and 9 Hz."""
     from gearsim.io.results import write_results
     from gearsim.studies.batch import analyze_file
 
@@ -285,11 +286,14 @@ def test_a_result_brings_its_speed_and_teeth_to_the_analysis(box, tmp_path):
     (rec,), problems = analyze_file(str(path), channels=["mesh_force_1"])
     assert not problems
     r = rec["record"]
-    assert r["teeth"] == [32, 80] and r["teeth_provenance"] == "file"
+    assert r["stages"] == [[32, 80], [48, 64]] and r["teeth_provenance"] == "file"
     assert r["speed_hz"] == pytest.approx(30.0, rel=1e-12) and r["speed_provenance"] == "file"
     train = r["tiers"]["gear"]["analysis"]["train"]
     assert train["mesh_frequency_hz"] == pytest.approx(960.0, rel=1e-12)
-    assert train["shaft_frequencies_hz"]["shaft2"] == pytest.approx(12.0, rel=1e-12)
+    assert [st["mesh_frequency_hz"] for st in train["stages"]] == pytest.approx(
+        [30.0 * 32, 30.0 * 32 / 80 * 48], rel=1e-12)
+    assert [train["shaft_frequencies_hz"][f"shaft{j}"] for j in (1, 2, 3)] == pytest.approx(
+        [30.0, 12.0, 9.0], rel=1e-12)
 
 
 def test_study_signals_name_the_shafts_of_a_graph(box):

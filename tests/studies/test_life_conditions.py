@@ -208,7 +208,7 @@ def test_records_on_dask_equal_the_serial_ones(box, life, records):
 
     speed, torque = box.operating()
     ds = life_records(box, life, FRACTIONS[:2], 1, loads=[torque],
-                      speeds=[speed, SPEED_FACTOR * speed], workers=2)
+                      speeds=[speed, SPEED_FACTOR * speed], workers=2, adaptive=False)
     assert ds.attrs["dask_workers"] == 2
     ref = records.isel(fraction=[0, 1], seed=[0]).sel(load=[torque])
     n = 0
@@ -331,3 +331,20 @@ def test_cli_more_workers_than_simulations(capsys, tmp_path, box, same_life):
     assert "1 records x 1 loads x 1 speeds x 1 seeds" in out
     ds = xr.load_dataset(tmp_path / "s.nc", engine="h5netcdf")
     assert ds.attrs["dask_workers"] == 0
+
+
+def test_few_short_simulations_stay_in_this_process(box, life, records):
+    """workers=2 for three simulations of well under a second: a local cluster would not
+    win back its start-up (CLUSTER_START_S), so they run here, as gearsim sweep decides;
+    the numbers are those of the serial run."""
+    from gearsim.studies.life import life_records
+
+    speed, torque = box.operating()
+    ds = life_records(box, life, FRACTIONS, 1, loads=[torque], speeds=[speed], workers=2)
+    assert ds.attrs["dask_workers"] == 0
+    ref = records.isel(seed=[0]).sel(load=[torque], speed=[speed])
+    assert ref.sizes == ds.sizes
+    for name in ref.data_vars:
+        if name in ds.data_vars and ref[name].dims == ds[name].dims \
+                and "seconds" not in str(name):
+            np.testing.assert_array_equal(ds[name].values, ref[name].values, err_msg=name)

@@ -801,7 +801,7 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
                  loads: Sequence[float] | None = None, speeds: Sequence[float] | None = None,
                  workers: int = 1, scheduler: str | None = None,
                  cluster_kwargs: dict | None = None,
-                 note: Callable[[str], None] | None = None) -> Any:
+                 note: Callable[[str], None] | None = None, adaptive: bool = True) -> Any:
     """Vibration records with ground truth at fractions of a life, loads and speeds.
 
     **The crack states are those of the one life** ``result``, computed at the
@@ -870,6 +870,12 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
         Extra keyword arguments of the local ``LocalCluster``.
     note : callable, optional
         Called with a one-line note when fewer local workers than asked are started.
+    adaptive : bool
+        With local workers: the first simulation runs in this process, timed, and the
+        rest too when a local cluster would save less than its start-up
+        (:data:`gearsim.studies.sweep_run.CLUSTER_START_S`), as ``gearsim sweep`` decides;
+        ``False``: the cluster whenever ``workers`` > 1. The records are the same either
+        way.
 
     Returns
     -------
@@ -943,17 +949,30 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
     n_workers, msg = plan_workers(workers, len(tasks), "simulation")
     if msg is not None and scheduler is None and note is not None:
         note(msg)
+    done: list = []
+    if scheduler is None and n_workers > 1 and adaptive:
+        # the cluster only when it pays (as run_study): the first simulation here, timed;
+        # the rest here too when a local cluster's start-up would not be won back
+        from gearsim.studies.sweep_run import CLUSTER_START_S
+
+        t1 = time.perf_counter()
+        done.append(_record_task(*tasks[0]))
+        left = (time.perf_counter() - t1) * (len(tasks) - 1)
+        if left * (1.0 - 1.0 / min(n_workers, max(len(tasks) - 1, 1))) <= CLUSTER_START_S:
+            n_workers = 1
+    rest = tasks[len(done):]
+    dask_workers = 0
     if scheduler is None and n_workers == 1:
-        done = [_record_task(*task) for task in tasks]
-        dask_workers = 0
-    else:
+        done += [_record_task(*task) for task in rest]
+    elif rest:
         from gearsim.studies.sweep_run import RETRIES, cluster_client
 
-        with cluster_client(n_workers, scheduler, cluster_kwargs) as client:
+        with cluster_client(min(n_workers, len(rest)) if scheduler is None else n_workers,
+                            scheduler, cluster_kwargs) as client:
             dask_workers = len(client.scheduler_info().get("workers", {}))
             futures = [client.submit(_record_task, *task, pure=False, retries=RETRIES)
-                       for task in tasks]
-            done = client.gather(futures)
+                       for task in rest]
+            done += client.gather(futures)
     nf, nl, ns = len(rows), load_v.size, speed_v.size
     grid = np.empty((nf, nl, ns), dtype=object)
     for i, out in enumerate(done):

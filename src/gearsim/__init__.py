@@ -24,8 +24,6 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
-from gearsim._version import __version__
-
 if TYPE_CHECKING:  # pragma: no cover
     from gearsim.api import analyze, read_signal, reproduce, simulate, sweep
     from gearsim.errors import InputError, SimulationError
@@ -41,6 +39,8 @@ _LAZY = {
     "reproduce": "gearsim.api", "sweep": "gearsim.api",
     "GearTrain": "gearsim.system", "Crack": "gearsim.stiffness.crack",
     "InputError": "gearsim.errors", "SimulationError": "gearsim.errors",
+    # the installed version (importlib.metadata, ~45 ms): on first use, not at start-up
+    "__version__": "gearsim._version",
 }
 
 __all__ = ["Crack", "GearTrain", "Gearbox", "InputError", "SimulationError", "__version__",

@@ -16,7 +16,7 @@ def example(name: Annotated[str, typer.Argument(
         help="idler-table1, spur-19-48, two-stage-reducer, lin-parker-1999, nrel-grc or "
              "wind-turbine-grc")]) -> None:
     """Print a built-in example configuration (TOML)."""
-    from gearsim.model import example_text
+    from gearsim.data import example_text  # the file, without the model's imports
 
     typer.echo(example_text(name), nl=False)
 

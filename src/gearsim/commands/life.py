@@ -23,7 +23,6 @@ import math
 import re
 from typing import Annotated
 
-import numpy as np
 import typer
 
 from gearsim.commands._options import as_options, with_torque
@@ -217,8 +216,10 @@ def life(
     # the alarms at the life's operating point if recorded, else at the first condition
     own_speed, own_torque = gb.operating()
     lv, sv = ds["load"].values, ds["speed"].values
-    at_load = own_torque if np.isclose(lv, own_torque, rtol=1e-9).any() else float(lv[0])
-    at_speed = own_speed if np.isclose(sv, own_speed, rtol=1e-9).any() else float(sv[0])
+    at_load = (own_torque if any(math.isclose(x, own_torque, rel_tol=1e-9) for x in lv)
+               else float(lv[0]))
+    at_speed = (own_speed if any(math.isclose(x, own_speed, rel_tol=1e-9) for x in sv)
+                else float(sv[0]))
     cross = lf.alarm_fractions(ds, load=at_load, speed=at_speed)
     summary["store"] = str(path)
     summary["loads_n_m"] = lv.tolist()

@@ -32,11 +32,11 @@ from __future__ import annotations
 import dataclasses
 import tomllib
 from collections.abc import Callable, Sequence
-from importlib import resources
 from pathlib import Path
 from types import SimpleNamespace
 from typing import Any
 
+from gearsim.data import EXAMPLES, example_text
 from gearsim.dynamics.settings import parse_dynamics
 from gearsim.errors import InputError
 from gearsim.geometry.gear import Gear, Material
@@ -58,8 +58,6 @@ __all__ = ["EXAMPLES", "example", "example_text", "load", "loads", "parse",
 #: Built-in examples: the seed's Table-1 helical idler train, Tian's spur pair, the
 #: two-stage reducer of the UConn / SpectraQuest test rig, and two planetary stages (the
 #: Lin & Parker 1999 example system, the NREL GRC stage) and the whole GRC gearbox.
-EXAMPLES = ("idler-table1", "spur-19-48", "two-stage-reducer", "lin-parker-1999",
-            "nrel-grc", "wind-turbine-grc")
 
 MATERIAL_KEYS = {"youngs_modulus": "pressure", "poisson_ratio": "dimensionless",
                  "density": "density"}
@@ -428,18 +426,3 @@ def example(name: str) -> Gearbox:
     return loads(example_text(name))
 
 
-def example_text(name: str) -> str:
-    """TOML text of a built-in example.
-
-    Parameters
-    ----------
-    name : str
-        One of :data:`EXAMPLES`.
-
-    Returns
-    -------
-    str
-    """
-    if name not in EXAMPLES:
-        raise InputError("example", name, "unknown; built-in examples: " + ", ".join(EXAMPLES))
-    return resources.files("gearsim.data").joinpath(f"{name}.toml").read_text(encoding="utf-8")

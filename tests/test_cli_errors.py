@@ -85,7 +85,7 @@ def test_simulation_error_one_line_exit_1(capsys, monkeypatch):
     def diverge(name):
         raise SimulationError("the run diverged at t = 0.1 s")
 
-    monkeypatch.setattr("gearsim.model.example_text", diverge)
+    monkeypatch.setattr("gearsim.data.example_text", diverge)
     code, _, err = _run(capsys, "example", "idler-table1")
     assert code == 1
     assert _one_line(err) == "gearsim: failed: the run diverged at t = 0.1 s"
@@ -97,7 +97,7 @@ def _boom(name):
 
 def test_unexpected_exception_one_line_with_type_exit_1(capsys, monkeypatch):
     monkeypatch.delenv("GEARSIM_DEBUG", raising=False)
-    monkeypatch.setattr("gearsim.model.example_text", _boom)
+    monkeypatch.setattr("gearsim.data.example_text", _boom)
     code, _, err = _run(capsys, "example", "idler-table1")
     assert code == 1
     assert _one_line(err) == ("gearsim: internal error: ZeroDivisionError: float division by "
@@ -106,7 +106,7 @@ def test_unexpected_exception_one_line_with_type_exit_1(capsys, monkeypatch):
 
 @pytest.mark.parametrize("where", ["before the verb", "after the verb", "environment"])
 def test_debug_shows_the_traceback(where, capsys, monkeypatch):
-    monkeypatch.setattr("gearsim.model.example_text", _boom)
+    monkeypatch.setattr("gearsim.data.example_text", _boom)
     args = ["example", "idler-table1"]
     if where == "before the verb":
         args = ["--debug", *args]
@@ -127,7 +127,7 @@ def test_interrupt_in_a_verb_exit_130(exc, capsys, monkeypatch):
     def interrupted(name):
         raise exc
 
-    monkeypatch.setattr("gearsim.model.example_text", interrupted)
+    monkeypatch.setattr("gearsim.data.example_text", interrupted)
     code, _, err = _run(capsys, "example", "idler-table1")
     assert code == 130
     assert _one_line(err) == "gearsim: interrupted"
@@ -150,10 +150,10 @@ def test_interrupt_inside_a_compiled_kernel_exit_130(capsys, monkeypatch):
             raise SystemError("CPUDispatcher(<function kernel>) returned a result with an "
                               "exception set") from exc
 
-    monkeypatch.setattr("gearsim.model.example_text", interrupted_with_context)
+    monkeypatch.setattr("gearsim.data.example_text", interrupted_with_context)
     code, _, err = _run(capsys, "example", "idler-table1")
     assert code == 130 and _one_line(err) == "gearsim: interrupted"
-    monkeypatch.setattr("gearsim.model.example_text", interrupted)
+    monkeypatch.setattr("gearsim.data.example_text", interrupted)
     code, _, err = _run(capsys, "example", "idler-table1")  # context suppressed: a bug
     assert code == 1 and "internal error: SystemError" in err
 
@@ -163,7 +163,7 @@ def test_usage_error_of_the_click_package_exit_2(capsys, monkeypatch):
     def bad(name):
         raise click.UsageError("bad usage from a library\nsecond line")
 
-    monkeypatch.setattr("gearsim.model.example_text", bad)
+    monkeypatch.setattr("gearsim.data.example_text", bad)
     code, _, err = _run(capsys, "example", "idler-table1")
     assert code == 2
     assert _one_line(err) == ("gearsim: error: bad usage from a library second line "

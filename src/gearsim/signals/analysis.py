@@ -87,7 +87,6 @@ __all__ = [
     "analyze",
     "check_stages",
     "kinematics",
-    "restage",
 ]
 
 
@@ -816,59 +815,6 @@ def _stage_lines(kin: Kinematics, spec: Spectrum, sg: Spectrogram, orders: Seque
             band_energy=s_e, band_width_spectrum=s_ws, band_width_stft=s_wt,
             band_modulation=s_mod))
     return out
-
-
-def restage(analysis: Analysis, stages: Sequence[tuple[int, int]]) -> Analysis:
-    """A simple-train analysis of stage 1's mesh, completed for a compound train.
-
-    The time domain, impacts, spectrum, STFT, TSA and indicators of a compound
-    analysis depend only on the reference shaft and stage 1's driving teeth, so they are
-    taken over; the kinematics become those of ``stages`` and every stage's mesh
-    harmonics, sideband families and bands are measured on the analysis's spectrum and
-    STFT. The result equals ``analyze(x, fs, stages=stages, ...)`` with the same record
-    and options (except the timings).
-
-    Parameters
-    ----------
-    analysis : Analysis
-        An :func:`analyze` result of a simple train (``teeth``) whose reference gear has
-        stage 1's driving teeth, e.g. ``teeth=(z_1^d, z_1^n)``.
-    stages : sequence of (int, int)
-        ``(driving teeth, driven teeth)`` of each stage (see :func:`kinematics`).
-
-    Returns
-    -------
-    Analysis
-        The compound analysis (``stages`` filled, frequencies in Hz).
-
-    Raises
-    ------
-    InputError
-        If ``analysis`` is already compound, stage 1's driving teeth differ from its
-        reference gear's, or a stage's lines fail
-        :func:`~gearsim.signals.sidebands.check_sideband_request` (Nyquist, resolution).
-    """
-    old = analysis.kinematics
-    if old.compound:
-        raise InputError("analysis", "compound", "must be a simple-train analysis to restage")
-    kin = kinematics(shaft_frequency=old.reference_frequency, stages=stages)
-    if kin.teeth[0] != old.teeth[0]:
-        raise InputError("stages[0][0]", kin.teeth[0], f"must equal the analysed reference "
-                         f"gear's teeth {old.teeth[0]} (its TSA and indicators)")
-    opt = analysis.options
-    orders = list(opt["orders"])
-    spec = analysis.spectrum
-    for st in kin.stages:
-        check_sideband_request(
-            spec.n_samples, spec.fs, mesh_frequency=st.mesh_frequency,
-            shafts={k: kin.shafts[k] for k in st.shafts}, orders=orders,
-            n_sidebands=opt["n_sidebands"], window=spec.window)
-    stage_spec = _stage_spectrum(kin, spec, orders, opt["n_sidebands"])
-    lines = _stage_lines(kin, spec, analysis.stft, orders, opt["band_fraction"], stage_spec,
-                         (analysis.band_energy, analysis.band_width_spectrum,
-                          analysis.band_width_stft, analysis.band_modulation))
-    return dataclasses.replace(analysis, kinematics=kin, harmonics=stage_spec[0][0],
-                               families=stage_spec[0][1], stages=tuple(lines))
 
 
 def _lines(mesh_frequency: float, shafts: dict[str, float], orders: Sequence[int],

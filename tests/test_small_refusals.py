@@ -82,3 +82,4 @@ def test_analysis_refuses_tooth_counts_no_gear_has(kw, parameter):
     with pytest.raises(InputError, match=parameter.replace("[", r"\[")) as err:
         kinematics(shaft_frequency=30.0, **kw)
     assert f"[1, {MAX_TEETH}]" in err.value.limit
+

@@ -242,3 +242,17 @@ def test_cli_sweep_with_faults(capsys, tmp_path):
     assert len(groups(st)) == 50
     code, stdout, _ = _cli(capsys, "sweep", "faults", "--show")
     assert code == 0 and stdout == st.text
+
+
+def test_diagnostic_groups_take_the_further_stages_of_a_compound_train():
+    """The features of a compound train's stage k >= 2 (``stage{k}_`` + a group's name)
+    were in no feature group, not even "all": the diagnostic never saw the second stage."""
+    import xarray as xr
+
+    rng = np.random.default_rng(0)
+    names = ["sb_ser_o1_shaft1", "stage2_sb_ser_o1_shaft3", "td_rms", "stage2_mesh_amplitude_o1"]
+    ds = xr.Dataset({n: ("case", rng.uniform(1.0, 2.0, 6)) for n in names})
+    assert feature_matrix(ds, "sideband")[1] == ["sb_ser_o1_shaft1", "stage2_sb_ser_o1_shaft3"]
+    # mesh amplitudes are in no group, for stage 1 (mesh_amplitude_o*) as for the others
+    assert feature_matrix(ds, "all")[1] == ["sb_ser_o1_shaft1", "stage2_sb_ser_o1_shaft3",
+                                            "td_rms"]

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import warnings
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -95,7 +96,8 @@ def feature_matrix(ds, group: str) -> tuple[np.ndarray, list[str]]:
     ----------
     ds : xarray.Dataset
         A sweep store or a subset of its cases; features are the float variables along
-        ``case`` whose name starts with a prefix of :data:`FEATURE_GROUPS`.
+        ``case`` whose name starts with a prefix of :data:`FEATURE_GROUPS` (after the
+        ``stage{k}_`` of a compound train's further stages).
     group : str
         ``"all"`` or a feature group (``"time-domain"``, ``"sideband"``, ``"TSA"``,
         ``"band energy"``).
@@ -107,9 +109,12 @@ def feature_matrix(ds, group: str) -> tuple[np.ndarray, list[str]]:
     names : list of str
         Names of the kept columns, sorted.
     """
+    def group_of(name: str) -> str | None:  # a compound train's stage{k}_ names too
+        base = re.sub(r"^stage\d+_", "", name)
+        return next((g for p, g in FEATURE_GROUPS.items() if base.startswith(p)), None)
+
     names = [v for v in ds.data_vars if ds[v].dims == ("case",) and ds[v].dtype.kind == "f"
-             and any(v.startswith(p) and (group == "all" or g == group)
-                     for p, g in FEATURE_GROUPS.items())]
+             and (g := group_of(str(v))) is not None and group in ("all", g)]
     x, kept = columns_matrix({v: ds[v].values for v in names})
     if not kept:
         return np.empty((ds.sizes["case"], 0)), []

@@ -933,12 +933,11 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
                                 length=float(result.life.a_end), crack=result.path.crack),
                      None, False))
     load_v, speed_v = operating_conditions(gb, loads, speeds, duration=duration)
-    d_v = np.array([record_duration(gb.at(speed=float(s), torque=float(load_v[0])))
-                    if duration is None else float(duration) for s in speed_v])
-    ref_v = np.array([gb.at(speed=float(s), torque=float(load_v[0])).reference()[1]
-                      for s in speed_v])
-    fm_v = np.array([gb.at(speed=float(s), torque=float(load_v[0])).train
-                     .mesh_frequencies[mesh] for s in speed_v])
+    at_speed = [gb.at(speed=float(s), torque=float(load_v[0])) for s in speed_v]
+    d_v = np.array([record_duration(b) if duration is None else float(duration)
+                    for b in at_speed])
+    ref_v = np.array([b.reference()[1] for b in at_speed])
+    fm_v = np.array([b.train.mesh_frequencies[mesh] for b in at_speed])
     tasks = []  # (fraction row, load, speed) in this order
     for _, eq, _ in rows:
         for t in load_v:
@@ -953,12 +952,12 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
     if scheduler is None and n_workers > 1 and adaptive:
         # the cluster only when it pays (as run_study): the first simulation here, timed;
         # the rest here too when a local cluster's start-up would not be won back
-        from gearsim.studies.sweep_run import CLUSTER_START_S
+        from gearsim.studies.sweep_run import cluster_pays
 
         t1 = time.perf_counter()
         done.append(_record_task(*tasks[0]))
         left = (time.perf_counter() - t1) * (len(tasks) - 1)
-        if left * (1.0 - 1.0 / min(n_workers, max(len(tasks) - 1, 1))) <= CLUSTER_START_S:
+        if not cluster_pays(left, len(tasks) - 1, n_workers):
             n_workers = 1
     rest = tasks[len(done):]
     dask_workers = 0

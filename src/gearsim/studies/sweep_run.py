@@ -48,7 +48,7 @@ if TYPE_CHECKING:  # the simulation modules load on first use (gearsim analyze n
     from gearsim.studies.sweep import Case, Study
 
 __all__ = ["ALLOWED_FAILURES", "CONNECT_TIMEOUT", "PART_SUFFIX", "RETRIES", "SweepResult",
-           "check_scheduler", "cluster_client", "combine", "group_runner", "groups",
+           "check_scheduler", "cluster_client", "cluster_pays", "combine", "group_runner", "groups",
            "lock_path", "part_bytes", "part_path", "parts_dir", "plan_workers", "read_part",
            "run_serial", "run_study", "store_lock"]
 
@@ -401,6 +401,34 @@ def plan_workers(requested: int, tasks: int, what: str = "simulation group",
     why = (f"{tasks} {what}{'s' if tasks != 1 else ''} to compute"
            if n == max(1, tasks) and tasks < cores else f"{cores} CPU core{'s' if cores != 1 else ''}")
     return n, f"gearsim: note: --workers {requested} reduced to {n} ({why})"
+
+
+def cluster_pays(seconds_left: float, tasks_left: int, workers: int) -> bool:
+    """Whether a local cluster shortens the remaining work by more than its start-up.
+
+    ``n`` workers (at most one per remaining task) save ``seconds_left (1 - 1/n)`` of
+    the serial time; a cluster costs :data:`CLUSTER_START_S`.
+
+    Parameters
+    ----------
+    seconds_left : float
+        The remaining tasks' time in this process [s] (measured on a first task).
+    tasks_left : int
+        Remaining tasks.
+    workers : int
+        Local workers that would run them.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> cluster_pays(4.0, 10, 2), cluster_pays(40.0, 10, 2)
+    (False, True)
+    """
+    n = min(workers, max(tasks_left, 1))
+    return seconds_left * (1.0 - 1.0 / n) > CLUSTER_START_S
 
 
 def lock_path(store: str | Path) -> Path:
@@ -798,8 +826,7 @@ def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
                     per_case = (time.perf_counter() - t0) / len(grouped[rest[0]])
                     rest = rest[1:]
                     left = per_case * sum(len(grouped[k]) for k in rest)
-                    if left * (1.0 - 1.0 / min(n_workers, max(len(rest), 1))) \
-                            <= CLUSTER_START_S:
+                    if not cluster_pays(left, len(rest), n_workers):
                         n_workers = 1
                 if scheduler is None and n_workers == 1:
                     # one local worker: a cluster would only add its start-up (seconds)

@@ -12,14 +12,12 @@ import functools
 import hashlib
 import json
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 import gearsim as gs
-from gearsim import cli
 from gearsim.errors import InputError
 from gearsim.signals.analysis import analyze, kinematics
 from gearsim.signals.sidebands import sideband_spacing
@@ -187,13 +185,13 @@ def test_simulated_two_stage_reducer(gear, shaft):
     assert all(abs(h.frequency - f_m2) > 100.0 for h in old.harmonics)
 
 
-def test_cli_analyses_a_compound_result_by_its_stages(tmp_path, monkeypatch, capsys):
+def test_cli_analyses_a_compound_result_by_its_stages(tmp_path, gearsim_here):
     """gearsim analyze of a simulated reducer needs no --stages: its configuration gives
     them (and its input speed the reference shaft's)."""
     from gearsim.io.results import write_results
 
     nc = write_results(_reducer_run(2), tmp_path / "reducer.nc")
-    code, out, err = _run(monkeypatch, capsys, "analyze", nc, "--channel", "mesh_force_2",
+    code, out, err = _cli(gearsim_here, "analyze", nc, "--channel", "mesh_force_2",
                           "--json")
     assert code == 0, err
     rec = json.loads(out)["records"][0]
@@ -260,15 +258,10 @@ def test_simple_gearboxes_analysed_as_before(name):
 
 
 # ----------------------------------------------------------------- CLI
-def _run(monkeypatch, capsys, *args):
-    monkeypatch.setattr(sys, "argv", ["gearsim", *map(str, args)])
-    code = 0
-    try:
-        cli.main()
-    except SystemExit as exc:
-        code = exc.code
-    out = capsys.readouterr()
-    return code, out.out, out.err
+def _cli(gearsim_here, *args):
+    """``gearsim *args`` in this process (conftest's ``gearsim_here``): status, out, err."""
+    r = gearsim_here(*args)
+    return r.returncode, r.stdout, r.stderr
 
 
 @pytest.fixture(scope="module")
@@ -290,8 +283,8 @@ def record_csv(tmp_path_factory):
                       "integers in [1, 1000]"),
     ("32/80,,48/64", "--stages = 32/80,,48/64: stage 2 (empty) is not DRIVING/DRIVEN"),
 ])
-def test_cli_refuses_bad_stages(record_csv, monkeypatch, capsys, value, pattern):
-    code, _, err = _run(monkeypatch, capsys, "analyze", record_csv, "--fs", FS,
+def test_cli_refuses_bad_stages(record_csv, value, pattern, gearsim_here):
+    code, _, err = _cli(gearsim_here, "analyze", record_csv, "--fs", FS,
                         "--shaft-rpm", 1800, f"--stages={value}")
     assert code == 2
     lines = err.strip().splitlines()
@@ -299,8 +292,8 @@ def test_cli_refuses_bad_stages(record_csv, monkeypatch, capsys, value, pattern)
     assert pattern in lines[0] and "e.g. --stages 32/80,48/64" in lines[0], lines[0]
 
 
-def test_cli_refuses_teeth_with_stages(record_csv, monkeypatch, capsys):
-    code, _, err = _run(monkeypatch, capsys, "analyze", record_csv, "--fs", FS,
+def test_cli_refuses_teeth_with_stages(record_csv, gearsim_here):
+    code, _, err = _cli(gearsim_here, "analyze", record_csv, "--fs", FS,
                         "--shaft-rpm", 1800, "--teeth", 32, 80, "--stages", "32/80,48/64")
     assert code == 2
     lines = err.strip().splitlines()
@@ -308,8 +301,8 @@ def test_cli_refuses_teeth_with_stages(record_csv, monkeypatch, capsys):
     assert "--teeth/--stages = 32 80 / 32/80,48/64: give one" in lines[0]
 
 
-def test_cli_analyses_every_stage(record_csv, monkeypatch, capsys):
-    code, out, err = _run(monkeypatch, capsys, "analyze", record_csv, "--fs", FS,
+def test_cli_analyses_every_stage(record_csv, gearsim_here):
+    code, out, err = _cli(gearsim_here, "analyze", record_csv, "--fs", FS,
                           "--shaft-rpm", 1800, "--stages", "32/80,48/64", "--json")
     assert code == 0, err
     rec = json.loads(out)["records"][0]
@@ -317,7 +310,7 @@ def test_cli_analyses_every_stage(record_csv, monkeypatch, capsys):
     g = rec["tiers"]["gear"]["analysis"]
     assert [s["mesh_frequency_hz"] for s in g["stages"]] == pytest.approx([960.0, 576.0])
     assert g["stages"][1]["mesh_harmonics"][0]["amplitude"] == pytest.approx(0.6, rel=0.02)
-    code, out, _ = _run(monkeypatch, capsys, "analyze", record_csv, "--fs", FS,
+    code, out, _ = _cli(gearsim_here, "analyze", record_csv, "--fs", FS,
                         "--shaft-rpm", 1800, "--stages", "32/80,48/64")
     assert code == 0 and "gear stage 2 (48/64): f_m 576 Hz" in out
 
@@ -326,13 +319,13 @@ def test_cli_analyses_every_stage(record_csv, monkeypatch, capsys):
 @pytest.mark.skipif(not (DATA / "h30hz0.csv.gz").exists(),
                     reason=f"the SpectraQuest record h30hz0 (OpenEI Gearbox Fault Diagnosis "
                            f"Data) is not in {DATA}")
-def test_spectraquest_record_second_mesh(monkeypatch, capsys):
+def test_spectraquest_record_second_mesh(gearsim_here):
     """A 30 Hz healthy record, rate 12.8 kHz as given (not documented: the source's
     estimate is about 12.9 kHz) and the speed searched: the stage-2 line lies at
     f_r1 x 32/80 x 48 of the estimated speed, within two bins (the tone is interpolated;
     a bin is 12800/88832 = 0.14 Hz), and near 576 Hz within 2 % (the estimated speed
     carries the rate's uncertainty, 12800 Hz against about 12.9 kHz: 0.8 %)."""
-    code, out, err = _run(monkeypatch, capsys, "analyze", DATA / "h30hz0.csv.gz", "--channel",
+    code, out, err = _cli(gearsim_here, "analyze", DATA / "h30hz0.csv.gz", "--channel",
                           "a1", "--fs", 12800, "--speed-search", "25,35", "--stages",
                           "32/80,48/64", "--json")
     assert code == 0, err
@@ -407,7 +400,7 @@ def _result_without(tmp_path, name: str, *attrs: str) -> Path:
     return write_results(ds, tmp_path / name)
 
 
-def test_result_stores_its_stages_and_analyze_prefers_them(tmp_path, monkeypatch, capsys):
+def test_result_stores_its_stages_and_analyze_prefers_them(tmp_path, gearsim_here):
     """A compound train's result carries analysis_stages "32/80,48/64" (beside the first
     pair's analysis_teeth); gearsim analyze reads it without the configuration, and a
     result of before (configuration only) still gives the stages."""
@@ -423,7 +416,7 @@ def test_result_stores_its_stages_and_analyze_prefers_them(tmp_path, monkeypatch
     assert file_stages(neither) is None
     f_in = gs.example("two-stage-reducer").reference()[1]
     for nc in (only_attr, only_config):
-        code, out, err = _run(monkeypatch, capsys, "analyze", nc, "--channel",
+        code, out, err = _cli(gearsim_here, "analyze", nc, "--channel",
                               "mesh_force_2", "--json")
         assert code == 0, err
         rec = json.loads(out)["records"][0]
@@ -431,7 +424,7 @@ def test_result_stores_its_stages_and_analyze_prefers_them(tmp_path, monkeypatch
         g = rec["tiers"]["gear"]["analysis"]
         assert [s["mesh_frequency_hz"] for s in g["stages"]] == pytest.approx(
             [f_in * 32, f_in * 32 / 80 * 48])
-    code, out, err = _run(monkeypatch, capsys, "analyze", neither, "--channel",
+    code, out, err = _cli(gearsim_here, "analyze", neither, "--channel",
                           "mesh_force_2", "--json")
     assert code == 0, err
     rec = json.loads(out)["records"][0]  # the first pair, as a simple train
@@ -453,7 +446,7 @@ def _four_records():
                     reason="the SpectraQuest records h30hz0, h30hz90, b30hz0, b30hz90 "
                            "(OpenEI Gearbox Fault Diagnosis Data) are not in the shared "
                            "data folder")
-def test_spectraquest_batch_of_four_has_stage_2(tmp_path, monkeypatch, capsys):
+def test_spectraquest_batch_of_four_has_stage_2(tmp_path, gearsim_here):
     """A batch of the four 30 Hz records (healthy and broken tooth, loads 0 and 90 %),
     rate 12.8 kHz, speed searched in 20-40 Hz, stages 32/80,48/64: the table has stage-2
     columns, and in every file and channel the stage-2 fundamental lies within 1 % of
@@ -464,7 +457,7 @@ def test_spectraquest_batch_of_four_has_stage_2(tmp_path, monkeypatch, capsys):
     0.18)."""
     paths = _four_records()
     table = tmp_path / "table.csv"
-    code, out, err = _run(monkeypatch, capsys, "analyze", *paths, "--fs", 12800,
+    code, out, err = _cli(gearsim_here, "analyze", *paths, "--fs", 12800,
                           "--speed-search", "20,40", "--stages", "32/80,48/64",
                           "--out", table, "--json")
     assert code == 0, err

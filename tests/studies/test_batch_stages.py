@@ -4,12 +4,10 @@ further stages' columns in the table and their lines in the text."""
 
 import json
 import re
-import sys
 
 import numpy as np
 import pytest
 
-from gearsim import cli
 from gearsim.signals.analysis import analyze
 from gearsim.signals.tiers import analyze_record, stage_features
 from gearsim.studies.batch import run_batch
@@ -43,15 +41,10 @@ def records(tmp_path_factory):
     return paths
 
 
-def _run(monkeypatch, capsys, *args):
-    monkeypatch.setattr(sys, "argv", ["gearsim", *map(str, args)])
-    code = 0
-    try:
-        cli.main()
-    except SystemExit as exc:
-        code = exc.code
-    out = capsys.readouterr()
-    return code, out.out, out.err
+def _cli(gearsim_here, *args):
+    """``gearsim *args`` in this process (conftest's ``gearsim_here``): status, out, err."""
+    r = gearsim_here(*args)
+    return r.returncode, r.stdout, r.stderr
 
 
 def _without_timings(v):
@@ -63,15 +56,14 @@ def _without_timings(v):
     return v
 
 
-def test_serial_and_two_workers_give_the_same_json_and_table(records, tmp_path, monkeypatch,
-                                                             capsys):
+def test_serial_and_two_workers_give_the_same_json_and_table(records, tmp_path, gearsim_here):
     """The same two files (two channels each) with --stages: serially and on a local
     cluster of 2 workers, the JSON (but the timings and the run mode) and the CSV table
     are identical, and both hold stage 2."""
     common = ["analyze", *records, "--shaft-rpm", 1800, "--stages", STAGES_TEXT, "--json"]
-    code, serial, err = _run(monkeypatch, capsys, *common, "--out", tmp_path / "serial.csv")
+    code, serial, err = _cli(gearsim_here, *common, "--out", tmp_path / "serial.csv")
     assert code == 0, err
-    code, dask, err = _run(monkeypatch, capsys, *common, "--out", tmp_path / "dask.csv",
+    code, dask, err = _cli(gearsim_here, *common, "--out", tmp_path / "dask.csv",
                            "--workers", 2)
     assert code == 0, err
     a, b = json.loads(serial), json.loads(dask)
@@ -92,13 +84,13 @@ def test_serial_and_two_workers_give_the_same_json_and_table(records, tmp_path, 
     assert "stage2_sb_ser_o1_shaft3 [1]" in header
 
 
-def test_text_has_a_line_per_stage_serial_and_on_workers(records, monkeypatch, capsys):
+def test_text_has_a_line_per_stage_serial_and_on_workers(records, gearsim_here):
     """The text of a record analysed here and of one sent back by a worker as a dict."""
     common = ["analyze", records[0], "--channel", "a1", "--shaft-rpm", 1800,
               "--stages", STAGES_TEXT]
-    code, serial, err = _run(monkeypatch, capsys, *common)
+    code, serial, err = _cli(gearsim_here, *common)
     assert code == 0, err
-    code, dask, err = _run(monkeypatch, capsys, *common, "--workers", 2)
+    code, dask, err = _cli(gearsim_here, *common, "--workers", 2)
     assert code == 0, err
     assert serial == dask
     assert "rests on: fs 12800 Hz (file); speed 1800 rpm = 30 Hz (given); stages 32/80, " \

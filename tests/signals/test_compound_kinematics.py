@@ -403,8 +403,12 @@ def _result_without(tmp_path, name: str, *attrs: str) -> Path:
 def test_result_stores_its_stages_and_analyze_prefers_them(tmp_path, gearsim_here):
     """A compound train's result carries analysis_stages "32/80,48/64" (beside the first
     pair's analysis_teeth); gearsim analyze reads it without the configuration, and a
-    result of before (configuration only) still gives the stages."""
-    from gearsim.studies.batch import file_stages
+    result of before (configuration only) still gives the stages; so does the result
+    compressed (the reader passes the attribute on, the file is read once)."""
+    import gzip
+    import shutil
+
+    from gearsim.io.measured import read_record
 
     ds = _reducer_run(2)
     assert ds.attrs["analysis_stages"] == "32/80,48/64"
@@ -412,10 +416,15 @@ def test_result_stores_its_stages_and_analyze_prefers_them(tmp_path, gearsim_her
     only_attr = _result_without(tmp_path, "attr.nc", "config")
     only_config = _result_without(tmp_path, "config.nc", "analysis_stages")
     neither = _result_without(tmp_path, "neither.nc", "config", "analysis_stages")
-    assert file_stages(only_attr) == STAGES and file_stages(only_config) == STAGES
-    assert file_stages(neither) is None
+    packed = tmp_path / "attr.nc.gz"
+    with open(only_attr, "rb") as src, gzip.open(packed, "wb") as dst:
+        shutil.copyfileobj(src, dst)
+    assert read_record(only_attr).metadata["stages"] == STAGES
+    meta = read_record(only_config).metadata
+    assert "stages" not in meta and isinstance(meta["config"], str)
+    assert not {"stages", "config"} & set(read_record(neither).metadata)
     f_in = gs.example("two-stage-reducer").reference()[1]
-    for nc in (only_attr, only_config):
+    for nc in (only_attr, only_config, packed):
         code, out, err = _cli(gearsim_here, "analyze", nc, "--channel",
                               "mesh_force_2", "--json")
         assert code == 0, err

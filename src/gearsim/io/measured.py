@@ -575,6 +575,11 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
             meta["rpm"], meta["teeth"] = 60.0 * f_in, teeth
     except (KeyError, TypeError, ValueError, IndexError):
         pass
+    if "teeth" in meta:  # a compound train's stages ("32/80,48/64"), else its configuration
+        if (stages := _stages_attr(ds.attrs.get("analysis_stages"))) is not None:
+            meta["stages"] = stages
+        elif isinstance(ds.attrs.get("config"), str):  # a result written before the stages
+            meta["config"] = ds.attrs["config"]
     if ds.attrs.get("kind") == "planetary" and "carrier_angle" in ds:
         # a gearsim stage result: the stage and its carrier angle for the planetary tier
         try:
@@ -588,6 +593,19 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
         except (KeyError, TypeError, ValueError, IndexError):
             pass  # an incomplete stage result is analysed as a plain record
     return _Raw(channels=channels, fs=fs, units=units, metadata=meta, fs_per_channel=fs_per)
+
+
+def _stages_attr(text: object) -> tuple[tuple[int, int], ...] | None:
+    """``"32/80,48/64"`` (a gearsim result's ``analysis_stages``) as ``((32, 80), (48, 64))``;
+    None when absent or not of that form (the record is then a simple train's)."""
+    if not isinstance(text, str):
+        return None
+    try:
+        pairs = tuple(tuple(int(z) for z in st.split("/")) for st in text.split(","))
+    except ValueError:
+        return None
+    ok = all(len(p) == 2 and min(p) >= 1 for p in pairs)
+    return pairs if pairs and ok else None  # type: ignore[return-value]
 
 
 _READERS: dict[str, Callable[[Path, Path], _Raw]] = {

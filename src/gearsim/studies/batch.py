@@ -48,7 +48,6 @@ __all__ = [
     "Batch",
     "analyze_file",
     "expand_inputs",
-    "file_stages",
     "labels_from_csv",
     "labels_from_pattern",
     "part_key",
@@ -189,8 +188,10 @@ def _label_of(labels: Mapping | None, file: str, channel: str) -> str | None:
 def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho) -> list[dict]:
     """Channels of one file (one :func:`~gearsim.io.measured.read_record`): per channel
     ``{"channel", "data", "fs", "fs_source", "units", "tacho", "planetary", "rpm",
-    "teeth", "dropped"}`` (``rpm`` and ``teeth`` from the file: a gearsim result's input
-    speed and tooth counts); ``fs`` None when neither the file nor the user gives a rate."""
+    "teeth", "stages", "config", "dropped"}`` (``rpm``, ``teeth`` and a compound train's
+    ``stages`` from the file: a gearsim result's input speed and tooth counts; ``config``
+    the configuration of a result written before results held their stages); ``fs``
+    None when neither the file nor the user gives a rate."""
     from gearsim.io.measured import read_record
     from gearsim.io.record import raise_all
 
@@ -215,7 +216,8 @@ def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho) -> list[
              "fs_source": {"file": "file", "user": "given"}.get(rec.fs_source),
              "units": rec.units.get(c), "tacho": data.get(tacho), "planetary": meta.get("planetary"),
              "rpm": float(rpm) if isinstance(rpm, (int, float)) and rpm > 0 else None,
-             "teeth": meta.get("teeth"),
+             "teeth": meta.get("teeth"), "stages": meta.get("stages"),
+             "config": meta.get("config"),
              "dropped": str(rec.dropped[c]) if c in rec.dropped else None} for c in chosen]
 
 
@@ -264,7 +266,7 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
         A compound train instead of ``teeth``: ``(driving teeth, driven teeth)`` of each
         stage, stage 1's driving gear on the measured shaft; every stage's mesh is
         analysed in the gear tier (:func:`~gearsim.signals.tiers.analyze_record`). A
-        gearsim result of a compound train brings its own (:func:`file_stages`), used
+        gearsim result of a compound train brings its own (``analysis_stages``), used
         when neither ``teeth`` nor ``stages`` is given.
 
     Returns
@@ -284,7 +286,7 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
     out, problems = [], []
     # a gearsim result brings its tooth counts, and a compound train's its stages
     own = teeth is None and stages is None and any(ch.get("teeth") for ch in chans)
-    own_stages = file_stages(path) if own else None
+    own_stages = _file_stages(chans[0]) if own else None
     for ch in chans:
         file_rpm = ch.get("rpm") if speed is None and tacho is None and speed_search is None \
             else None
@@ -315,48 +317,19 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
     return out, problems
 
 
-def file_stages(path: str | Path) -> tuple[tuple[int, int], ...] | None:
-    """The stages of a gearsim result (NetCDF) of a compound gear train, else None.
-
-    Read from the result's ``analysis_stages`` attribute (``"32/80,48/64"``, written by
-    :func:`gearsim.dynamics.simulate`), or for a result written before that attribute,
-    from its stored configuration (:meth:`gearsim.model.Gearbox.analysis_stages`).
-
-    Parameters
-    ----------
-    path : str or Path
-        The result file.
-
-    Returns
-    -------
-    tuple of (int, int) or None
-        ``(driving teeth, driven teeth)`` of each stage; None for a simple train, a
-        planetary stage or a file that is not a readable gearsim train result (its
-        tooth counts are then analysed as a simple train).
-    """
-    try:
-        import xarray as xr
-
-        with xr.open_dataset(path) as ds:
-            attrs = dict(ds.attrs)
-    except Exception:  # not a NetCDF file xarray opens: no stages
-        return None
-    text = attrs.get("analysis_stages")
-    if isinstance(text, str):
-        from gearsim.signals.analysis import check_stages
-
-        try:
-            return check_stages([tuple(int(z) for z in st.split("/"))
-                                 for st in text.split(",")], name="analysis_stages")
-        except (ValueError, InputError):
-            return None
-    config = attrs.get("config")
-    if not isinstance(config, str):
+def _file_stages(ch: dict) -> tuple[tuple[int, int], ...] | None:
+    """The stages of a gearsim result of a compound gear train (a channel of
+    :func:`_read_channels`), else None: its ``analysis_stages`` attribute as the reader
+    gave it, or for a result written before that attribute, the stages of its stored
+    configuration (:meth:`gearsim.model.Gearbox.analysis_stages`)."""
+    if ch.get("stages"):
+        return tuple(ch["stages"])
+    if not isinstance(ch.get("config"), str):
         return None
     from gearsim.model import loads
 
     try:
-        return loads(config).analysis_stages()
+        return loads(ch["config"]).analysis_stages()
     except Exception:  # a configuration this version cannot read: the teeth as they are
         return None
 

@@ -693,19 +693,13 @@ def analyze(
     spec = amplitude_spectrum(a, fs, window=opt.window)
     stage_spec: list[tuple[list[Tone], list[SidebandFamily]]] = []
     if kin.stages:
-        stage_spec = _stage_spectrum(kin, spec, orders, opt.n_sidebands)
+        stage_spec = _stage_spectrum(kin, stage_shafts, spec, orders, opt.n_sidebands)
         harmonics, fams = stage_spec[0]
     else:
         harmonics = mesh_harmonics(spec, mesh_frequency=f_m, orders=orders,
                                    search=SEARCH_FRACTION * min(kin.shafts.values()))
         fams = sideband_families(spec, mesh_frequency=f_m, shafts=kin.shafts,
                                  orders=orders, n_sidebands=opt.n_sidebands)
-    half = 0.5 * f_m
-    bw_spec = {
-        n: band_width(spec.frequency, spec.amplitude**2, center=n * f_m,
-                      half_window=half, fraction=opt.band_fraction)
-        for n in orders
-    }
     timings["spectrum"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -719,15 +713,16 @@ def analyze(
     sg = spectrogram(a - stats.mean if opt.remove_mean else a, fs, nperseg=nperseg, hop=hop,
                      window="hann")
     mean_psd = sg.psd.mean(axis=1)
-    energies, bw_stft, mod_peak = {}, {}, {}
-    for n in orders:
-        e = band_energy(sg, center=n * f_m, half_width=half)
-        energies[n] = e
-        bw_stft[n] = band_width(sg.frequency, mean_psd, center=n * f_m,
-                                half_window=half, fraction=opt.band_fraction)
-        mod_peak[n] = modulation_index(e, sg.time, frequency=f_r1)
-    stage_out = _stage_lines(kin, spec, sg, orders, opt.band_fraction, stage_spec,
-                             (energies, bw_spec, bw_stft, mod_peak))
+    first = _bands(spec, sg, mean_psd, f_m, f_r1, orders, opt.band_fraction)
+    energies, bw_spec, bw_stft, mod_peak = first
+    stage_out = []
+    for k, st in enumerate(kin.stages):  # stage 1 is the reference gear's mesh: `first`
+        b = first if k == 0 else _bands(spec, sg, mean_psd, st.mesh_frequency,
+                                        kin.shafts[st.shafts[0]], orders, opt.band_fraction)
+        stage_out.append(StageLines(stage=st, harmonics=stage_spec[k][0],
+                                    families=stage_spec[k][1], band_energy=b[0],
+                                    band_width_spectrum=b[1], band_width_stft=b[2],
+                                    band_modulation=b[3]))
     timings["time_frequency"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -770,11 +765,12 @@ def analyze(
     )
 
 
-def _stage_spectrum(kin: Kinematics, spec: Spectrum, orders: Sequence[int],
-                    n_sidebands: int) -> list[tuple[list[Tone], list[SidebandFamily]]]:
-    """Mesh harmonics and sideband families (of its two shafts) of every stage; a line
-    of another stage within the resolution makes a sideband not ``isolated``."""
-    shafts = [{k: kin.shafts[k] for k in st.shafts} for st in kin.stages]
+def _stage_spectrum(kin: Kinematics, shafts: list[dict[str, float]], spec: Spectrum,
+                    orders: Sequence[int], n_sidebands: int,
+                    ) -> list[tuple[list[Tone], list[SidebandFamily]]]:
+    """Mesh harmonics and sideband families (of its two shafts, ``shafts[k]``) of every
+    stage; a line of another stage within the resolution makes a sideband not
+    ``isolated``."""
     out = []
     for st, sh in zip(kin.stages, shafts, strict=True):
         others = [line for o, osh in zip(kin.stages, shafts, strict=True) if o is not st
@@ -788,33 +784,23 @@ def _stage_spectrum(kin: Kinematics, spec: Spectrum, orders: Sequence[int],
     return out
 
 
-def _stage_lines(kin: Kinematics, spec: Spectrum, sg: Spectrogram, orders: Sequence[int],
-                 band_fraction: float,
-                 stage_spec: list[tuple[list[Tone], list[SidebandFamily]]],
-                 first: tuple[dict, dict, dict, dict]) -> list[StageLines]:
-    """:class:`StageLines` of every stage; stage 1's bands are ``first`` (energy, widths
-    from the spectrum and the STFT, modulation at ``f_r1``), the others' computed here."""
-    mean_psd = sg.psd.mean(axis=1)
-    out: list[StageLines] = []
-    for k, st in enumerate(kin.stages):
-        if k == 0:
-            s_e, s_ws, s_wt, s_mod = first
-        else:
-            fk, hk = st.mesh_frequency, 0.5 * st.mesh_frequency
-            f_drive = kin.shafts[st.shafts[0]]
-            s_e, s_ws, s_wt, s_mod = {}, {}, {}, {}
-            for n in orders:
-                s_e[n] = band_energy(sg, center=n * fk, half_width=hk)
-                s_ws[n] = band_width(spec.frequency, spec.amplitude**2, center=n * fk,
-                                     half_window=hk, fraction=band_fraction)
-                s_wt[n] = band_width(sg.frequency, mean_psd, center=n * fk,
-                                     half_window=hk, fraction=band_fraction)
-                s_mod[n] = modulation_index(s_e[n], sg.time, frequency=f_drive)
-        out.append(StageLines(
-            stage=st, harmonics=stage_spec[k][0], families=stage_spec[k][1],
-            band_energy=s_e, band_width_spectrum=s_ws, band_width_stft=s_wt,
-            band_modulation=s_mod))
-    return out
+def _bands(spec: Spectrum, sg: Spectrogram, mean_psd: np.ndarray, mesh_frequency: float,
+           modulation_frequency: float, orders: Sequence[int], fraction: float,
+           ) -> tuple[dict, dict, dict, dict]:
+    """Per order n, around n f_m (half width f_m / 2): the STFT band energy, the band
+    widths of the spectrum and of the mean STFT PSD, and the band energy's modulation at
+    ``modulation_frequency`` (the mesh's driving shaft)."""
+    half = 0.5 * mesh_frequency
+    energy, width_spec, width_stft, modulation = {}, {}, {}, {}
+    for n in orders:
+        centre = n * mesh_frequency
+        energy[n] = band_energy(sg, center=centre, half_width=half)
+        width_spec[n] = band_width(spec.frequency, spec.amplitude**2, center=centre,
+                                   half_window=half, fraction=fraction)
+        width_stft[n] = band_width(sg.frequency, mean_psd, center=centre, half_window=half,
+                                   fraction=fraction)
+        modulation[n] = modulation_index(energy[n], sg.time, frequency=modulation_frequency)
+    return energy, width_spec, width_stft, modulation
 
 
 def _lines(mesh_frequency: float, shafts: dict[str, float], orders: Sequence[int],

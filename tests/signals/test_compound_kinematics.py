@@ -292,6 +292,18 @@ def test_cli_refuses_bad_stages(record_csv, value, pattern, gearsim_here):
     assert pattern in lines[0] and "e.g. --stages 32/80,48/64" in lines[0], lines[0]
 
 
+@pytest.mark.parametrize("value", ["1e300", "0", "-32", "2000", "nan", "32.5"])
+def test_cli_refuses_teeth_no_gear_has(record_csv, gearsim_here, value):
+    """--teeth out of [1, 1000] or not an integer: one line naming --teeth, before any
+    file is read."""
+    code, _, err = _cli(gearsim_here, "analyze", record_csv, "--fs", FS, "--shaft-rpm", 1800,
+                        "--teeth", f"32,{value}")
+    lines = err.strip().splitlines()
+    assert code == 2 and len(lines) == 1, err
+    assert lines[0].startswith(f"gearsim: error: --teeth = 32 {value}: must be integers in "
+                               "[1, 1000]"), lines[0]
+
+
 def test_cli_refuses_teeth_with_stages(record_csv, gearsim_here):
     code, _, err = _cli(gearsim_here, "analyze", record_csv, "--fs", FS,
                         "--shaft-rpm", 1800, "--teeth", 32, 80, "--stages", "32/80,48/64")

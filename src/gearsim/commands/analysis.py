@@ -67,8 +67,8 @@ def _teeth(values: list[str] | None, extra: list[str], problems: list[str]) -> t
     try:
         zs = tuple(int(t) for t in items)
     except ValueError:
-        problems.append(f"--teeth = {' '.join(items)}: must be integers >= 1 (e.g. --teeth 32 "
-                        "80 or --teeth 32,80)")
+        problems.append(f"--teeth = {' '.join(items)}: must be integers in [1, {MAX_TEETH}] "
+                        "(e.g. --teeth 32 80 or --teeth 32,80)")
         return None
     if any(not 1 <= z <= MAX_TEETH for z in zs):
         problems.append(f"--teeth = {' '.join(items)}: must be integers in [1, {MAX_TEETH}]")

@@ -58,7 +58,7 @@ from gearsim.system.toml import train_to_toml
 from gearsim.system.train import GearTrain
 
 __all__ = ["FORCE_ENV", "MAX_STEPS", "MEMORY_FRACTION", "Raw", "RunCost", "build_model",
-           "check_cost", "compound_stages", "cost_bounds_lifted", "integration_step",
+           "check_cost", "cost_bounds_lifted", "integration_step",
            "physical_memory", "record", "reference_mesh_forces", "reference_rhs", "run_kernel",
            "settings_of", "simulate", "summary", "tacho_variable"]
 
@@ -732,7 +732,7 @@ def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient)
         # a compound train: every stage's (driving, driven) teeth, "32/80,48/64", so
         # that a results file is analysed with its stages without its configuration
         **({"analysis_stages": ",".join(f"{d}/{n}" for d, n in stages)}
-           if (stages := compound_stages(train)) is not None else {}),
+           if (stages := train.compound_stages()) is not None else {}),
         "static_force": [float(x) for x in model.static_force],
         "natural_frequencies": [float(x) for x in md.frequencies],
         "cracks": "; ".join(f"{c.gear} tooth {c.tooth} {c.flank} depth {c.depth:g} m angle "
@@ -750,38 +750,6 @@ def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient)
     if springs:
         coords["spring"] = ("spring", list(model.info["shaft_springs"]))
     return xr.Dataset(data, coords=coords, attrs=attrs)
-
-
-def compound_stages(train: GearTrain) -> tuple[tuple[int, int], ...] | None:
-    """The stages of a compound gear train as the signal analysis takes them, or None.
-
-    The rule of :meth:`gearsim.model.Gearbox.analysis_stages` applied to the train of a
-    run (the dynamics layer knows no Gearbox): the meshes form one serial path from the
-    input shaft (the driving gear of each mesh on the driven gear's shaft of the mesh
-    before) and at least one intermediate shaft carries two gears.
-
-    Parameters
-    ----------
-    train : GearTrain
-        The simulated train.
-
-    Returns
-    -------
-    tuple of (int, int) or None
-        ``(driving teeth, driven teeth)`` of each mesh in power-flow order
-        (:func:`gearsim.signals.analysis.kinematics` ``stages``); None for a chain of
-        idlers (one mesh frequency), a single mesh or a branched train.
-    """
-    flow = train.flow
-    meshes = flow.meshes
-    if not meshes or flow.shaft_of[meshes[0][0]] != 0:
-        return None
-    links = list(zip(meshes, meshes[1:], strict=False))
-    if any(flow.shaft_of[nxt[0]] != flow.shaft_of[prev[1]] for prev, nxt in links):
-        return None  # not one serial path
-    if all(nxt[0] == prev[1] for prev, nxt in links):
-        return None  # idlers (or one mesh): the simple train
-    return tuple((int(train.gear(a).teeth), int(train.gear(b).teeth)) for a, b in meshes)
 
 
 def summary(ds) -> dict:

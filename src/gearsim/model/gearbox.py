@@ -675,9 +675,7 @@ class Gearbox:
         """
         if self.stage is not None or self.train is None:
             return None
-        from gearsim.dynamics.simulate import compound_stages
-
-        return compound_stages(self.train)  # the rule the results' attribute follows
+        return self.train.compound_stages()  # the rule the results' attribute follows
 
     def analysis_train(self, shafts: str = "all") -> dict[str, Any]:
         """The train and speed arguments of the analysis of a record of this gearbox.

@@ -247,6 +247,31 @@ class GearTrain:
                 return g
         raise KeyError(name)
 
+    def compound_stages(self) -> tuple[tuple[int, int], ...] | None:
+        """The stages of a compound train as the signal analysis takes them, or None.
+
+        A train whose meshes form one serial path from the input shaft (the driving gear
+        of each mesh on the shaft of the driven gear of the mesh before), at least one
+        intermediate shaft carrying two gears, has one mesh frequency per stage
+        (:func:`gearsim.signals.analysis.kinematics`, ``stages``).
+
+        Returns
+        -------
+        tuple of (int, int) or None
+            ``(driving teeth, driven teeth)`` of each mesh in power-flow order; None for
+            a chain of idlers (one mesh frequency), a single mesh or a branched train.
+        """
+        flow = self.flow
+        meshes = flow.meshes
+        if not meshes or flow.shaft_of[meshes[0][0]] != 0:
+            return None
+        links = list(zip(meshes, meshes[1:], strict=False))
+        if any(flow.shaft_of[nxt[0]] != flow.shaft_of[prev[1]] for prev, nxt in links):
+            return None  # not one serial path
+        if all(nxt[0] == prev[1] for prev, nxt in links):
+            return None  # idlers (or one mesh): the simple train
+        return tuple((int(self.gear(a).teeth), int(self.gear(b).teeth)) for a, b in meshes)
+
     def gear_index(self, name: str) -> int:
         """Position of the gear called ``name`` in the power flow (0 = input).
 

@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -60,7 +61,7 @@ from gearsim.system.train import GearTrain
 __all__ = ["FORCE_ENV", "MAX_STEPS", "MEMORY_FRACTION", "Raw", "RunCost", "build_model",
            "check_cost", "cost_bounds_lifted", "integration_step",
            "physical_memory", "record", "reference_mesh_forces", "reference_rhs", "run_kernel",
-           "settings_of", "simulate", "summary", "tacho_variable"]
+           "settings_of", "simulate", "simulate_record", "summary", "tacho_variable"]
 
 #: |q| limit [m or rad] beyond which a run counts as diverged.
 Q_LIMIT = 1.0
@@ -564,6 +565,17 @@ def simulate(train: GearTrain, settings: DynamicsSettings | None = None, *,
     SimulationError
         The run diverged.
     """
+    settings, model, dt, m, transient = _prepare(train, settings, tables, model, check_step,
+                                                 harmonics, force)
+    t, q, v, f, transient = record(model, settings, dt=dt, m=m, transient=transient)
+    return _dataset(train, settings, model, t, q, v, f, dt=dt, transient=transient)
+
+
+def _prepare(train: GearTrain, settings: DynamicsSettings | None,
+             tables: tuple[MeshTable, ...] | None, model: DynamicModel | None,
+             check_step: bool, harmonics: int, force: bool | None
+             ) -> tuple[DynamicsSettings, DynamicModel, float, int, float]:
+    """Checks, model, step and transient of a run (:func:`simulate`, :func:`simulate_record`)."""
     settings = settings_of(train, settings)
     check_cost(train, settings, harmonics=harmonics, force=force)
     model = model or build_model(train, settings, tables=tables)
@@ -576,12 +588,104 @@ def simulate(train: GearTrain, settings: DynamicsSettings | None = None, *,
     if transient is None:
         transient = max(12.0 * decay_time(model), 1.0 / model.mesh_frequency)
         check_cost(train, settings, harmonics=harmonics, transient=transient, force=force)
-    t, q, v, f, transient = record(model, settings, dt=dt, m=m, transient=transient)
-    return _dataset(train, settings, model, t, q, v, f, dt=dt, transient=transient)
+    return settings, model, dt, m, transient
+
+
+#: The records :func:`simulate_record` derives from the few channels they need:
+#: ``mesh_force_i``, ``dte_i``, ``bearing_force[shaft,axis]``, ``acceleration[shaft,axis]``,
+#: ``angular_acceleration[rotation]``.
+_RECORD = re.compile(r"(mesh_force|dte)_(\d+)|(bearing_force|acceleration)\[([^,\]]+),([^,\]]+)\]"
+                     r"|angular_acceleration\[([^,\]]+)\]")
+
+
+def simulate_record(train: GearTrain, spec: str, settings: DynamicsSettings | None = None,
+                    *, harmonics: int = 1, force: bool | None = None) -> np.ndarray | None:
+    """One record of :func:`simulate`, computed from the channels it needs only.
+
+    A parameter study analyses one record of each run (a bearing's acceleration, say).
+    The run is the same (same checks, model, kernel and transient); only the channels
+    the record is made of are decimated (the FIR filter acts on each channel alone, so
+    those channels are the same numbers), and the record is formed as in
+    :func:`simulate`'s dataset: ``mesh_force_i = f_i c_i``; ``dte_i = (q V^T)_i +
+    e_i``; ``bearing_force = k_b q_d + c_b q'_d``; ``acceleration = (F_d - k_b q_d -
+    c_b q'_d - (f V)_d) / m_d`` (``angular_acceleration`` likewise, at a rotation
+    coordinate) (docs/dynamics.md section 6). No dataset is built.
+
+    Parameters
+    ----------
+    train : GearTrain
+        Gear chain with operating point and cracks.
+    spec : str
+        ``mesh_force_i``, ``dte_i`` (i from 1), ``bearing_force[shaft,axis]``,
+        ``acceleration[shaft,axis]`` or ``angular_acceleration[rotation]``, blanks
+        removed (:meth:`gearsim.model.Gearbox.signal_key`).
+    settings : DynamicsSettings, optional
+        As :func:`simulate`.
+    harmonics : int, optional
+        As :func:`simulate`.
+    force : bool, optional
+        As :func:`simulate`.
+
+    Returns
+    -------
+    ndarray or None
+        The record, equal to ``simulate(...)[variable].sel(...)`` to round-off (the same
+        channels through the same filter); ``None``, before any work, for a name this
+        function does not derive or a label the train does not have (use
+        :func:`simulate` and select the record there, which says what is wrong).
+
+    Raises
+    ------
+    InputError, SimulationError
+        As :func:`simulate`.
+    """
+    mt = _RECORD.fullmatch(spec)
+    if mt is None:
+        return None
+    shafts = [sh.name for sh in train.flow.shafts]
+    if mt.group(1):
+        i = int(mt.group(2)) - 1
+        if not 0 <= i < len(train.pairs):
+            return None
+    elif mt.group(6) is None and mt.group(4) not in shafts:
+        return None
+    settings, model, dt, m, transient = _prepare(train, settings, None, None, True,
+                                                 harmonics, force)
+    every = np.arange(model.n_dof)
+    none = every[:0]
+    meshes = np.arange(model.V.shape[0])
+    whole = settings.oversample == 1  # record() returns every column (nothing to filter)
+    if mt.group(1) == "mesh_force":
+        _, _, _, f, _ = record(model, settings, dt=dt, m=m, transient=transient,
+                               channels=(none, none, np.array([i])))
+        return f[:, i if whole else 0] * model.to_transverse[i]
+    if mt.group(1) == "dte":
+        _, q, _, _, _ = record(model, settings, dt=dt, m=m, transient=transient,
+                               channels=(every, none, none))
+        return (q @ model.V.T + model.dte_offset)[:, i]
+    if mt.group(6) is not None:  # a rotation coordinate (not of the seed's model)
+        label = f"{mt.group(6)}.theta"
+        if model.kind == "seed" or label not in model.dof_labels:
+            return None
+        d = model.dof_labels.index(label)
+    elif mt.group(5) not in model.axes:
+        return None
+    else:
+        d = int(model.bearing_dofs[shafts.index(mt.group(4)), model.axes.index(mt.group(5))])
+    one = np.array([d])
+    _, q, v, f, _ = record(model, settings, dt=dt, m=m, transient=transient,
+                           channels=(one, one, none if mt.group(3) == "bearing_force"
+                                     else meshes))
+    qd, vd = (q[:, d], v[:, d]) if whole else (q[:, 0], v[:, 0])
+    if mt.group(3) == "bearing_force":
+        return model.kb[d] * qd + model.cb[d] * vd
+    return (model.fext[d] - model.kb[d] * qd - model.cb[d] * vd - (f @ model.V)[:, d]
+            ) / model.mass[d]
 
 
 def record(model: DynamicModel, settings: DynamicsSettings, *, dt: float, m: int,
-           transient: float) -> tuple[np.ndarray, ...]:
+           transient: float, channels: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+           ) -> tuple[np.ndarray, ...]:
     """Run the kernel past the transient and record q, v, f at fs (FIR-decimated).
 
     The kernel keeps every ``m``-th step (the internal rate ``oversample fs``), from
@@ -602,11 +706,16 @@ def record(model: DynamicModel, settings: DynamicsSettings, *, dt: float, m: int
     transient : float
         Time to skip [s] (rounded up to whole internal samples, at least the filter's
         half length).
+    channels : tuple of three int arrays, optional
+        Columns of q, q' and f to decimate and return (default: all). The filter acts
+        on each channel alone, so a column is the same whichever others are kept.
+        Without oversampling nothing is filtered and the records are returned whole.
 
     Returns
     -------
     t, q, v, f : ndarray
-        Times [s] and the records, shapes (n,), (n, n_dof) twice, (n, n_mesh).
+        Times [s] and the records, shapes (n,), (n, n_dof) twice, (n, n_mesh) (with
+        oversampling and ``channels``, the columns it names).
     transient : float
         The transient used [s].
     """
@@ -622,21 +731,24 @@ def record(model: DynamicModel, settings: DynamicsSettings, *, dt: float, m: int
     n_steps = rec_start + (n_rec - 1) * m
     raw = run_kernel(model, dt=dt, n_steps=n_steps, rec_start=rec_start, rec_every=m,
                      n_rec=n_rec)
+    rq, rv, rf = raw.q, raw.v, raw.f
+    if r > 1 and channels is not None:
+        rq, rv, rf = rq[:, channels[0]], rv[:, channels[1]], rf[:, channels[2]]
     if r > 1:
         from scipy.signal import upfirdn
 
         # one channel per row (q, v, f): upfirdn filters each contiguous row (the same sums
         # as along axis 0 of the (time, channel) records, 60 % of the time with the copy)
-        n = model.n_dof
-        x = np.empty((2 * n + raw.f.shape[1], n_rec))
-        x[:n], x[n:2 * n], x[2 * n:] = raw.q.T, raw.v.T, raw.f.T
+        n, nv = rq.shape[1], rv.shape[1]
+        x = np.empty((n + nv + rf.shape[1], n_rec))
+        x[:n], x[n:n + nv], x[n + nv:] = rq.T, rv.T, rf.T
         # full-convolution index j = kk r holds the output centred on j - half; the first
         # output sample is centred on internal index half, i.e. kk = 2 half / r
         k0 = 2 * half // r
         y = upfirdn(_fir(r, fs), x, up=1, down=r, axis=-1)[:, k0:k0 + n_out].T
-        q, v, f = y[:, :n], y[:, n:2 * n], y[:, 2 * n:]
+        q, v, f = y[:, :n], y[:, n:n + nv], y[:, n + nv:]
     else:
-        q, v, f = raw.q, raw.v, raw.f
+        q, v, f = rq, rv, rf
     return transient + np.arange(n_out) / fs, q, v, f, transient
 
 

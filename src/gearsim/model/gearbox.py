@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from gearsim.dynamics.lta import AXES as LTA_AXES
+from gearsim.dynamics.lta import dof_map
 from gearsim.dynamics.settings import DynamicsSettings
 from gearsim.dynamics.stage import StageDynamics, check_stage_settings
 from gearsim.errors import InputError, require
@@ -323,6 +324,58 @@ class Gearbox:
         return simulate_stage_chain(self.stage, self.train, self.members, settings,
                                     shaft_stiffness=self.shaft_stiffness)
 
+    def record(self, spec: str, *, harmonics: int = 1, force: bool | None = None,
+               **dynamics: Any) -> np.ndarray:
+        """One record of :meth:`simulate`: ``self.select(self.simulate(...), spec)``.
+
+        What a study analyses of each run. Of a gear train, a mesh force, transmission
+        error, bearing force or acceleration is formed from the channels it needs only
+        (:func:`gearsim.dynamics.simulate.simulate_record`: the same run, no dataset);
+        every other record, and every record of a stage, through :meth:`select`.
+
+        Parameters
+        ----------
+        spec : str
+            A name of :meth:`signals`, e.g. ``"acceleration[input,y]"``.
+        harmonics : int, optional
+            As :meth:`simulate`.
+        force : bool, optional
+            As :meth:`simulate`.
+        **dynamics
+            Changes to the ``[dynamics]`` settings, SI values.
+
+        Returns
+        -------
+        ndarray
+            The record (float), equal to the selected variable to round-off.
+
+        Raises
+        ------
+        InputError
+            As :meth:`simulate` and :meth:`select`.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import gearsim as gs
+        >>> gb = gs.example("spur-19-48").replace(dynamics={"duration": 0.1, "fs": 2e4})
+        >>> a = gb.record("acceleration[pinion,y]")
+        >>> b = gb.select(gb.simulate(), "acceleration[pinion,y]")
+        >>> bool(np.allclose(a, b, rtol=1e-12, atol=0.0))
+        True
+        """
+        if self.stage is None:
+            from gearsim.dynamics.simulate import simulate_record
+
+            settings = (dataclasses.replace(self.dynamics, **dynamics) if dynamics
+                        else self.dynamics)
+            key = self.signal_key(spec)
+            x = None if key is None else simulate_record(
+                self.train, key, settings, harmonics=harmonics, force=force)
+            if x is not None:
+                return x
+        return self.select(self.simulate(harmonics=harmonics, force=force, **dynamics), spec)
+
     def summary(self, ds) -> dict:
         """Summary of a result of :meth:`simulate`: per mesh mean, RMS, peak force [N].
 
@@ -504,7 +557,10 @@ class Gearbox:
         list of str
             Gears: ``mesh_force_i``, ``dte_i``, ``ste_i`` for each mesh ``i`` (1, 2, ...),
             then ``bearing_force[shaft,axis]`` and ``acceleration[shaft,axis]`` (LTA
-            model: x, y, z; otherwise y). A stage: ``sensor`` (the ring's fixed
+            model: x, y, z; the seed's 3-DOF model: y; the torsional model has no
+            bearing coordinates, so none), then, but for the seed's model,
+            ``angular_acceleration[rotation]`` of each rotation coordinate (a shaft, or a
+            gear of a shaft that twists between its gears). A stage: ``sensor`` (the ring's fixed
             transducer), ``mesh_force[sun-planet-1]``, ``mesh_force[ring-planet-1]``,
             ... and ``ring_acceleration[x]``, ``ring_acceleration[y]``.
 
@@ -525,20 +581,31 @@ class Gearbox:
         out = []
         for i in range(len(self.train.pairs)):
             out += [f"mesh_force_{i + 1}", f"dte_{i + 1}", f"ste_{i + 1}"]
-        axes = LTA_AXES if self.dynamics.model == "lta" else ("y",)
+        model = self.dynamics.model
+        axes = LTA_AXES if model == "lta" else ("y",) if model == "seed" else ()
         for var in ("bearing_force", "acceleration"):
             out += [f"{var}[{sh.name},{a}]" for sh in self.train.flow.shafts for a in axes]
-        return out
+        return out + [f"angular_acceleration[{r}]" for r in self._rotations()]
+
+    def _rotations(self) -> list[str]:
+        """Labels of the rotation coordinates of a gear train's model (none: seed's)."""
+        if self.dynamics.model == "seed":
+            return []
+        labels, _, _ = dof_map(self.train, self.dynamics.model)
+        return [lab[:-len(".theta")] for lab in labels if lab.endswith(".theta")]
 
     @property
     def default_signal(self) -> str:
         """The record a study analyses by default: what a test rig measures.
 
-        The y acceleration of the input shaft's bearing; the ring's fixed transducer
-        (``sensor``) of a planetary stage.
+        The y acceleration of the input shaft's bearing; in the torsional model, which
+        has no bearing coordinates, the input's angular acceleration; the ring's fixed
+        transducer (``sensor``) of a planetary stage.
         """
         if self.stage is not None:
             return "sensor"
+        if self.dynamics.model == "torsional":
+            return f"angular_acceleration[{self._rotations()[0]}]"
         return f"acceleration[{self.train.flow.shafts[0].name},y]"
 
     @property

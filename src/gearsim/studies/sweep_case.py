@@ -229,7 +229,7 @@ def run_group(study: Study, cases: Sequence[Case],
     try:
         gb = build_case(study, cases[0])
         fs = float(gb.dynamics.fs)
-        x = gb.select(gb.simulate(), study.signal)
+        x = gb.record(study.signal)  # the analysed record only (no dataset)
         # a compound train: every stage's mesh (unless only the reference is analysed)
         kwargs = gb.analysis_train(study.shafts) | {"settings": gb.analysis}
     except (InputError, SimulationError) as exc:

@@ -113,11 +113,14 @@ def test_too_short_record_is_refused_before_any_work(tmp_path):
     assert not (tmp_path / "rep").exists()
 
 
-def test_cli_refuses_a_crack_past_the_centre_line(tmp_path, gearsim_here):
+def test_cli_refuses_a_crack_that_cuts_the_tooth_off(tmp_path, gearsim_here):
+    # on the input gear (z 39, m_n 6 mm) a 45 deg crack passes the centre line at about
+    # 9 mm and its limiting line meets the far flank below the tip circle from ~12.5 mm
     out = tmp_path / "rep"
-    r = gearsim_here("reproduce", "--out", out, "--depth", "12 mm", "--no-fe", "--quiet")
+    r = gearsim_here("reproduce", "--out", out, "--depth", "14 mm", "--no-fe", "--quiet")
     assert r.returncode == 2
-    assert "depth" in r.stderr and "Traceback" not in r.stderr
+    assert "depth" in r.stderr and "cuts the tooth off" in r.stderr
+    assert "Traceback" not in r.stderr
     assert not out.exists()  # nothing written before the inputs are checked
 
 

@@ -224,7 +224,7 @@ def crack_line(profile: ToothProfile, crack, depth: float, side: int) -> CrackLi
 
     if side not in (1, -1):
         raise InputError("side", side, "must be +1 (loaded flank) or -1 (unloaded flank)")
-    geo = crack_geometry(profile, crack, depth)  # refuses a crack past the centre line
+    geo = crack_geometry(profile, crack, depth)  # refuses a crack that cuts the tooth off
     s = float(side)
     return CrackLine(start=(s * geo.start[0], geo.start[1]), tip=(s * geo.tip[0], geo.tip[1]))
 
@@ -466,8 +466,10 @@ def _check_crack(outer: np.ndarray, cl: CrackLine, half: np.ndarray) -> None:
     # the tip must be strictly inside the tooth material: not beyond the centre line
     if cl.start[0] * cl.tip[0] <= 0.0:
         raise InputError("crack.depth", f"{cl.depth * 1e3:.6g} mm",
-                         "the crack crosses the tooth centre line and would cut the tooth "
-                         "off; reduce the depth or the angle")
+                         "the crack crosses the tooth centre line, which the FE tooth does "
+                         "not model (its crack is a straight slit on one side); reduce the "
+                         "depth or the angle, or leave the FE route out (the potential-"
+                         "energy model takes the crack up to tooth loss)")
     if not _inside(outer, tp):
         ang = math.degrees(math.atan2(abs(s[0] - tp[0]), s[1] - tp[1]))
         raise InputError("crack.angle", f"{ang:.4g} deg",

@@ -17,10 +17,15 @@ fillet-foundation compliance of Sainsot, Velex & Duverger (2004), seed eq. 7,
 
     1/k_f = cos^2(a1) / (E L) [L* (u_f/S_f)^2 + M* (u_f/S_f) + P* (1 + Q* tan^2 a1)].
 
-Cracked sections (limiting-line model, seed eqs. 10-11): between the crack tip height
-and the height ``g_c`` where the line through the tip parallel to the centre line meets
-the outline, the part of the section between that line (at distance h_c from the centre
-line, on the cracked side) and the cracked flank is lost:
+Cracked sections (limiting-line model, Tian 2004, seed eqs. 10-11): between the crack
+tip height and the height ``g_c`` where the line through the tip parallel to the centre
+line meets the outline, the part of the section between that line (at signed distance
+h_c from the centre line, positive on the cracked side) and the cracked flank is lost.
+Past the centre line (h_c = -h_q < 0, a crack through the centre line, Tian 2004, Wu,
+Zuo & Parey 2008: A_x = (h_x - h_q) L, I_x = (h_x - h_q)^3 L / 12) the same formulas hold
+with h_c < 0 and the line reaches the tip circle (``g_c`` = top); the records of
+:mod:`gearsim.stiffness.crack` keep h + h_c > 0 on every section (a crack that would
+cut the tooth off is refused there):
 
 * ``open`` model: A = (h_c + h) L, I = (h_c + h)^3 L / 12, moment about the centre
   line (the seed's equations as printed);
@@ -52,7 +57,7 @@ from gearsim.geometry._kernels import (
 # crack record layout (one per slice of the cracked tooth)
 C_ACTIVE = 0  # 1.0 when a crack is present
 C_SIDE = 1  # +1 crack on the loaded flank (tension side), -1 on the unloaded flank
-C_HC = 2  # distance of the crack tip (limiting line) from the centre line, > 0 [m]
+C_HC = 2  # signed distance of the limiting line from the centre line, < 0 past it [m]
 C_YLO = 3  # lower end of the cracked range (crack tip height, >= root) [m]
 C_YHI = 4  # upper end g_c of the cracked range [m]
 C_SEGLO = 5  # outline segment of C_YLO (0 fillet, 1 involute)

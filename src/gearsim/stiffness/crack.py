@@ -8,11 +8,40 @@ tooth centre line, to ``depth``. Along the face width it extends from the face a
 ``uniform`` (q0), ``linear`` (q0 (1 - z/w)) or ``parabolic`` (q0 sqrt(1 - z/w), the
 crack front of Chen & Shao 2011).
 
+**Limiting line** (Tian 2004; seed eqs. 10-11). The part of each section between the
+line through the crack tip parallel to the tooth centre line, at signed distance
+h_c = x_t from it (positive on the cracked side), and the cracked flank carries no
+load, from the tip height (or the root circle, whichever is higher) upwards: the
+section of half width h keeps the width h + h_c (A = (h + h_c) L, I = (h + h_c)^3 L / 12).
+**Past the centre line** (h_c < 0) the same straight line is kept, on the far side:
+the width is h - h_q with h_q = -h_c the tip's distance past the centre line, the case
+of a crack through the tooth centre line of Tian (2004) and Wu, Zuo & Parey (2008)
+(their A_x = (h_x - h_q) L, I_x = (h_x - h_q)^3 L / 12). The width falls continuously
+through h_c = 0 (the same formula on both sides). The section width reaches zero where
+the far flank's half width equals h_q: if that happens below the tooth tip (h_q >= the
+half width of the top land, the highest load point of any mesh), the model's tooth is
+**cut off** (tooth loss) and :func:`crack_geometry` refuses the crack in one line
+(:func:`cuts_tooth_off`); the widths of an accepted crack are > 0 everywhere.
+
+**Polyline paths** (:func:`path_limiting_line`): with a vertical limiting line from
+every point of the path, the section at height y keeps the part left of the leftmost
+path point at or below y, h_c(y) = min {x(s) : y(s) <= y} (Tian's line from the tip for
+a straight crack). When the leftmost point of the path lies at or below the root circle
+or is its lowest point, h_c(y) is one constant over the sections of the tooth and the
+path's record is that of the straight crack to that point; otherwise the path needs
+more than one limiting line and is refused.
+
 References
 ----------
 .. [Chen2011] Z. Chen, Y. Shao, Dynamic simulation of spur gear with tooth root crack
    propagating along tooth width and crack depth, Eng. Fail. Anal. 18 (2011) 2149-2164.
-.. [Tian2004] X. Tian, M.Sc. thesis, University of Alberta, 2004 (limiting line).
+.. [Tian2004] X. Tian, Dynamic simulation for system response of gearbox including
+   localized gear faults, M.Sc. thesis, University of Alberta, 2004 (limiting line; a
+   crack through the centre line).
+.. [Wu2008] S. Wu, M. J. Zuo, A. Parey, Simulation of spur gear dynamics and estimation
+   of fault growth, J. Sound Vib. 317 (2008) 608-624 (crack through the centre line:
+   A_x = (h_x - h_q) L, I_x = (h_x - h_q)^3 L / 12; quoted from memory, the text was not
+   reachable here).
 .. [Seed] eqs. 10-11.
 """
 
@@ -29,7 +58,8 @@ from gearsim.geometry import _kernels as G
 from gearsim.geometry.profile import ToothProfile
 from gearsim.stiffness import _kernels as K
 
-__all__ = ["Crack", "crack_geometry", "crack_record"]
+__all__ = ["Crack", "crack_geometry", "crack_record", "cuts_tooth_off", "path_limiting_line",
+           "path_record"]
 
 #: Smallest non-zero crack depth [m]: 1 um, a tenth of the finest grain of case-hardened
 #: gear steels (ASTM grain size 8-10 is 11-22 um, ISO 643); a smaller depth is a unit
@@ -151,9 +181,11 @@ class CrackGeometry:
     start
         Start point (x_s, y_s) on the fillet [m].
     tip
-        Tip (x_t, y_t) [m]; x_t is h_c of the limiting line.
+        Tip (x_t, y_t) [m]; x_t is h_c of the limiting line (negative past the centre
+        line).
     max_depth
-        Depth at which the tip would reach the centre line, x_s / sin(nu) [m].
+        Depth at which the tip would reach the centre line, x_s / sin(nu) [m] (a deeper
+        crack is past it: h_c < 0).
     """
 
     start: tuple[float, float]
@@ -161,11 +193,50 @@ class CrackGeometry:
     max_depth: float
 
 
+def _top_half_width(profile: ToothProfile) -> float:
+    """Half width of the tooth at the top of the involute (the tip circle) [m]."""
+    return float(_outline(profile)[-1, 0])
+
+
+def cuts_tooth_off(profile: ToothProfile, h_c: float) -> bool:
+    """Whether a limiting line at ``h_c`` cuts the model's tooth off below its tip.
+
+    The section width is h + h_c (Tian 2004; past the centre line h - h_q, Wu, Zuo &
+    Parey 2008). The half width h of the tooth falls from the root to the top land, so
+    the width first reaches zero at the top land: the tooth is cut off below its highest
+    load point when h_top + h_c <= 0.
+
+    Parameters
+    ----------
+    profile
+        Outline of the cracked gear.
+    h_c
+        Signed distance of the limiting line from the centre line [m] (> 0 on the
+        cracked side).
+
+    Returns
+    -------
+    bool
+        True when the section width h + h_c reaches zero at or below the tip circle.
+
+    Examples
+    --------
+    >>> from gearsim.geometry.gear import Gear
+    >>> prof = ToothProfile(Gear(teeth=19, normal_module=3.2e-3, name="pinion"))
+    >>> cuts_tooth_off(prof, 0.0), cuts_tooth_off(prof, -1e-2)
+    (False, True)
+    """
+    return _top_half_width(profile) + h_c <= 0.0
+
+
 def crack_geometry(profile: ToothProfile, crack: Crack, depth: float | None = None
                    ) -> CrackGeometry:
     """Start and tip of the crack, after checking it lies on the fillet and in the tooth.
 
-    Tip ``x_t = x_s - q sin(nu)``, ``y_t = y_s - q cos(nu)`` (seed eqs. 10-11).
+    Tip ``x_t = x_s - q sin(nu)``, ``y_t = y_s - q cos(nu)`` (seed eqs. 10-11). The tip
+    may lie past the tooth centre line (x_t < 0, a crack through the centre line, Tian
+    2004, Wu, Zuo & Parey 2008) as long as the limiting line x = x_t leaves a section of
+    width h + x_t > 0 up to the tip circle (:func:`cuts_tooth_off`).
 
     Parameters
     ----------
@@ -179,13 +250,13 @@ def crack_geometry(profile: ToothProfile, crack: Crack, depth: float | None = No
     Returns
     -------
     CrackGeometry
-        Start, tip and the largest admissible depth [m].
+        Start, tip and the depth at which the tip reaches the centre line [m].
 
     Raises
     ------
     InputError
-        If the start radius is not on the fillet or the tip would cross the tooth
-        centre line (q >= x_s / sin(nu)).
+        If the start radius is not on the fillet or the crack cuts the tooth off (the
+        section width h + x_t reaches zero below the tip circle: tooth loss).
 
     Examples
     --------
@@ -210,13 +281,15 @@ def crack_geometry(profile: ToothProfile, crack: Crack, depth: float | None = No
     xs, ys = profile.fillet_point(g)
     q = crack.depth if depth is None else depth
     q_max = xs / math.sin(crack.angle)
-    if q >= q_max:
-        raise InputError("crack.depth", f"{q * 1e3:.6g} mm",
-                         f"crack is deeper than the tooth model allows on {gear.name}: the tip "
-                         f"must stay on the cracked side of the tooth centre line, depth < "
-                         f"{q_max * 1e3:.6g} mm at angle {math.degrees(crack.angle):.4g} deg")
     xt = xs - q * math.sin(crack.angle)
     yt = ys - q * math.cos(crack.angle)
+    if cuts_tooth_off(profile, xt):
+        q_cut = (xs + _top_half_width(profile)) / math.sin(crack.angle)
+        raise InputError("crack.depth", f"{q * 1e3:.6g} mm",
+                         f"crack is deeper than the tooth model allows on {gear.name}: it "
+                         f"cuts the tooth off (tooth loss: its limiting line meets the far "
+                         f"flank below the tip circle), depth < {q_cut * 1e3:.6g} mm at "
+                         f"angle {math.degrees(crack.angle):.4g} deg")
     return CrackGeometry(start=(xs, ys), tip=(xt, yt), max_depth=q_max)
 
 
@@ -264,25 +337,32 @@ def crack_record(profile: ToothProfile, crack: Crack, depth: float, side: int) -
     Returns
     -------
     ndarray, shape (C_SIZE,)
-        Record: active flag, side, h_c = x_t, the cracked height range from the tip
-        (or the root) up to g_c, where the outline's half width first falls to h_c,
-        and the outline segment and parameter of both ends.
+        Record: active flag, side, h_c = x_t (negative past the centre line), the
+        cracked height range from the tip (or the root) up to g_c, where the outline's
+        half width first falls to h_c (the tip circle when it does not: always so for
+        h_c < 0), and the outline segment and parameter of both ends.
 
     Raises
     ------
     InputError
-        As :func:`crack_geometry`.
+        As :func:`crack_geometry` (a crack that cuts the tooth off).
 
     References
     ----------
-    Tian (2004); seed eqs. 10-11 (limiting line).
+    Tian (2004); Wu, Zuo & Parey (2008) (crack through the centre line); seed eqs. 10-11
+    (limiting line).
     """
     rec = np.zeros(K.C_SIZE)
     if depth <= 0.0:
         return rec
     geo = crack_geometry(profile, crack, depth)
+    return _record(profile, geo.tip[0], geo.tip[1], side)
+
+
+def _record(profile: ToothProfile, xt: float, yt: float, side: int) -> np.ndarray:
+    """Kernel record of a limiting line at h_c = ``xt`` from height ``yt`` upwards."""
+    rec = np.zeros(K.C_SIZE)
     p = profile.packed
-    xt, yt = geo.tip
     y_lo = max(yt, profile.root_height)
     # g_c: first height above the tip where the outline half width falls to h_c
     pts = _outline(profile)
@@ -318,3 +398,108 @@ def crack_record(profile: ToothProfile, crack: Crack, depth: float, side: int) -
     rec[K.C_SEGHI] = seg_hi
     rec[K.C_PHI] = p_hi
     return rec
+
+
+@dataclass(frozen=True)
+class PathLine:
+    """Limiting line of a polyline crack (:func:`path_limiting_line`).
+
+    Parameters
+    ----------
+    h_c
+        Signed distance of the line from the centre line [m] (the leftmost path point).
+    y_low
+        Height from which the sections are cracked, max(y of that point, root) [m].
+    point
+        The path point that sets the line, (x, y) [m].
+    """
+
+    h_c: float
+    y_low: float
+    point: tuple[float, float]
+
+
+def path_limiting_line(profile: ToothProfile, points) -> PathLine:
+    """The one limiting line of a polyline crack path, when one line represents it.
+
+    A vertical limiting line drawn up from every point of the path (Tian's line from
+    the tip of a straight crack, Tian 2004) leaves at height y the part of the section
+    left of h_c(y) = min {x(s) : y(s) <= y}. Over the sections of the tooth (from the
+    root circle up) this is the one constant h_c = x_min, from y_low = max(y(x_min),
+    y_root), when the leftmost point of the path lies at or below the root circle or no
+    path point lies below it. The path is piecewise linear: the extremes are at
+    vertices.
+
+    Parameters
+    ----------
+    profile
+        Outline of the cracked gear.
+    points
+        Path vertices (n >= 2, 2), from the start on the cracked fillet, in the frame of
+        :func:`crack_geometry` (x towards the cracked flank) [m].
+
+    Returns
+    -------
+    PathLine
+
+    Raises
+    ------
+    InputError
+        If the path needs more than one limiting line (its leftmost point lies above
+        the root circle with path points below it), or cuts the tooth off
+        (:func:`cuts_tooth_off`).
+
+    Examples
+    --------
+    A straight path has the line of its tip:
+
+    >>> from gearsim.geometry.gear import Gear
+    >>> prof = ToothProfile(Gear(teeth=19, normal_module=3.2e-3, name="pinion"))
+    >>> geo = crack_geometry(prof, Crack(gear="pinion", depth=1e-3))
+    >>> path_limiting_line(prof, [geo.start, geo.tip]).point == geo.tip
+    True
+    """
+    pts = np.asarray(points, dtype=float)
+    require(pts.ndim == 2 and pts.shape[0] >= 2 and pts.shape[1] == 2
+            and bool(np.all(np.isfinite(pts))), "crack.points", pts.shape,
+            "must be >= 2 finite (x, y) points")
+    i = int(np.argmin(pts[:, 0]))
+    xm, ym = float(pts[i, 0]), float(pts[i, 1])
+    y_root = profile.root_height
+    if ym > y_root and float(pts[:, 1].min()) < ym:
+        raise InputError("crack.points", f"leftmost point at y = {ym * 1e3:.6g} mm",
+                         "the path turns back up above the root circle: it needs more "
+                         "than one limiting line (the PE crack model takes one)")
+    if cuts_tooth_off(profile, xm):
+        raise InputError("crack.points", f"h_c = {xm * 1e3:.6g} mm",
+                         f"the path cuts the tooth off (tooth loss: the limiting line "
+                         f"meets the far flank below the tip circle, h_c <= "
+                         f"{-_top_half_width(profile) * 1e3:.6g} mm)")
+    return PathLine(h_c=xm, y_low=max(ym, y_root), point=(xm, ym))
+
+
+def path_record(profile: ToothProfile, points, side: int) -> np.ndarray:
+    """Kernel record (``K.C_*`` layout) of a polyline crack path.
+
+    Parameters
+    ----------
+    profile
+        Outline of the cracked gear.
+    points
+        Path vertices, as :func:`path_limiting_line` [m].
+    side
+        +1 if the cracked flank is the loaded one, -1 otherwise.
+
+    Returns
+    -------
+    ndarray, shape (C_SIZE,)
+        The record of :func:`crack_record` for the limiting line of the path; for a
+        straight path, that of the straight crack.
+
+    Raises
+    ------
+    InputError
+        As :func:`path_limiting_line`.
+    """
+    line = path_limiting_line(profile, points)
+    return _record(profile, line.point[0], line.point[1], side)

@@ -15,9 +15,11 @@ The chain of issue 27 from the grown crack to vibration (docs/fracture.md, secti
    Cycles are turned into hours with the gear's speed (the tooth is loaded once per
    revolution).
 2. :func:`equivalent_crack` maps the polyline to the straight crack of the
-   potential-energy model (start on the fillet to the tip: depth and angle);
-   :func:`stiffness_along_life` computes the TVMS of each state (PE) and the FE tooth
-   compliance of the equivalent crack (:func:`gearsim.fem.tooth.fe_tooth_compliance`).
+   potential-energy model with the same limiting line (start on the fillet to the
+   path's leftmost point, the tip of a grown path: depth and angle), past the tooth
+   centre line too; a crack whose line cuts the tooth off is the tooth loss.
+   :func:`stiffness_along_life` computes the TVMS of each state (PE) and compares it with
+   the FE tooth route (before the centre line) and the FE fracture sector (any path).
 3. :func:`life_records`: at chosen life fractions and seeds, the gearbox with the
    equivalent crack is simulated, the default record selected, seeded noise added and
    the record analysed; features and ground truth go into an xarray Dataset
@@ -458,27 +460,48 @@ def life_fractions(result: GearLife, fractions: Sequence[float]) -> list[CrackSt
     return out
 
 
-def _chord(path: CrackPath) -> tuple[float, float, float]:
-    """Depth, angle and largest admissible depth of the chord start -> tip."""
+def _chord(path: CrackPath) -> tuple[float, float]:
+    """Depth and angle of the chord start -> tip."""
     pts = path.array
     (xs, ys), (xt, yt) = pts[0], pts[-1]
-    nu = math.atan2(xs - xt, ys - yt)
-    q_max = xs / math.sin(nu) if 0.0 < nu <= 0.5 * math.pi else 0.0
-    return math.hypot(xt - xs, yt - ys), nu, q_max
+    return math.hypot(xt - xs, yt - ys), math.atan2(xs - xt, ys - yt)
 
 
-def equivalent_crack(crack, path: CrackPath, *, depth_margin: float = 0.98):
+def _rises(path: CrackPath) -> bool:
+    """Whether the chord leaves the angles of the PE crack, (0, 90] deg."""
+    _, nu = _chord(path)
+    return not 0.0 < nu <= 0.5 * math.pi
+
+
+def equivalent_crack(crack, path: CrackPath, *, gear=None):
     """The straight crack of the potential-energy model equivalent to a grown polyline.
 
-    The chord from the start on the fillet to the tip: depth q = |tip - start|, angle
-    nu to the tooth centre line, atan2(x_s - x_t, y_s - y_t) (the convention of
-    :class:`gearsim.stiffness.crack.Crack`, tip x_t = x_s - q sin nu, y_t = y_s - q cos nu,
-    Chen & Shao 2011). The PE model needs the tip on the cracked side of the centre line
-    (q < x_s / sin nu) and nu in (0, 90] deg. A path whose chord leaves that range is
-    *saturated*: it maps to the chord of the longest part of the path that is still
-    admissible with ``depth_margin`` (found by bisection on the length along the path),
-    so that every later state maps to the same, deepest representable crack, and is
-    flagged: the PE model cannot represent the further loss of stiffness.
+    The PE crack section keeps, at each height, the part of the section left of a
+    vertical limiting line (Tian 2004; past the tooth centre line, h_c < 0, the crack
+    through the centre line of Wu, Zuo & Parey 2008: width h - h_q). For a polyline the
+    line of every path point gives h_c(y) = min {x(s) : y(s) <= y}
+    (:func:`gearsim.stiffness.crack.path_limiting_line`), one constant line from the
+    leftmost point of the path when that point lies at or below the root circle or is
+    the path's lowest point. The equivalent crack is the straight crack from the start
+    to that point (the tip for a path that runs across the tooth, as the grown paths
+    do): depth q = |point - start|, angle nu = atan2(x_s - x_p, y_s - y_p) (the
+    convention of :class:`gearsim.stiffness.crack.Crack`, Chen & Shao 2011); its kernel
+    record is the polyline's (tested). Past the centre line the crack is kept as it is
+    (no saturation).
+
+    **Tooth loss**: when the limiting line meets the far flank below the tip circle
+    (:func:`gearsim.stiffness.crack.cuts_tooth_off`) the model's tooth is cut off: the
+    state is the tooth loss and the equivalent crack is ``None`` (the callers put the
+    broken tooth, :class:`gearsim.stiffness.faults.BrokenTooth`, in its place).
+
+    ``clipped`` marks the two cases a single straight PE crack does not represent: a
+    path that turns back up above the root circle (more than one limiting line: the
+    chord to the tip is used), and a chord rising above its start (angle outside (0, 90]
+    deg: the chord of the longest part of the path with an admissible angle is used,
+    found by bisection on the length along the path). The part of a path below the root
+    circle (in the rim) is seen only through h_c: the PE sections start at the root
+    circle and the fillet-foundation term is the healthy body's (not flagged: the
+    initial crack of the Table-1 gear already ends 35 um below the root circle).
 
     Parameters
     ----------
@@ -486,34 +509,44 @@ def equivalent_crack(crack, path: CrackPath, *, depth_margin: float = 0.98):
         The configured crack (gear, tooth, flank, extent, profile are kept).
     path : CrackPath
         The grown path, start on the +x fillet (:mod:`gearsim.fracture.tooth` frame,
-        tooth centre line on +y).
-    depth_margin : float
-        Largest depth as a fraction of the centre-line depth x_s / sin nu [-].
+        tooth centre line on +y) [m].
+    gear : gearsim.geometry.gear.Gear, optional
+        The cracked gear: with it the limiting line's point, the turning-back check and
+        the tooth loss; without it the chord to the leftmost point (the train refuses a
+        crack that cuts the tooth off when the crack is put in it).
 
     Returns
     -------
-    equivalent : gearsim.stiffness.crack.Crack
-        Depth [m] and angle [rad] of the chord.
+    equivalent : gearsim.stiffness.crack.Crack or None
+        Depth [m] and angle [rad] of the equivalent straight crack; ``None``: tooth loss.
     clipped : bool
-        Whether the path was saturated.
+        Whether the path leaves what one straight PE crack represents (above).
     """
-    def ok(p: CrackPath) -> bool:
-        q, _, q_max = _chord(p)
-        return q < depth_margin * q_max
+    from gearsim.stiffness.crack import cuts_tooth_off
 
-    depth, nu, _ = _chord(path)
-    if ok(path):
-        return dataclasses.replace(crack, depth=depth, angle=nu), False
-    first = CrackPath(points=path.points[:2], tips=path.tips)
-    lo, hi = (first.length if ok(first) else 1e-9 * path.length), path.length
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        if ok(_cut(path, mid)):
-            lo = mid
-        else:
-            hi = mid
-    depth, nu, _ = _chord(_cut(path, lo))
-    return dataclasses.replace(crack, depth=depth, angle=nu), True
+    pts = path.array
+    i = int(np.argmin(pts[:, 0]))
+    clipped = False
+    if gear is not None:
+        prof = ToothProfile(gear)
+        if cuts_tooth_off(prof, float(pts[i, 0])):
+            return None, False
+        y_root = prof.root_height
+        if pts[i, 1] > y_root and pts[:, 1].min() < pts[i, 1]:
+            clipped, i = True, pts.shape[0] - 1
+    p = CrackPath(points=path.points[:i + 1], tips=path.tips) if i >= 1 else path
+    if _rises(p):
+        first = CrackPath(points=path.points[:2], tips=path.tips)
+        lo, hi = (first.length if not _rises(first) else 1e-9 * p.length), p.length
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            if _rises(_cut(p, mid)):
+                hi = mid
+            else:
+                lo = mid
+        p, clipped = _cut(p, lo), True
+    depth, nu = _chord(p)
+    return dataclasses.replace(crack, depth=depth, angle=nu), clipped
 
 
 @dataclass(frozen=True)
@@ -525,17 +558,27 @@ class LifeStiffness:
     fraction, length : ndarray
         Life fraction [-] and crack length along the path [m] of each state.
     depth, angle : ndarray
-        Equivalent straight crack [m], [rad].
+        Equivalent straight crack [m], [rad] (NaN at a tooth-loss state).
     clipped : ndarray of bool
-        Equivalent crack limited to the PE model's range.
+        The path leaves what one straight PE crack represents (:func:`equivalent_crack`).
+    tooth_loss : ndarray of bool
+        The equivalent crack cuts the model's tooth off: the state is the broken tooth.
     k_min, k_mean : ndarray
-        Minimum and mean of the PE TVMS over a revolution of the gear [N/m].
+        Minimum and mean of the PE TVMS over a revolution of the gear [N/m] (with the
+        broken tooth at a tooth-loss state).
     tooth_pe, tooth_fe : ndarray, shape (states, radii)
         Tooth compliance (Hertz excluded, face width 1 m) of the equivalent crack, PE
-        and FE (:func:`gearsim.fem.check.compare_gear`) [m/N]; empty without FE.
+        and FE (:func:`gearsim.fem.check.compare_gear`) [m/N]; empty without FE. The FE
+        tooth route refuses a crack line across the centre line: NaN there; PE inf at
+        a tooth-loss state (no tooth).
     dc_path, dc_chord : ndarray, shape (states, radii)
         Added compliance of the polyline and of its chord on the fracture sector
-        (:func:`gearsim.fracture.compliance.sector_compliance`) [m/N]; empty without FE.
+        (:func:`gearsim.fracture.compliance.sector_compliance`, free crack faces) [m/N];
+        empty without FE.
+    dc_pe : ndarray, shape (states, radii)
+        Added compliance of the equivalent crack in the PE model with open crack faces
+        (the sector's), c_PE(crack) - c_PE(healthy), L = 1 m [m/N] (inf at tooth loss);
+        empty without FE.
     radii : ndarray
         Contact radii of the compliance comparisons [m].
     healthy_tooth_pe, healthy_tooth_fe : ndarray
@@ -549,38 +592,49 @@ class LifeStiffness:
     depth: np.ndarray
     angle: np.ndarray
     clipped: np.ndarray
+    tooth_loss: np.ndarray
     k_min: np.ndarray
     k_mean: np.ndarray
     tooth_pe: np.ndarray
     tooth_fe: np.ndarray
     dc_path: np.ndarray
     dc_chord: np.ndarray
+    dc_pe: np.ndarray
     radii: np.ndarray
     healthy_tooth_pe: np.ndarray
     healthy_tooth_fe: np.ndarray
     seconds: float
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready summary (mm, deg, N/m, percent).
+        """JSON-ready summary (mm, deg, N/m, percent; NaN as None).
 
         Returns
         -------
         dict
         """
+        def clean(a) -> list:
+            return [float(v) if math.isfinite(v) else None
+                    for v in np.asarray(a, dtype=float).ravel()]
+
         out: dict[str, Any] = {
             "fraction": self.fraction.tolist(), "length_mm": (self.length * 1e3).tolist(),
-            "depth_mm": (self.depth * 1e3).tolist(),
-            "angle_deg": np.degrees(self.angle).tolist(), "clipped": self.clipped.tolist(),
+            "depth_mm": clean(self.depth * 1e3), "angle_deg": clean(np.degrees(self.angle)),
+            "clipped": self.clipped.tolist(), "tooth_loss": self.tooth_loss.tolist(),
             "k_min": self.k_min.tolist(), "k_mean": self.k_mean.tolist(),
         }
-        if self.tooth_fe.size:
-            out["pe_vs_fe_tooth_stiffness_pct"] = (
-                100.0 * (self.tooth_fe / self.tooth_pe - 1.0)).round(3).tolist()
-            out["pe_vs_fe_crack_loss_pct"] = (100.0 * (
-                (self.tooth_pe / self.healthy_tooth_pe) / (self.tooth_fe / self.healthy_tooth_fe)
-                - 1.0)).round(3).tolist()
-            out["path_vs_chord_added_compliance"] = (self.dc_path / self.dc_chord).round(
-                4).tolist()
+        if self.dc_path.size:
+            shape = self.dc_path.shape
+            with np.errstate(invalid="ignore", divide="ignore"):
+                k_err = 100.0 * (self.tooth_fe / self.tooth_pe - 1.0)
+                loss = 100.0 * ((self.tooth_pe / self.healthy_tooth_pe)
+                                / (self.tooth_fe / self.healthy_tooth_fe) - 1.0)
+                dc_pe_fe = self.dc_pe / self.dc_chord
+            for key, v in (("pe_vs_fe_tooth_stiffness_pct", k_err),
+                           ("pe_vs_fe_crack_loss_pct", loss),
+                           ("path_vs_chord_added_compliance", self.dc_path / self.dc_chord),
+                           ("pe_vs_fe_added_compliance", dc_pe_fe)):
+                out[key] = np.asarray(clean(np.round(v, 4)), dtype=object).reshape(
+                    shape).tolist()  # NaN: no FE tooth route past the centre line
         return out
 
 
@@ -590,13 +644,17 @@ def stiffness_along_life(gb: Gearbox, result: GearLife, states: Sequence[CrackSt
     """Mesh stiffness of the grown crack at each state, PE, and against FE.
 
     For each state the polyline is mapped to its equivalent straight crack
-    (:func:`equivalent_crack`) and the PE TVMS of the gear's first mesh is computed over
-    a revolution of the gear (:meth:`Gearbox.mesh_stiffness`, the gearbox's stiffness
-    settings). With ``fe``: the PE and FE tooth compliance of that straight crack
-    (:func:`gearsim.fem.check.compare_gear`, the FE tooth route of :mod:`gearsim.fem`,
-    which takes a straight crack line) and the added compliance of the polyline against
-    its chord on the fracture sector (:func:`gearsim.fracture.compliance.
-    sector_compliance`), which measures the error of the straight-crack mapping itself.
+    (:func:`equivalent_crack`: the PE limiting line of the path, past the tooth centre
+    line too) and the PE TVMS of the gear's first mesh is computed over a revolution of
+    the gear (:meth:`Gearbox.mesh_stiffness`, the gearbox's stiffness settings); at a
+    tooth-loss state (the crack cuts the model's tooth off) with the broken tooth
+    (:class:`gearsim.stiffness.faults.BrokenTooth`). With ``fe``: the PE and FE tooth
+    compliance of that straight crack (:func:`gearsim.fem.check.compare_gear`, the FE
+    tooth route of :mod:`gearsim.fem`, which takes a straight crack line before the
+    centre line only), the added compliance of the polyline and of its chord on the
+    fracture sector (:func:`gearsim.fracture.compliance.sector_compliance`, any path)
+    and the PE added compliance of the equivalent crack with open faces, to set against
+    them.
 
     Parameters
     ----------
@@ -620,6 +678,8 @@ def stiffness_along_life(gb: Gearbox, result: GearLife, states: Sequence[CrackSt
     """
     from gearsim.fem.check import compare_gear
     from gearsim.fracture.compliance import sector_compliance
+    from gearsim.stiffness.crack import crack_record
+    from gearsim.stiffness.tooth import ToothModel
 
     t0 = time.perf_counter()
     require(isinstance(radii, int) and 2 <= radii <= 11, "radii", radii,
@@ -628,26 +688,48 @@ def stiffness_along_life(gb: Gearbox, result: GearLife, states: Sequence[CrackSt
     mesh, side = _mesh_of(gb, g.name)
     r = np.linspace(float(result.radii.min()), float(result.radii.max()), radii)
     rows = []
-    tooth_pe, tooth_fe, dc_p, dc_c = [], [], [], []
+    tooth_pe, tooth_fe, dc_p, dc_c, dc_e = [], [], [], [], []
     h_pe = h_fe = np.zeros(0)
     base = None
+    st = gb.stiffness
     if fe:
-        chk = compare_gear(g, r, closure=gb.stiffness.closure, plane=gb.stiffness.plane,
-                           gauss_points=gb.stiffness.gauss_points)
+        chk = compare_gear(g, r, closure=st.closure, plane=st.plane,
+                           gauss_points=st.gauss_points)
         h_pe, h_fe = chk.pe, chk.fe
         base = sector_compliance(g, r, start=result.path.crack.array[0],
                                  refinement=refinement).compliance
+        pe_open = ToothModel(g, plane=st.plane, closure="open", gauss_points=st.gauss_points)
+        pe_open_healthy = pe_open.compliance(r, width=1.0).sum(axis=1)
+        pe_model = ToothModel(g, plane=st.plane, closure=st.closure,
+                              gauss_points=st.gauss_points)
     for s in states:
-        eq, clipped = equivalent_crack(crack, s.crack)
-        tr = gb.train.with_cracks(tuple(eq if c is crack else c for c in gb.train.cracks))
-        k = tr.mesh_stiffness(mesh, revolution_of=side).to_dataset()["k"]
-        rows.append((s.fraction, s.length, eq.depth, eq.angle, clipped, float(k.min()),
-                     float(k.mean())))
+        eq, clipped = equivalent_crack(crack, s.crack, gear=g)
+        if eq is None:
+            k = _lost_tooth_k(gb, crack, mesh, side)
+        else:
+            tr = gb.train.with_cracks(tuple(eq if c is crack else c for c in gb.train.cracks))
+            k = tr.mesh_stiffness(mesh, revolution_of=side).to_dataset()["k"].values
+        rows.append((s.fraction, s.length, np.nan if eq is None else eq.depth,
+                     np.nan if eq is None else eq.angle, clipped, eq is None,
+                     float(k.min()), float(k.mean())))
         if fe:
-            chk = compare_gear(g, r, crack=eq, side=1, closure=gb.stiffness.closure,
-                               plane=gb.stiffness.plane, gauss_points=gb.stiffness.gauss_points)
-            tooth_pe.append(chk.pe)
-            tooth_fe.append(chk.fe)
+            nan = np.full(r.shape, np.nan)
+            if eq is None:
+                tooth_pe.append(np.full(r.shape, np.inf))
+                tooth_fe.append(nan)
+                dc_e.append(np.full(r.shape, np.inf))
+            else:
+                rec = crack_record(ToothProfile(g), eq, eq.depth, 1)
+                if rec[2] > 0.0:  # K.C_HC: the FE tooth route takes the crack line
+                    chk = compare_gear(g, r, crack=eq, side=1, closure=st.closure,
+                                       plane=st.plane, gauss_points=st.gauss_points)
+                    tooth_pe.append(chk.pe)
+                    tooth_fe.append(chk.fe)
+                else:
+                    tooth_pe.append(pe_model.compliance(r, rec, width=1.0).sum(axis=1))
+                    tooth_fe.append(nan)
+                dc_e.append(pe_open.compliance(r, rec, width=1.0).sum(axis=1)
+                            - pe_open_healthy)
             chord = CrackPath(points=(tuple(s.crack.array[0]), tuple(s.crack.array[-1])),
                               tips=s.crack.tips)
             dc_p.append(sector_compliance(g, r, crack=s.crack, refinement=refinement)
@@ -658,11 +740,28 @@ def stiffness_along_life(gb: Gearbox, result: GearLife, states: Sequence[CrackSt
     return LifeStiffness(
         fraction=np.asarray(cols[0]), length=np.asarray(cols[1]), depth=np.asarray(cols[2]),
         angle=np.asarray(cols[3]), clipped=np.asarray(cols[4], dtype=bool),
-        k_min=np.asarray(cols[5]), k_mean=np.asarray(cols[6]),
+        tooth_loss=np.asarray(cols[5], dtype=bool),
+        k_min=np.asarray(cols[6]), k_mean=np.asarray(cols[7]),
         tooth_pe=np.asarray(tooth_pe), tooth_fe=np.asarray(tooth_fe),
-        dc_path=np.asarray(dc_p), dc_chord=np.asarray(dc_c), radii=r,
+        dc_path=np.asarray(dc_p), dc_chord=np.asarray(dc_c), dc_pe=np.asarray(dc_e), radii=r,
         healthy_tooth_pe=np.asarray(h_pe), healthy_tooth_fe=np.asarray(h_fe),
         seconds=time.perf_counter() - t0)
+
+
+def _lost_tooth_k(gb: Gearbox, crack, mesh: int, side: int) -> np.ndarray:
+    """PE TVMS of the mesh with the cracked tooth gone (tooth loss) [N/m].
+
+    The TVMS tables carry no broken tooth (:class:`gearsim.stiffness.faults.BrokenTooth`
+    acts in the mesh of contacts), so the pairs of the tooth are taken out of the mesh
+    without it: k = sum of the pair stiffnesses of the other pairs. Exact for
+    ``coupling = "none"`` (independent pairs, k = sum of pair stiffnesses); with a body
+    coupling the other pairs keep their stiffness in the mesh with the tooth.
+    """
+    tr = gb.train.with_cracks(tuple(c for c in gb.train.cracks if c is not crack))
+    ds = tr.mesh_stiffness(mesh, revolution_of=side).to_dataset()
+    tooth = ds["pair_tooth1" if side == 1 else "pair_tooth2"].values
+    pair_k = ds["pair_k"].values
+    return np.where(tooth == crack.tooth, 0.0, pair_k).sum(axis=1)
 
 
 #: Noise RMS / RMS of the noise-free record of the run-to-failure records (SNR 20 dB).
@@ -836,7 +935,10 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
     whole face (:class:`gearsim.stiffness.faults.BrokenTooth`, simulated on the mesh of
     contacts), the crack length that of the end of life and the equivalent crack NaN;
     every record of such a life is then simulated on the mesh of contacts (one model
-    along the life: the tables lack the tip-corner contacts).
+    along the life: the tables lack the tip-corner contacts). A state whose equivalent
+    crack cuts the model's tooth off (:func:`equivalent_crack`: tooth loss) is recorded
+    with the broken tooth too (``broken`` = 1, equivalent crack NaN), on the mesh of
+    contacts, whatever ``broken``.
 
     Parameters
     ----------
@@ -919,15 +1021,17 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
     mesh, _ = _mesh_of(gb, g.name)
     spec = gb.default_signal if signal is None else signal
     fs = float(gb.dynamics.fs)
-    rows = [(s, *equivalent_crack(crack, s.crack)) for s in states]
+    rows = [(s, *equivalent_crack(crack, s.crack, gear=g)) for s in states]
     gone = broken and result.end in FRACTURE_ENDS
-    if gone:  # the tooth is lost at the end of the life
+    # a state whose crack cuts the model's tooth off is the broken tooth too (tooth loss)
+    if gone or any(eq is None for _, eq, _ in rows):
         # every record on the mesh of contacts, which the broken tooth needs: the tables
         # lack the tip-corner contacts that engage under load (at 4x the Table-1 torque
         # the table path's RMS is twice the contacts' for the same healthy mesh), so
         # mixing the two paths would show the change of model as a change of damage
         gb = dataclasses.replace(gb, dynamics=dataclasses.replace(gb.dynamics,
                                                                   contact_mesh=True))
+    if gone:  # the tooth is lost at the end of the life
         rows.append((CrackState(fraction=1.0, cycles=result.cycles_end,
                                 hours=float(result.hours(result.cycles_end)),
                                 length=float(result.life.a_end), crack=result.path.crack),
@@ -1031,7 +1135,7 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
         "operating_point": "speed_rad_s and torque_n_m: the life's (the crack states); "
                            "the records at the coordinates load and speed",
         "signal": spec, "noise": noise, "fs_hz": fs,
-        "contact_mesh": int(gone), "dask_workers": dask_workers,
+        "contact_mesh": int(bool(gb.dynamics.contact_mesh)), "dask_workers": dask_workers,
         "seconds": time.perf_counter() - t0,
         "sideband_feature": sideband_feature(gb, g.name),
         "ground_truth": "crack_length along the grown path; equivalent_depth/angle: the "

@@ -59,7 +59,9 @@ def test_examples():
     assert _options(example("idler-table1").train.stiffness) == SEED
     wt = example("wind-turbine-grc")
     assert _options(wt.train.stiffness) == ACCURATE  # the chain
-    assert _options(wt.stage.settings) == SEED       # the stage's meshes (item 5)
+    assert _options(wt.stage.settings) == ACCURATE   # the stage's meshes (item 5)
+    # the paper's stage reproduces the paper's method
+    assert _options(example("lin-parker-1999").stage.settings) == SEED
 
 
 @pytest.mark.parametrize("table, match", [
@@ -74,12 +76,17 @@ def test_bad_models_are_refused_in_one_line(table, match):
     assert "\n" not in str(err.value)
 
 
-def test_a_stage_keeps_the_seed_law():
+def test_a_stage_gets_the_accurate_model_unless_it_says():
+    """Issue 25 item 5: a stage's meshes take the default too (docs/planetary.md 4.4)."""
     text = example_text("nrel-grc")
     assert "[stiffness]\n" in text and "model" not in text
-    assert _options(loads(text).stage.settings) == SEED
-    with pytest.raises(InputError, match="stiffness.contact"):
-        loads(text.replace("[stiffness]\n", '[stiffness]\nmodel = "accurate"\n'))
+    assert _options(loads(text).stage.settings) == ACCURATE
+    seed = loads(text.replace("[stiffness]\n", '[stiffness]\nmodel = "seed"\n'))
+    assert _options(seed.stage.settings) == SEED
+    # the FE source has no ring tooth: refused where the stage is made, in one line
+    with pytest.raises(InputError, match="stiffness.source") as err:
+        loads(text.replace("[stiffness]\n", '[stiffness]\nsource = "fe"\n'))
+    assert "\n" not in str(err.value)
 
 
 def test_cli_refuses_a_bad_model(gearsim_here, tmp_path):

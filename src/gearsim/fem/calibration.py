@@ -28,8 +28,30 @@ The FE tooth values come from :func:`gearsim.fem.tables.fe_compliance` solved af
 (not from the FE-table cache, whose key does not name the gearsim version), once per
 calibration entry.
 
+The ring tooth of a planetary stage (:class:`CalibratedRingTooth`) is corrected by the
+FE ring segment of :mod:`gearsim.fem.ring` (tooth on a 3.5 m_n rim clamped outside,
+root fillets), measured once per ring geometry at :data:`~gearsim.fem.tables.NODES`
+radii equally spaced in roll length from the ring's tip circle to where its involute meets
+the root fillet. The correction is additive, in the foundation column:
+
+    c_cal,ring(r, crack) = c_PE,beam(r, crack) + [c_FE,ring(r) - c_PE,beam,healthy(r)],
+
+c_PE,beam the bending, shear and axial terms of the ring tooth clamped on its root circle
+(:class:`gearsim.stiffness.ring.RingToothModel`, ``foundation="none"``): the FE excess is
+the deflection of the rim and the root fillet, which the cantilever leaves out
+(docs/planetary.md 4.3) and which a crack in the tooth does not scale; a ratio would
+multiply a crack's effect by the FE/PE ratio of 1.35-2.65. The same FE solutions give the
+cross compliance of neighbouring ring teeth through the rim (the body coupling of the
+internal mesh, :func:`gearsim.fem.ring.fe_ring_tooth_result`), cached with it; the
+cache rules are those of the external calibration (key with geometry, material, plane,
+level, Gauss points, rim, segment and versions; a file that does not load or differs is
+rebuilt, never used).
+
 References
 ----------
+.. [ChenShao2013] Z. Chen, Y. Shao, Mesh stiffness of an internal spur gear pair with ring
+   gear rim deformation, Mech. Mach. Theory 69 (2013) 1-12 (the ring tooth as a
+   cantilever on its root circle, which the FE segment corrects).
 .. [Sainsot2004] P. Sainsot, P. Velex, O. Duverger, Contribution of gear body to tooth
    deflections - a new bidimensional analytical formula, J. Mech. Des. 126 (2004)
    748-752 (the foundation term of the PE tooth that the ratio corrects, with the beam).
@@ -41,24 +63,43 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import json
+import math
 import zipfile
 from pathlib import Path
 
 import numpy as np
-from scipy.interpolate import CubicSpline
+from scipy.interpolate import CubicSpline, RectBivariateSpline
 
 from gearsim._version import __version__
+from gearsim.errors import require
 from gearsim.fem.geometry import SectorOptions
-from gearsim.fem.tables import CACHE_VERSION, DEFAULT_LEVEL, _write_npz, cache_dir, fe_compliance
+from gearsim.fem.ring import (
+    RIM_THICKNESS,
+    ROOT_FILLET,
+    fe_ring_tooth_result,
+    ring_involute_limit,
+)
+from gearsim.fem.tables import (
+    CACHE_VERSION,
+    DEFAULT_LEVEL,
+    NODES,
+    _write_npz,
+    cache_dir,
+    fe_compliance,
+)
 from gearsim.fem.tables import fe_nodes as _fe_nodes
-from gearsim.geometry.gear import Gear
+from gearsim.geometry.gear import Gear, Material
+from gearsim.geometry.planetary import RingGear
 from gearsim.io.atomic import exclusive
+from gearsim.stiffness.ring import RingToothModel
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCrack
 from gearsim.stiffness.tooth import ToothModel
 
-__all__ = ["CALIBRATION_VERSION", "RATIO_BOUNDS", "CalibratedCompliance", "calibration_dir",
-           "calibration_key", "calibration_ratio"]
+__all__ = ["CALIBRATION_VERSION", "RATIO_BOUNDS", "RING_CALIBRATION_VERSION", "RING_RATIO_BOUNDS",
+           "CalibratedCompliance", "CalibratedRingTooth", "calibration_dir",
+           "calibration_key", "calibration_ratio", "ring_calibration", "ring_calibration_key",
+           "ring_nodes"]
 
 #: Bump when the calibration changes so that old cache files are not reused.
 CALIBRATION_VERSION = 1
@@ -66,8 +107,20 @@ CALIBRATION_VERSION = 1
 #: Table-1 gears (docs/fem.md); a cached ratio outside (0.2, 5) is treated as corrupt.
 RATIO_BOUNDS = (0.2, 5.0)
 
+#: Bump when the ring calibration changes so that old cache files are not reused.
+RING_CALIBRATION_VERSION = 1
+#: Plausible range of the FE ring tooth over the PE beam terms of the ring tooth [-]:
+#: measured 1.42-5.04 over the involute of three rings (5 at its root end, where the beam
+#: terms vanish and the rim stays); a cached entry outside (0.5, 20) is treated as corrupt.
+RING_RATIO_BOUNDS = (0.5, 20.0)
+#: Teeth of the FE ring segment of the ring calibration (the loaded one in the middle;
+#: 5 -> 7 teeth changes the tooth compliance by < 1.3 %, docs/planetary.md 4.3).
+RING_SEGMENT_TEETH = 5
+
 #: Interpolants already read in this process, by cache key (the disk is read once).
 _MEMO: dict[str, tuple[CubicSpline, float, float]] = {}
+#: Ring calibrations already read in this process, by cache key.
+_RING_MEMO: dict[str, tuple] = {}
 
 
 def calibration_dir() -> Path:
@@ -273,3 +326,258 @@ class CalibratedCompliance:
         ratio = np.where(inside, self.ratio(gear, np.where(inside, r, gear.tip_radius),
                                             settings), 0.0)
         return c * ratio[..., None]
+
+
+# ------------------------------------------------------------------------ ring tooth
+def ring_nodes(ring: RingGear) -> np.ndarray:
+    """Contact radii of the ring calibration: :data:`~gearsim.fem.tables.NODES` radii [m].
+
+    Equally spaced in roll length sqrt(r^2 - r_b^2) from the ring's tip (inner) circle r_a
+    to rho_t, where its involute meets the root fillet of the FE segment
+    (:func:`gearsim.fem.ring.ring_involute_limit`).
+
+    Parameters
+    ----------
+    ring : RingGear
+        The internal gear.
+
+    Returns
+    -------
+    ndarray, shape (NODES,)
+        Radii [m], increasing.
+    """
+    rb = ring.base_radius
+    lo = math.sqrt(ring.tip_radius**2 - rb**2)
+    hi = math.sqrt(ring_involute_limit(ring) ** 2 - rb**2)
+    # the top node a hair inside rho_t (the FE refuses radii on the fillet)
+    roll = np.linspace(lo, hi * (1.0 - 1e-9), NODES)
+    return np.sqrt(roll**2 + rb**2)
+
+
+def _ring_doc(ring: RingGear, material: Material, plane: str, level: int,
+              gauss_points: int) -> dict:
+    r = ring
+    return {
+        "kind": "ring-calibration", "v": RING_CALIBRATION_VERSION, "gearsim": __version__,
+        "ring": [r.teeth, r.normal_module, r.normal_pressure_angle, abs(r.helix_angle),
+                 r.addendum_coefficient, r.dedendum_coefficient, r.profile_shift],
+        "material": [material.youngs_modulus, material.poisson_ratio],
+        "plane": plane, "level": level, "gauss_points": gauss_points,
+        "segment": {"rim": RIM_THICKNESS, "fillet": ROOT_FILLET, "teeth": RING_SEGMENT_TEETH,
+                    "support": "outer"},
+    }
+
+
+def ring_calibration_key(ring: RingGear, material: Material, *, plane: str = "stress",
+                         level: int = DEFAULT_LEVEL, gauss_points: int = 16
+                         ) -> tuple[str, str]:
+    """Cache key of a ring's calibration and the document it hashes.
+
+    Parameters
+    ----------
+    ring : RingGear
+        The internal gear.
+    material : Material
+        Its material.
+    plane : {"stress", "strain"}
+        Plane assumption.
+    level : int
+        FE mesh level of the ring segment.
+    gauss_points : int
+        Gauss-Legendre nodes per piece of the PE ring tooth.
+
+    Returns
+    -------
+    key, document : str
+        The first 32 hex digits of the SHA-256 of ``document`` (JSON of the ring geometry,
+        material, plane, level, Gauss points, FE segment and versions) and ``document``.
+    """
+    text = json.dumps(_ring_doc(ring, material, plane, level, gauss_points), sort_keys=True,
+                      default=repr)
+    return hashlib.sha256(text.encode()).hexdigest()[:32], text
+
+
+def _read_ring(path: Path, doc: str, nodes: np.ndarray, beam: np.ndarray
+               ) -> tuple[np.ndarray, np.ndarray] | None:
+    """The cached FE ring tooth and cross compliance, or None (missing, corrupt, stale)."""
+    if not path.exists():
+        return None
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            if str(data["key"]) != doc:
+                return None
+            radii = np.asarray(data["radii"], dtype=float)
+            fe = np.asarray(data["fe"], dtype=float)
+            cross = np.asarray(data["cross"], dtype=float)
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile):
+        return None
+    n = nodes.size
+    if radii.shape != (n,) or fe.shape != (n,) or cross.shape != (n, n):
+        return None
+    if not np.allclose(radii, nodes, rtol=1e-12, atol=0.0):
+        return None
+    lo, hi = RING_RATIO_BOUNDS
+    ratio = fe / beam
+    if not (np.all(np.isfinite(ratio)) and np.all(ratio > lo) and np.all(ratio < hi)):
+        return None
+    # a neighbour never deflects more than the loaded tooth itself
+    if not (np.all(np.isfinite(cross)) and np.all(np.abs(cross) < fe.max())):
+        return None
+    return fe, cross
+
+
+def ring_calibration(ring: RingGear, material: Material | None = None, *,
+                     plane: str = "stress", level: int = DEFAULT_LEVEL, gauss_points: int = 16,
+                     use_cache: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """FE ring tooth and neighbour cross compliance at the ring's calibration radii.
+
+    One FE solve of the ring segment (:func:`gearsim.fem.ring.fe_ring_tooth_result`: five
+    teeth on a 3.5 m_n rim clamped on its outer circle, root fillets 0.25 m_n, P2
+    elements, deflection read at Q on the tooth centre line, Hertz excluded), loads at
+    the :func:`ring_nodes` radii on the middle tooth, read on it and on its neighbour.
+
+    Parameters
+    ----------
+    ring : RingGear
+        The internal gear.
+    material : Material, optional
+        Its material (default steel, :class:`~gearsim.geometry.gear.Material`).
+    plane : {"stress", "strain"}
+        Plane assumption of the FE segment and the PE tooth.
+    level : int
+        FE mesh level (element size m_n / (4 2^level) on the loaded tooth).
+    gauss_points : int
+        Gauss-Legendre nodes of the PE ring tooth (the plausibility check of a cached
+        entry compares with it).
+    use_cache : bool
+        Read and write the disk cache (:func:`calibration_dir`).
+
+    Returns
+    -------
+    radii, fe, cross : ndarray
+        The radii [m], the FE tooth compliance there per unit face width [m/(N/m)] and
+        X[i, j], the deflection of a tooth at Q(r_i) along its load direction under a
+        unit load per unit width on its loaded-flank-side neighbour at r_j [m/(N/m)].
+    """
+    material = material or Material()
+    key, doc = ring_calibration_key(ring, material, plane=plane, level=level,
+                                    gauss_points=gauss_points)
+    nodes = ring_nodes(ring)
+    beam = RingToothModel(ring, material=material, plane=plane,
+                          gauss_points=gauss_points).compliance(nodes)[:, :3].sum(axis=1)
+    path = calibration_dir() / f"ring-{key}.npz"
+    got = _read_ring(path, doc, nodes, beam) if use_cache else None
+    if got is not None:
+        return nodes, *got
+    with exclusive(path.with_suffix(".lock")) if use_cache else contextlib.nullcontext():
+        got = _read_ring(path, doc, nodes, beam) if use_cache else None
+        if got is None:
+            res = fe_ring_tooth_result(ring, nodes, youngs_modulus=material.youngs_modulus,
+                                       poisson_ratio=material.poisson_ratio, plane=plane,
+                                       n_teeth=RING_SEGMENT_TEETH, level=level,
+                                       read_radii=nodes)
+            got = (np.asarray(res.compliance, dtype=float), np.asarray(res.cross, dtype=float))
+            if use_cache:
+                _write_npz(path, key=np.array(doc), radii=nodes, fe=got[0], cross=got[1])
+    return nodes, *got
+
+
+class CalibratedRingTooth:
+    """Ring tooth corrected by the FE ring segment, with its rim coupling (module docstring).
+
+    ``compliance`` has the signature of :meth:`gearsim.stiffness.ring.RingToothModel.
+    compliance`: the PE beam terms of the tooth clamped on its root circle (cracks
+    included) and, in the foundation column, the FE excess of the healthy tooth,
+    e(r) = c_FE,ring(r) - c_PE,beam(r), a cubic spline in roll length through the
+    :func:`ring_nodes`; ``cross`` the rim coupling of neighbouring teeth, a bicubic spline
+    of :func:`ring_calibration`'s X. Used by the internal mesh of a stage under the
+    calibrated source (:func:`gearsim.stiffness.internal.internal_mesh_stiffness`).
+
+    Parameters
+    ----------
+    ring : RingGear
+        The internal gear.
+    material : Material, optional
+        Its material.
+    plane : {"stress", "strain"}
+        Plane assumption.
+    gauss_points : int
+        Gauss-Legendre nodes of the PE ring tooth.
+    level : int
+        FE mesh level of the ring segment.
+
+    Raises
+    ------
+    InputError
+        Bad ring, material, plane or Gauss points (:class:`RingToothModel`).
+    """
+
+    name = "calibrated"
+
+    def __init__(self, ring: RingGear, material: Material | None = None, *,
+                 plane: str = "stress", gauss_points: int = 16,
+                 level: int = DEFAULT_LEVEL) -> None:
+        self.pe = RingToothModel(ring, material=material or Material(), plane=plane,
+                                 gauss_points=gauss_points)
+        self.ring = ring
+        self.level = level
+        key, _ = ring_calibration_key(ring, self.pe.material, plane=plane, level=level,
+                                      gauss_points=gauss_points)
+        if key not in _RING_MEMO:
+            nodes, fe, cross = ring_calibration(ring, self.pe.material, plane=plane,
+                                                level=level, gauss_points=gauss_points)
+            ln = np.sqrt(nodes**2 - ring.base_radius**2)
+            excess = fe - self.pe.compliance(nodes)[:, :3].sum(axis=1)
+            _RING_MEMO[key] = (CubicSpline(ln, excess), RectBivariateSpline(ln, ln, cross),
+                               float(ln[0]), float(ln[-1]))
+        self._excess, self._cross, self._lo, self._hi = _RING_MEMO[key]
+
+    def _roll(self, radii) -> np.ndarray:
+        r = np.asarray(radii, dtype=float)
+        roll = np.sqrt(np.maximum(r**2 - self.ring.base_radius**2, 0.0))
+        return np.clip(roll, self._lo, self._hi)
+
+    def compliance(self, radii, *, width: float = 1.0, crack_depth: float = 0.0,
+                   crack_angle: float = math.radians(45.0)) -> np.ndarray:
+        """Calibrated ring-tooth compliances: columns bending, shear, axial, foundation.
+
+        Parameters
+        ----------
+        radii
+            Contact radii on the ring flank, in [r_a, r_f] [m], scalar or 1-D (beyond the
+            calibration's rho_t the excess of rho_t is used).
+        width
+            Face width carried by the tooth [m].
+        crack_depth, crack_angle
+            A root crack on the loaded flank [m], [rad] (the PE beam terms'; see
+            :meth:`RingToothModel.compliance`).
+
+        Returns
+        -------
+        ndarray, shape (n, 4)
+            [m/N] for the given width; the fourth column is the FE rim-and-fillet excess.
+        """
+        c = self.pe.compliance(radii, width=width, crack_depth=crack_depth,
+                               crack_angle=crack_angle)
+        c[:, 3] = self._excess(self._roll(np.atleast_1d(radii))) / width
+        return c
+
+    def cross(self, r_read: np.ndarray, r_load: np.ndarray) -> np.ndarray:
+        """Rim coupling X(r_read, r_load) of neighbouring ring teeth [m/(N/m)].
+
+        Parameters
+        ----------
+        r_read : ndarray
+            Contact radius of the tooth whose deflection is read [m].
+        r_load : ndarray
+            Contact radius on its loaded-flank-side (``+x``) neighbour, which carries the
+            unit load per unit width [m] (same shape).
+
+        Returns
+        -------
+        ndarray
+            X (radii clipped to the calibration's range) [m/(N/m)].
+        """
+        a, b = self._roll(r_read), self._roll(r_load)
+        require(a.shape == b.shape, "r_load", b.shape, f"must have the shape of r_read {a.shape}")
+        return self._cross.ev(a.ravel(), b.ravel()).reshape(a.shape)

@@ -79,8 +79,9 @@ from gearsim.geometry.gear import inv
 from gearsim.geometry.planetary import RingGear
 
 __all__ = ["RIM_THICKNESS", "ROOT_FILLET", "FERingResult", "RingSegmentMesh",
-           "fe_ring_tooth_compliance", "fe_ring_tooth_result", "mesh_ring_segment",
-           "ring_load_geometry", "ring_tooth_half_angle"]
+           "check_ring_fillets", "fe_ring_tooth_compliance", "fe_ring_tooth_result",
+           "mesh_ring_segment",
+           "ring_involute_limit", "ring_load_geometry", "ring_tooth_half_angle"]
 
 #: Default rim thickness below the root circle, in normal modules [-] (ISO 6336-3's usual
 #: minimum rim of internal gears is about 3-3.5 m_n).
@@ -150,6 +151,63 @@ def ring_load_geometry(ring: RingGear, radius: float
     d = np.array([-math.cos(a1), math.sin(a1)])
     q = np.array([0.0, radius * (math.cos(b) + math.sin(b) * math.tan(a1))])
     return p, d, q
+
+
+def ring_involute_limit(ring: RingGear) -> float:
+    """Radius rho_t where the loaded involute of the FE ring tooth meets its root fillet [m].
+
+    The fillet of radius ``ROOT_FILLET * m_n`` is tangent to the involute at rho_t and
+    to the root circle r_f (module docstring); contact radii of the FE ring tooth lie in
+    [r_a, rho_t].
+
+    Parameters
+    ----------
+    ring : RingGear
+        The internal gear.
+
+    Returns
+    -------
+    float
+        rho_t, slightly below r_f [m].
+
+    Examples
+    --------
+    >>> r = RingGear(teeth=78, normal_module=2e-3)
+    >>> bool(r.tip_radius < ring_involute_limit(r) < r.root_radius)
+    True
+    """
+    return _root_fillet(ring, ROOT_FILLET * ring.normal_module)[0]
+
+
+def check_ring_fillets(ring: RingGear) -> tuple[float, float, float]:
+    """Refuse a ring whose FE root fillets would overlap; return the fillet's placement.
+
+    Parameters
+    ----------
+    ring : RingGear
+        The internal gear.
+
+    Returns
+    -------
+    rho_t, theta_centre, theta_root : float
+        Where the fillet of radius ``ROOT_FILLET * m_n`` meets the involute [m] and the
+        polar angles of its centre and its root-circle tangent point [rad].
+
+    Raises
+    ------
+    InputError
+        If the fillets of neighbouring teeth overlap (theta_root >= pi / z): the segment
+        cannot be meshed.
+    """
+    fr = ROOT_FILLET * ring.normal_module
+    rho_t, th_c, th_root = _root_fillet(ring, fr)
+    if not th_root < math.pi / ring.teeth:
+        raise InputError("ring.root_fillet", f"{fr * 1e3:.4g} mm",
+                         f"the root fillets of neighbouring teeth of a {ring.teeth}-tooth ring "
+                         "overlap in the FE ring segment (the ring tooth of the default "
+                         'stiffness model; [stiffness] model = "seed" takes the '
+                         "potential-energy ring tooth)")
+    return rho_t, th_c, th_root
 
 
 @dataclass
@@ -248,10 +306,7 @@ def mesh_ring_segment(ring: RingGear, *, rim_thickness: float, n_teeth: int, lev
     r_a, r_f = ring.tip_radius, ring.root_radius
     r_o = r_f + rim_thickness
     fr = ROOT_FILLET * mod
-    rho_t, th_c, th_root = _root_fillet(ring, fr)
-    if not th_root < 0.5 * pitch:
-        raise InputError("ring.root_fillet", f"{fr * 1e3:.4g} mm",
-                         f"the root fillets of neighbouring teeth of a {z}-tooth ring overlap")
+    rho_t, th_c, th_root = check_ring_fillets(ring)
     h = mod / (4.0 * 2.0**level)
     h_max = min(16.0 * h, 0.5 * rim_thickness, 2.0 * mod)
     m = n_teeth // 2
@@ -366,6 +421,10 @@ class FERingResult:
         Mesh and problem size.
     mesh_seconds, solve_seconds : float
         Wall time of meshing, and of assembly, factorisation and solution [s].
+    cross : ndarray or None
+        With ``read_radii``: shape (n_read, n), the cross compliance X[i, j] of the
+        neighbour tooth -1 read at Q(read_radii[i]) along its load direction under the
+        unit load at radii[j] on tooth 0 [m/N, b = 1 m] (:func:`fe_ring_tooth_result`).
     """
 
     radii: np.ndarray
@@ -378,6 +437,7 @@ class FERingResult:
     dofs: int
     mesh_seconds: float
     solve_seconds: float
+    cross: np.ndarray | None = None
 
 
 def _check(ring: RingGear, r: np.ndarray, plane: str, rim: float, n_teeth, support: str,
@@ -414,8 +474,20 @@ def _check(ring: RingGear, r: np.ndarray, plane: str, rim: float, n_teeth, suppo
 def fe_ring_tooth_result(ring: RingGear, radii, *, youngs_modulus: float = 2.06e11,
                          poisson_ratio: float = 0.3, plane: str = "stress",
                          rim_thickness: float | None = None, n_teeth: int = 5,
-                         support: str = "outer", level: int = 2) -> FERingResult:
+                         support: str = "outer", level: int = 2,
+                         read_radii=None) -> FERingResult:
     """FE ring-tooth compliance with mesh data and timings (module docstring).
+
+    With ``read_radii`` the same solutions also give the body coupling of neighbouring
+    ring teeth, measured as :mod:`gearsim.fem.coupling` measures it on an external gear:
+
+        X(r_read, r_load) = d_-1(r_read) . u(Q_-1(r_read))  under the unit load at r_load
+        on tooth 0,
+
+    d_-1 and Q_-1 the load direction and measure point of tooth -1 (tooth 0's rotated by
+    one pitch, 2 pi / z, towards -x), whose ``+x`` (loaded-flank side) neighbour is the
+    loaded tooth 0. By the segment's symmetry it stands for a tooth read under a load on
+    its ``+x`` neighbour.
 
     Parameters
     ----------
@@ -438,11 +510,15 @@ def fe_ring_tooth_result(ring: RingGear, radii, *, youngs_modulus: float = 2.06e
         Clamped boundary: the outer circle, or the outer circle and the side cuts.
     level : int
         Mesh refinement level (element size m_n / (4 2^level) on the loaded tooth).
+    read_radii : float or array_like, optional
+        Contact radii at which the neighbour tooth -1 is read for the cross compliance
+        (same range as ``radii``) [m]; default none (``cross`` is None).
 
     Returns
     -------
     FERingResult
-        Compliance [m/N] for a face width of 1 m at each radius, and run data.
+        Compliance [m/N] for a face width of 1 m at each radius, the cross compliance
+        (with ``read_radii``), and run data.
 
     Raises
     ------
@@ -455,11 +531,16 @@ def fe_ring_tooth_result(ring: RingGear, radii, *, youngs_modulus: float = 2.06e
     r = np.atleast_1d(np.asarray(radii, dtype=float)).ravel()
     rim = RIM_THICKNESS * ring.normal_module if rim_thickness is None else float(rim_thickness)
     _check(ring, r, plane, rim, n_teeth, support, level)
+    rd = None
+    if read_radii is not None:
+        rd = np.atleast_1d(np.asarray(read_radii, dtype=float)).ravel()
+        _check(ring, rd, plane, rim, n_teeth, support, level)
     seg = mesh_ring_segment(ring, rim_thickness=rim, n_teeth=int(n_teeth), level=int(level))
-    if np.any(r > seg.fillet_radius * (1 + 1e-12)):
-        raise InputError("radii", float(r[r > seg.fillet_radius][0]),
-                         f"lies on the root fillet: the involute ends at "
-                         f"{seg.fillet_radius:.6g} m (root circle {ring.root_radius:.6g} m)")
+    for name, rr in (("radii", r), ("read_radii", rd)):
+        if rr is not None and np.any(rr > seg.fillet_radius * (1 + 1e-12)):
+            raise InputError(name, float(rr[rr > seg.fillet_radius][0]),
+                             f"lies on the root fillet: the involute ends at "
+                             f"{seg.fillet_radius:.6g} m (root circle {ring.root_radius:.6g} m)")
     t1 = time.perf_counter()
     model = ElasticModel(seg.p, seg.t, youngs_modulus, poisson_ratio, plane=plane, order=2)
     fixed_nodes = seg.outer if support == "outer" else np.union1d(seg.outer, seg.sides)
@@ -471,11 +552,23 @@ def fe_ring_tooth_result(ring: RingGear, radii, *, youngs_modulus: float = 2.06e
     u = model.solve(loads, fixed)  # one LU factorisation for all radii
     comp = deflection_along_load(model, u, dirs, qs)
     tip = model.probe(np.array([[0.0], [ring.tip_radius + 0.25 * ring.normal_module]])) @ u
+    cross = None
+    if rd is not None:  # tooth -1: polar angle - 2 pi / z, a counter-clockwise rotation
+        pitch = 2.0 * math.pi / ring.teeth
+        c, s = math.cos(pitch), math.sin(pitch)
+        rot = np.array([[c, -s], [s, c]])
+        geo = [ring_load_geometry(ring, float(rk)) for rk in rd]
+        d_read = np.array([rot @ g[1] for g in geo])
+        q_read = np.array([rot @ g[2] for g in geo]).T
+        vals = model.probe(q_read) @ u  # (2 n_read, n): x rows then y rows
+        n_read = rd.size
+        cross = d_read[:, :1] * vals[:n_read] + d_read[:, 1:] * vals[n_read:]
     t2 = time.perf_counter()
     return FERingResult(radii=r, compliance=comp, tip_displacement=np.asarray(tip),
                         level=int(level), h=seg.h, nodes=int(model.mesh.p.shape[1]),
                         elements=int(model.mesh.t.shape[1]), dofs=model.ndofs,
-                        mesh_seconds=t1 - t0, solve_seconds=t2 - t1)
+                        mesh_seconds=t1 - t0, solve_seconds=t2 - t1,
+                        cross=None if cross is None else np.asarray(cross))
 
 
 def fe_ring_tooth_compliance(ring: RingGear, radii, *, youngs_modulus: float = 2.06e11,

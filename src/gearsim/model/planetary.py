@@ -124,8 +124,8 @@ def parse_planetary(doc: dict[str, Any], material: Material,
         "closure": "str", "slices": "int", "positions_per_cycle": "int",
         "gauss_points": "int", "plane": "str", "source": "str", "contact": "str",
         "coupling": "str", "model": "str"}, "stiffness")
-    # the internal (ring-planet) mesh has the seed's law only (issue 25 item 5)
-    stiffness = StiffnessSettings(**model_options(stiffness_kw, "stiffness", "seed"))
+    # both meshes of a stage take the gear trains' default model (docs/planetary.md 4.4)
+    stiffness = StiffnessSettings(**model_options(stiffness_kw, "stiffness"))
     cracks = parse_cracks(doc.get("cracks", []))
     name = doc.get("name", "planetary stage")
     if not isinstance(name, str):

@@ -48,7 +48,7 @@ from gearsim.stiffness.tooth import hertz_stiffness, line_contact_compliance
 
 __all__ = ["COMPONENTS", "DEFAULT_SLICES", "MeshStiffness", "StiffnessSettings", "ToothCrack",
            "assemble_revolution", "centre_line_depth", "in_path_fraction", "mesh_stiffness",
-           "pair_law", "slice_grid"]
+           "pair_law", "slice_grid", "slice_law"]
 
 COMPONENTS = ("hertz", "bending_1", "shear_1", "axial_1", "foundation_1",
               "bending_2", "shear_2", "axial_2", "foundation_2")
@@ -377,7 +377,6 @@ def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
     """
     g1, g2 = pair.driver, pair.driven
     inside = width > 0
-    shape = width.shape
     ch = 1.0 / hertz_stiffness(g1.material, g2.material, 1.0)  # per unit width
     line = settings.contact == "line"
     if line:
@@ -405,19 +404,56 @@ def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
                                            np.where(both, r2[:, :-1], g2.tip_radius)), 0.0)
         cross = x1 + x2  # (npc, n_age - 1, ns)
 
+    contact = None
+    if line:
+        def contact(q: np.ndarray) -> np.ndarray:
+            return line_contact_compliance(np.maximum(q, 1e-3), rho1, rho2, dep1, dep2,
+                                           g1.material, g2.material, settings.plane)
+
+    return slice_law(width, ch, cross, contact, force)
+
+
+def slice_law(width: np.ndarray, ch: float, cross: np.ndarray | None,
+              contact: Callable[[np.ndarray], np.ndarray] | None, force: float | None
+              ) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
+    """The law of :func:`pair_law` from its parts (external and internal meshes).
+
+    Parameters
+    ----------
+    width : ndarray, shape (npc, n_age, ns)
+        Carried width of each slice contact [m] (0: not in the path of contact).
+    ch : float
+        Load-independent contact compliance per unit width, 1/k_h [m^2/N] (seed eq. 8).
+    cross : ndarray, shape (npc, n_age - 1, ns), or None
+        Summed body cross compliance of both gears between the pairs of age m and m + 1
+        per unit width [m^2/N] (coupled pairs, q = C^-1 1), or None (independent pairs).
+    contact : callable or None
+        ``contact(q)``: the contact compliance per unit width [m^2/N] at the load per unit
+        width q [N/m] of each slice contact (shape of ``width``); None: ``ch``.
+    force : float or None
+        Line-of-action force of the mesh [N] shared by the contacts (with ``contact``).
+
+    Returns
+    -------
+    callable
+        ``law(teeth) -> (ks, chs)`` as :func:`pair_law`'s; with ``contact``,
+        :data:`LINE_ITERATIONS` fixed-point passes on the load per unit width
+        q = F k_slice / (k_mesh w) of each contact.
+    """
+    inside = width > 0
+    shape = width.shape
+
     def law(teeth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         chs = np.full(shape, ch)
         ks = _slice_stiffness(chs + teeth, width, cross)
-        if line:
+        if contact is not None:
             # fixed point on the load per unit width of each contact (ln dependence:
             # three passes change k by < 1e-6)
             for _ in range(LINE_ITERATIONS):
                 kt = ks.sum(axis=(1, 2))
                 with np.errstate(divide="ignore", invalid="ignore"):
                     q = np.where(width > 0, force * ks / (kt[:, None, None] * width), 1.0)
-                chs = np.where(inside, line_contact_compliance(
-                    np.maximum(q, 1e-3), rho1, rho2, dep1, dep2, g1.material, g2.material,
-                    settings.plane), ch)
+                chs = np.where(inside, contact(q), ch)
                 ks = _slice_stiffness(chs + teeth, width, cross)
         return ks, chs
 

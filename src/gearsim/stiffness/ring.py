@@ -345,6 +345,38 @@ class RingToothModel:
         a = self._alpha(r)
         return a + self._beta(r, a)
 
+    def centre_line_depth(self, radius) -> np.ndarray:
+        """Distance from a contact point to the tooth centre line along the load line [m].
+
+        The contact P = (r_c sin beta_c, r_c cos beta_c) and the point Q where the line of
+        the force (-cos a1, sin a1) crosses the centre line X = 0 (where the FE ring
+        segment of :mod:`gearsim.fem.ring` reads the tooth's deflection) are
+        d = X_c / cos(a1) = r_c sin(beta_c) / cos(alpha_c + beta_c) apart: the depth of the
+        ring's side of the line contact (:func:`gearsim.stiffness.tooth.
+        line_contact_compliance`), as :func:`gearsim.stiffness.mesh.centre_line_depth`
+        for an external tooth.
+
+        Parameters
+        ----------
+        radius
+            Contact radii in [r_a, r_f] [m], scalar or 1-D.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            d [m].
+
+        Raises
+        ------
+        InputError
+            If a radius is not finite or outside [r_a, r_f].
+        """
+        r = self._radii(radius, "radius", self.ring.tip_radius, self.ring.root_radius,
+                        clip=True)
+        a = self._alpha(r)
+        b = self._beta(r, a)
+        return r * np.sin(b) / np.cos(a + b)
+
     def _cracked_half(self, y: np.ndarray, h: np.ndarray, q: float, angle: float
                       ) -> np.ndarray:
         """Effective half width h_c of the loaded side at heights Y on a cracked tooth."""

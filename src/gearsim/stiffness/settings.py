@@ -29,10 +29,11 @@ COUPLINGS = ("none", "fe")
 #: healthy; docs/stiffness.md, section 4c).
 MODELS = {"seed": {"source": "pe", "contact": "yang-lin", "coupling": "none"},
           "accurate": {"source": "calibrated", "contact": "line", "coupling": "fe"}}
-#: The model of a gear train (or a stage's chain) whose file names none of ``model``,
-#: ``source``, ``contact``, ``coupling``. A planetary stage's meshes keep the seed's (the
-#: internal mesh has the Yang-Lin contact only). The Python default of
-#: :class:`StiffnessSettings` stays the seed's options (the library's building block).
+#: The model of a gear train, a planetary stage or a stage's chain whose file names none
+#: of ``model``, ``source``, ``contact``, ``coupling``: the stage's sun-planet meshes as
+#: external pairs, its ring-planet mesh with the ring tooth corrected by the FE ring
+#: segment (docs/planetary.md 4.4). The Python default of :class:`StiffnessSettings`
+#: stays the seed's options (the library's building block).
 DEFAULT_MODEL = "accurate"
 
 #: Default number of slices of a helical face width. From the convergence study in

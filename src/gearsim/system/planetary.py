@@ -31,6 +31,18 @@ its sun-side to its ring-side pitch-point contact
 numbers agree in both tables, so a cracked planet tooth loads the sun mesh and then, Delta
 cycles later, the ring mesh, each on its own flank.
 
+**Stiffness model.** The sun-planet meshes take the stage's ``[stiffness]`` options as
+an external pair of a gear train does (:meth:`gearsim.system.GearTrain.mesh_stiffness`:
+the tooth model of ``source``, the body coupling, the line contact at the static mesh
+force). The ring-planet mesh takes them too (:func:`gearsim.stiffness.internal.
+internal_mesh_stiffness`): under ``source = "calibrated"`` the planet tooth calibrated as
+on external gears and the ring tooth corrected by the FE ring segment
+(:class:`gearsim.fem.calibration.CalibratedRingTooth`), under ``coupling = "fe"`` the
+planet's body and the ring's rim coupling. The static force of every sun-planet and
+ring-planet mesh is F = |T_s| / (N r_b,s): the planets share the sun torque equally, and
+a planet's moment balance about its centre makes its ring force equal to its sun force
+(both lines of action touch its base circle).
+
 **Flanks.** The working flank of the sun and of the ring is the flank the planets load;
 the working flank of a planet is the flank the sun loads, so the ring loads its
 non-working flank (reversed bending, like an idler). A crack on a planet's working flank
@@ -53,6 +65,7 @@ from functools import cached_property
 import numpy as np
 
 from gearsim.errors import require
+from gearsim.fem.ring import check_ring_fillets
 from gearsim.geometry.pair import GearPair
 from gearsim.geometry.planetary import PlanetaryStage
 from gearsim.geometry.profile import ToothProfile
@@ -70,7 +83,7 @@ from gearsim.stiffness.ring import RingToothModel
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.stiffness.source import ToothCrack
 from gearsim.system.faults import mesh_flanks
-from gearsim.system.train import GearTrain, tooth_compliance
+from gearsim.system.train import GearTrain, body_coupling, tooth_compliance
 
 __all__ = ["MEMBERS", "PhasedTable", "PlanetaryTrain", "StageOperating", "planet_name",
            "stage_stiffness"]
@@ -212,9 +225,11 @@ class PlanetaryTrain:
     operating
         Held and driven members, speed and torque.
     settings
-        Stiffness options (:class:`~gearsim.stiffness.settings.StiffnessSettings`); the
-        ring-planet mesh needs ``source = "pe"``, ``contact = "yang-lin"``,
-        ``coupling = "none"``.
+        Stiffness options (:class:`~gearsim.stiffness.settings.StiffnessSettings`) of
+        both meshes (module docstring, "Stiffness model"); the ring-planet mesh takes
+        ``source = "pe"`` or ``"calibrated"``. The Python default is the seed's options; a
+        stage file that names no model gets the accurate one
+        (:func:`gearsim.model.planetary.parse_planetary`).
     cracks
         Cracks on ``"sun"``, ``"ring"`` (its working flank, the one the planets load) or
         ``"planet-n"`` teeth (``Crack.gear``); flank as in the module docstring. At most
@@ -225,7 +240,9 @@ class PlanetaryTrain:
         Constant mesh stiffnesses [N/m] replacing the computed tables (e.g. the
         Lin & Parker example, which gives mean values only); ``None``: computed.
     ring_foundation
-        Foundation term of the ring tooth (``"sainsot-solid"`` or ``"none"``).
+        Foundation term of the potential-energy ring tooth (``"sainsot-solid"`` or
+        ``"none"``); only ``"none"`` with ``source = "calibrated"``, whose ring tooth has
+        the FE segment's rim and fillet compliance in that column.
     faults
         Surface faults (:mod:`gearsim.stiffness.faults`: spall, pitting, chipped tip,
         wear; a broken tooth on the sun) on ``"sun"`` or on the working flank of a
@@ -242,7 +259,8 @@ class PlanetaryTrain:
         A crack on a gear the stage does not have (``planet-5`` of three planets), on
         the ring's non-working flank, on a tooth number the gear does not have, two cracked
         members in one mesh, constant stiffnesses not finite > 0, options the internal
-        mesh does not model.
+        mesh does not model, ``ring_foundation = "sainsot-solid"`` with the calibrated
+        source.
 
     Examples
     --------
@@ -306,6 +324,11 @@ class PlanetaryTrain:
                     "tables) or remove the cracks")
         require(self.ring_foundation in ("sainsot-solid", "none"), "stage.ring_foundation",
                 self.ring_foundation, 'must be "sainsot-solid" or "none"')
+        require(self.ring_foundation == "none" or self.settings.source == "pe",
+                "stage.ring_foundation", self.ring_foundation,
+                f'belongs to the potential-energy ring tooth (stiffness.source = "pe", model '
+                f'"seed"); the {self.settings.source!r} ring tooth has the FE segment\'s rim '
+                "and fillet in its place")
         self._check_faults(names)
 
     def _check_faults(self, names: list[str]) -> None:
@@ -347,6 +370,8 @@ class PlanetaryTrain:
         if self.ring_mesh_stiffness is None:
             check_internal_settings(self.settings)
             InternalMesh(st)  # tip interference of the internal pair
+            if self.settings.source == "calibrated" or self.settings.coupling == "fe":
+                check_ring_fillets(st.ring)  # the FE ring segment can be meshed
 
     # ----------------------------------------------------------------- kinematics
     @cached_property
@@ -422,6 +447,32 @@ class PlanetaryTrain:
             working = not working
         return 1 if working else -1
 
+    @property
+    def mesh_force(self) -> float:
+        """Static transverse line-of-action force of each mesh, |T_s| / (N r_b,s) [N].
+
+        The planets share the sun torque equally; each planet's ring force equals its sun
+        force (module docstring, "Stiffness model").
+        """
+        st = self.stage
+        return self.sun_torque / (st.planets * st.sun.base_radius)
+
+    @cached_property
+    def _ring_options(self) -> dict:
+        """Keyword arguments of the internal mesh for the stage's stiffness options."""
+        s = self.settings
+        out: dict = {"compliance": tooth_compliance(s.source), "force": self.mesh_force,
+                     "coupling": body_coupling(s)}
+        if s.source == "calibrated" or s.coupling == "fe":
+            from gearsim.fem.calibration import CalibratedRingTooth
+
+            rim = CalibratedRingTooth(self.stage.ring, self.stage.material, plane=s.plane,
+                                      gauss_points=s.gauss_points)
+            out["ring_coupling"] = rim if s.coupling == "fe" else None
+            if s.source == "calibrated":
+                out["ring_model"] = rim
+        return out
+
     @cached_property
     def sun_pair(self) -> GearPair:
         """The sun-planet pair (sun drives, model frame)."""
@@ -452,7 +503,9 @@ class PlanetaryTrain:
         if self.sun_mesh_stiffness is not None:
             return out
         pair, s = self.sun_pair, self.settings
-        out["healthy"] = mesh_stiffness(pair, settings=s, revolution_of=1)
+        model = {"compliance": tooth_compliance(s.source), "force": self.mesh_force,
+                 "coupling": body_coupling(s)}
+        out["healthy"] = mesh_stiffness(pair, settings=s, revolution_of=1, **model)
         for c in self.cracks:
             if c.gear == "ring":  # not in the sun meshes
                 continue
@@ -461,7 +514,7 @@ class PlanetaryTrain:
                 pair, cracks=(ToothCrack(gear, replace(c, gear=pair.driver.name if gear == 1
                                                         else pair.driven.name),
                                          self._side(c, "sun")),),
-                settings=s, revolution_of=gear)
+                settings=s, revolution_of=gear, **model)
         return out
 
     @cached_property
@@ -470,8 +523,9 @@ class PlanetaryTrain:
         if not (self.faults or self.contacts):
             return {}
         pair, s = self.sun_pair, self.settings
-        healthy = contact_grid(pair, settings=s, compliance=tooth_compliance(s.source),
-                               corner=s.corner_contact)
+        model = {"compliance": tooth_compliance(s.source), "force": self.mesh_force,
+                 "coupling": body_coupling(s)}
+        healthy = contact_grid(pair, settings=s, corner=s.corner_contact, **model)
         if not self.faults:
             return {"all": healthy}
         member = self.faults[0].gear
@@ -485,7 +539,7 @@ class PlanetaryTrain:
         tc = tuple(ToothCrack(gear, c, self._side(replace(c, gear=member), "sun"))
                    for c in cracks)
         grid = contact_grid(pair, cracks=tc, flank1=f1, flank2=f2, settings=s,
-                            compliance=tooth_compliance(s.source), corner=s.corner_contact)
+                            corner=s.corner_contact, **model)
         return {member: grid, "all": healthy}
 
     @cached_property
@@ -494,17 +548,16 @@ class PlanetaryTrain:
         if self.ring_mesh_stiffness is not None:
             return out
         st, s = self.stage, self.settings
-        out["healthy"] = internal_mesh_stiffness(st, settings=s, revolution_of=1,
-                                                 ring_foundation=self.ring_foundation)
+        kw = dict(self._ring_options, settings=s, ring_foundation=self.ring_foundation)
+        out["healthy"] = internal_mesh_stiffness(st, revolution_of=1, **kw)
         for c in self.cracks:
             if c.gear.startswith("planet-"):
                 out[c.gear] = internal_mesh_stiffness(
                     st, cracks=(ToothCrack(1, replace(c, gear="planet"), self._side(c, "ring")),),
-                    settings=s, revolution_of=1, ring_foundation=self.ring_foundation)
+                    revolution_of=1, **kw)
             elif c.gear == "ring":  # over a ring revolution relative to the carrier
                 out["ring"] = internal_mesh_stiffness(
-                    st, cracks=(ToothCrack(2, c, 1),), settings=s, revolution_of=2,
-                    ring_foundation=self.ring_foundation)
+                    st, cracks=(ToothCrack(2, c, 1),), revolution_of=2, **kw)
         return out
 
     def mesh_table(self, mesh: str, planet: int) -> PhasedTable:

@@ -105,6 +105,16 @@ def test_cli_bad_file_among_many_one_message_nothing_written(tmp_path, monkeypat
     assert not (tmp_path / "t.csv").exists()
 
 
+def test_cli_more_workers_than_files_one_line_nothing_read(tmp_path, monkeypatch, capsys):
+    paths = _write(tmp_path, n_files=2, channels=2, gz_every=0)
+    code, out, err = _run(monkeypatch, capsys, "analyze", *paths, "--fs", FS, "--workers",
+                          "3", "--out", tmp_path / "t.csv")
+    assert code == 2
+    assert err.strip() == ("gearsim: error: --workers = 3: must be <= 2, the files to "
+                           "analyse (a worker more would have nothing to do)")
+    assert not (tmp_path / "t.csv").exists() and not (tmp_path / "t.csv.parts").exists()
+
+
 def test_cli_csv_table_columns_with_units(tmp_path, monkeypatch, capsys):
     _write(tmp_path, n_files=2, channels=2, gz_every=0)
     code, _, err = _run(monkeypatch, capsys, "analyze", tmp_path / "*.csv", "--out",

@@ -316,21 +316,18 @@ def test_cli_loads_and_speeds(capsys, tmp_path, box, same_life):
     assert set(s["alarm_fractions"]) == {"na4", "fm4", "residual_kurtosis", "sideband_energy"}
 
 
-def test_cli_more_workers_than_simulations(capsys, tmp_path, box, same_life):
-    """--workers 2 for one simulation: reduced to 1 with a note (as gearsim sweep), run
-    in this process."""
-    import xarray as xr
-
+def test_cli_more_workers_than_simulations(capsys, tmp_path, box):
+    """--workers 5 for at most 2 simulations (one fraction, and the broken tooth after a
+    fracture, at one load and speed): one line, exit 2, before the life's FE and with
+    nothing written."""
     _, torque = box.operating()
     code, out, err = _cli(capsys, "life", "idler-table1", "--out", tmp_path / "s.nc",
                           "--torque", f"{torque} N*m", "--fractions", "0.5", "--seeds", "1",
-                          "--workers", "2")
-    assert code == 0, err
-    assert err.strip() == ("gearsim: note: --workers 2 reduced to 1 (1 simulation to "
-                           "compute)")
-    assert "1 records x 1 loads x 1 speeds x 1 seeds" in out
-    ds = xr.load_dataset(tmp_path / "s.nc", engine="h5netcdf")
-    assert ds.attrs["dask_workers"] == 0
+                          "--workers", "5")
+    assert code == 2, err
+    assert err.strip() == ("gearsim: error: --workers = 5: must be <= 2, the simulations "
+                           "to compute (a worker more would have nothing to do)")
+    assert not list(tmp_path.iterdir())
 
 
 def test_few_short_simulations_stay_in_this_process(box, life, records):

@@ -108,6 +108,10 @@ def test_max_cases_allows_a_larger_study():
 
 @pytest.mark.parametrize("args,expected", [
     (["--workers", "0"], "--workers = 0: must be an integer >= 1"),
+    (["--workers", "-3"], "--workers = -3: must be an integer >= 1"),
+    # three flanks x two torques: six simulations (noise levels would share them)
+    (["--workers", "7"], "--workers = 7: must be <= 6, the simulations to compute (a "
+     "worker more would have nothing to do)"),
     (["--scheduler", "not a url"], "--scheduler = not a url: must be a scheduler address"),
     (["--scheduler", "tcp://host"], "--scheduler = tcp://host"),
     (["--scheduler", "localhost:99999"], "port must be in 1-65535"),
@@ -337,13 +341,13 @@ def test_sigint_during_sweep_exit_130_then_resume(tmp_path):
     assert not store.exists() and not lock_path(store).exists()
     assert not [p for p in tmp_path.rglob(".*.tmp")]  # no half-written part
 
-    res = subprocess.run([*GEARSIM, "sweep", study, "--out", store, "--workers", "104",
+    res = subprocess.run([*GEARSIM, "sweep", study, "--out", store, "--workers", "3",
                           "--no-progress"], capture_output=True, text=True, timeout=300)
     assert res.returncode == 0, res.stderr
     cores = os.cpu_count() or 1
-    n = min(cores, 3 - len(finished))
-    if n < 104:
-        assert f"gearsim: note: --workers 104 reduced to {n}" in res.stderr
+    n = min(cores, 3 - len(finished))  # the workers a resumed study's rest can use
+    if n < 3:
+        assert f"gearsim: note: --workers 3 reduced to {n}" in res.stderr
     assert "Traceback" not in res.stderr
     k = len(finished)
     assert f"3 cases ({3 - k} computed, {k} resumed, 0 failed)" in res.stdout

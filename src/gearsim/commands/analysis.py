@@ -286,7 +286,7 @@ def analyze(
         help="folder for separability.csv/.json (needs labels; replaced as a whole)")] = None,
     json_: Annotated[bool, typer.Option("--json", help="print the JSON summary")] = False,
     workers: Annotated[int, typer.Option(help="local Dask worker processes [-]; 1 = serial "
-                                         "in this process")] = 1,
+                                         "in this process; at most one per file")] = 1,
     scheduler: Annotated[str | None, typer.Option(
         help="address of a running Dask scheduler (tcp://host:8786)")] = None,
     drop_nonfinite: Annotated[bool, typer.Option(
@@ -389,6 +389,10 @@ def analyze(
     n_options = len(problems)  # problems of the options: stop before reading any file
     names, more = bt.expand_inputs(files)
     problems += more
+    if names and workers > len(names) and scheduler is None:
+        problems.append(f"--workers = {workers}: must be <= {len(names)}, the files to "
+                        "analyse (a worker more would have nothing to do)")
+        n_options += 1  # an option's problem: no file is read
     lab = None
     if label_pattern is not None:
         lab, more = _collect(problems, bt.labels_from_pattern, names, label_pattern) or ({}, [])

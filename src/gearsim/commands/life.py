@@ -11,8 +11,8 @@ growth`` with its dK and the threshold, exit 0, and no store is written.
 The crack grows at the config's operating point (``--torque``): that one life is the
 crack's history. The records are simulated at each of its crack states at every
 ``--loads`` x ``--speeds`` (default: that operating point), on Dask with ``--workers``
-> 1 or ``--scheduler`` (more workers than simulations or CPU cores: reduced, with a
-note, as ``gearsim sweep``).
+> 1 or ``--scheduler`` (more workers than simulations: refused; than CPU cores: reduced,
+with a note, as ``gearsim sweep``).
 """
 
 from __future__ import annotations
@@ -139,7 +139,8 @@ def life(
              "config's)")] = None,
     workers: Annotated[int, typer.Option(
         help="local Dask worker processes for the records' simulations (1 thread each; "
-             "at most one per CPU core and per simulation; 1: in this process)")] = 1,
+             "more than the simulations refused, more than the CPU cores reduced; 1: in "
+             "this process)")] = 1,
     scheduler: Annotated[str | None, typer.Option(
         help="address of a running Dask scheduler for the records' simulations, e.g. "
              "tcp://host:8786")] = None,
@@ -158,7 +159,12 @@ def life(
     from gearsim.io.targets import check_output_file
     from gearsim.model import load
     from gearsim.studies import life as lf
-    from gearsim.studies.sweep_run import check_scheduler, cluster_client, plan_workers
+    from gearsim.studies.sweep_run import (
+        check_scheduler,
+        check_workers,
+        cluster_client,
+        plan_workers,
+    )
     from gearsim.viz import check_plot_file
 
     # every input is checked before any work
@@ -191,6 +197,10 @@ def life(
     with as_options({"gear": "--gear"}):
         lf._crack_of(gb, gear)  # a gear without a crack: refused here, before the FE
     record_loads, record_speeds = _conditions(gb, loads, speeds, duration)
+    # the records' simulations: each fraction (and the broken tooth after a fracture) at
+    # each load and speed; more workers than that would have nothing to do
+    check_workers(workers, (len(fr) + 1) * len(record_loads or [0])
+                  * len(record_speeds or [0]), "simulation")
     if scheduler is not None:  # a scheduler that does not answer: refused before the FE
         with cluster_client(1, scheduler):
             pass

@@ -22,9 +22,10 @@ def sweep(
     scheduler: Annotated[str | None, typer.Option(
         help="address of a running Dask scheduler, e.g. tcp://host:8786 "
              "(default: a local cluster)")] = None,
-    workers: Annotated[int, typer.Option(help="local worker processes (1 thread each; at "
-                                         "most one per CPU core and per simulation to "
-                                         "compute)")] = 2,
+    workers: Annotated[int | None, typer.Option(
+        help="local worker processes (1 thread each; default one per CPU core and "
+             "simulation; more than the study's simulations is refused, more than the "
+             "cores reduced)")] = None,
     show: Annotated[bool, typer.Option("--show", help="print the study TOML and stop")] = False,
     progress: Annotated[bool, typer.Option(help="progress bar on stderr")] = True,
     report: Annotated[Path | None, typer.Option(
@@ -36,14 +37,14 @@ def sweep(
     from gearsim.io.targets import check_output_file, check_output_folder
     from gearsim.studies.diagnostic import CLASSES, FAULT_CLASSES
     from gearsim.studies.sweep import expand, load_study
-    from gearsim.studies.sweep_run import check_scheduler, plan_workers, run_study
+    from gearsim.studies.sweep_run import check_scheduler, check_workers, groups, run_study
 
 
     st = load_study(study)  # every study-wide setting is checked here, once
     if show:
         typer.echo(st.text, nl=False)
         return
-    plan_workers(workers, 1)
+    workers = check_workers(workers, len(groups(st)), "simulation")
     if scheduler is not None:
         check_scheduler(scheduler)
     check_output_file(out, "--out", (".nc",))

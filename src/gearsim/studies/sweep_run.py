@@ -48,7 +48,8 @@ if TYPE_CHECKING:  # the simulation modules load on first use (gearsim analyze n
     from gearsim.studies.sweep import Case, Study
 
 __all__ = ["ALLOWED_FAILURES", "CONNECT_TIMEOUT", "PART_SUFFIX", "RETRIES", "SweepResult",
-           "check_scheduler", "cluster_client", "cluster_pays", "combine", "group_runner", "groups",
+           "check_scheduler", "check_workers", "cluster_client", "cluster_pays", "combine",
+           "group_runner", "groups",
            "lock_path", "part_bytes", "part_path", "parts_dir", "plan_workers", "read_part",
            "run_serial", "run_study", "store_lock"]
 
@@ -401,6 +402,54 @@ def plan_workers(requested: int, tasks: int, what: str = "simulation group",
     why = (f"{tasks} {what}{'s' if tasks != 1 else ''} to compute"
            if n == max(1, tasks) and tasks < cores else f"{cores} CPU core{'s' if cores != 1 else ''}")
     return n, f"gearsim: note: --workers {requested} reduced to {n} ({why})"
+
+
+def check_workers(requested: int | None, tasks: int, what: str) -> int:
+    """The ``--workers`` of a verb, refused in one line when it cannot work.
+
+    More workers than the work has tasks (simulations of a study, files of a batch)
+    would wait with nothing to do: refused, with the number that would work. ``None``
+    (the option not given) is one worker per task and CPU core. More workers than CPU
+    cores can run (they share the cores) and are reduced later by :func:`plan_workers`,
+    with a note.
+
+    Parameters
+    ----------
+    requested : int or None
+        ``--workers`` as given; ``None``: not given.
+    tasks : int
+        Tasks of the whole work (a resumed study's finished parts included), >= 1.
+    what : str
+        Name of one task, e.g. ``"simulation"``, ``"file"``.
+
+    Returns
+    -------
+    int
+        The workers to ask :func:`plan_workers` for.
+
+    Raises
+    ------
+    InputError
+        ``--workers``: not an integer >= 1, or more than ``tasks``.
+
+    Examples
+    --------
+    >>> check_workers(2, 5, "simulation")
+    2
+    >>> try:
+    ...     check_workers(8, 3, "simulation")
+    ... except InputError as exc:
+    ...     print(str(exc)[:52])
+    --workers = 8: must be <= 3, the simulations to comp
+    """
+    if requested is None:
+        return max(1, min(tasks, os.cpu_count() or 1))
+    plan_workers(requested, 1)  # an integer >= 1
+    if requested > tasks:
+        raise InputError("--workers", requested,
+                         f"must be <= {tasks}, the {what}{'s' if tasks != 1 else ''} to "
+                         "compute (a worker more would have nothing to do)")
+    return requested
 
 
 def cluster_pays(seconds_left: float, tasks_left: int, workers: int) -> bool:

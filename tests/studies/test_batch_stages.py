@@ -85,8 +85,9 @@ def test_serial_and_two_workers_give_the_same_json_and_table(records, tmp_path, 
 
 
 def test_text_has_a_line_per_stage_serial_and_on_workers(records, gearsim_here):
-    """The text of a record analysed here and of one sent back by a worker as a dict."""
-    common = ["analyze", records[0], "--channel", "a1", "--shaft-rpm", 1800,
+    """The text of records analysed here and of those sent back by workers as dicts (two
+    files for two workers: more workers than files is refused)."""
+    common = ["analyze", *records, "--channel", "a1", "--shaft-rpm", 1800,
               "--stages", STAGES_TEXT]
     code, serial, err = _cli(gearsim_here, *common)
     assert code == 0, err

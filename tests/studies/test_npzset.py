@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from gearsim.io.npzset import FORMAT, from_bytes, to_bytes
+from gearsim.io.npzset import FORMAT, FORMAT_V1, from_bytes, to_bytes
 from gearsim.studies.sweep_run import read_part
 
 
@@ -76,3 +76,48 @@ def test_another_format_is_not_a_part(tmp_path):
     with pytest.raises(ValueError, match="format 'other'"):
         from_bytes(buf.getvalue())
     assert read_part(tmp_path / "missing.npz") is None
+
+
+def _version1(ds: xr.Dataset) -> bytes:
+    """``ds`` as a version-1 archive (one member per variable), written out by hand from
+    the format's description, as parts written before version 2 are on disk."""
+    arrays, meta = {}, []
+    for i, name in enumerate([*ds.data_vars, *ds.coords]):
+        var = ds.variables[name]
+        values = var.values.astype(str) if var.dtype.kind == "O" else var.values
+        arrays[f"v{i}"] = values
+        meta.append({"name": name, "dims": list(var.dims), "coord": name in ds.coords,
+                     "attrs": dict(var.attrs)})
+    head = {"format": FORMAT_V1, "attrs": {"warnings": ds.attrs["warnings"]},
+            "variables": meta}
+    buf = io.BytesIO()
+    np.savez(buf, __meta__=np.array(__import__("json").dumps(head)), **arrays)
+    return buf.getvalue()
+
+
+def test_version_1_parts_are_still_read():
+    """A study interrupted before the packed format resumes from its parts."""
+    ds = _table().drop_attrs()
+    ds.attrs["warnings"] = "UserWarning\tsomething"
+    back = from_bytes(_version1(ds))
+    xr.testing.assert_identical(back, ds.assign(error=ds["error"].astype(str)))
+
+
+def test_packed_blocks_one_member_per_dtype():
+    with zipfile.ZipFile(io.BytesIO(to_bytes(_table()))) as z:
+        names = sorted(z.namelist())
+    # ten variables of seven dtypes (f8, f4, i8, b1 and text of widths 6, 11, 22)
+    assert names == ["__meta__.npy", *(f"d{i}.npy" for i in range(7))]
+
+
+def test_a_variable_outside_its_block_is_not_a_part():
+    buf = io.BytesIO(to_bytes(_table()))
+    with np.load(buf, allow_pickle=False) as z:
+        members = {k: z[k] for k in z.files}
+    head = __import__("json").loads(str(members["__meta__"][()]))
+    head["variables"][0]["offset"] = 10**6
+    members["__meta__"] = np.array(__import__("json").dumps(head))
+    out = io.BytesIO()
+    np.savez(out, **members)
+    with pytest.raises(ValueError, match="not a gearsim part"):
+        from_bytes(out.getvalue())

@@ -9,9 +9,15 @@ than the analysis of the case. The same table as an uncompressed ``.npz`` (a zip
 Nothing is pickled: arrays are numeric, boolean or fixed-width text (``U``); object
 arrays of strings are stored as ``U``; anything else is refused.
 
-The format: members ``v0``, ``v1``, ... (one per variable, data then coordinates) and
-``__meta__`` (a 0-d text array), the JSON of ``{"format": FORMAT, "attrs": {...},
-"variables": [{"name", "dims", "attrs", "coord"}, ...]}``.
+The format (:data:`FORMAT`, version 2): the variables (data, then coordinates) packed
+by dtype, member ``d0``, ``d1``, ... holding the flattened arrays of one dtype end to end,
+and ``__meta__`` (a 0-d text array), the JSON of ``{"format": FORMAT, "attrs": {...},
+"blocks": [dtype, ...], "variables": [{"name", "dims", "attrs", "coord", "block",
+"offset", "shape"}, ...]}``. A part holds tens of one-element variables of three or four
+dtypes: reading an archive member costs ~50 us, so one member per dtype reads a
+64-variable part in well under a millisecond where one member per variable (version 1:
+members ``v0``, ``v1``, ... and no ``blocks``) took ~3.5 ms. Version 1 archives are still
+read.
 """
 
 from __future__ import annotations
@@ -26,10 +32,12 @@ import numpy as np
 if TYPE_CHECKING:
     import xarray as xr
 
-__all__ = ["FORMAT", "from_bytes", "to_bytes"]
+__all__ = ["FORMAT", "FORMAT_V1", "from_bytes", "to_bytes"]
 
 #: Format tag written in the header; a part with another tag is unreadable (recomputed).
-FORMAT = "gearsim-npzset-1"
+FORMAT = "gearsim-npzset-2"
+#: The earlier tag, one archive member per variable: still read.
+FORMAT_V1 = "gearsim-npzset-1"
 
 
 def _plain(value):
@@ -74,16 +82,23 @@ def to_bytes(ds: xr.Dataset) -> bytes:
     TypeError
         A variable of object dtype holding non-strings, or an attribute that is not JSON.
     """
-    arrays: dict[str, np.ndarray] = {}
+    blocks: dict[str, list[np.ndarray]] = {}  # dtype -> flattened arrays, end to end
+    used: dict[str, int] = {}
     meta = []
     names = list(ds.data_vars) + list(ds.coords)
-    for i, name in enumerate(names):
+    for name in names:
         var = ds.variables[name]
-        arrays[f"v{i}"] = _array(var.values, str(name))
+        a = _array(var.values, str(name))
+        key = a.dtype.str
+        blocks.setdefault(key, []).append(a.ravel())
         meta.append({"name": name, "dims": list(var.dims), "coord": name in ds.coords,
-                     "attrs": {k: _plain(v) for k, v in var.attrs.items()}})
+                     "attrs": {k: _plain(v) for k, v in var.attrs.items()},
+                     "block": list(blocks).index(key), "offset": used.get(key, 0),
+                     "shape": list(a.shape)})
+        used[key] = used.get(key, 0) + a.size
     head = {"format": FORMAT, "attrs": {k: _plain(v) for k, v in ds.attrs.items()},
-            "variables": meta}
+            "blocks": list(blocks), "variables": meta}
+    arrays = {f"d{i}": np.concatenate(parts) for i, parts in enumerate(blocks.values())}
     arrays["__meta__"] = np.array(json.dumps(head))
     buf = io.BytesIO()
     np.savez(buf, **arrays)
@@ -114,12 +129,23 @@ def from_bytes(data: bytes) -> xr.Dataset:
         with np.load(io.BytesIO(data), allow_pickle=False) as z:
             head = json.loads(str(z["__meta__"][()]))
             fmt = head.get("format") if isinstance(head, dict) else None
-            variables = ([(m, z[f"v{i}"]) for i, m in enumerate(head["variables"])]
-                         if fmt == FORMAT else [])
+            if fmt == FORMAT:
+                blocks = [z[f"d{i}"] for i in range(len(head["blocks"]))]
+                variables = []
+                for m in head["variables"]:
+                    a = blocks[m["block"]]
+                    n = int(np.prod(m["shape"], dtype=np.int64))
+                    if a.dtype.str != head["blocks"][m["block"]] or m["offset"] + n > a.size:
+                        raise ValueError(f"variable {m['name']!r} outside its block")
+                    variables.append((m, a[m["offset"]:m["offset"] + n].reshape(m["shape"])))
+            elif fmt == FORMAT_V1:
+                variables = [(m, z[f"v{i}"]) for i, m in enumerate(head["variables"])]
+            else:
+                variables = []
     except (OSError, EOFError, KeyError, TypeError, ValueError, zipfile.BadZipFile) as exc:
         # not a zip (np.load then refuses it as a pickle), truncated, a member missing
         raise ValueError(f"not a gearsim part archive: {exc}") from exc
-    if fmt != FORMAT:
+    if fmt not in (FORMAT, FORMAT_V1):
         raise ValueError(f"not a gearsim part archive: format {fmt!r}, expected {FORMAT!r}")
     data_vars = {m["name"]: xr.Variable(m["dims"], a, m["attrs"])
                  for m, a in variables if not m["coord"]}

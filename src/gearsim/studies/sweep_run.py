@@ -238,7 +238,11 @@ def combine(study: Study, parts: Sequence):
     """Concatenate group tables in case order into the study store (an ``xr.Dataset``).
 
     Variables missing from a part (features of a failed group, its record) are filled
-    with NaN or an empty string.
+    with NaN or an empty string. The tables are joined array by array (each variable's
+    parts concatenated along ``case`` once and put in case order): the same dataset as
+    ``xarray.concat`` along ``case`` followed by ``sortby("case")`` (tested), which
+    cost ~6 ms a part (12 s for a 2000-case study) where this costs ~0.3 ms; parts that
+    do not share their coordinates or record lengths go through ``xarray.concat``.
 
     Parameters
     ----------
@@ -254,28 +258,20 @@ def combine(study: Study, parts: Sequence):
         ``gearsim_version``, ``n_cases``, ``n_ok``, ``n_failed``, ``signal``,
         ``features``.
     """
-    import xarray as xr
-
+    parts = list(parts)
     names: dict[str, tuple] = {}
     sample_time = None
     for p in parts:
-        for k, v in p.data_vars.items():
-            names.setdefault(k, (v.dims, v.dtype, v.shape[1:]))
+        table = p.variables  # Variables: no DataArray made per access
+        for k in p.data_vars:
+            if k not in names:
+                v = table[k]
+                names[k] = (v.dims, v.dtype, v.shape[1:], v.attrs)
         if "sample_time" in p.coords and sample_time is None:
             sample_time = p["sample_time"]
-    filled = []
-    for p in parts:
-        p = p.drop_vars([c for c in ("sample_time",) if c in p.coords])
-        for v in p.variables.values():  # a part's string widths must not carry over
-            v.encoding = {}
-        for name, (dims, dtype, tail) in names.items():
-            if name not in p:
-                fill = np.nan if dtype.kind == "f" else ""
-                p[name] = (dims, np.full((p.sizes["case"], *tail), fill, dtype=dtype))
-        filled.append(p)
-    ds = xr.concat(filled, dim="case", data_vars="all", coords="minimal", compat="override",
-                   join="outer")
-    ds = ds.sortby("case")
+    ds = _join_arrays(parts, names)
+    if ds is None:
+        ds = _join_xarray(parts, names)
     if sample_time is not None:
         ds = ds.assign_coords(sample_time=sample_time)
     status = ds["status"].values
@@ -291,6 +287,65 @@ def combine(study: Study, parts: Sequence):
         "features": "see gearsim.studies.sweep_case.features",
     }
     return ds
+
+
+def _fill(dims_dtype_tail: tuple, n: int) -> np.ndarray:
+    """The values of a variable a part of ``n`` cases lacks: NaN, or empty text."""
+    _, dtype, tail, _ = dims_dtype_tail
+    return np.full((n, *tail), np.nan if dtype.kind == "f" else "", dtype=dtype)
+
+
+def _join_arrays(parts: list, names: dict):
+    """:func:`combine`'s join, array by array; ``None`` when the parts differ in their
+    coordinates or in the length of a record (then :func:`_join_xarray`)."""
+    import xarray as xr
+
+    first = parts[0]
+    coords = sorted(c for c in first.coords if c != "sample_time")
+    tables = [p.variables for p in parts]  # Variables: no DataArray made per access
+    if any(sorted(c for c in p.coords if c != "sample_time") != coords
+           or any(v[c].dims != ("case",) for c in coords)
+           for p, v in zip(parts, tables, strict=True)):
+        return None
+    for k, spec in names.items():
+        if any(k in v and (v[k].dims != spec[0] or v[k].shape[1:] != spec[2])
+               for v in tables):
+            return None
+    sizes = [p.sizes["case"] for p in parts]
+    order = np.argsort(np.concatenate([v["case"].values for v in tables]), kind="stable")
+
+    def joined(name: str, spec: tuple | None) -> np.ndarray:
+        arrays = [v[name].values if name in v else _fill(spec, n)
+                  for v, n in zip(tables, sizes, strict=True)]
+        return np.concatenate(arrays)[order]
+
+    # the first part's variables in its order, then those only later parts have
+    keys = list(first.data_vars) + [k for k in names if k not in first.data_vars]
+    # attributes of the first part's variable (xarray.concat's rule): none if it lacks it
+    data = {k: xr.Variable(names[k][0], joined(k, names[k]),
+                           first.variables[k].attrs if k in first.data_vars else {})
+            for k in keys}
+    coord_vars = {c: xr.Variable(("case",), joined(c, None), first.variables[c].attrs)
+                  for c in first.coords if c != "sample_time"}
+    return xr.Dataset(data, coords=coord_vars)
+
+
+def _join_xarray(parts: list, names: dict):
+    """:func:`combine`'s join by ``xarray.concat`` (parts of unequal layout)."""
+    import xarray as xr
+
+    filled = []
+    for p in parts:
+        p = p.drop_vars([c for c in ("sample_time",) if c in p.coords])
+        for v in p.variables.values():  # a part's string widths must not carry over
+            v.encoding = {}
+        for name, spec in names.items():
+            if name not in p:
+                p[name] = (spec[0], _fill(spec, p.sizes["case"]))
+        filled.append(p)
+    ds = xr.concat(filled, dim="case", data_vars="all", coords="minimal", compat="override",
+                   join="outer")
+    return ds.sortby("case")
 
 
 def run_serial(study: Study, *, hook: Callable | None = None):

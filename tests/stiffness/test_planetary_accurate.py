@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import hashlib
 import math
-import time
 
 import numpy as np
 import pytest
@@ -48,9 +47,6 @@ from gearsim.system.train import GearTrain, Operating
 FE_RING_BAND = 0.05
 #: Identities of the same arithmetic on two paths (floating point only).
 EXACT = 1e-9
-#: Budget of one test in CPU seconds with an empty cache (the brief's ~30 s of one core);
-#: measured 2-6 s.
-CPU_BUDGET = 30.0
 #: Positions per mesh cycle of the comparisons (the mesh tables of the stage examples).
 NPC = 20
 
@@ -158,7 +154,6 @@ def _inside_zones(stage: PlanetaryStage, settings: StiffnessSettings) -> np.ndar
 # ------------------------------------------------------------ internal mesh vs FE ring
 @pytest.mark.parametrize("key", list(STAGES))
 def test_default_internal_mesh_within_band_of_fe_ring_mesh(key: str) -> None:
-    t0 = time.process_time()
     tr = _train(key)
     st, s = tr.stage, tr.settings
     default = tr._ring_tables["healthy"]
@@ -180,7 +175,6 @@ def test_default_internal_mesh_within_band_of_fe_ring_mesh(key: str) -> None:
     # 1/k_h, the rim and fillet of the FE ring, the coupling)
     pe = internal_mesh_stiffness(st, settings=StiffnessSettings(positions_per_cycle=NPC))
     assert k.mean() < 0.8 * pe.mean
-    assert time.process_time() - t0 < CPU_BUDGET
 
 
 def test_single_pair_is_line_contact_in_series_with_both_teeth() -> None:
@@ -221,7 +215,6 @@ def test_single_pair_is_line_contact_in_series_with_both_teeth() -> None:
 # ---------------------------------------------------------------------- sun-planet
 @pytest.mark.parametrize("key", list(STAGES))
 def test_sun_planet_default_is_the_external_pair_model(key: str) -> None:
-    t0 = time.process_time()
     gb = loads(_stage_text(key))
     tr = gb.stage
     assert tr.settings.source == "calibrated"  # the file names no model
@@ -233,7 +226,6 @@ def test_sun_planet_default_is_the_external_pair_model(key: str) -> None:
     got = tr._sun_tables["healthy"]
     np.testing.assert_allclose(got.k, ref.k, rtol=EXACT)
     assert got.attrs["force"] == pytest.approx(ref.attrs["force"], rel=EXACT)
-    assert time.process_time() - t0 < CPU_BUDGET
 
 
 # ---------------------------------------------------------------------------- seed

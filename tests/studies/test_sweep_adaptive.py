@@ -70,3 +70,28 @@ def test_the_cluster_when_the_rest_outweighs_its_start(study, tmp_path, monkeypa
     with pytest.raises(Started):
         monkeypatch.setattr(sr, "_run_on_dask", lambda *a, **k: (_ for _ in ()).throw(Started))
         sr.run_study(study, tmp_path / "c.nc", workers=2, progress=False, adaptive=False)
+
+
+def _worker_environ():  # run in a worker: the variables its nanny set
+    import os
+
+    return os.environ.get("MALLOC_TRIM_THRESHOLD_"), os.environ.get("OPENBLAS_NUM_THREADS")
+
+
+def test_local_workers_keep_glibc_memory_between_cases():
+    """Dask's nanny sets MALLOC_TRIM_THRESHOLD_=65536 in its workers: every case's freed
+    records went back to the system and faulted in again (3x the workers' sys time,
+    docs/studies.md). gearsim's local workers start without it and keep Dask's one BLAS
+    thread."""
+    import dask
+    import distributed  # noqa: F401  (its configuration defaults)
+
+    from gearsim.studies.sweep_run import cluster_client, worker_environ
+
+    assert dask.config.get("distributed.nanny.pre-spawn-environ")["MALLOC_TRIM_THRESHOLD_"]
+    env = worker_environ()
+    assert "MALLOC_TRIM_THRESHOLD_" not in env and env["OPENBLAS_NUM_THREADS"] == 1
+    with cluster_client(1) as client:
+        assert list(client.run(_worker_environ).values()) == [(None, "1")]
+    # Dask's own configuration is left as it was
+    assert dask.config.get("distributed.nanny.pre-spawn-environ")["MALLOC_TRIM_THRESHOLD_"]

@@ -20,7 +20,8 @@ import pytest
 from numpy.testing import assert_allclose
 
 from gearsim.geometry._kernels import P_AN, P_RA, P_RB, P_RF, involute_point, profile_point
-from gearsim.geometry.gear import Gear, Material
+from gearsim.geometry.gear import Gear
+from gearsim.model import example
 from gearsim.stiffness import _kernels as K
 from gearsim.stiffness.crack import Crack, crack_record
 from gearsim.stiffness.reference import reference_compliance
@@ -31,15 +32,13 @@ ORACLE_RTOL = 1e-6
 
 
 def _spur_pinion() -> Gear:
-    """19-tooth pinion of the 19/48 spur pair (Tian 2004), m 3.2 mm, b 16 mm."""
-    mat = Material(youngs_modulus=206.8e9, poisson_ratio=0.3, density=7800.0)
-    return Gear(teeth=19, normal_module=3.2e-3, face_width=0.016, material=mat, name="pinion")
+    """19-tooth pinion of the built-in 19/48 spur pair (Tian 2004), m 3.2 mm, b 16 mm."""
+    return example("spur-19-48").train.gears[0]
 
 
 def _table1_input() -> Gear:
-    """Input gear of the Table-1 idler train (z 39, m_n 6 mm, beta 13 deg, b 150 mm)."""
-    return Gear(teeth=39, normal_module=6e-3, helix_angle=math.radians(13.0), face_width=0.15,
-                name="input")
+    """Input gear of the built-in Table-1 idler train (z 39, m_n 6 mm, beta 13 deg)."""
+    return example("idler-table1").train.gears[0]
 
 
 def _load(prof: np.ndarray, rc: float) -> tuple[float, float, float, float]:

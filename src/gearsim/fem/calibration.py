@@ -174,8 +174,10 @@ def calibration_key(gear: Gear, *, plane: str = "stress", level: int = DEFAULT_L
     return hashlib.sha256(text.encode()).hexdigest()[:32], text
 
 
-def _read(path: Path, doc: str, nodes: np.ndarray) -> np.ndarray | None:
-    """The cached ratio, or None when the file is missing, corrupt or stale."""
+def _entry(path: Path, doc: str, nodes: np.ndarray, names: tuple[str, ...]
+           ) -> list[np.ndarray] | None:
+    """Arrays ``names`` of a cache entry written for ``doc`` at the radii ``nodes``;
+    None when the file is missing, corrupt, of another key or of other radii."""
     if not path.exists():
         return None
     try:
@@ -183,13 +185,20 @@ def _read(path: Path, doc: str, nodes: np.ndarray) -> np.ndarray | None:
             if str(data["key"]) != doc:
                 return None
             radii = np.asarray(data["radii"], dtype=float)
-            ratio = np.asarray(data["ratio"], dtype=float)
+            out = [np.asarray(data[k], dtype=float) for k in names]
     except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile):
         return None
-    if radii.shape != nodes.shape or ratio.shape != nodes.shape:
+    if radii.shape != nodes.shape or not np.allclose(radii, nodes, rtol=1e-12, atol=0.0):
         return None
-    if not np.allclose(radii, nodes, rtol=1e-12, atol=0.0):
+    return out
+
+
+def _read(path: Path, doc: str, nodes: np.ndarray) -> np.ndarray | None:
+    """The cached ratio, or None when the file is missing, corrupt or stale."""
+    got = _entry(path, doc, nodes, ("ratio",))
+    if got is None or got[0].shape != nodes.shape:
         return None
+    ratio = got[0]
     lo, hi = RATIO_BOUNDS
     if not np.all(np.isfinite(ratio)) or np.any(ratio <= lo) or np.any(ratio >= hi):
         return None
@@ -400,22 +409,11 @@ def ring_calibration_key(ring: RingGear, material: Material, *, plane: str = "st
 def _read_ring(path: Path, doc: str, nodes: np.ndarray, beam: np.ndarray
                ) -> tuple[np.ndarray, np.ndarray] | None:
     """The cached FE ring tooth and cross compliance, or None (missing, corrupt, stale)."""
-    if not path.exists():
-        return None
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            if str(data["key"]) != doc:
-                return None
-            radii = np.asarray(data["radii"], dtype=float)
-            fe = np.asarray(data["fe"], dtype=float)
-            cross = np.asarray(data["cross"], dtype=float)
-    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile):
-        return None
+    got = _entry(path, doc, nodes, ("fe", "cross"))
     n = nodes.size
-    if radii.shape != (n,) or fe.shape != (n,) or cross.shape != (n, n):
+    if got is None or got[0].shape != (n,) or got[1].shape != (n, n):
         return None
-    if not np.allclose(radii, nodes, rtol=1e-12, atol=0.0):
-        return None
+    fe, cross = got
     lo, hi = RING_RATIO_BOUNDS
     ratio = fe / beam
     if not (np.all(np.isfinite(ratio)) and np.all(ratio > lo) and np.all(ratio < hi)):

@@ -58,8 +58,8 @@ from gearsim.geometry import _kernels as G
 from gearsim.geometry.profile import ToothProfile
 from gearsim.stiffness import _kernels as K
 
-__all__ = ["Crack", "crack_geometry", "crack_record", "cuts_tooth_off", "path_limiting_line",
-           "path_record"]
+__all__ = ["Crack", "crack_geometry", "crack_record", "cuts_tooth_off", "path_leftmost",
+           "path_limiting_line", "path_record"]
 
 #: Smallest non-zero crack depth [m]: 1 um, a tenth of the finest grain of case-hardened
 #: gear steels (ASTM grain size 8-10 is 11-22 um, ISO 643); a smaller depth is a unit
@@ -419,6 +419,30 @@ class PathLine:
     point: tuple[float, float]
 
 
+def path_leftmost(profile: ToothProfile, points: np.ndarray) -> tuple[int, bool]:
+    """The path point that sets the limiting line, and whether one line represents it.
+
+    Parameters
+    ----------
+    profile
+        Outline of the cracked gear.
+    points
+        Path vertices, shape (n, 2), as :func:`path_limiting_line` [m].
+
+    Returns
+    -------
+    index : int
+        The leftmost vertex (smallest x; the extremes of a polyline are at vertices).
+    turns_back : bool
+        True when that vertex lies above the root circle with path points below it: the
+        path turns back up and needs more than one limiting line (Tian's line of every
+        path point, h_c(y) = min {x(s) : y(s) <= y}, is then not one constant).
+    """
+    i = int(np.argmin(points[:, 0]))
+    y = float(points[i, 1])
+    return i, bool(y > profile.root_height and float(points[:, 1].min()) < y)
+
+
 def path_limiting_line(profile: ToothProfile, points) -> PathLine:
     """The one limiting line of a polyline crack path, when one line represents it.
 
@@ -463,10 +487,10 @@ def path_limiting_line(profile: ToothProfile, points) -> PathLine:
     require(pts.ndim == 2 and pts.shape[0] >= 2 and pts.shape[1] == 2
             and bool(np.all(np.isfinite(pts))), "crack.points", pts.shape,
             "must be >= 2 finite (x, y) points")
-    i = int(np.argmin(pts[:, 0]))
+    i, turns_back = path_leftmost(profile, pts)
     xm, ym = float(pts[i, 0]), float(pts[i, 1])
     y_root = profile.root_height
-    if ym > y_root and float(pts[:, 1].min()) < ym:
+    if turns_back:
         raise InputError("crack.points", f"leftmost point at y = {ym * 1e3:.6g} mm",
                          "the path turns back up above the root circle: it needs more "
                          "than one limiting line (the PE crack model takes one)")

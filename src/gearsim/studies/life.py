@@ -59,6 +59,7 @@ from gearsim.fracture.path import CyclePath, grow_cycle_path, path_life
 from gearsim.fracture.tooth import initial_crack
 from gearsim.geometry.profile import ToothProfile
 from gearsim.model.gearbox import Gearbox
+from gearsim.stiffness.crack import cuts_tooth_off, path_leftmost
 
 __all__ = ["DEFAULT_THRESHOLD_MPA", "DEFAULT_TOUGHNESS_MPA", "ALARM_LEVELS", "GearLife",
            "CrackState", "default_law", "mesh_cycle_loads", "gear_life", "life_fractions",
@@ -522,8 +523,6 @@ def equivalent_crack(crack, path: CrackPath, *, gear=None):
     clipped : bool
         Whether the path leaves what one straight PE crack represents (above).
     """
-    from gearsim.stiffness.crack import cuts_tooth_off
-
     pts = path.array
     i = int(np.argmin(pts[:, 0]))
     clipped = False
@@ -531,8 +530,7 @@ def equivalent_crack(crack, path: CrackPath, *, gear=None):
         prof = ToothProfile(gear)
         if cuts_tooth_off(prof, float(pts[i, 0])):
             return None, False
-        y_root = prof.root_height
-        if pts[i, 1] > y_root and pts[:, 1].min() < pts[i, 1]:
+        if path_leftmost(prof, pts)[1]:  # more than one limiting line: the chord to the tip
             clipped, i = True, pts.shape[0] - 1
     p = CrackPath(points=path.points[:i + 1], tips=path.tips) if i >= 1 else path
     if _rises(p):

@@ -125,3 +125,24 @@ def test_torsional_stage_equals_a_hand_assembled_torsional_planetary_model():
     assert model.dof_labels == ("carrier.u", "ring.u", "sun.u", "planet-1.u", "planet-2.u",
                                 "planet-3.u")
     np.testing.assert_allclose(modes(model).frequencies, expected, rtol=1e-9)
+
+
+def test_result_file_brings_the_parallel_stages_to_the_analysis(box, run, tmp_path):
+    """A written stage-plus-gears result is analysed with its shafts' speeds: the reader
+    takes the stage output (sun) shaft as the reference, 22.1 rpm x (1 + 99/21) by
+    Willis, and the parallel stages 82/23, 88/22 (not only the planetary tier)."""
+    from gearsim.io.measured import read_record
+    from gearsim.signals.tiers import analyze_record
+
+    path = tmp_path / "wt.nc"
+    run.to_netcdf(path, engine="h5netcdf")
+    channel = "chain_acceleration[chain_shaft=intermediate,chain_axis=y]"
+    rec = read_record(path, channels=[channel])
+    assert rec.metadata["rpm"] == pytest.approx(22.1 * (1 + 99 / 21), rel=1e-12)
+    assert rec.metadata["stages"] == ((82, 23), (88, 22))
+    out = analyze_record(rec.data[channel], rec.fs, speed=rec.metadata["rpm"] / 60.0,
+                         stages=rec.metadata["stages"]).to_dict()
+    stages = out["tiers"]["gear"]["analysis"]["stages"]
+    f_sun = 22.1 / 60 * (1 + 99 / 21)
+    assert [s["mesh_frequency_hz"] for s in stages] == pytest.approx(
+        [82 * f_sun, 88 * f_sun * 82 / 23], rel=1e-12)

@@ -585,6 +585,16 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
                        "chain_static_mesh_force": [float(model.static_force[i])
                                                    for i in crow],
                        "static_shaft_torque": float(model.static_force[-1])}
+        # what the shaft and gear tiers of the analysis need, under the names of a gear
+        # train's result: the driven gears' speeds [Hz], reference = the chain's first
+        # shaft (the stage's output), and their tooth counts or compound stages
+        ch = model.info["chain"]
+        extra_attrs["shaft_frequency"] = [float(ch.shaft_frequency(j))
+                                          for j in range(len(ch.gears))]
+        extra_attrs["analysis_teeth"] = [int(g.teeth) for g in (
+            ch.gears if ch.is_chain else (ch.pairs[0].driver, ch.pairs[0].driven))]
+        if (stages := ch.compound_stages()) is not None:
+            extra_attrs["analysis_stages"] = ",".join(f"{d}/{n}" for d, n in stages)
     # once-per-revolution tacho of every turning shaft (the stage's members, then a
     # driven chain's shafts), each in its own sense, following a speed profile
     shafts = [(m, abs(train.speeds[m])) for m in ("carrier", "sun", "ring")

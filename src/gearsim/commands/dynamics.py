@@ -85,7 +85,7 @@ def simulate(
                    f"[Hz] (r rotational, t translational, p planet, m mixed; multiplicity): "
                    f"{modes}")
     if "shaft_torque_mean" in s:
-        typer.echo(f"output shaft ({s['output_member']}): torque mean "
+        typer.echo(f"{s['chain_side']} shaft ({s['shaft_member']}): torque mean "
                    f"{s['shaft_torque_mean']:.6g} N m, RMS {s['shaft_torque_rms']:.6g} N m")
     if s.get("constant_meshes"):
         typer.echo("note: constant mesh stiffnesses: no parametric excitation, the response "

@@ -24,6 +24,15 @@ Two mesh frequencies: the stage's f_m and the chain's f_m2 = z_1 |omega_o| / 2 p
 kernel reads mesh i's table at c_i = rate_i f_m t + phase_i (``DynamicModel.rate``),
 rate 1 for the stage's rows and f_m2 / f_m for the chain's.
 
+The stage may equally be driven by the chain (``side = "input"``: a parallel input
+stage ahead of a planetary output stage, as in helicopter main gearboxes and most
+industrial planetary reducers). The shaft then joins the chain's last gear theta_N to the
+stage's input member u_i, tau = k_t (theta_N - s_i u_i / r_i) + c_t (...)', s_i the sense
+of the input's rotation in the model frame (with its driving torque); the shaft replaces
+the chain's load torque on theta_N and the stage's input torque on u_i, and the stage runs
+at the chain's output speed and torque (:func:`stage_operating`). The gearbox's input,
+its speed profile and its inertia load are then the chain's.
+
 The chain runs at the stage's output speed and torque (:func:`chain_operating`); its
 other options (layout, bearings, profile modification, runout, cracks and faults of its
 gears) are its own. The default shaft is stiff: ten times the torsional stiffness of the
@@ -51,11 +60,15 @@ from gearsim.dynamics.tables import MeshTable
 from gearsim.errors import InputError, require
 from gearsim.system import GearTrain
 from gearsim.system.graph import MAX_SHAFT_STIFFNESS, MIN_SHAFT_STIFFNESS
-from gearsim.system.planetary import MEMBERS, PlanetaryTrain
+from gearsim.system.planetary import MEMBERS, PlanetaryTrain, StageOperating
 from gearsim.system.train import Operating
 
-__all__ = ["SHAFT_FACTOR", "STAGE_ONLY", "build_stage_chain_model", "chain_operating",
-           "output_member", "simulate_stage_chain", "stage_settings"]
+__all__ = ["SHAFT_FACTOR", "SIDES", "STAGE_ONLY", "build_stage_chain_model",
+           "chain_operating", "output_member", "simulate_stage_chain", "stage_operating",
+           "stage_settings"]
+
+#: Where the chain sits: driven by the stage's output ("output") or driving its input.
+SIDES = ("output", "input")
 
 #: Default shaft: this many times the torsional stiffness of the chain's first mesh.
 SHAFT_FACTOR = 10.0
@@ -103,6 +116,27 @@ def chain_operating(train: PlanetaryTrain) -> Operating:
     return Operating(speed=abs(train.speeds[out]), torque=abs(train.torques[out]))
 
 
+def stage_operating(chain: GearTrain, fixed: str, driven: str) -> StageOperating:
+    """Operating point of a stage driven by a chain's output shaft.
+
+    Parameters
+    ----------
+    chain : GearTrain
+        The chain in operation; its last gear in the power flow drives the stage.
+    fixed, driven : str
+        The stage's held member and the member the chain drives.
+
+    Returns
+    -------
+    StageOperating
+        Speed [rad/s] and torque [N m] of the chain's last gear (loss-free kinematics and
+        statics of :mod:`gearsim.system.graph`).
+    """
+    last = chain.gear_index(chain.flow.meshes[-1][1])
+    return StageOperating(fixed=fixed, input=driven, speed=chain.speed(last),
+                          torque=chain.torque(last))
+
+
 def stage_settings(settings: DynamicsSettings) -> DynamicsSettings:
     """``settings`` with the chain-only options reset, for the stage model.
 
@@ -131,22 +165,27 @@ def _pad(a: np.ndarray | None, rows: int, cols: int) -> np.ndarray:
 def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
                             dyn: StageDynamics | None = None,
                             settings: DynamicsSettings | None = None, *,
-                            shaft_stiffness: float | None = None) -> DynamicModel:
-    """Equations of motion of a stage, its output shaft and a chain of parallel gears.
+                            shaft_stiffness: float | None = None,
+                            side: str = "output") -> DynamicModel:
+    """Equations of motion of a stage, a chain of parallel gears and the shaft between.
 
     Parameters
     ----------
     train
         The stage in operation.
     chain
-        The chain; its operating point must be :func:`chain_operating` of ``train``.
+        The chain; its operating point must be :func:`chain_operating` of ``train``
+        (``side = "output"``), or the stage's that of the chain's last gear
+        (:func:`stage_operating`, ``side = "input"``).
     dyn
         Members, supports and sensor of the stage.
     settings
         Dynamics options (the chain's own options apply to the chain only).
     shaft_stiffness
-        k_t [N m/rad], finite > 0; default ``SHAFT_FACTOR`` k_mean r_b,1^2 of the chain's
-        first mesh.
+        k_t [N m/rad], finite > 0; default ``SHAFT_FACTOR`` k_mean r_b^2 of the chain's
+        mesh next to the shaft (its first on the output side, its last on the input side).
+    side : {"output", "input"}
+        The chain is driven by the stage's output member, or drives its input member.
 
     Returns
     -------
@@ -154,12 +193,12 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
         ``kind = "stage+chain"``: the stage's coordinates, then the chain's; rows: the
         stage's springs, the chain's meshes, the shaft (last). ``info`` holds the stage's
         ``lin_parker``, ``mesh_rows``, ``row_names`` and ``chain_rows``, ``shaft_row``,
-        ``chain_mesh_frequency``, ``shaft_stiffness``.
+        ``chain_mesh_frequency``, ``shaft_stiffness``, ``chain_side``.
 
     Raises
     ------
     InputError
-        If the chain does not run at the stage's output speed and torque, or the shaft
+        If the two parts' operating points disagree, the side is unknown or the shaft
         stiffness is not finite > 0.
 
     References
@@ -167,28 +206,39 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
     Lin & Parker (1999); Kahraman (1994); module docstring.
     """
     settings = settings or DynamicsSettings()
-    want = chain_operating(train)
+    require(side in SIDES, "chain.side", side, 'must be "output" or "input"')
+    if side == "output":
+        want, got_op, what = chain_operating(train), chain.operating, "chain"
+        hint = "the stage output's {:.10g} (use chain_operating)"
+    else:
+        want = stage_operating(chain, train.operating.fixed, train.operating.input)
+        got_op, what, hint = train.operating, "stage", "the chain output's {:.10g} (use stage_operating)"
     for name in ("speed", "torque"):
-        got, ref = getattr(chain.operating, name), getattr(want, name)
-        require(abs(got - ref) <= OPERATING_RTOL * ref, f"chain.operating.{name}", got,
-                f"must be the stage output's {ref:.10g} (use chain_operating)")
+        got, ref = getattr(got_op, name), getattr(want, name)
+        require(abs(got - ref) <= OPERATING_RTOL * ref, f"{what}.operating.{name}", got,
+                "must be " + hint.format(ref))
     sm = build_stage_model(train, dyn, stage_settings(settings))
     cm_ = build_lta(chain, settings)
     n1, n2 = sm.n_dof, cm_.n_dof
     r1, r2 = sm.n_mesh, cm_.n_mesh
     n, rows = n1 + n2, r1 + r2 + 1
-    out = output_member(train)
-    iu = sm.dof_labels.index(f"{out}.u")
-    r_o = model_radii(train.stage)[out]
-    t_model = train.model_torques[out]
-    require(t_model != 0.0, "stage", out, "the output member carries no torque")
-    s = -math.copysign(1.0, t_model)  # the output turns against its load in the model frame
-    g1 = chain.gears[0]
-    i_theta = n1 + cm_.dof_labels.index(f"{chain.flow.shafts[0].name}.theta"
-                                        if f"{chain.flow.shafts[0].name}.theta" in cm_.dof_labels
-                                        else f"{g1.name}.theta")  # the driven shaft's rotation
+    # the member on the shaft and the chain's gear on it (its first or its last)
+    member = output_member(train) if side == "output" else train.operating.input
+    iu = sm.dof_labels.index(f"{member}.u")
+    r_o = model_radii(train.stage)[member]
+    t_model = train.model_torques[member]
+    require(t_model != 0.0, "stage", member, "the member on the shaft carries no torque")
+    # sense of the member's rotation in the model frame: an output turns against its
+    # load, an input with its driving torque
+    s = math.copysign(1.0, t_model) * (-1.0 if side == "output" else 1.0)
+    gear = chain.gears[0] if side == "output" else chain.gear(chain.flow.meshes[-1][1])
+    shaft_name = chain.flow.shafts[chain.flow.shaft_of[gear.name]].name
+    i_theta = n1 + cm_.dof_labels.index(f"{shaft_name}.theta"
+                                        if f"{shaft_name}.theta" in cm_.dof_labels
+                                        else f"{gear.name}.theta")  # the shaft's rotation
+    next_mesh = 0 if side == "output" else len(chain.pairs) - 1
     if shaft_stiffness is None:
-        shaft_stiffness = SHAFT_FACTOR * cm_.tables[0].mean * g1.base_radius ** 2
+        shaft_stiffness = SHAFT_FACTOR * cm_.tables[next_mesh].mean * gear.base_radius ** 2
     kt = shaft_stiffness
     if not (isinstance(kt, (int, float)) and MIN_SHAFT_STIFFNESS <= kt <= MAX_SHAFT_STIFFNESS):
         raise InputError("chain.shaft_stiffness", kt, f"must be a finite number in "
@@ -197,15 +247,17 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
     kb = np.concatenate([sm.kb, cm_.kb])
     cb = np.concatenate([sm.cb, cm_.cb])
     fext = np.concatenate([sm.fext, cm_.fext])
-    fext[iu] = 0.0  # the load of the output member is now the shaft
-    fext[i_theta] = 0.0  # and so is the chain's input torque
+    fext[iu] = 0.0  # the member's load (or drive) is now the shaft
+    fext[i_theta] = 0.0  # and so is the chain's input torque (or its load)
     V = np.zeros((rows, n))
     V[:r1, :n1] = sm.V
     V[r1:r1 + r2, n1:] = cm_.V
-    V[-1, iu] = s / r_o
-    V[-1, i_theta] = -1.0
+    # tau = k_t (upstream rotation - downstream rotation), each in its sense of rotation
+    up, down = (1.0, -1.0) if side == "output" else (-1.0, 1.0)
+    V[-1, iu] = up * s / r_o
+    V[-1, i_theta] = down
     j_o = sm.mass[iu] * r_o ** 2
-    j_eq = 1.0 / (1.0 / j_o + 1.0 / g1.polar_inertia)
+    j_eq = 1.0 / (1.0 / j_o + 1.0 / gear.polar_inertia)
     c_t = 2.0 * settings.bearing_damping_ratio * math.sqrt(kt * j_eq)
     f_m, f_m2 = train.mesh_frequency, chain.mesh_frequency
     nh = max(sm.h_amp.shape[1], cm_.h_amp.shape[1])
@@ -222,11 +274,15 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
     kmean = np.concatenate([[t.mean for t in sm.tables], [t.mean for t in cm_.tables], [kt]])
     e0 = np.concatenate([sm.e0, cm_.e0, [0.0]])
     q0 = static_equilibrium(mass, kb, V, kmean, fext, e0)
-    # the nominal motion of both (the chain's speeds are its operating point, which is the
-    # stage output's): the stage's profile and the whole system's inertia at its input
+    # the nominal motion of both (each part at its operating point, which is the other's
+    # on the shaft); the speed profile, its load and the inertia at the gearbox's input
     w = np.concatenate([sm.info["nominal_velocity"], cm_.info["nominal_velocity"]])
-    inertial = (None if sm.profile is None else nominal_inertia(
-        mass, w, sm.dof_labels.index(f"{train.operating.input}.u")))
+    first = sm if side == "output" else cm_
+    if side == "output":
+        i_in = sm.dof_labels.index(f"{train.operating.input}.u")
+    else:
+        i_in = n1 + int(np.flatnonzero(cm_.fext > 0.0)[0])  # the chain's driven coordinate
+    inertial = None if first.profile is None else nominal_inertia(mass, w, i_in)
     chain_rows = tuple(range(r1, r1 + len(chain.pairs)))  # its meshes (then its springs)
     chain_rate = np.ones(r2) if cm_.rate is None else np.asarray(cm_.rate)
     return DynamicModel(
@@ -244,14 +300,15 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
         to_transverse=np.concatenate([sm.to_transverse, cm_.to_transverse, [1.0]]),
         dte_offset=np.concatenate([sm.dte_offset, cm_.dte_offset, [0.0]]),
         static_force=np.concatenate([sm.static_force, cm_.static_force,
-                                     [abs(train.torques[out])]]),
+                                     [abs(train.torques[member])]]),
         bearing_dofs=sm.bearing_dofs, axes=sm.axes, q_static=q0,
         rate=np.concatenate([np.ones(r1), chain_rate * (f_m2 / f_m), [1.0]]),
-        profile=sm.profile, load=sm.load, inertial=inertial,
+        profile=first.profile, load=first.load, inertial=inertial,
         info={**sm.info, "nominal_velocity": w, "chain_rows": chain_rows, "shaft_row": rows - 1,
               "chain_mesh_names": tuple(p.name for p in chain.pairs), "chain": chain,
-              "chain_mesh_frequency": f_m2, "shaft_stiffness": kt,
-              "chain_dofs": (n1, n), "output_member": out, "chain_name": chain.name,
+              "chain_mesh_frequency": f_m2, "shaft_stiffness": kt, "chain_side": side,
+              "chain_dofs": (n1, n), "output_member": output_member(train),
+              "shaft_member": member, "chain_name": chain.name,
               "chain_bearing_dofs": cm_.bearing_dofs + n1, "chain_axes": cm_.axes,
               "chain_shafts": cm_.gear_names})
 
@@ -259,8 +316,8 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
 def simulate_stage_chain(train: PlanetaryTrain, chain: GearTrain,
                          dyn: StageDynamics | None = None,
                          settings: DynamicsSettings | None = None, *,
-                         shaft_stiffness: float | None = None):
-    """Time response of a stage driving a chain (:func:`build_stage_chain_model`).
+                         shaft_stiffness: float | None = None, side: str = "output"):
+    """Time response of a stage and a chain (:func:`build_stage_chain_model`).
 
     Parameters
     ----------
@@ -273,7 +330,10 @@ def simulate_stage_chain(train: PlanetaryTrain, chain: GearTrain,
     settings
         Duration, fs, oversampling, damping, backlash; the chain's own options.
     shaft_stiffness
-        k_t [N m/rad]; default ``SHAFT_FACTOR`` k_mean r_b,1^2 of the chain's first mesh.
+        k_t [N m/rad]; default ``SHAFT_FACTOR`` k_mean r_b^2 of the chain's mesh next to
+        the shaft.
+    side : {"output", "input"}
+        The chain is driven by the stage, or drives it.
 
     Returns
     -------
@@ -299,5 +359,5 @@ def simulate_stage_chain(train: PlanetaryTrain, chain: GearTrain,
                          f"(stage {train.mesh_frequency:.6g} Hz, chain "
                          f"{chain.mesh_frequency:.6g} Hz), else the record is aliased")
     model = build_stage_chain_model(train, chain, dyn, settings,
-                                    shaft_stiffness=shaft_stiffness)
+                                    shaft_stiffness=shaft_stiffness, side=side)
     return simulate_stage(train, dyn, settings, model=model)

@@ -581,6 +581,11 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
         extra_attrs = {"chain_mesh_frequency": model.info["chain_mesh_frequency"],
                        "shaft_stiffness": model.info["shaft_stiffness"],
                        "output_member": model.info["output_member"],
+                       # the chain drives the stage ("input") or is driven ("output"),
+                       # through the shaft on this member
+                       "chain_side": model.info.get("chain_side", "output"),
+                       "shaft_member": model.info.get("shaft_member",
+                                                      model.info["output_member"]),
                        "chain_name": model.info["chain_name"],
                        "chain_static_mesh_force": [float(model.static_force[i])
                                                    for i in crow],
@@ -686,4 +691,6 @@ def _chain_summary(ds) -> dict:
                              for i, name in enumerate(ds["chain_mesh"].values)],
             "chain_mesh_frequency": float(ds.attrs["chain_mesh_frequency"]),
             "output_member": str(ds.attrs["output_member"]),
+            "chain_side": str(ds.attrs.get("chain_side", "output")),
+            "shaft_member": str(ds.attrs.get("shaft_member", ds.attrs["output_member"])),
             "shaft_torque_mean": float(np.mean(tq)), "shaft_torque_rms": float(np.std(tq))}

@@ -81,9 +81,13 @@ class Gearbox:
     members : StageDynamics, optional
         The stage's member masses, inertias, bearings and ring sensor (``[members]``).
     shaft_stiffness : float, optional
-        Torsional stiffness [N m/rad] of the shaft from the stage's output member to the
-        first gear of ``train`` (``None``: :func:`gearsim.dynamics.compose.
-        build_stage_chain_model`'s default).
+        Torsional stiffness [N m/rad] of the shaft between the stage and ``train``
+        (``None``: :func:`gearsim.dynamics.compose.build_stage_chain_model`'s default).
+    chain_side : {"output", "input"}
+        With a stage and gears: the gears are driven by the stage's output member
+        (``"output"``, e.g. a wind-turbine gearbox), or drive its input member
+        (``"input"``, a parallel input stage ahead of a planetary output stage); the
+        gearbox's input is then the gears' first shaft.
 
     Examples
     --------
@@ -104,10 +108,14 @@ class Gearbox:
     stage: PlanetaryTrain | None = None
     members: StageDynamics = field(default_factory=StageDynamics)
     shaft_stiffness: float | None = None
+    chain_side: str = "output"
 
     def __post_init__(self) -> None:
         require(self.train is not None or self.stage is not None, "gearbox", "empty",
                 "needs gears ([[gears]]) or a planetary stage ([stage])")
+        require(self.chain_side in ("output", "input"), "chain.side", self.chain_side,
+                'must be "output" (the stage drives the gears) or "input" (the gears '
+                'drive the stage)')
 
     @property
     def name(self) -> str:
@@ -322,7 +330,8 @@ class Gearbox:
         from gearsim.dynamics.compose import simulate_stage_chain
 
         return simulate_stage_chain(self.stage, self.train, self.members, settings,
-                                    shaft_stiffness=self.shaft_stiffness)
+                                    shaft_stiffness=self.shaft_stiffness,
+                                    side=self.chain_side)
 
     def record(self, spec: str, *, harmonics: int = 1, force: bool | None = None,
                **dynamics: Any) -> np.ndarray:
@@ -469,7 +478,11 @@ class Gearbox:
             st = {"sun": s.sun.pitch_radius, "ring": s.ring.pitch_radius,
                   "planet": s.planet.pitch_radius, "centre": s.centre_distance,
                   "angles": list(s.planet_angles_value),
-                  "teeth": (s.sun_teeth, s.planet_teeth, s.ring_teeth)}
+                  "teeth": (s.sun_teeth, s.planet_teeth, s.ring_teeth),
+                  "side": self.chain_side,
+                  "member": (tr.operating.input if self.chain_side == "input" else
+                             next(m for m in ("sun", "ring", "carrier")
+                                  if m not in (tr.operating.fixed, tr.operating.input)))}
         train = self.train
         if train is not None:
             fl = train.flow
@@ -494,13 +507,14 @@ class Gearbox:
     # ---- parameter studies --------------------------------------------------------------
 
     def operating(self) -> tuple[float, float]:
-        """Input speed [rad/s] and torque [N m] (the stage's input member, else gear 1).
+        """Input speed [rad/s] and torque [N m] of the gearbox (its first part's input: the
+        stage's input member, or gear 1 of gears ahead of a stage or without one).
 
         Returns
         -------
         tuple of float
         """
-        op = (self.stage or self.train).operating
+        op = (self.train if self.chain_side == "input" else self.stage or self.train).operating
         return op.speed, op.torque
 
     def slowest_shaft(self) -> tuple[str, float]:
@@ -511,14 +525,14 @@ class Gearbox:
         tuple
             Name and absolute frequency [Hz].
         """
+        f: dict[str, float] = {}
         if self.stage is not None:
-            w = {m: abs(v) for m, v in self.stage.speeds.items()
+            f = {m: abs(v) / (2.0 * math.pi) for m, v in self.stage.speeds.items()
                  if m in ("sun", "carrier", "ring") and v != 0.0}
-            m = min(w, key=w.get)
-            return m, w[m] / (2.0 * math.pi)
         tr = self.train
-        f = {sh.name: abs(tr.shaft_frequency(tr.gear_index(sh.gears[0])))
-             for sh in tr.flow.shafts}
+        if tr is not None:
+            f.update({sh.name: abs(tr.shaft_frequency(tr.gear_index(sh.gears[0])))
+                      for sh in tr.flow.shafts})
         m = min(f, key=f.get)
         return m, f[m]
 
@@ -780,7 +794,8 @@ class Gearbox:
         Parameters
         ----------
         speed, torque : float
-            Of the input (the stage's input member, else gear 1).
+            Of the input (:meth:`operating`: the stage's input member, or gear 1 of gears
+            ahead of a stage or without one).
 
         Returns
         -------
@@ -790,6 +805,13 @@ class Gearbox:
             return self._parts(None, dataclasses.replace(
                 self.train, operating=Operating(speed=speed, torque=torque)))
         op = self.stage.operating
+        if self.chain_side == "input":  # the gears take the input, the stage their output
+            from gearsim.dynamics.compose import stage_operating
+
+            train = dataclasses.replace(self.train,
+                                        operating=Operating(speed=speed, torque=torque))
+            return self._parts(dataclasses.replace(
+                self.stage, operating=stage_operating(train, op.fixed, op.input)), train)
         stage = dataclasses.replace(self.stage, operating=StageOperating(
             fixed=op.fixed, input=op.input, speed=speed, torque=torque))
         train = self.train

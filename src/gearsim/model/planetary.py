@@ -22,13 +22,17 @@ have ``[[gears]]`` instead). Values take units as strings like the gear trains'
     [dynamics]        # duration, fs, step, transient, oversample, damping, backlash
     [analysis]        # as for gear trains
     [chain]           # optional: parallel gears on the output shaft (dynamics.compose)
-    shaft_stiffness = "2e7 N*m/rad"      # optional; default 10 x the first mesh's
+    side = "output"   # or "input": the gears drive the stage's input member
+    shaft_stiffness = "2e7 N*m/rad"      # optional; default 10 x the next mesh's
     [chain.common]    # as a gear train's [common]; [[chain.gears]], [[chain.cracks]],
                       # [[chain.faults]], [[chain.modifications]], [chain.stiffness];
                       # [[chain.shafts]] and [[chain.meshes]] for parallel stages
                       # (the first shaft is the one the stage drives)
 
 The chain runs at the stage output's speed and torque (no ``[operating]`` of its own).
+With ``side = "input"`` the chain's last gear drives the stage's ``operating.input``
+member: ``[operating]`` ``speed`` and ``torque`` are then the chain's first gear's (the
+gearbox input), and the stage runs at the chain output's speed and torque.
 
 Assembly (coaxiality, (z_s + z_r)/N, planet spacing, tip interference of the internal
 pair) and the cracks (a planet the stage does not have) are checked where the stage is
@@ -41,7 +45,7 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-from gearsim.dynamics.compose import chain_operating
+from gearsim.dynamics.compose import SIDES, chain_operating, stage_operating
 from gearsim.dynamics.settings import parse_dynamics
 from gearsim.dynamics.stage import StageDynamics
 from gearsim.errors import InputError
@@ -55,6 +59,7 @@ from gearsim.stiffness.settings import StiffnessSettings, model_options
 from gearsim.system import GearTrain
 from gearsim.system.graph import MAX_SHAFT_STIFFNESS, MIN_SHAFT_STIFFNESS
 from gearsim.system.planetary import PlanetaryTrain, StageOperating
+from gearsim.system.train import Operating
 
 __all__ = ["PLANETARY_TOP_KEYS", "parse_planetary"]
 
@@ -75,7 +80,7 @@ SENSOR_KEYS = {"angle": "angle", "width": "angle"}
 PLANETARY_TOP_KEYS = ("name", "material", "stage", "operating", "members", "sensor",
                       "stiffness", "cracks", "faults", "dynamics", "analysis", "chain")
 #: Keys of ``[chain]``: the shaft and a gear train's sections (no operating point).
-CHAIN_KEYS = ("name", "shaft_stiffness", "common", "shafts", "gears", "meshes", "stiffness",
+CHAIN_KEYS = ("name", "side", "shaft_stiffness", "common", "shafts", "gears", "meshes", "stiffness",
               "cracks", "faults", "modifications")
 
 
@@ -120,6 +125,13 @@ def parse_planetary(doc: dict[str, Any], material: Material,
     op_raw = doc.get("operating", {})
     with as_written(op_raw, "operating"):
         operating = StageOperating(**convert(op_raw, STAGE_OPERATING_KEYS, "operating"))
+    side = _chain_side(doc.get("chain"))
+    chain = None
+    if side == "input":  # the gears take [operating]'s speed and torque, the stage theirs
+        chain, shaft = _parse_chain(doc["chain"], doc.get("material", {}),
+                                    Operating(speed=operating.speed, torque=operating.torque),
+                                    parse_train)
+        operating = stage_operating(chain, operating.fixed, operating.input)
     stiffness_kw = convert(doc.get("stiffness", {}), {
         "closure": "str", "slices": "int", "positions_per_cycle": "int",
         "gauss_points": "int", "plane": "str", "source": "str", "contact": "str",
@@ -145,19 +157,33 @@ def parse_planetary(doc: dict[str, Any], material: Material,
                                 sensor_width=sen.get("width", math.pi), **groups)
     dynamics = parse_dynamics(doc.get("dynamics", {}), "dynamics")
     analysis = parse_analysis(doc.get("analysis", {}), "analysis")
-    chain, shaft = (_parse_chain(doc["chain"], doc.get("material", {}), train, parse_train)
-                    if "chain" in doc else (None, None))
+    if side == "output":
+        chain, shaft = (_parse_chain(doc["chain"], doc.get("material", {}),
+                                     chain_operating(train), parse_train)
+                        if "chain" in doc else (None, None))
     return Gearbox(train=chain, stage=train, members=members, dynamics=dynamics,
-                   analysis=analysis, shaft_stiffness=shaft)
+                   analysis=analysis, shaft_stiffness=shaft, chain_side=side)
 
 
-def _parse_chain(raw: Any, material: Any, train: PlanetaryTrain, parse: Callable
-                 ) -> tuple[GearTrain, float | None]:
-    """The ``[chain]`` of a stage: a gear train at the stage output's operating point."""
-    import dataclasses
-
+def _chain_side(raw: Any) -> str:
+    """``[chain] side``: "output" (default, also without a chain) or "input"."""
+    if raw is None:
+        return "output"
     if not isinstance(raw, dict):
         raise InputError("chain", raw, "must be a table [chain]")
+    side = raw.get("side", "output")
+    if side not in SIDES:
+        raise InputError("chain.side", side, 'must be "output" (the stage drives the gears) '
+                         'or "input" (the gears drive the stage\'s operating.input member)')
+    return side
+
+
+def _parse_chain(raw: Any, material: Any, op: Operating, parse: Callable
+                 ) -> tuple[GearTrain, float | None]:
+    """The ``[chain]`` of a stage: a gear train at the operating point ``op`` (the stage
+    output's, or the gearbox input's when the chain drives the stage)."""
+    import dataclasses
+
     for key in raw:
         if key not in CHAIN_KEYS:
             raise InputError(f"chain.{key}", "...", "unknown key; allowed: "
@@ -173,8 +199,7 @@ def _parse_chain(raw: Any, material: Any, train: PlanetaryTrain, parse: Callable
             raise InputError("chain.shaft_stiffness", raw["shaft_stiffness"],
                              f"must be a finite stiffness in [{MIN_SHAFT_STIFFNESS:g}, "
                              f"{MAX_SHAFT_STIFFNESS:g}] N*m/rad")
-    op = chain_operating(train)
-    sub = {k: v for k, v in raw.items() if k != "shaft_stiffness"}
+    sub = {k: v for k, v in raw.items() if k not in ("shaft_stiffness", "side")}
     sub.setdefault("name", "chain")
     sub["material"] = material
     sub["operating"] = {"speed": f"{op.speed!r} rad/s", "torque": f"{op.torque!r} N*m"}

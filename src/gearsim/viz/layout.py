@@ -24,8 +24,9 @@ def plot_layout(shafts: Sequence[tuple[str, tuple[float, float]]],
 
     Gears on one shaft are concentric circles (they sit at different axial positions);
     each mesh joins its two gears' centres, labelled with its name; a planetary stage is
-    drawn in a panel of its own (sun, planets on the carrier circle, ring), beside the
-    parallel shafts its sun or carrier shaft drives.
+    drawn in a panel of its own (sun, planets on the carrier circle, ring), left of the
+    parallel shafts its sun or carrier shaft drives, or right of the parallel shafts that
+    drive it.
 
     Parameters
     ----------
@@ -39,18 +40,22 @@ def plot_layout(shafts: Sequence[tuple[str, tuple[float, float]]],
         Figure title.
     stage : dict, optional
         ``sun``, ``ring`` and ``planet`` pitch radii [m], ``centre`` (carrier radius,
-        [m]), ``angles`` (planet angles [rad]) and ``teeth`` (z_s, z_p, z_r).
+        [m]), ``angles`` (planet angles [rad]) and ``teeth`` (z_s, z_p, z_r); optional
+        ``side`` (``"output"``: the stage drives the shafts, ``"input"``: they drive it)
+        and ``member`` (the stage member on the joining shaft).
     fig : matplotlib.figure.Figure, optional
         Figure to draw into; default a new one.
 
     Returns
     -------
     matplotlib.figure.Figure
-        The parallel shafts (and the stage, left, when given), axes in mm, equal aspect.
+        The parallel shafts (and the stage, in power-flow order, when given), axes in mm,
+        equal aspect.
     """
     fig = figure_or_new(fig, 10.0 if stage else 7.0, 5.0)
     axes = fig.subplots(1, 2 if stage else 1, squeeze=False)[0]
-    ax = axes[-1]
+    drives = bool(stage) and stage.get("side") == "input"  # the shafts drive the stage
+    ax, sa = (axes[0], axes[-1]) if drives else (axes[-1], axes[0])
     mm = 1e3
     phi = np.linspace(0, 2 * np.pi, 241)
     centre = {name: np.asarray(c) * mm for name, c in shafts}
@@ -69,7 +74,6 @@ def plot_layout(shafts: Sequence[tuple[str, tuple[float, float]]],
         ax.plot(*c, "k+")
         ax.annotate(name, c, fontsize=8, xytext=(4, -10), textcoords="offset points")
     if stage:
-        sa = axes[0]
         zs, zp, zr = stage["teeth"]
         for r, lab in ((stage["sun"], f"sun (z {zs})"), (stage["ring"], f"ring (z {zr})")):
             sa.plot(r * mm * np.cos(phi), r * mm * np.sin(phi), "-", lw=1.2, label=lab)
@@ -83,7 +87,9 @@ def plot_layout(shafts: Sequence[tuple[str, tuple[float, float]]],
         a.set_aspect("equal")
         a.set_xlabel("x [mm]")
     axes[0].set_ylabel("y [mm]")
-    ax.set_title(title if not stage else "parallel shafts")
+    member = stage.get("member") if stage else None
+    ax.set_title(title if not stage else "parallel shafts" if member is None else
+                 f"parallel shafts ({'driving' if drives else 'driven by'} the {member})")
     if stage:
         fig.suptitle(title)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))

@@ -38,9 +38,11 @@ import math
 
 from gearsim.errors import require
 from gearsim.model.gearbox import Gearbox
+from gearsim.stiffness.crack import Crack
 from gearsim.stiffness.faults import BrokenTooth, ChippedTip, Pitting, Spall, arc_at_radius
 from gearsim.stiffness.modifications import Modification, single_pitch_tolerance
 from gearsim.system.faults import active_roll_range
+from gearsim.system.train import DEFAULT_CRACK
 
 __all__ = ["FAULT_CLASSES", "fault_variant"]
 
@@ -49,8 +51,10 @@ FAULT_CLASSES = ("none", "working", "non-working", "spall", "pitting", "chip", "
                  "pitch", "eccentricity")
 
 
-def fault_variant(gearbox: Gearbox, kind: str, severity: float = 1.0) -> Gearbox:
-    """The gearbox with one fault of class ``kind`` on tooth 0 of the input gear.
+def fault_variant(gearbox: Gearbox, kind: str, severity: float = 1.0, *,
+                  gear: str | None = None) -> Gearbox:
+    """The gearbox with one fault of class ``kind`` on tooth 0 of a gear (the input gear
+    unless named).
 
     Every other crack and fault of ``gearbox`` is removed first (the variant has one
     fault); its modifications are kept. Every variant, the healthy one included, runs its
@@ -67,6 +71,10 @@ def fault_variant(gearbox: Gearbox, kind: str, severity: float = 1.0) -> Gearbox
         One of :data:`FAULT_CLASSES` (module docstring: the size at each severity).
     severity : float
         Fraction of the reference size, in (0, 1].
+    gear : str, optional
+        Name of the faulty gear (any gear of the train, e.g. ``"intermediate-pinion"``
+        of the two-stage reducer); its own module, face width, flank and tolerance set
+        the sizes. Default: the input gear.
 
     Returns
     -------
@@ -76,7 +84,7 @@ def fault_variant(gearbox: Gearbox, kind: str, severity: float = 1.0) -> Gearbox
     Raises
     ------
     InputError
-        For an unknown class or a severity outside (0, 1].
+        For an unknown class or gear, or a severity outside (0, 1].
 
     Examples
     --------
@@ -85,6 +93,10 @@ def fault_variant(gearbox: Gearbox, kind: str, severity: float = 1.0) -> Gearbox
     >>> f = gb.train.faults[0]
     >>> f.kind, f.gear, f.tooth, round(f.width * 1e3, 3)
     ('broken', 'input', 0, 75.0)
+    >>> c = fault_variant(gs.example("two-stage-reducer"), "working",
+    ...                   gear="intermediate-pinion").train.cracks[0]
+    >>> c.gear, c.flank
+    ('intermediate-pinion', 'working')
     """
     require(kind in FAULT_CLASSES, "fault", kind, "must be one of " + ", ".join(FAULT_CLASSES))
     require(isinstance(severity, (int, float)) and not isinstance(severity, bool)
@@ -96,14 +108,18 @@ def fault_variant(gearbox: Gearbox, kind: str, severity: float = 1.0) -> Gearbox
     s = float(severity)
     base = gearbox.train.with_crack("none").with_faults(())
     dyn = dataclasses.replace(gearbox.dynamics, runout=(0.0,), contact_mesh=True)
-    g = base.gears[0]
+    names = [x.name for x in base.gears]
+    require(gear is None or gear in names, "gear", gear,
+            "is not a gear of the train; its gears: " + ", ".join(names))
+    g = base.gears[0] if gear is None else base.gear(gear)
     m, b, rb = g.normal_module, g.face_width, g.base_radius
     lo, hi = active_roll_range(base, g.name, "working")
     arc = (hi * hi - lo * lo) / (2 * rb)
     fpt = single_pitch_tolerance(6, 2 * g.pitch_radius, m)
     train = base
     if kind in ("working", "non-working"):
-        train = base.with_crack(kind, depth=s * 2e-3 * m / 6e-3)
+        train = base.with_cracks((Crack(gear=g.name, flank=kind, **{
+            **DEFAULT_CRACK, "depth": s * 2e-3 * m / 6e-3}),))
     elif kind == "spall":
         # centred on the pitch circle, kept inside the active flank
         sc = min(max(arc_at_radius(g.pitch_radius, rb), lo * lo / (2 * rb) + 0.25 * arc),
@@ -133,6 +149,6 @@ def fault_variant(gearbox: Gearbox, kind: str, severity: float = 1.0) -> Gearbox
         train = base.with_faults((), (*mods, new))
     elif kind == "eccentricity":
         ro = [0.0] * len(base.gears)
-        ro[0] = s * 4 * fpt
+        ro[names.index(g.name)] = s * 4 * fpt
         dyn = dataclasses.replace(dyn, runout=tuple(ro))
     return dataclasses.replace(gearbox, train=train, dynamics=dyn)

@@ -576,7 +576,9 @@ class Gearbox:
             ``angular_acceleration[rotation]`` of each rotation coordinate (a shaft, or a
             gear of a shaft that twists between its gears). A stage: ``sensor`` (the ring's fixed
             transducer), ``mesh_force[sun-planet-1]``, ``mesh_force[ring-planet-1]``,
-            ... and ``ring_acceleration[x]``, ``ring_acceleration[y]``.
+            ... and ``ring_acceleration[x]``, ``ring_acceleration[y]``; with gears also
+            ``chain_mesh_force[I]``, ..., ``shaft_torque`` (the shaft between the stage and
+            the gears) and ``chain_acceleration[shaft,axis]`` (LTA model).
 
         Examples
         --------
@@ -591,7 +593,14 @@ class Gearbox:
             out = ["sensor"]
             for j in range(self.stage.stage.planets):
                 out += [f"mesh_force[{m}-{planet_name(j)}]" for m in ("sun", "ring")]
-            return out + [f"ring_acceleration[{a}]" for a in ("x", "y")]
+            out += [f"ring_acceleration[{a}]" for a in ("x", "y")]
+            if self.train is not None:  # the gears the stage drives (or that drive it)
+                out += [f"chain_mesh_force[{p.name}]" for p in self.train.pairs]
+                out.append("shaft_torque")
+                axes = LTA_AXES if self.dynamics.model == "lta" else ()
+                out += [f"chain_acceleration[{sh.name},{a}]"
+                        for sh in self.train.flow.shafts for a in axes]
+            return out
         out = []
         for i in range(len(self.train.pairs)):
             out += [f"mesh_force_{i + 1}", f"dte_{i + 1}", f"ste_{i + 1}"]
@@ -685,18 +694,23 @@ class Gearbox:
             raise InputError("study.signal", spec, "label not in the simulation") from None
         return np.asarray(da.values, dtype=float)
 
-    def reference(self, shafts: str = "all") -> tuple[str, float, list[int]]:
+    def reference(self, shafts: str = "all", signal: str | None = None
+                  ) -> tuple[str, float, list[int]]:
         """Reference shaft, its frequency and the tooth counts for the analysis.
 
         Gears: the input gear's shaft and every gear's teeth (``f_m = f_r1 Z_1``). A
         stage: ring or sun held, the carrier with ``Z_1 = z_r`` (ring held) or ``z_s``
         (sun held); carrier held, the ring with ``Z_1 = z_r``; then the other two tooth
         counts, so that ``f_m / Z_j`` are the member rotations relative to the carrier.
+        A record of the gears beside a stage (``chain_...``, ``shaft_torque``): the gears'
+        first shaft and teeth.
 
         Parameters
         ----------
         shafts : {"all", "reference"}
             Every tooth count, or the reference's only.
+        signal : str, optional
+            The analysed record (a name of :meth:`signals`); default: a stage's record.
 
         Returns
         -------
@@ -713,7 +727,7 @@ class Gearbox:
         >>> member, teeth
         ('carrier', [99, 21, 39])
         """
-        if self.stage is None:
+        if self.stage is None or self._gears_record(signal):
             tr = self.train
             teeth = [g.teeth for g in tr.gears]
             member, freq = tr.flow.shafts[0].name, tr.shaft_frequency(0)
@@ -727,7 +741,12 @@ class Gearbox:
             freq = abs(tr.speeds[member]) / (2.0 * math.pi)
         return member, freq, teeth[:1] if shafts == "reference" else teeth
 
-    def analysis_stages(self) -> tuple[tuple[int, int], ...] | None:
+    def _gears_record(self, signal: str | None) -> bool:
+        """Whether ``signal`` is a record of the gears beside a stage."""
+        return (self.stage is not None and self.train is not None and signal is not None
+                and (signal.strip().startswith("chain_") or signal.strip() == "shaft_torque"))
+
+    def analysis_stages(self, signal: str | None = None) -> tuple[tuple[int, int], ...] | None:
         """The stages of a compound gear train for the signal analysis, or None.
 
         A train whose meshes form one serial path from the input shaft, at least one of
@@ -737,6 +756,11 @@ class Gearbox:
         :func:`gearsim.signals.analysis.analyze` (``stages=``) with the reference shaft
         and frequency of :meth:`reference`. Shaft ``k + 1`` then turns at
         ``f_k z_k^d / z_k^n`` and stage ``k`` meshes at ``f_k z_k^d`` [Hz].
+
+        Parameters
+        ----------
+        signal : str, optional
+            The analysed record; a record of the gears beside a stage takes their stages.
 
         Returns
         -------
@@ -754,17 +778,19 @@ class Gearbox:
         >>> gs.example("idler-table1").analysis_stages() is None
         True
         """
-        if self.stage is not None or self.train is None:
+        if (self.stage is not None and not self._gears_record(signal)) or self.train is None:
             return None
         return self.train.compound_stages()  # the rule the results' attribute follows
 
-    def analysis_train(self, shafts: str = "all") -> dict[str, Any]:
+    def analysis_train(self, shafts: str = "all", signal: str | None = None) -> dict[str, Any]:
         """The train and speed arguments of the analysis of a record of this gearbox.
 
         Parameters
         ----------
         shafts : {"all", "reference"}
             Every stage and shaft, or the reference gear's mesh only.
+        signal : str, optional
+            The analysed record (:meth:`reference`).
 
         Returns
         -------
@@ -783,8 +809,8 @@ class Gearbox:
         >>> gs.example("spur-19-48").analysis_train("reference")["teeth"]
         [19]
         """
-        _, f_ref, teeth = self.reference(shafts)
-        stages = self.analysis_stages() if shafts != "reference" else None
+        _, f_ref, teeth = self.reference(shafts, signal)
+        stages = self.analysis_stages(signal) if shafts != "reference" else None
         return {"shaft_frequency": f_ref,
                 **({"stages": stages} if stages is not None else {"teeth": teeth})}
 

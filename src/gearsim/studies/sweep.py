@@ -674,8 +674,8 @@ def check_study(study: Study) -> None:
 
     # the analysis of every case needs two revolutions of the reference shaft (TSA) and
     # 2 L window bins per sideband spacing of each analysed shaft
-    ref = slowest.reference(study.shafts)[0]
-    kin = kinematics(**slowest.analysis_train(study.shafts))
+    ref = slowest.reference(study.shafts, study.signal)[0]
+    kin = kinematics(**slowest.analysis_train(study.shafts, study.signal))
     f_in = kin.reference_frequency
     window = gb.analysis.window
     need = max(2.0 / f_in, 2 * WINDOWS[window] / min(kin.shafts.values()))
@@ -685,7 +685,7 @@ def check_study(study: Study) -> None:
                          f"speed of the study, {min(speeds) * rpm:.6g} rpm (two revolutions of "
                          f"{ref}, {2 * WINDOWS[window]} {window} bins per sideband spacing "
                          f"of the slowest analysed shaft, {min(kin.shafts.values()):.4g} Hz)")
-    kin = kinematics(**fastest.analysis_train(study.shafts))
+    kin = kinematics(**fastest.analysis_train(study.shafts, study.signal))
     f_mesh = max([kin.mesh_frequency, *(st.mesh_frequency for st in kin.stages)])
     f_top = n * f_mesh + gb.analysis.n_sidebands * max(kin.shafts.values())
     if not gb.dynamics.fs > 2.0 * f_top:

@@ -231,7 +231,7 @@ def run_group(study: Study, cases: Sequence[Case],
         fs = float(gb.dynamics.fs)
         x = gb.record(study.signal)  # the analysed record only (no dataset)
         # a compound train: every stage's mesh (unless only the reference is analysed)
-        kwargs = gb.analysis_train(study.shafts) | {"settings": gb.analysis}
+        kwargs = gb.analysis_train(study.shafts, study.signal) | {"settings": gb.analysis}
     except (InputError, SimulationError) as exc:
         return _table(study, cases, rows, ["failed"] * n, [str(exc)] * n, signals, fs)
     except Exception as exc:  # keep the study going; the message says what it was

@@ -310,7 +310,7 @@ def rhs(t, q, v, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, 
 
 @njit(cache=True, inline="always", error_model="numpy")
 def _rk4(contacts, profiled, q0, v0, t0, dt, n_steps, rec_start, rec_every, rec_q, rec_v, rec_f,
-         qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam):
+         cq, cv, cf, qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam):
     """Classical fixed-step RK4 (body of both integrators; see :func:`integrate_rk4`)."""
     n = q0.size
     nm = vcol.shape[0]
@@ -351,12 +351,13 @@ def _rk4(contacts, profiled, q0, v0, t0, dt, n_steps, rec_start, rec_every, rec_
             _mesh_state(qt, vt, vcol, vval, nz, mp, mi, tab, tabz, ptr, cx, contacts, tm, ti, f, d)
             _accelerations(taudd, load, profiled, qt, vt, dof, vcol, vval, nz, f, kv[stage])
             if stage == 0:
-                if s == next_rec and r < n_rec:
-                    for j in range(n):
-                        rec_q[r, j] = q[j]
-                        rec_v[r, j] = v[j]
-                    for i in range(nm):
-                        rec_f[r, i] = f[i]
+                if s == next_rec and r < n_rec:  # the recorded columns only
+                    for k in range(cq.size):
+                        rec_q[r, k] = q[cq[k]]
+                    for k in range(cv.size):
+                        rec_v[r, k] = v[cv[k]]
+                    for k in range(cf.size):
+                        rec_f[r, k] = f[cf[k]]
                     r += 1
                     next_rec += rec_every
                 if s == n_steps:
@@ -381,16 +382,18 @@ def _rk4(contacts, profiled, q0, v0, t0, dt, n_steps, rec_start, rec_every, rec_
 
 
 @njit(cache=True, error_model="numpy")
-def integrate_rk4(q0, v0, t0, dt, n_steps, rec_start, rec_every, rec_q, rec_v, rec_f, qlim, dof,
-                  vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam):
+def integrate_rk4(q0, v0, t0, dt, n_steps, rec_start, rec_every, rec_q, rec_v, rec_f, cq, cv, cf,
+                  qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam):
     """Classical fixed-step RK4 from t0 over ``n_steps`` steps of ``dt`` (stiffness tables,
     constant speed and load).
 
-    Records q, q' and the mesh forces into ``rec_q``, ``rec_v`` (n_rec, n) and ``rec_f``
-    (n_rec, n_mesh) at steps ``rec_start + r rec_every`` (r < n_rec), i.e. at instantaneous
-    sample times. The caller allocates them with numpy, which advises huge pages for large
-    arrays: allocating and writing the 20 MB of records of one simulated second of the
-    Table-1 train, every step, took 5-6 ms instead of 13-16 ms with numba's allocation.
+    Records the columns ``cq`` of q, ``cv`` of q' and ``cf`` of the mesh forces (int64
+    index arrays) into ``rec_q``, ``rec_v`` and ``rec_f`` (n_rec, columns) at steps
+    ``rec_start + r rec_every`` (r < n_rec), i.e. at instantaneous sample times (a study
+    records the few channels it analyses, not every coordinate). The caller allocates
+    them with numpy, which advises huge pages for large arrays: allocating and writing
+    the 20 MB of records of one simulated second of the Table-1 train, every step, took
+    5-6 ms instead of 13-16 ms with numba's allocation.
     Stops when a coordinate is not finite or exceeds ``qlim`` in magnitude.
 
     Returns
@@ -402,31 +405,31 @@ def integrate_rk4(q0, v0, t0, dt, n_steps, rec_start, rec_every, rec_q, rec_v, r
     q, v : final state
     """
     return _rk4(False, False, q0, v0, t0, dt, n_steps, rec_start, rec_every, rec_q, rec_v,
-                rec_f, qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)
+                rec_f, cq, cv, cf, qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)
 
 
 @njit(cache=True, error_model="numpy")
 def integrate_rk4_contacts(q0, v0, t0, dt, n_steps, rec_start, rec_every, rec_q, rec_v, rec_f,
-                           qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx,
+                           cq, cv, cf, qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx,
                            lam):
     """:func:`integrate_rk4` with meshes of contacts (same arguments and returns)."""
     return _rk4(True, False, q0, v0, t0, dt, n_steps, rec_start, rec_every, rec_q, rec_v,
-                rec_f, qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)
+                rec_f, cq, cv, cf, qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)
 
 
 @njit(cache=True, error_model="numpy")
 def integrate_rk4_profile(q0, v0, t0, dt, n_steps, rec_start, rec_every, rec_q, rec_v, rec_f,
-                          qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx,
+                          cq, cv, cf, qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx,
                           lam):
     """:func:`integrate_rk4` with speed and load profiles (same arguments and returns)."""
     return _rk4(False, True, q0, v0, t0, dt, n_steps, rec_start, rec_every, rec_q, rec_v,
-                rec_f, qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)
+                rec_f, cq, cv, cf, qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)
 
 
 @njit(cache=True, error_model="numpy")
 def integrate_rk4_contacts_profile(q0, v0, t0, dt, n_steps, rec_start, rec_every, rec_q, rec_v,
-                                   rec_f, qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof,
+                                   rec_f, cq, cv, cf, qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof,
                                    harm, ptr, cx, lam):
     """:func:`integrate_rk4` with meshes of contacts and profiles (same arguments)."""
     return _rk4(True, True, q0, v0, t0, dt, n_steps, rec_start, rec_every, rec_q, rec_v,
-                rec_f, qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)
+                rec_f, cq, cv, cf, qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)

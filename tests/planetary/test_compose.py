@@ -179,7 +179,7 @@ def test_bad_chain_input() -> None:
     for bad in (-1.0, 0.0, math.inf, math.nan):
         with pytest.raises(InputError, match="chain.shaft_stiffness"):
             build_stage_chain_model(tr, ch, shaft_stiffness=bad)
-    with pytest.raises(InputError, match="twice the higher mesh frequency"):
+    with pytest.raises(InputError, match="twice the highest mesh frequency"):
         simulate_stage_chain(tr, ch, settings=DynamicsSettings(fs=700.0))
 
 

@@ -50,18 +50,17 @@ torque = "200 N*m"
 [dynamics]
 duration = 0.5
 fs = 20000
-[chain]
+[input_chain]
 name = "input stage"
-side = "input"
 shaft_stiffness = "2e6 N*m/rad"
-[chain.common]
+[input_chain.common]
 normal_module = "3 mm"
 normal_pressure_angle = "20 deg"
 face_width = "30 mm"
-[[chain.gears]]
+[[input_chain.gears]]
 name = "input-pinion"
 teeth = 20
-[[chain.gears]]
+[[input_chain.gears]]
 name = "sun-drive-gear"
 teeth = 60
 """
@@ -76,7 +75,7 @@ def box():
 
 
 def test_the_stage_runs_at_the_chains_output(box):
-    assert box.chain_side == "input"
+    assert box.train is None and box.chains == (box.input_train,)
     assert box.operating() == (pytest.approx(W_IN, rel=1e-15), T_IN)
     op = box.stage.operating
     assert (op.input, op.fixed) == ("sun", "ring")
@@ -86,24 +85,25 @@ def test_the_stage_runs_at_the_chains_output(box):
     assert box.stage.speeds["carrier"] == pytest.approx(W_IN * 20 / 60 * 24 / 96, rel=1e-12)
     f_c = 1500 / 60 * 20 / 60 * 24 / 96
     assert box.stage.mesh_frequency == pytest.approx(72 * f_c, rel=1e-12)  # 150 Hz
-    assert box.train.mesh_frequency == pytest.approx(20 * 25.0, rel=1e-12)  # 500 Hz
+    assert box.input_train.mesh_frequency == pytest.approx(20 * 25.0, rel=1e-12)  # 500 Hz
 
 
 def test_at_moves_the_input_and_the_stage_follows(box):
     moved = box.at(speed=2 * W_IN, torque=3 * T_IN)
-    assert moved.train.operating.speed == 2 * W_IN
+    assert moved.input_train.operating.speed == 2 * W_IN
     assert moved.stage.operating.speed == pytest.approx(2 * W_IN / 3, rel=1e-12)
     assert moved.stage.operating.torque == pytest.approx(9 * T_IN, rel=1e-12)
 
 
 def test_static_torque_balance_at_every_shaft(box):
-    model = build_stage_chain_model(box.stage, box.train, box.members, box.dynamics,
-                                    shaft_stiffness=box.shaft_stiffness, side="input")
+    model = build_stage_chain_model(box.stage, None, box.members, box.dynamics,
+                                    input_chain=box.input_train,
+                                    input_shaft_stiffness=box.input_shaft_stiffness)
     f = model.mean_stiffness() * (model.V @ model.q_static)
     t_sun = T_IN * 60 / 20
     assert f[model.info["shaft_row"]] == pytest.approx(t_sun, rel=STATIC_RTOL)
     (row,) = model.info["chain_rows"]
-    pin, gear = box.train.gears
+    pin, gear = box.input_train.gears
     assert f[row] * pin.base_radius == pytest.approx(T_IN, rel=STATIC_RTOL)
     assert f[row] * gear.base_radius == pytest.approx(t_sun, rel=STATIC_RTOL)
     r_bs = box.stage.stage.sun.base_radius
@@ -115,13 +115,14 @@ def test_torsional_model_equals_a_hand_assembled_matrix(box):
     """Chain pinion and gear (theta, J), the shaft k_t (theta_g - u_s / r_s), the stage as
     Kahraman's torsional model (u = r theta of carrier, ring, sun and each planet)."""
     dyn = dataclasses.replace(box.dynamics, model="torsional")
-    model = build_stage_chain_model(box.stage, box.train, box.members, dyn,
-                                    shaft_stiffness=box.shaft_stiffness, side="input")
+    model = build_stage_chain_model(box.stage, None, box.members, dyn,
+                                    input_chain=box.input_train,
+                                    input_shaft_stiffness=box.input_shaft_stiffness)
     lp = build_stage_model(box.stage, box.members, box.dynamics).info["lin_parker"]
     n = lp.planets
-    pin, gear = box.train.gears
+    pin, gear = box.input_train.gears
     k_c = model.tables[model.info["chain_rows"][0]].mean
-    k_t = box.shaft_stiffness
+    k_t = box.input_shaft_stiffness
     r_s = model_radii(box.stage.stage)["sun"]
     # coordinates: carrier, ring, sun, planets (u), then pinion, gear (theta)
     m = 3 + n + 2
@@ -166,10 +167,139 @@ def test_both_mesh_lines_in_the_simulated_spectrum(box):
     assert float(ds["shaft_torque"].mean()) == pytest.approx(600.0, rel=1e-4)
 
 
-@pytest.mark.parametrize("value", ['"middle"', "3"])
-def test_unknown_side_is_one_line(tmp_path, capsys, value):
+@pytest.mark.parametrize(("edit", "parameter"), [
+    (('name = "sun-drive-gear"', 'name = "sun"'), "input_chain.gears"),
+    (("[input_chain.common]", "side = 3\n[input_chain.common]"), "input_chain.side"),
+])
+def test_bad_input_chain_is_one_line(tmp_path, capsys, edit, parameter):
     path = tmp_path / "box.toml"
-    path.write_text(TOML.replace('side = "input"', f"side = {value}"))
+    path.write_text(TOML.replace(*edit))
     code = cli_run(["stiffness", str(path)])
     err = capsys.readouterr().err.strip().splitlines()
-    assert code == 2 and len(err) == 1 and "chain.side" in err[0], err
+    assert code == 2 and len(err) == 1 and parameter in err[0], err
+
+
+# --- the stage between two chains: gears, a planetary stage, gears ---------------------
+
+TOML_BOTH = TOML.replace('name = "parallel input stage driving a planetary output stage"',
+                         'name = "parallel, planetary, parallel"') + """
+[chain]
+name = "output stage"
+shaft_stiffness = "5e6 N*m/rad"
+[chain.common]
+normal_module = "4 mm"
+normal_pressure_angle = "20 deg"
+face_width = "40 mm"
+[[chain.gears]]
+name = "carrier-gear"
+teeth = 50
+[[chain.gears]]
+name = "output-pinion"
+teeth = 25
+"""
+#: by hand: sun 600 N m at 500 rpm, carrier 4 x 600 N m at 125 rpm, output pinion
+#: 2400 x 25 / 50 N m at 250 rpm
+T_SUN, T_CARRIER, T_OUT = 600.0, 2400.0, 1200.0
+
+
+@pytest.fixture(scope="module")
+def both():
+    return loads(TOML_BOTH)
+
+
+def _both_model(both, model="lta"):
+    dyn = dataclasses.replace(both.dynamics, model=model)
+    return build_stage_chain_model(both.stage, both.train, both.members, dyn,
+                                   shaft_stiffness=both.shaft_stiffness,
+                                   input_chain=both.input_train,
+                                   input_shaft_stiffness=both.input_shaft_stiffness)
+
+
+def test_three_parts_run_at_the_hand_operating_points(both):
+    assert both.chains == (both.input_train, both.train)
+    w_c = W_IN * 20 / 60 * 24 / 96
+    assert both.stage.speeds["carrier"] == pytest.approx(w_c, rel=1e-12)
+    assert both.train.operating.speed == pytest.approx(w_c, rel=1e-12)
+    assert both.train.operating.torque == pytest.approx(T_CARRIER, rel=1e-12)
+    out = both.train.gear_index("output-pinion")
+    assert both.train.speed(out) == pytest.approx(2 * w_c, rel=1e-12)
+    moved = both.at(speed=2 * W_IN, torque=T_IN)
+    assert moved.train.operating.speed == pytest.approx(2 * w_c, rel=1e-12)
+
+
+def test_three_parts_static_torque_at_every_shaft(both):
+    model = _both_model(both)
+    f = model.mean_stiffness() * (model.V @ model.q_static)
+    entries = {e["side"]: e for e in model.info["chains"]}
+    assert f[entries["input"]["shaft_row"]] == pytest.approx(T_SUN, rel=STATIC_RTOL)
+    assert f[entries["output"]["shaft_row"]] == pytest.approx(T_CARRIER, rel=STATIC_RTOL)
+    (row,) = entries["output"]["rows"]
+    cg, op = both.train.gears
+    assert f[row] * cg.base_radius == pytest.approx(T_CARRIER, rel=STATIC_RTOL)
+    assert f[row] * op.base_radius == pytest.approx(T_OUT, rel=STATIC_RTOL)
+    r_bs = both.stage.stage.sun.base_radius
+    for r in model.info["mesh_rows"]:
+        assert f[r] == pytest.approx(T_SUN / (3 * r_bs), rel=STATIC_RTOL)
+
+
+def test_three_parts_torsional_model_equals_a_hand_assembled_matrix(both):
+    """The input chain and Kahraman's torsional stage as above, plus the output chain on
+    the carrier: k_t2 (theta_cg - u_c / r_c), r_c the carrier (planet-centre) radius."""
+    model = _both_model(both, "torsional")
+    lp = build_stage_model(both.stage, both.members, both.dynamics).info["lin_parker"]
+    n = lp.planets
+    entries = {e["side"]: e for e in model.info["chains"]}
+    pin, gear = both.input_train.gears
+    cg, op = both.train.gears
+    radii = model_radii(both.stage.stage)
+    m = 3 + n + 4
+    M = np.diag([lp.carrier_inertia + n * lp.planet_mass, lp.ring_inertia, lp.sun_inertia]
+                + [lp.planet_inertia] * n
+                + [pin.polar_inertia, gear.polar_inertia, cg.polar_inertia, op.polar_inertia])
+    K = np.zeros((m, m))
+    K[:3, :3] = np.diag([lp.carrier_torsional, lp.ring_torsional, lp.sun_torsional])
+    for j in range(n):
+        for k, alpha, v in ((lp.sun_mesh, lp.sun_pressure_angle, (2, 1.0, 1.0)),
+                            (lp.ring_mesh, lp.ring_pressure_angle, (1, 1.0, -1.0))):
+            b = np.zeros(m)
+            b[0], b[v[0]], b[3 + j] = -math.cos(alpha), v[1], v[2]
+            K += k * np.outer(b, b)
+    i = 3 + n
+    for (a, za), (c, zc), side in (((i, pin), (i + 1, gear), "input"),
+                                   ((i + 2, cg), (i + 3, op), "output")):
+        b = np.zeros(m)
+        b[a], b[c] = za.base_radius, zc.base_radius
+        K += model.tables[entries[side]["rows"][0]].mean * np.outer(b, b)
+    for gear_i, member_i, r, kt in ((i + 1, 2, radii["sun"], both.input_shaft_stiffness),
+                                    (i + 2, 0, radii["carrier"], both.shaft_stiffness)):
+        b = np.zeros(m)
+        b[gear_i], b[member_i] = 1.0, 1.0 / r
+        K += kt * np.outer(b, b)
+    w2 = scipy.linalg.eigh(K, M, eigvals_only=True)
+    expected = np.sqrt(w2[w2 > 1e-12 * w2.max()]) / (2 * math.pi)
+    got = modes(model).frequencies
+    np.testing.assert_allclose(got[got > 1e-6 * got.max()], expected, rtol=MODES_RTOL)
+
+
+def test_three_parts_result_and_records(both):
+    ds = both.simulate()
+    fs = ds.attrs["fs"]
+    assert ds.attrs["chain_side"] == "both"
+    assert list(ds["chain_mesh"].values) == ["I", "II"]
+    assert float(ds["input_shaft_torque"].mean()) == pytest.approx(T_SUN, rel=1e-4)
+    assert float(ds["shaft_torque"].mean()) == pytest.approx(T_CARRIER, rel=1e-4)
+    f_out = 50 * 125 / 60  # the output mesh, 104.2 Hz
+    acc = ds["chain_acceleration"].sel(chain_shaft="output-pinion", chain_axis="y").values
+    assert _amplitude(acc, fs, f_out) > 20 * _amplitude(acc, fs, 1.15 * f_out)
+    acc = ds["chain_acceleration"].sel(chain_shaft="input-pinion", chain_axis="y").values
+    assert _amplitude(acc, fs, 500.0) > 20 * _amplitude(acc, fs, 535.0)
+    names = both.signals()
+    for spec in ("chain_mesh_force[II]", "input_shaft_torque",
+                 "chain_acceleration[output-pinion,y]"):
+        assert spec in names
+        assert both.select(ds, spec).shape == (ds.sizes["time"],)
+    # each chain's record is analysed with its own chain's kinematics
+    assert both.analysis_train(signal="chain_acceleration[output-pinion,y]")[
+        "shaft_frequency"] == pytest.approx(125 / 60, rel=1e-12)
+    assert both.analysis_train(signal="chain_mesh_force[I]")[
+        "shaft_frequency"] == pytest.approx(25.0, rel=1e-12)

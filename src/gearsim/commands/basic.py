@@ -40,7 +40,8 @@ def layout(
         from gearsim.viz.layout import plot_layout
 
         save(plot_layout(drawing["shafts"], drawing["gears"], drawing["links"],
-                         title=out["name"], stage=drawing["stage"]), plot, parameter="--plot")
+                         title=out["name"], stage=drawing["stage"],
+                         upstream=drawing["upstream"]), plot, parameter="--plot")
     if json_:
         typer.echo(json.dumps(out, indent=2))
         return
@@ -94,7 +95,9 @@ def stiffness(
                    f"{summary['phasing']} planets; eps_alpha sun-planet "
                    f"{summary['eps_alpha_sun']:.3f}, ring-planet "
                    f"{summary['eps_alpha_ring']:.3f}, eps_beta {summary['eps_beta']:.3f}")
-    for pre, m in (*(("", m) for m in summary["meshes"]),
+    for pre, m in (*(("input chain ", m)
+                     for m in summary.get("input_chain", {}).get("meshes", [])),
+                   *(("", m) for m in summary["meshes"]),
                    *(("chain ", m) for m in summary.get("chain", {}).get("meshes", []))):
         gears = f" ({m['gears'][0]} -> {m['gears'][1]})" if "gears" in m else ""
         extra = (f"period {m['period_cycles']} cycles, phase {m['phase_cycles']:+.4f}"

@@ -85,7 +85,12 @@ def simulate(
                    f"[Hz] (r rotational, t translational, p planet, m mixed; multiplicity): "
                    f"{modes}")
     if "shaft_torque_mean" in s:
-        typer.echo(f"{s['chain_side']} shaft ({s['shaft_member']}): torque mean "
+        if "input_shaft_torque_mean" in s:
+            typer.echo(f"input shaft ({s['input_member']}): torque mean "
+                       f"{s['input_shaft_torque_mean']:.6g} N m, RMS "
+                       f"{s['input_shaft_torque_rms']:.6g} N m")
+        side = "output" if s["chain_side"] == "both" else s["chain_side"]
+        typer.echo(f"{side} shaft ({s['shaft_member']}): torque mean "
                    f"{s['shaft_torque_mean']:.6g} N m, RMS {s['shaft_torque_rms']:.6g} N m")
     if s.get("constant_meshes"):
         typer.echo("note: constant mesh stiffnesses: no parametric excitation, the response "

@@ -156,50 +156,62 @@ def stage_settings(settings: DynamicsSettings) -> DynamicsSettings:
 
 
 def _pad(a: np.ndarray | None, rows: int, cols: int) -> np.ndarray:
+    """``a`` (rows x <= cols) padded with zero columns; zeros when None."""
     out = np.zeros((rows, cols))
     if a is not None:
         out[:, :a.shape[1]] = a
     return out
 
 
-def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
+def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain | None,
                             dyn: StageDynamics | None = None,
                             settings: DynamicsSettings | None = None, *,
                             shaft_stiffness: float | None = None,
-                            side: str = "output") -> DynamicModel:
-    """Equations of motion of a stage, a chain of parallel gears and the shaft between.
+                            side: str = "output", input_chain: GearTrain | None = None,
+                            input_shaft_stiffness: float | None = None) -> DynamicModel:
+    """Equations of motion of a stage, chains of parallel gears and the shafts between.
 
     Parameters
     ----------
     train
         The stage in operation.
     chain
-        The chain; its operating point must be :func:`chain_operating` of ``train``
+        A chain; its operating point must be :func:`chain_operating` of ``train``
         (``side = "output"``), or the stage's that of the chain's last gear
-        (:func:`stage_operating`, ``side = "input"``).
+        (:func:`stage_operating`, ``side = "input"``). ``None``: only ``input_chain``.
     dyn
         Members, supports and sensor of the stage.
     settings
-        Dynamics options (the chain's own options apply to the chain only).
+        Dynamics options (the chains' own options apply to the chains only).
     shaft_stiffness
-        k_t [N m/rad], finite > 0; default ``SHAFT_FACTOR`` k_mean r_b^2 of the chain's
-        mesh next to the shaft (its first on the output side, its last on the input side).
+        k_t [N m/rad] of ``chain``'s shaft, finite > 0; default ``SHAFT_FACTOR`` k_mean
+        r_b^2 of the chain's mesh next to the shaft (its first on the output side, its
+        last on the input side).
     side : {"output", "input"}
-        The chain is driven by the stage's output member, or drives its input member.
+        ``chain`` is driven by the stage's output member, or drives its input member.
+    input_chain
+        Gears driving the stage's input member as well (with ``chain`` on the output
+        side): the stage between two chains.
+    input_shaft_stiffness
+        k_t [N m/rad] of ``input_chain``'s shaft (default as ``shaft_stiffness``).
 
     Returns
     -------
     DynamicModel
-        ``kind = "stage+chain"``: the stage's coordinates, then the chain's; rows: the
-        stage's springs, the chain's meshes, the shaft (last). ``info`` holds the stage's
-        ``lin_parker``, ``mesh_rows``, ``row_names`` and ``chain_rows``, ``shaft_row``,
-        ``chain_mesh_frequency``, ``shaft_stiffness``, ``chain_side``.
+        ``kind = "stage+chain"``: the stage's coordinates, then each chain's in the
+        order joined; rows: the stage's springs, then per chain its meshes, springs and
+        shaft. ``info`` holds the stage's ``lin_parker``, ``mesh_rows``, ``row_names``;
+        ``chains``, one dict per chain (``chain``, ``side``, ``rows`` (its meshes),
+        ``shaft_row``, ``shaft_stiffness``, ``member``, ``dofs``, ``bearing_dofs``,
+        ``axes``, ``shafts``, ``mesh_frequency``); and, of the first chain,
+        ``chain_rows``, ``shaft_row``, ``chain_mesh_frequency``, ``shaft_stiffness``,
+        ``chain_side``.
 
     Raises
     ------
     InputError
-        If the two parts' operating points disagree, the side is unknown or the shaft
-        stiffness is not finite > 0.
+        If the parts' operating points disagree, the side is unknown, a second chain is
+        not on the input side, or a shaft stiffness is not finite > 0.
 
     References
     ----------
@@ -207,6 +219,34 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
     """
     settings = settings or DynamicsSettings()
     require(side in SIDES, "chain.side", side, 'must be "output" or "input"')
+    require(chain is not None or input_chain is not None, "chain", None,
+            "a stage alone is gearsim.dynamics.stage.build_stage_model")
+    require(input_chain is None or chain is None or side == "output", "chain.side", side,
+            "with an input chain the other chain is on the output side")
+    sm = build_stage_model(train, dyn, stage_settings(settings))
+    sm.info["input_index"] = sm.dof_labels.index(f"{train.operating.input}.u")
+    model = sm
+    if chain is not None:
+        model = _join(model, train, chain, side, shaft_stiffness, settings)
+    if input_chain is not None:
+        model = _join(model, train, input_chain, "input", input_shaft_stiffness, settings)
+    return model
+
+
+def _stack(a: np.ndarray | None, b: np.ndarray | None, r1: int, r2: int) -> np.ndarray | None:
+    """Rows of ``a`` (r1) then ``b`` (r2) then one zero row, columns padded with zeros;
+    None when both are None."""
+    if a is None and b is None:
+        return None
+    nc = max(x.shape[1] for x in (a, b) if x is not None)
+    return np.vstack([_pad(a, r1, nc), _pad(b, r2, nc), np.zeros((1, nc))])
+
+
+def _join(base: DynamicModel, train: PlanetaryTrain, chain: GearTrain, side: str,
+          shaft_stiffness: float | None, settings: DynamicsSettings) -> DynamicModel:
+    """``base`` (the stage's model, possibly with a chain joined) and ``chain`` joined by
+    a shaft on the stage's output (``side = "output"``) or input member (module
+    docstring)."""
     if side == "output":
         want, got_op, what = chain_operating(train), chain.operating, "chain"
         hint = "the stage output's {:.10g} (use chain_operating)"
@@ -217,14 +257,13 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
         got, ref = getattr(got_op, name), getattr(want, name)
         require(abs(got - ref) <= OPERATING_RTOL * ref, f"{what}.operating.{name}", got,
                 "must be " + hint.format(ref))
-    sm = build_stage_model(train, dyn, stage_settings(settings))
     cm_ = build_lta(chain, settings)
-    n1, n2 = sm.n_dof, cm_.n_dof
-    r1, r2 = sm.n_mesh, cm_.n_mesh
+    n1, n2 = base.n_dof, cm_.n_dof
+    r1, r2 = base.n_mesh, cm_.n_mesh
     n, rows = n1 + n2, r1 + r2 + 1
     # the member on the shaft and the chain's gear on it (its first or its last)
     member = output_member(train) if side == "output" else train.operating.input
-    iu = sm.dof_labels.index(f"{member}.u")
+    iu = base.dof_labels.index(f"{member}.u")
     r_o = model_radii(train.stage)[member]
     t_model = train.model_torques[member]
     require(t_model != 0.0, "stage", member, "the member on the shaft carries no torque")
@@ -243,121 +282,135 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain,
     if not (isinstance(kt, (int, float)) and MIN_SHAFT_STIFFNESS <= kt <= MAX_SHAFT_STIFFNESS):
         raise InputError("chain.shaft_stiffness", kt, f"must be a finite number in "
                          f"[{MIN_SHAFT_STIFFNESS:g}, {MAX_SHAFT_STIFFNESS:g}] N*m/rad")
-    mass = np.concatenate([sm.mass, cm_.mass])
-    kb = np.concatenate([sm.kb, cm_.kb])
-    cb = np.concatenate([sm.cb, cm_.cb])
-    fext = np.concatenate([sm.fext, cm_.fext])
+    mass = np.concatenate([base.mass, cm_.mass])
+    kb = np.concatenate([base.kb, cm_.kb])
+    cb = np.concatenate([base.cb, cm_.cb])
+    fext = np.concatenate([base.fext, cm_.fext])
     fext[iu] = 0.0  # the member's load (or drive) is now the shaft
     fext[i_theta] = 0.0  # and so is the chain's input torque (or its load)
     V = np.zeros((rows, n))
-    V[:r1, :n1] = sm.V
+    V[:r1, :n1] = base.V
     V[r1:r1 + r2, n1:] = cm_.V
     # tau = k_t (upstream rotation - downstream rotation), each in its sense of rotation
     up, down = (1.0, -1.0) if side == "output" else (-1.0, 1.0)
     V[-1, iu] = up * s / r_o
     V[-1, i_theta] = down
-    j_o = sm.mass[iu] * r_o ** 2
+    j_o = base.mass[iu] * r_o ** 2
     j_eq = 1.0 / (1.0 / j_o + 1.0 / gear.polar_inertia)
     c_t = 2.0 * settings.bearing_damping_ratio * math.sqrt(kt * j_eq)
     f_m, f_m2 = train.mesh_frequency, chain.mesh_frequency
-    nh = max(sm.h_amp.shape[1], cm_.h_amp.shape[1])
-
-    def h(a, b):
-        return np.vstack([_pad(a, r1, nh), _pad(b, r2, nh), np.zeros((1, nh))])
-
-    a_amp = a_om = a_ph = None
-    if cm_.a_amp is not None:
-        na = cm_.a_amp.shape[1]
-        a_amp = np.vstack([np.zeros((r1, na)), cm_.a_amp, np.zeros((1, na))])
-        a_om = np.vstack([np.zeros((r1, na)), cm_.a_omega, np.zeros((1, na))])
-        a_ph = np.vstack([np.zeros((r1, na)), cm_.a_phase, np.zeros((1, na))])
-    kmean = np.concatenate([[t.mean for t in sm.tables], [t.mean for t in cm_.tables], [kt]])
-    e0 = np.concatenate([sm.e0, cm_.e0, [0.0]])
+    kmean = np.concatenate([[t.mean for t in base.tables], [t.mean for t in cm_.tables],
+                            [kt]])
+    e0 = np.concatenate([base.e0, cm_.e0, [0.0]])
     q0 = static_equilibrium(mass, kb, V, kmean, fext, e0)
-    # the nominal motion of both (each part at its operating point, which is the other's
+    # the nominal motion of all parts (each at its operating point, which is the other's
     # on the shaft); the speed profile, its load and the inertia at the gearbox's input
-    w = np.concatenate([sm.info["nominal_velocity"], cm_.info["nominal_velocity"]])
-    first = sm if side == "output" else cm_
-    if side == "output":
-        i_in = sm.dof_labels.index(f"{train.operating.input}.u")
-    else:
-        i_in = n1 + int(np.flatnonzero(cm_.fext > 0.0)[0])  # the chain's driven coordinate
+    w = np.concatenate([base.info["nominal_velocity"], cm_.info["nominal_velocity"]])
+    first = base if side == "output" else cm_
+    i_in = (base.info["input_index"] if side == "output"
+            else n1 + int(np.flatnonzero(cm_.fext > 0.0)[0]))  # the chain's driven coordinate
     inertial = None if first.profile is None else nominal_inertia(mass, w, i_in)
     chain_rows = tuple(range(r1, r1 + len(chain.pairs)))  # its meshes (then its springs)
     chain_rate = np.ones(r2) if cm_.rate is None else np.asarray(cm_.rate)
+    base_rate = np.ones(r1) if base.rate is None else np.asarray(base.rate)
+    entry = {"chain": chain, "side": side, "rows": chain_rows, "shaft_row": rows - 1,
+             "shaft_stiffness": kt, "member": member, "dofs": (n1, n),
+             "bearing_dofs": cm_.bearing_dofs + n1, "axes": cm_.axes,
+             "shafts": cm_.gear_names, "mesh_frequency": f_m2}
+    info = {**base.info, "nominal_velocity": w, "input_index": i_in,
+            "chains": (*base.info.get("chains", ()), entry),
+            "output_member": output_member(train)}
+    if "chain_rows" not in base.info:  # the first chain joined, under its own keys
+        info.update({"chain_rows": chain_rows, "shaft_row": rows - 1,
+                     "chain_mesh_names": tuple(p.name for p in chain.pairs), "chain": chain,
+                     "chain_mesh_frequency": f_m2, "shaft_stiffness": kt,
+                     "chain_side": side, "chain_dofs": (n1, n), "shaft_member": member,
+                     "chain_name": chain.name, "chain_bearing_dofs": cm_.bearing_dofs + n1,
+                     "chain_axes": cm_.axes, "chain_shafts": cm_.gear_names})
+
+    def h(a, b):
+        nh = max(a.shape[1], b.shape[1])
+        return np.vstack([_pad(a, r1, nh), _pad(b, r2, nh), np.zeros((1, nh))])
+
     return DynamicModel(
-        kind="stage+chain", gear_names=sm.gear_names + cm_.gear_names,
-        dof_labels=sm.dof_labels + cm_.dof_labels, mass=mass, kb=kb, cb=cb, fext=fext, V=V,
-        kappa=np.concatenate([sm.kappa, cm_.kappa, [1.0]]),
-        kscale=np.concatenate([sm.kscale, cm_.kscale, [1.0]]),
-        cm=np.concatenate([sm.cm, cm_.cm, [c_t]]),
-        clearance=np.concatenate([sm.clearance, cm_.clearance, [np.inf]]),
-        tables=sm.tables + cm_.tables + (MeshTable(k=np.array([kt]), positions_per_cycle=1,
-                                                   period=1),),
-        phase=np.concatenate([sm.phase, cm_.phase, [0.0]]), mesh_frequency=f_m, e0=e0,
-        h_amp=h(sm.h_amp, cm_.h_amp), h_omega=h(sm.h_omega, cm_.h_omega),
-        h_phase=h(sm.h_phase, cm_.h_phase), a_amp=a_amp, a_omega=a_om, a_phase=a_ph,
-        to_transverse=np.concatenate([sm.to_transverse, cm_.to_transverse, [1.0]]),
-        dte_offset=np.concatenate([sm.dte_offset, cm_.dte_offset, [0.0]]),
-        static_force=np.concatenate([sm.static_force, cm_.static_force,
+        kind="stage+chain", gear_names=base.gear_names + cm_.gear_names,
+        dof_labels=base.dof_labels + cm_.dof_labels, mass=mass, kb=kb, cb=cb, fext=fext, V=V,
+        kappa=np.concatenate([base.kappa, cm_.kappa, [1.0]]),
+        kscale=np.concatenate([base.kscale, cm_.kscale, [1.0]]),
+        cm=np.concatenate([base.cm, cm_.cm, [c_t]]),
+        clearance=np.concatenate([base.clearance, cm_.clearance, [np.inf]]),
+        tables=base.tables + cm_.tables + (MeshTable(k=np.array([kt]), positions_per_cycle=1,
+                                                     period=1),),
+        phase=np.concatenate([base.phase, cm_.phase, [0.0]]), mesh_frequency=f_m, e0=e0,
+        h_amp=h(base.h_amp, cm_.h_amp), h_omega=h(base.h_omega, cm_.h_omega),
+        h_phase=h(base.h_phase, cm_.h_phase), a_amp=_stack(base.a_amp, cm_.a_amp, r1, r2),
+        a_omega=_stack(base.a_omega, cm_.a_omega, r1, r2),
+        a_phase=_stack(base.a_phase, cm_.a_phase, r1, r2),
+        to_transverse=np.concatenate([base.to_transverse, cm_.to_transverse, [1.0]]),
+        dte_offset=np.concatenate([base.dte_offset, cm_.dte_offset, [0.0]]),
+        static_force=np.concatenate([base.static_force, cm_.static_force,
                                      [abs(train.torques[member])]]),
-        bearing_dofs=sm.bearing_dofs, axes=sm.axes, q_static=q0,
-        rate=np.concatenate([np.ones(r1), chain_rate * (f_m2 / f_m), [1.0]]),
-        profile=first.profile, load=first.load, inertial=inertial,
-        info={**sm.info, "nominal_velocity": w, "chain_rows": chain_rows, "shaft_row": rows - 1,
-              "chain_mesh_names": tuple(p.name for p in chain.pairs), "chain": chain,
-              "chain_mesh_frequency": f_m2, "shaft_stiffness": kt, "chain_side": side,
-              "chain_dofs": (n1, n), "output_member": output_member(train),
-              "shaft_member": member, "chain_name": chain.name,
-              "chain_bearing_dofs": cm_.bearing_dofs + n1, "chain_axes": cm_.axes,
-              "chain_shafts": cm_.gear_names})
+        bearing_dofs=base.bearing_dofs, axes=base.axes, q_static=q0,
+        rate=np.concatenate([base_rate, chain_rate * (f_m2 / f_m), [1.0]]),
+        profile=first.profile, load=first.load, inertial=inertial, info=info)
 
 
-def simulate_stage_chain(train: PlanetaryTrain, chain: GearTrain,
+def simulate_stage_chain(train: PlanetaryTrain, chain: GearTrain | None,
                          dyn: StageDynamics | None = None,
                          settings: DynamicsSettings | None = None, *,
-                         shaft_stiffness: float | None = None, side: str = "output"):
-    """Time response of a stage and a chain (:func:`build_stage_chain_model`).
+                         shaft_stiffness: float | None = None, side: str = "output",
+                         input_chain: GearTrain | None = None,
+                         input_shaft_stiffness: float | None = None):
+    """Time response of a stage and its chains (:func:`build_stage_chain_model`).
 
     Parameters
     ----------
     train
         The stage in operation.
     chain
-        The chain at :func:`chain_operating` of ``train``.
+        The chain at :func:`chain_operating` of ``train`` (``side = "output"``), or
+        driving it (``side = "input"``); ``None``: only ``input_chain``.
     dyn
         Members, supports and sensor of the stage.
     settings
-        Duration, fs, oversampling, damping, backlash; the chain's own options.
+        Duration, fs, oversampling, damping, backlash; the chains' own options.
     shaft_stiffness
         k_t [N m/rad]; default ``SHAFT_FACTOR`` k_mean r_b^2 of the chain's mesh next to
         the shaft.
     side : {"output", "input"}
         The chain is driven by the stage, or drives it.
+    input_chain, input_shaft_stiffness
+        Gears driving the stage besides ``chain`` on its output, and their shaft's k_t.
 
     Returns
     -------
     xarray.Dataset
         As :func:`gearsim.dynamics.stage.simulate_stage` (stage meshes, coordinates of
-        both parts, ring sensor) plus ``chain_mesh_force`` (time, chain_mesh) [N] and
-        ``shaft_torque`` (time) [N m]; attributes ``chain_mesh_frequency``,
-        ``shaft_stiffness``, ``output_member``, ``static_shaft_torque``.
+        all parts, ring sensor) plus ``chain_mesh_force`` (time, chain_mesh) [N],
+        ``chain_acceleration`` (time, chain_shaft, chain_axis) [m/s^2] and
+        ``shaft_torque`` (time) [N m] (with two chains also ``input_shaft_torque``);
+        attributes ``chain_mesh_frequency``, ``shaft_stiffness``, ``output_member``,
+        ``chain_side``, ``shaft_member``, ``static_shaft_torque``.
 
     Raises
     ------
     InputError
-        If fs does not exceed twice the higher mesh frequency, or as
+        If fs does not exceed twice the highest mesh frequency, or as
         :func:`build_stage_chain_model`.
     SimulationError
         If the integration diverges.
     """
     settings = settings or DynamicsSettings()
-    f_hi = max(train.mesh_frequency, chain.mesh_frequency)
+    chains = [c for c in (input_chain, chain) if c is not None]
+    f_chain = max(f for c in chains for f in c.mesh_frequencies)
+    f_hi = max(train.mesh_frequency, f_chain)
     if not settings.fs > 2.0 * f_hi:
         raise InputError("dynamics.fs", settings.fs,
-                         f"must be > {2 * f_hi:.6g} Hz, twice the higher mesh frequency "
-                         f"(stage {train.mesh_frequency:.6g} Hz, chain "
-                         f"{chain.mesh_frequency:.6g} Hz), else the record is aliased")
+                         f"must be > {2 * f_hi:.6g} Hz, twice the highest mesh frequency "
+                         f"(stage {train.mesh_frequency:.6g} Hz, gears "
+                         f"{f_chain:.6g} Hz), else the record is aliased")
     model = build_stage_chain_model(train, chain, dyn, settings,
-                                    shaft_stiffness=shaft_stiffness, side=side)
+                                    shaft_stiffness=shaft_stiffness, side=side,
+                                    input_chain=input_chain,
+                                    input_shaft_stiffness=input_shaft_stiffness)
     return simulate_stage(train, dyn, settings, model=model)

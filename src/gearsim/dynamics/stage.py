@@ -59,7 +59,8 @@ from gearsim.errors import InputError, require
 from gearsim.system import graph as bounds
 from gearsim.system.planetary import PlanetaryTrain, planet_name
 
-__all__ = ["StageDynamics", "build_stage_model", "lin_parker_of", "model_radii",
+__all__ = ["StageDynamics", "build_stage_model", "chain_mesh_names", "lin_parker_of",
+           "model_radii",
            "nominal_velocity", "sensor_window", "check_stage_settings", "simulate_stage",
            "stage_summary"]
 
@@ -370,6 +371,29 @@ def build_stage_model(train: PlanetaryTrain, dyn: StageDynamics | None = None,
         kept.index(r) for r in mesh_rows), "row_names": tuple(row_names[r] for r in kept)})
 
 
+def chain_mesh_names(chains) -> tuple[str, ...]:
+    """Names of the meshes of the chains beside a stage, in power-flow order.
+
+    One chain keeps its meshes' own names (I, II, ...); the meshes of two chains (the
+    gears driving the stage, then those it drives) are numbered through, I, II, III, ...
+
+    Parameters
+    ----------
+    chains : sequence of GearTrain
+        The chains in power-flow order.
+
+    Returns
+    -------
+    tuple of str
+    """
+    chains = list(chains)
+    if len(chains) == 1:
+        return tuple(p.name for p in chains[0].pairs)
+    roman = ("I", "II", "III", "IV", "V", "VI", "VII", "VIII", "IX", "X", "XI", "XII")
+    n = sum(len(c.pairs) for c in chains)
+    return tuple(roman[i] if i < len(roman) else str(i + 1) for i in range(n))
+
+
 def model_radii(stage) -> dict[str, float]:
     """Radii of the Lin & Parker rotational coordinates u = r theta [m]: the base radii
     of sun, planet and ring, the planet-centre radius of the carrier.
@@ -566,52 +590,66 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     extra: dict = {}
     extra_coords: dict = {}
     extra_attrs: dict = {}
-    if "chain_rows" in model.info:  # a stage driving a chain (gearsim.dynamics.compose)
-        crow = list(model.info["chain_rows"])
+    # the chains beside the stage (gearsim.dynamics.compose), in power-flow order: the
+    # gears driving the stage, then those it drives
+    chains = sorted(model.info.get("chains", ()), key=lambda e: e["side"] != "input")
+    if chains:
+        crow = [r for e in chains for r in e["rows"]]
         extra["chain_mesh_force"] = (("time", "chain_mesh"), f[:, crow], {"units": "N"})
-        extra["shaft_torque"] = ("time", f[:, model.info["shaft_row"]], {"units": "N*m"})
-        bd = model.info["chain_bearing_dofs"]
+        # the shaft of the gears the stage drives (else of those driving it); a stage
+        # between two chains also has its input shaft
+        main = chains[-1]
+        extra["shaft_torque"] = ("time", f[:, main["shaft_row"]], {"units": "N*m"})
+        if len(chains) > 1:
+            extra["input_shaft_torque"] = ("time", f[:, chains[0]["shaft_row"]],
+                                           {"units": "N*m"})
+        bd = np.concatenate([e["bearing_dofs"] for e in chains])
         acc_c = (model.fext[bd] - model.kb[bd] * q[:, bd] - model.cb[bd] * v[:, bd]
                  - np.einsum("ti,ijk->tjk", f, model.V[:, bd])) / model.mass[bd]
         extra["chain_acceleration"] = (("time", "chain_shaft", "chain_axis"), acc_c, {
             "units": "m/s^2", "long_name": "acceleration of each chain shaft's centre"})
-        extra_coords["chain_shaft"] = list(model.info["chain_shafts"])
-        extra_coords["chain_axis"] = list(model.info["chain_axes"])
-        extra_coords["chain_mesh"] = list(model.info["chain_mesh_names"])
-        extra_attrs = {"chain_mesh_frequency": model.info["chain_mesh_frequency"],
-                       "shaft_stiffness": model.info["shaft_stiffness"],
+        extra_coords["chain_shaft"] = [sh for e in chains for sh in e["shafts"]]
+        extra_coords["chain_axis"] = list(chains[0]["axes"])
+        extra_coords["chain_mesh"] = list(chain_mesh_names([e["chain"] for e in chains]))
+        extra_attrs = {"chain_mesh_frequency": main["mesh_frequency"],
+                       "chain_mesh_frequencies": [float(x) for e in chains
+                                                  for x in e["chain"].mesh_frequencies],
+                       "shaft_stiffness": main["shaft_stiffness"],
                        "output_member": model.info["output_member"],
-                       # the chain drives the stage ("input") or is driven ("output"),
-                       # through the shaft on this member
-                       "chain_side": model.info.get("chain_side", "output"),
-                       "shaft_member": model.info.get("shaft_member",
-                                                      model.info["output_member"]),
-                       "chain_name": model.info["chain_name"],
+                       "input_member": train.operating.input,
+                       # the gears drive the stage ("input"), are driven ("output") or
+                       # both; shaft_torque is the shaft on shaft_member
+                       "chain_side": "both" if len(chains) > 1 else main["side"],
+                       "shaft_member": main["member"],
+                       "chain_name": " + ".join(e["chain"].name for e in chains),
                        "chain_static_mesh_force": [float(model.static_force[i])
                                                    for i in crow],
-                       "static_shaft_torque": float(model.static_force[-1])}
+                       "static_shaft_torque": float(model.static_force[main["shaft_row"]])}
+        if len(chains) > 1:
+            extra_attrs["static_input_shaft_torque"] = float(
+                model.static_force[chains[0]["shaft_row"]])
         # what the shaft and gear tiers of the analysis need, under the names of a gear
-        # train's result: the driven gears' speeds [Hz], reference = the chain's first
-        # shaft (the stage's output), and their tooth counts or compound stages
-        ch = model.info["chain"]
+        # train's result: the gears' speeds [Hz], reference = the first chain's first
+        # shaft (the gearbox input, or the stage's output), and their teeth or stages
+        ch = chains[0]["chain"]
         extra_attrs["shaft_frequency"] = [float(ch.shaft_frequency(j))
                                           for j in range(len(ch.gears))]
         extra_attrs["analysis_teeth"] = [int(g.teeth) for g in (
             ch.gears if ch.is_chain else (ch.pairs[0].driver, ch.pairs[0].driven))]
         if (stages := ch.compound_stages()) is not None:
             extra_attrs["analysis_stages"] = ",".join(f"{d}/{n}" for d, n in stages)
-    # once-per-revolution tacho of every turning shaft (the stage's members, then a
-    # driven chain's shafts), each in its own sense, following a speed profile
+    # once-per-revolution tacho of every turning shaft (the stage's members, then the
+    # chains' shafts), each in its own sense, following a speed profile
     shafts = [(m, abs(train.speeds[m])) for m in ("carrier", "sun", "ring")
               if train.speeds[m] != 0.0]
-    if "chain_rows" in model.info:
-        ch = model.info["chain"]
+    for e in chains:
+        ch = e["chain"]
         shafts += [(sh.name, abs(ch.speed(ch.gear_index(sh.gears[0]))))
                    for sh in ch.flow.shafts]
     extra["tacho"] = tacho_variable(np.stack([w * tau for _, w in shafts], axis=1))
     extra_coords["shaft"] = [name for name, _ in shafts]
     constant = all(model.tables[i].k.size == 1 for i in list(model.info["mesh_rows"])
-                   + list(model.info.get("chain_rows", ())))
+                   + [r for e in chains for r in e["rows"]])
     ds = xr.Dataset(
         {"mesh_force": (("time", "mesh"), forces, {"units": "N"}),
          "q": (("time", "dof"), q, {"units": "m"}),
@@ -693,4 +731,8 @@ def _chain_summary(ds) -> dict:
             "output_member": str(ds.attrs["output_member"]),
             "chain_side": str(ds.attrs.get("chain_side", "output")),
             "shaft_member": str(ds.attrs.get("shaft_member", ds.attrs["output_member"])),
+            **({"input_member": str(ds.attrs["input_member"]),
+                "input_shaft_torque_mean": float(np.mean(ds["input_shaft_torque"].values)),
+                "input_shaft_torque_rms": float(np.std(ds["input_shaft_torque"].values))}
+               if "input_shaft_torque" in ds else {}),
             "shaft_torque_mean": float(np.mean(tq)), "shaft_torque_rms": float(np.std(tq))}

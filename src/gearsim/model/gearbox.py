@@ -83,11 +83,13 @@ class Gearbox:
     shaft_stiffness : float, optional
         Torsional stiffness [N m/rad] of the shaft between the stage and ``train``
         (``None``: :func:`gearsim.dynamics.compose.build_stage_chain_model`'s default).
-    chain_side : {"output", "input"}
-        With a stage and gears: the gears are driven by the stage's output member
-        (``"output"``, e.g. a wind-turbine gearbox), or drive its input member
-        (``"input"``, a parallel input stage ahead of a planetary output stage); the
-        gearbox's input is then the gears' first shaft.
+    input_train : GearTrain, optional
+        Gears driving the stage's input member (``[input_chain]``: a parallel input
+        stage ahead of a planetary stage); the gearbox's input is then their first
+        shaft, and ``train`` (if any) the gears the stage drives.
+    input_shaft_stiffness : float, optional
+        Torsional stiffness [N m/rad] of the shaft from ``input_train`` to the stage
+        (``None``: the default of :func:`~gearsim.dynamics.compose.build_stage_chain_model`).
 
     Examples
     --------
@@ -108,14 +110,20 @@ class Gearbox:
     stage: PlanetaryTrain | None = None
     members: StageDynamics = field(default_factory=StageDynamics)
     shaft_stiffness: float | None = None
-    chain_side: str = "output"
+    input_train: GearTrain | None = None
+    input_shaft_stiffness: float | None = None
 
     def __post_init__(self) -> None:
         require(self.train is not None or self.stage is not None, "gearbox", "empty",
                 "needs gears ([[gears]]) or a planetary stage ([stage])")
-        require(self.chain_side in ("output", "input"), "chain.side", self.chain_side,
-                'must be "output" (the stage drives the gears) or "input" (the gears '
-                'drive the stage)')
+        require(self.input_train is None or self.stage is not None, "input_chain",
+                "given", "gears driving a stage need the stage ([stage])")
+
+    @property
+    def chains(self) -> tuple[GearTrain, ...]:
+        """The gear trains beside a stage in power-flow order (the gears driving it, then
+        those it drives); the gears alone without a stage."""
+        return tuple(t for t in (self.input_train, self.train) if t is not None)
 
     @property
     def name(self) -> str:
@@ -156,8 +164,9 @@ class Gearbox:
                 f"has a planetary stage; {purpose} needs a gearbox of external gears")
         return self.train
 
-    def _parts(self, stage: PlanetaryTrain | None, train: GearTrain | None) -> Gearbox:
-        return dataclasses.replace(self, stage=stage, train=train)
+    def _parts(self, stage: PlanetaryTrain | None, train: GearTrain | None,
+               input_train: GearTrain | None = None) -> Gearbox:
+        return dataclasses.replace(self, stage=stage, train=train, input_train=input_train)
 
     def with_crack(self, flank: str | None, *, depth: float | None = None,
                    closure: str | None = None, source: str | None = None) -> Gearbox:
@@ -203,10 +212,13 @@ class Gearbox:
             stage = dataclasses.replace(stage, settings=settings,
                                         cracks=() if flank == "none" else cracks)
             if flank not in (None, "none") or depth is not None:
-                return self._parts(stage, train)  # the crack is the stage's
+                return self._parts(stage, train, self.input_train)  # the stage's crack
+        inp = self.input_train
         if train is not None:
             train = train.with_crack(flank, depth=depth, closure=closure, source=source)
-        return self._parts(stage, train)
+        if inp is not None:  # gears ahead of a stage: their own cracks, options alike
+            inp = inp.with_crack(flank, closure=closure, source=source)
+        return self._parts(stage, train, inp)
 
     def healthy(self) -> Gearbox:
         """The gearbox without cracks and faults.
@@ -218,7 +230,9 @@ class Gearbox:
         stage = (None if self.stage is None
                  else dataclasses.replace(self.stage, cracks=(), faults=()))
         train = None if self.train is None else self.train.with_crack("none").with_faults(())
-        return self._parts(stage, train)
+        inp = (None if self.input_train is None
+               else self.input_train.with_crack("none").with_faults(()))
+        return self._parts(stage, train, inp)
 
     def replace(self, *, dynamics: dict[str, Any] | None = None,
                 analysis: dict[str, Any] | None = None,
@@ -253,10 +267,10 @@ class Gearbox:
             if stage is not None:
                 stage = dataclasses.replace(stage, settings=dataclasses.replace(
                     stage.settings, **stiffness))
-            if train is not None:
-                train = dataclasses.replace(train, stiffness=dataclasses.replace(
-                    train.stiffness, **stiffness))
-            gb = gb._parts(stage, train)
+            train, inp = (None if t is None else dataclasses.replace(
+                t, stiffness=dataclasses.replace(t.stiffness, **stiffness))
+                for t in (train, gb.input_train))
+            gb = gb._parts(stage, train, inp)
         return gb
 
     def mesh_stiffness(self, mesh: int = 0, *, revolution_of: int = 1):
@@ -323,7 +337,7 @@ class Gearbox:
 
             return simulate(self.train, settings, harmonics=harmonics, force=force)
         dataclasses.replace(self, dynamics=settings).check_run(harmonics)
-        if self.train is None:
+        if not self.chains:
             from gearsim.dynamics.stage import simulate_stage
 
             return simulate_stage(self.stage, self.members, settings)
@@ -331,7 +345,8 @@ class Gearbox:
 
         return simulate_stage_chain(self.stage, self.train, self.members, settings,
                                     shaft_stiffness=self.shaft_stiffness,
-                                    side=self.chain_side)
+                                    input_chain=self.input_train,
+                                    input_shaft_stiffness=self.input_shaft_stiffness)
 
     def record(self, spec: str, *, harmonics: int = 1, force: bool | None = None,
                **dynamics: Any) -> np.ndarray:
@@ -425,6 +440,8 @@ class Gearbox:
         summary, ds = stage_stiffness(stage)
         if self.train is not None:
             summary["chain"] = train_stiffness(self.train).summary()
+        if self.input_train is not None:
+            summary["input_chain"] = train_stiffness(self.input_train).summary()
 
         def write(path: str | Path) -> Path:
             from gearsim.io.atomic import atomic_write
@@ -467,7 +484,7 @@ class Gearbox:
         from gearsim.dynamics.layout import layout as plan
 
         out: dict = {"name": self.name, "shafts": [], "meshes": []}
-        shafts, gears, links, st = [], [], [], None
+        st = None
         if self.stage is not None:
             tr, s = self.stage, self.stage.stage
             out["stage"] = {"teeth": [s.sun_teeth, s.planet_teeth, s.ring_teeth],
@@ -479,30 +496,44 @@ class Gearbox:
                   "planet": s.planet.pitch_radius, "centre": s.centre_distance,
                   "angles": list(s.planet_angles_value),
                   "teeth": (s.sun_teeth, s.planet_teeth, s.ring_teeth),
-                  "side": self.chain_side,
-                  "member": (tr.operating.input if self.chain_side == "input" else
-                             next(m for m in ("sun", "ring", "carrier")
-                                  if m not in (tr.operating.fixed, tr.operating.input)))}
-        train = self.train
-        if train is not None:
+                  "output": next(m for m in ("sun", "ring", "carrier")
+                                 if m not in (tr.operating.fixed, tr.operating.input)),
+                  "input": tr.operating.input}
+        drawings = []  # (shafts, gears, links) of each chain, in power-flow order
+        names = self._chain_mesh_names()
+        for train in self.chains:
             fl = train.flow
+            first = len(out["meshes"])  # the meshes' names run through the chains
             for sh in fl.shafts:
                 i = train.gear_index(sh.gears[0])
                 out["shafts"].append({"name": sh.name, "gears": list(sh.gears),
                                       "speed_rpm": train.speed(i) * 30 / math.pi,
                                       "torque_Nm": train.torque(i)})
             for m, p in enumerate(train.pairs):
-                out["meshes"].append({"mesh": p.name, "driver": p.driver.name,
-                                      "driven": p.driven.name,
+                out["meshes"].append({"mesh": names[len(out["meshes"])],
+                                      "driver": p.driver.name, "driven": p.driven.name,
                                       "mesh_frequency_hz": train.mesh_frequencies[m],
                                       "static_force_N": train.static_mesh_force(m)})
             lay = plan(train, self.dynamics.per_item("idler_angle", len(idlers(train)),
                                                      "idler"))
-            shafts = [(sh.name, tuple(c)) for sh, c in zip(fl.shafts, lay.centres, strict=True)]
-            gears = [(g.name, fl.shaft_of[g.name], g.pitch_radius, g.teeth) for g in train.gears]
-            links = [(p.driver.name, p.driven.name, p.name) for p in train.pairs]
-        out["plan"] = {"shafts": shafts, "gears": gears, "links": links, "stage": st}
+            drawings.append((
+                [(sh.name, tuple(c)) for sh, c in zip(fl.shafts, lay.centres, strict=True)],
+                [(g.name, fl.shaft_of[g.name], g.pitch_radius, g.teeth) for g in train.gears],
+                [(p.driver.name, p.driven.name, names[first + m])
+                 for m, p in enumerate(train.pairs)]))
+        downstream = drawings[-1] if self.train is not None else ([], [], [])
+        upstream = drawings[0] if self.input_train is not None else None
+        out["plan"] = {"shafts": downstream[0], "gears": downstream[1],
+                       "links": downstream[2], "stage": st, "upstream": upstream}
         return out
+
+    def _chain_mesh_names(self) -> tuple[str, ...]:
+        """Names of the gears' meshes (those of a stage's result when there is a stage)."""
+        if self.stage is None:
+            return tuple(p.name for p in self.train.pairs)
+        from gearsim.dynamics.stage import chain_mesh_names
+
+        return chain_mesh_names(self.chains) if self.chains else ()
 
     # ---- parameter studies --------------------------------------------------------------
 
@@ -514,7 +545,7 @@ class Gearbox:
         -------
         tuple of float
         """
-        op = (self.train if self.chain_side == "input" else self.stage or self.train).operating
+        op = (self.input_train or self.stage or self.train).operating
         return op.speed, op.torque
 
     def slowest_shaft(self) -> tuple[str, float]:
@@ -529,8 +560,7 @@ class Gearbox:
         if self.stage is not None:
             f = {m: abs(v) / (2.0 * math.pi) for m, v in self.stage.speeds.items()
                  if m in ("sun", "carrier", "ring") and v != 0.0}
-        tr = self.train
-        if tr is not None:
+        for tr in self.chains:
             f.update({sh.name: abs(tr.shaft_frequency(tr.gear_index(sh.gears[0])))
                       for sh in tr.flow.shafts})
         m = min(f, key=f.get)
@@ -556,7 +586,7 @@ class Gearbox:
             check_cost(self.train, self.dynamics, harmonics=harmonics)
             return
         f_m = max((self.stage.mesh_frequency,
-                   *(self.train.mesh_frequencies if self.train is not None else ())))
+                   *(f for t in self.chains for f in t.mesh_frequencies)))
         which = ("the mesh frequency f_m" if harmonics == 1 else
                  f"the highest analysed mesh harmonic {harmonics} f_m")
         require(self.dynamics.fs > 2.0 * harmonics * f_m, "dynamics.fs", self.dynamics.fs,
@@ -594,12 +624,14 @@ class Gearbox:
             for j in range(self.stage.stage.planets):
                 out += [f"mesh_force[{m}-{planet_name(j)}]" for m in ("sun", "ring")]
             out += [f"ring_acceleration[{a}]" for a in ("x", "y")]
-            if self.train is not None:  # the gears the stage drives (or that drive it)
-                out += [f"chain_mesh_force[{p.name}]" for p in self.train.pairs]
+            if self.chains:  # the gears the stage drives and those that drive it
+                out += [f"chain_mesh_force[{name}]" for name in self._chain_mesh_names()]
                 out.append("shaft_torque")
+                if len(self.chains) > 1:
+                    out.append("input_shaft_torque")
                 axes = LTA_AXES if self.dynamics.model == "lta" else ()
                 out += [f"chain_acceleration[{sh.name},{a}]"
-                        for sh in self.train.flow.shafts for a in axes]
+                        for t in self.chains for sh in t.flow.shafts for a in axes]
             return out
         out = []
         for i in range(len(self.train.pairs)):
@@ -727,8 +759,8 @@ class Gearbox:
         >>> member, teeth
         ('carrier', [99, 21, 39])
         """
-        if self.stage is None or self._gears_record(signal):
-            tr = self.train
+        if self.stage is None or self._gears_record(signal) is not None:
+            tr = self.train if self.stage is None else self._gears_record(signal)
             teeth = [g.teeth for g in tr.gears]
             member, freq = tr.flow.shafts[0].name, tr.shaft_frequency(0)
         else:
@@ -741,10 +773,28 @@ class Gearbox:
             freq = abs(tr.speeds[member]) / (2.0 * math.pi)
         return member, freq, teeth[:1] if shafts == "reference" else teeth
 
-    def _gears_record(self, signal: str | None) -> bool:
-        """Whether ``signal`` is a record of the gears beside a stage."""
-        return (self.stage is not None and self.train is not None and signal is not None
-                and (signal.strip().startswith("chain_") or signal.strip() == "shaft_torque"))
+    def _gears_record(self, signal: str | None) -> GearTrain | None:
+        """The gears beside a stage that ``signal`` is a record of, else None: the chain
+        holding the shaft or mesh it names; ``shaft_torque`` the stage's output shaft's
+        (else its input's), ``input_shaft_torque`` the input chain's."""
+        if self.stage is None or not self.chains or signal is None:
+            return None
+        key = self.signal_key(signal) or ""
+        if key == "input_shaft_torque":
+            return self.input_train
+        if key == "shaft_torque":
+            return self.chains[-1]
+        label = key[key.find("[") + 1:key.find(",") if "," in key else -1]
+        if key.startswith("chain_acceleration["):
+            return next((t for t in self.chains
+                         if label in [sh.name for sh in t.flow.shafts]), None)
+        if key.startswith("chain_mesh_force["):
+            names, k = self._chain_mesh_names(), 0
+            for t in self.chains:
+                if label in names[k:k + len(t.pairs)]:
+                    return t
+                k += len(t.pairs)
+        return None
 
     def analysis_stages(self, signal: str | None = None) -> tuple[tuple[int, int], ...] | None:
         """The stages of a compound gear train for the signal analysis, or None.
@@ -778,9 +828,10 @@ class Gearbox:
         >>> gs.example("idler-table1").analysis_stages() is None
         True
         """
-        if (self.stage is not None and not self._gears_record(signal)) or self.train is None:
+        tr = self.train if self.stage is None else self._gears_record(signal)
+        if tr is None:
             return None
-        return self.train.compound_stages()  # the rule the results' attribute follows
+        return tr.compound_stages()  # the rule the results' attribute follows
 
     def analysis_train(self, shafts: str = "all", signal: str | None = None) -> dict[str, Any]:
         """The train and speed arguments of the analysis of a record of this gearbox.
@@ -831,13 +882,13 @@ class Gearbox:
             return self._parts(None, dataclasses.replace(
                 self.train, operating=Operating(speed=speed, torque=torque)))
         op = self.stage.operating
-        if self.chain_side == "input":  # the gears take the input, the stage their output
+        inp = self.input_train
+        if inp is not None:  # the gears take the input, the stage their output
             from gearsim.dynamics.compose import stage_operating
 
-            train = dataclasses.replace(self.train,
-                                        operating=Operating(speed=speed, torque=torque))
-            return self._parts(dataclasses.replace(
-                self.stage, operating=stage_operating(train, op.fixed, op.input)), train)
+            inp = dataclasses.replace(inp, operating=Operating(speed=speed, torque=torque))
+            last = stage_operating(inp, op.fixed, op.input)
+            speed, torque = last.speed, last.torque
         stage = dataclasses.replace(self.stage, operating=StageOperating(
             fixed=op.fixed, input=op.input, speed=speed, torque=torque))
         train = self.train
@@ -845,4 +896,4 @@ class Gearbox:
             from gearsim.dynamics.compose import chain_operating
 
             train = dataclasses.replace(train, operating=chain_operating(stage))
-        return self._parts(stage, train)
+        return self._parts(stage, train, inp)

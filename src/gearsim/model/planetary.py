@@ -22,7 +22,6 @@ have ``[[gears]]`` instead). Values take units as strings like the gear trains'
     [dynamics]        # duration, fs, step, transient, oversample, damping, backlash
     [analysis]        # as for gear trains
     [chain]           # optional: parallel gears on the output shaft (dynamics.compose)
-    side = "output"   # or "input": the gears drive the stage's input member
     shaft_stiffness = "2e7 N*m/rad"      # optional; default 10 x the next mesh's
     [chain.common]    # as a gear train's [common]; [[chain.gears]], [[chain.cracks]],
                       # [[chain.faults]], [[chain.modifications]], [chain.stiffness];
@@ -30,9 +29,11 @@ have ``[[gears]]`` instead). Values take units as strings like the gear trains'
                       # (the first shaft is the one the stage drives)
 
 The chain runs at the stage output's speed and torque (no ``[operating]`` of its own).
-With ``side = "input"`` the chain's last gear drives the stage's ``operating.input``
-member: ``[operating]`` ``speed`` and ``torque`` are then the chain's first gear's (the
-gearbox input), and the stage runs at the chain output's speed and torque.
+An ``[input_chain]`` (the same keys as ``[chain]``) is a chain whose last gear drives the
+stage's ``operating.input`` member: ``[operating]`` ``speed`` and ``torque`` are then its
+first gear's (the gearbox input), and the stage runs at its output's speed and torque.
+A stage may have both (gears, a planetary stage, gears); gear and shaft names are unique
+across the gearbox and differ from the stage's members.
 
 Assembly (coaxiality, (z_s + z_r)/N, planet spacing, tip interference of the internal
 pair) and the cracks (a planet the stage does not have) are checked where the stage is
@@ -45,7 +46,7 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-from gearsim.dynamics.compose import SIDES, chain_operating, stage_operating
+from gearsim.dynamics.compose import chain_operating, stage_operating
 from gearsim.dynamics.settings import parse_dynamics
 from gearsim.dynamics.stage import StageDynamics
 from gearsim.errors import InputError
@@ -78,9 +79,10 @@ MEMBER_KEYS = {f"{m}_{q}": kind for m in ("sun", "planet", "ring", "carrier")
 MEMBER_KEYS["held_torsional"] = "torsional_stiffness"
 SENSOR_KEYS = {"angle": "angle", "width": "angle"}
 PLANETARY_TOP_KEYS = ("name", "material", "stage", "operating", "members", "sensor",
-                      "stiffness", "cracks", "faults", "dynamics", "analysis", "chain")
+                      "stiffness", "cracks", "faults", "dynamics", "analysis", "chain",
+                      "input_chain")
 #: Keys of ``[chain]``: the shaft and a gear train's sections (no operating point).
-CHAIN_KEYS = ("name", "side", "shaft_stiffness", "common", "shafts", "gears", "meshes", "stiffness",
+CHAIN_KEYS = ("name", "shaft_stiffness", "common", "shafts", "gears", "meshes", "stiffness",
               "cracks", "faults", "modifications")
 
 
@@ -125,13 +127,13 @@ def parse_planetary(doc: dict[str, Any], material: Material,
     op_raw = doc.get("operating", {})
     with as_written(op_raw, "operating"):
         operating = StageOperating(**convert(op_raw, STAGE_OPERATING_KEYS, "operating"))
-    side = _chain_side(doc.get("chain"))
-    chain = None
-    if side == "input":  # the gears take [operating]'s speed and torque, the stage theirs
-        chain, shaft = _parse_chain(doc["chain"], doc.get("material", {}),
-                                    Operating(speed=operating.speed, torque=operating.torque),
-                                    parse_train)
-        operating = stage_operating(chain, operating.fixed, operating.input)
+    inp, inp_shaft = None, None
+    if "input_chain" in doc:  # the gears take [operating]'s speed and torque, the stage theirs
+        inp, inp_shaft = _parse_chain(doc["input_chain"], doc.get("material", {}),
+                                      Operating(speed=operating.speed,
+                                                torque=operating.torque),
+                                      parse_train, "input_chain")
+        operating = stage_operating(inp, operating.fixed, operating.input)
     stiffness_kw = convert(doc.get("stiffness", {}), {
         "closure": "str", "slices": "int", "positions_per_cycle": "int",
         "gauss_points": "int", "plane": "str", "source": "str", "contact": "str",
@@ -157,54 +159,59 @@ def parse_planetary(doc: dict[str, Any], material: Material,
                                 sensor_width=sen.get("width", math.pi), **groups)
     dynamics = parse_dynamics(doc.get("dynamics", {}), "dynamics")
     analysis = parse_analysis(doc.get("analysis", {}), "analysis")
-    if side == "output":
-        chain, shaft = (_parse_chain(doc["chain"], doc.get("material", {}),
-                                     chain_operating(train), parse_train)
-                        if "chain" in doc else (None, None))
+    chain, shaft = (_parse_chain(doc["chain"], doc.get("material", {}),
+                                 chain_operating(train), parse_train, "chain")
+                    if "chain" in doc else (None, None))
+    _unique_names(inp, chain)
     return Gearbox(train=chain, stage=train, members=members, dynamics=dynamics,
-                   analysis=analysis, shaft_stiffness=shaft, chain_side=side)
+                   analysis=analysis, shaft_stiffness=shaft, input_train=inp,
+                   input_shaft_stiffness=inp_shaft)
 
 
-def _chain_side(raw: Any) -> str:
-    """``[chain] side``: "output" (default, also without a chain) or "input"."""
-    if raw is None:
-        return "output"
-    if not isinstance(raw, dict):
-        raise InputError("chain", raw, "must be a table [chain]")
-    side = raw.get("side", "output")
-    if side not in SIDES:
-        raise InputError("chain.side", side, 'must be "output" (the stage drives the gears) '
-                         'or "input" (the gears drive the stage\'s operating.input member)')
-    return side
+def _unique_names(inp: GearTrain | None, chain: GearTrain | None) -> None:
+    """Refuse a gear or shaft name used in both chains or taken by a stage member (the
+    results label shafts and tachos by name; a chain's shaft may share its own gear's)."""
+    seen: dict[str, str] = {m: "the stage's members" for m in ("sun", "ring", "carrier")}
+    for table, tr in (("input_chain", inp), ("chain", chain)):
+        if tr is None:
+            continue
+        names = {g.name for g in tr.gears} | {sh.name for sh in tr.flow.shafts}
+        for name in sorted(names):
+            if name in seen:
+                raise InputError(f"{table}.gears", name, f"is already a name in "
+                                 f"{seen[name]}: names must be unique in the gearbox")
+        seen.update(dict.fromkeys(names, f"[{table}]"))
 
 
-def _parse_chain(raw: Any, material: Any, op: Operating, parse: Callable
+def _parse_chain(raw: Any, material: Any, op: Operating, parse: Callable, table: str
                  ) -> tuple[GearTrain, float | None]:
-    """The ``[chain]`` of a stage: a gear train at the operating point ``op`` (the stage
-    output's, or the gearbox input's when the chain drives the stage)."""
+    """The ``[chain]`` (or ``[input_chain]``) of a stage: a gear train at the operating
+    point ``op`` (the stage output's, or the gearbox input's for the input chain)."""
     import dataclasses
 
+    if not isinstance(raw, dict):
+        raise InputError(table, raw, f"must be a table [{table}]")
     for key in raw:
         if key not in CHAIN_KEYS:
-            raise InputError(f"chain.{key}", "...", "unknown key; allowed: "
+            raise InputError(f"{table}.{key}", "...", "unknown key; allowed: "
                              + ", ".join(CHAIN_KEYS))
     if "gears" not in raw:
-        raise InputError("chain.gears", "missing", "a chain needs [[chain.gears]] (two or "
-                         "more gears, the first on the stage's output shaft)")
+        raise InputError(f"{table}.gears", "missing", f"a chain needs [[{table}.gears]] "
+                         "(two or more gears)")
     shaft = None
     if "shaft_stiffness" in raw:
         shaft = convert({"shaft_stiffness": raw["shaft_stiffness"]},
-                        {"shaft_stiffness": "torsional_stiffness"}, "chain")["shaft_stiffness"]
+                        {"shaft_stiffness": "torsional_stiffness"}, table)["shaft_stiffness"]
         if not (MIN_SHAFT_STIFFNESS <= shaft <= MAX_SHAFT_STIFFNESS):
-            raise InputError("chain.shaft_stiffness", raw["shaft_stiffness"],
+            raise InputError(f"{table}.shaft_stiffness", raw["shaft_stiffness"],
                              f"must be a finite stiffness in [{MIN_SHAFT_STIFFNESS:g}, "
                              f"{MAX_SHAFT_STIFFNESS:g}] N*m/rad")
-    sub = {k: v for k, v in raw.items() if k not in ("shaft_stiffness", "side")}
-    sub.setdefault("name", "chain")
+    sub = {k: v for k, v in raw.items() if k != "shaft_stiffness"}
+    sub.setdefault("name", table.replace("_", " "))
     sub["material"] = material
     sub["operating"] = {"speed": f"{op.speed!r} rad/s", "torque": f"{op.torque!r} N*m"}
     try:
         box = parse(sub)
     except InputError as exc:  # name the table the value was written in
-        raise InputError(f"chain.{exc.parameter}", exc.value, exc.limit) from None
+        raise InputError(f"{table}.{exc.parameter}", exc.value, exc.limit) from None
     return dataclasses.replace(box.train, operating=op), shaft

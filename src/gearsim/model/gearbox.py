@@ -438,10 +438,12 @@ class Gearbox:
 
         stage = self.stage
         summary, ds = stage_stiffness(stage)
-        if self.train is not None:
-            summary["chain"] = train_stiffness(self.train).summary()
-        if self.input_train is not None:
-            summary["input_chain"] = train_stiffness(self.input_train).summary()
+        names = iter(self._chain_mesh_names())  # as the results name them
+        for key, tr in (("input_chain", self.input_train), ("chain", self.train)):
+            if tr is not None:
+                summary[key] = train_stiffness(tr).summary()
+                for m in summary[key]["meshes"]:
+                    m["mesh"] = next(names)
 
         def write(path: str | Path) -> Path:
             from gearsim.io.atomic import atomic_write

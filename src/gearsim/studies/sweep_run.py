@@ -208,9 +208,10 @@ def batch_bytes(study: Study, batch: Sequence[Sequence[Case]],
     """Run several groups (:func:`group_runner`) and encode their tables as one part (the
     Dask task).
 
-    The groups' tables are joined along ``case`` (:func:`join_tables`: the arrays are
-    concatenated, not recomputed, so every value is the one :func:`run_group` gave) and
-    encoded once (:func:`gearsim.io.npzset.to_bytes`).
+    The groups run one after the other into one table
+    (:func:`gearsim.studies.sweep_case.run_batch`: the rows of :func:`run_group` of each
+    group, as :func:`join_tables` joins them), encoded once
+    (:func:`gearsim.io.npzset.to_bytes`).
 
     Parameters
     ----------
@@ -229,11 +230,10 @@ def batch_bytes(study: Study, batch: Sequence[Sequence[Case]],
         raised, once each (absent if none).
     """
     from gearsim.io.npzset import to_bytes
+    from gearsim.studies.sweep_case import run_batch
 
-    run = group_runner(study)
     with warnings.catch_warnings(record=True) as caught:  # not on the worker's stderr: the
-        tables = [run(study, cases, hook) for cases in batch]  # client says them (run_study)
-    ds = tables[0] if len(tables) == 1 else join_tables(tables)
+        ds = run_batch(study, batch, hook)  # client says them (run_study)
     ds.attrs["groups"] = [study.simulation_key(cases[0]) for cases in batch]
     if caught:
         ds.attrs["warnings"] = "\n".join(dict.fromkeys(

@@ -4,9 +4,10 @@ Design (see ``docs/studies.md``, "Parameter sweeps"):
 
 * The cases of :func:`gearsim.studies.sweep.expand` are grouped by simulation
   (:meth:`Study.simulation_key`); a *batch* of consecutive groups is one Dask task
-  (:func:`batch_bytes`, each group by :func:`gearsim.studies.sweep_case.run_group`, see
-  :func:`group_runner`), so that the per-task costs (scheduling, transfer, a part file,
-  its decoding) are paid once per batch: :func:`plan_batch` gives each worker about
+  (:func:`batch_bytes`: :func:`gearsim.studies.sweep_case.run_batch`, the rows of
+  :func:`~gearsim.studies.sweep_case.run_group` of each group in one table), so that the
+  per-task costs (scheduling, transfer, a part file, its decoding) are paid once per
+  batch: :func:`plan_batch` gives each worker about
   :data:`BATCH_TASKS_PER_WORKER` tasks of at most :data:`BATCH_MAX` groups, or the
   user's ``batch``.
 * The worker encodes a batch's table as bytes (:mod:`gearsim.io.npzset`: ``.npz``, far
@@ -177,7 +178,8 @@ def _write_nc(ds, path: str | Path) -> Path:
 
 
 def part_bytes(study: Study, cases: Sequence[Case], hook: Callable | None = None) -> bytes:
-    """Run a group (:func:`group_runner`) and encode its table as part bytes.
+    """Run a group (:func:`gearsim.studies.sweep_case.run_group`'s table) and encode it as
+    part bytes.
 
     The table is encoded by :func:`gearsim.io.npzset.to_bytes` (``.npz``, no HDF5): a
     part is written and read once, by gearsim; as NetCDF a 64-variable part cost ~0.25 s
@@ -205,8 +207,7 @@ def part_bytes(study: Study, cases: Sequence[Case], hook: Callable | None = None
 
 def batch_bytes(study: Study, batch: Sequence[Sequence[Case]],
                 hook: Callable | None = None) -> bytes:
-    """Run several groups (:func:`group_runner`) and encode their tables as one part (the
-    Dask task).
+    """Run several groups and encode their table as one part (the Dask task).
 
     The groups run one after the other into one table
     (:func:`gearsim.studies.sweep_case.run_batch`: the rows of :func:`run_group` of each
@@ -220,7 +221,7 @@ def batch_bytes(study: Study, batch: Sequence[Sequence[Case]],
     batch : sequence of sequence of Case
         Simulation groups (each of equal :meth:`Study.simulation_key`), at least one.
     hook : callable, optional
-        Passed to :func:`run_group` (fault injection in tests).
+        Called with each group's cases before its work (fault injection in tests).
 
     Returns
     -------

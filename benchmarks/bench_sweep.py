@@ -137,8 +137,8 @@ def main() -> None:
                 dt, cpu = _timed_study(study, Path(tmp) / f"w2-{r}-{b}.nc", args.cases, 2, b)
                 pair[b] = dt
                 cpus.setdefault(b, []).append(cpu)
-                what = "batch=1" if b == 1 else f"batch={auto}" + (" (auto)" if b is None
-                                                                   else "")
+                what = ("batch=1" if b == 1 else f"batch={b}" if b is not None
+                        else f"batch<={auto} (auto, smaller at the end)")
                 print(f"Dask, 2 workers, {what}: {args.cases} cases in {dt:7.2f} s = "
                       f"{60 * args.cases / dt:6.1f} cases/min (incl. any cluster start and "
                       f"worker warm-up); CPU {cpu:7.2f} s = {cpu / args.cases:6.4f} s a case "

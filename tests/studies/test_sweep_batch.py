@@ -140,6 +140,13 @@ def test_automatic_batch_size():
     assert plan_batch(2000, 2, 5) == 5 and plan_batch(3, 2, 10) == 3
     assert batches(list("abcde"), 2) == [["a", "b"], ["c", "d"], ["e"]]
     assert batches(list("abc"), 5) == [["a", "b", "c"]]
+    # the automatic size shrinks at the end (each batch at most 1/(2 workers) of the
+    # groups left), every group once, in order
+    keys = [f"{i:03d}" for i in range(299)]
+    sizes = [len(b) for b in batches(keys, plan_batch(299, 2), workers=2)]
+    assert max(sizes) == 15 and sizes[-4:] == [1, 1, 1, 1]
+    assert sizes == sorted(sizes, reverse=True)
+    assert [k for b in batches(keys, 15, workers=2) for k in b] == keys
 
 
 def test_batch_part_is_the_join_of_its_group_tables(study):

@@ -312,8 +312,13 @@ def plan_batch(tasks: int, workers: int, batch: int | None = None) -> int:
     return max(1, min(BATCH_MAX, per_task))
 
 
-def batches(keys: Sequence[str], size: int) -> list[list[str]]:
-    """``keys`` in consecutive runs of ``size`` (the last one shorter).
+def batches(keys: Sequence[str], size: int, workers: int = 0) -> list[list[str]]:
+    """``keys`` in consecutive runs of at most ``size``, smaller at the end with ``workers``.
+
+    With ``workers`` > 0 (the automatic batch size), no batch holds more than
+    ``1 / (2 workers)`` of the groups not yet handed out, so the last batches shrink to
+    one group and the workers finish together (guided self-scheduling) instead of one
+    worker running a whole last batch while the others wait.
 
     Parameters
     ----------
@@ -321,6 +326,8 @@ def batches(keys: Sequence[str], size: int) -> list[list[str]]:
         Simulation keys, in study order.
     size : int
         Groups per batch (>= 1).
+    workers : int
+        Worker threads; 0: every batch ``size`` groups (the last one what is left).
 
     Returns
     -------
@@ -328,10 +335,18 @@ def batches(keys: Sequence[str], size: int) -> list[list[str]]:
 
     Examples
     --------
-    >>> batches(["a", "b", "c"], 2)
-    [['a', 'b'], ['c']]
+    >>> batches(list("abcde"), 2)
+    [['a', 'b'], ['c', 'd'], ['e']]
+    >>> [len(b) for b in batches([str(i) for i in range(40)], 8, workers=2)]
+    [8, 8, 6, 5, 4, 3, 2, 1, 1, 1, 1]
     """
-    return [list(keys[i:i + size]) for i in range(0, len(keys), size)]
+    out: list[list[str]] = []
+    i = 0
+    while i < len(keys):
+        n = size if workers <= 0 else max(1, min(size, -(-(len(keys) - i) // (2 * workers))))
+        out.append(list(keys[i:i + n]))
+        i += n
+    return out
 
 
 def part_path(store: str | Path, key: str) -> Path:
@@ -1039,7 +1054,8 @@ def _run_on_dask(study: Study, grouped: dict, todo: list[str], hook: Callable | 
         threads = n_workers if scheduler is None else max(1, sum(client.nthreads().values()))
         size = plan_batch(len(todo), threads, batch)
         futures = {}
-        for keys in batches(todo, size):
+        # the automatic size shrinks towards the end (the workers finish together)
+        for keys in batches(todo, size, threads if batch is None else 0):
             name = _batch_name(keys)
             futures[client.submit(batch_bytes, study, [grouped[k] for k in keys], hook,
                                   key=f"case-{name}", pure=False, retries=RETRIES)] = keys

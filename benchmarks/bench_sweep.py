@@ -19,7 +19,8 @@ group per Dask task (``batch=1``, as before batches) and once with ``--batch`` g
 task (default: :func:`gearsim.studies.sweep_run.plan_batch`'s automatic size), alternated
 ``--repeat`` times (the machine is shared: compare the pairs), and the ratios of the two
 and of each to the serial loops are printed. ``--no-one-worker`` skips the 1-worker run
-(a larger study: ``--cases 300 --no-one-worker``).
+(a larger study: ``--cases 300 --no-one-worker``), ``--no-serial`` the serial loops (the
+2000-case study: ``--cases 2000 --no-one-worker --no-serial``).
 
 Run: ``.venv/bin/python benchmarks/bench_sweep.py [--cases 8] [--batch N] [--repeat R]``
 """
@@ -117,6 +118,8 @@ def main() -> None:
                     help="alternating pairs of unbatched and batched 2-worker runs")
     ap.add_argument("--no-one-worker", action="store_true",
                     help="skip the 1-worker run (in-process for a small study)")
+    ap.add_argument("--no-serial", action="store_true",
+                    help="skip the serial loops (a large study: the 2-worker pairs only)")
     args = ap.parse_args()
     study = loads_study(STUDY.format(n=args.cases))
     n_groups = len(groups(study))
@@ -146,43 +149,21 @@ def main() -> None:
             pairs.append(pair)
         rate[2] = 60 * args.cases / min(p[args.batch] for p in pairs)
         rate["2u"] = 60 * args.cases / min(p[1] for p in pairs)
-        import numba
-
-        serial = {}
-        for threads in (numba.config.NUMBA_NUM_THREADS, 1):
-            numba.set_num_threads(threads)
-            forget_tables()
-            c0, t0 = _cpu(), time.perf_counter()
-            for cases in groups(study).values():
-                run_group(study, cases)
-            dt, cpu = time.perf_counter() - t0, _cpu() - c0
-            serial[threads] = 60 * args.cases / dt
-            cpus[f"serial{threads}"] = cpu
-            print(f"serial loop, no Dask, {threads} numba thread(s): {args.cases} cases in "
-                  f"{dt:7.2f} s = {serial[threads]:6.1f} cases/min; CPU "
-                  f"{cpu / args.cases:6.4f} s a case", flush=True)
-        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
-        # the loop that makes what a study makes: the same cases and the same store file
-        # (run_serial + the NetCDF write), one numba thread as a worker has
-        numba.set_num_threads(1)
-        forget_tables()
-        t0 = time.perf_counter()
-        run_serial(study).to_netcdf(Path(tmp) / "serial.nc", engine="h5netcdf")
-        dt = time.perf_counter() - t0
-        serial["store"] = 60 * args.cases / dt
-        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
-        print(f"serial loop writing the store, 1 numba thread: {args.cases} cases in "
-              f"{dt:7.2f} s = {serial['store']:6.1f} cases/min", flush=True)
+        serial = {} if args.no_serial else _serial_runs(study, args.cases, Path(tmp), cpus)
     for i, p in enumerate(pairs):
-        print(f"pair {i + 1}: 2 workers batch={auto} / batch=1 throughput: "
-              f"{p[1] / p[args.batch]:6.3f}")
+        print(f"pair {i + 1}: 2 workers batch={args.batch or auto} / batch=1 throughput: "
+              f"{p[1] / p[args.batch]:6.3f}, CPU a case {cpus[args.batch][i] / cpus[1][i]:6.3f}")
+    if not serial:
+        return
+    import numba
+
     one = cpus["serial1"] / args.cases
     for b in (1, args.batch):
         c = min(cpus[b]) / args.cases
-        print(f"CPU a case, 2 workers batch={b if b else auto}: {c:6.4f} s (best of "
+        print(f"CPU a case, 2 workers batch={b or auto}: {c:6.4f} s (best of "
               f"{len(cpus[b])}) = {c / one:5.3f} x the 1-thread loop's {one:6.4f} s")
     per_case = 1.0 / (serial[1] / 60)
-    for b, r in (("1", rate["2u"]), (str(auto), rate[2])):
+    for b, r in (("1", rate["2u"]), (str(args.batch or auto), rate[2])):
         # a worker's time per case (2 workers x wall / cases) against the 1-thread loop's
         print(f"2 workers, batch={b}: best {r:6.1f} cases/min; a worker's time per case "
               f"{120 / r:6.3f} s = {120 / r / per_case:5.2f} x the 1-thread loop's")
@@ -196,6 +177,38 @@ def main() -> None:
           "no file; ideal 2)")
     print(f"2 workers / serial loop writing the store: {rate[2] / serial['store']:6.2f} "
           "(target >= 1 for a small study: the cluster only when it pays)")
+
+
+def _serial_runs(study, n_cases: int, tmp: Path, cpus: dict) -> dict:
+    """The serial loops (numba's threads, one thread, one thread writing the store):
+    cases/min of each; their CPU times go into ``cpus`` (``serial<threads>``)."""
+    import numba
+
+    serial = {}
+    for threads in (numba.config.NUMBA_NUM_THREADS, 1):
+        numba.set_num_threads(threads)
+        forget_tables()
+        c0, t0 = _cpu(), time.perf_counter()
+        for cases in groups(study).values():
+            run_group(study, cases)
+        dt, cpu = time.perf_counter() - t0, _cpu() - c0
+        serial[threads] = 60 * n_cases / dt
+        cpus[f"serial{threads}"] = cpu
+        print(f"serial loop, no Dask, {threads} numba thread(s): {n_cases} cases in "
+              f"{dt:7.2f} s = {serial[threads]:6.1f} cases/min; CPU "
+              f"{cpu / n_cases:6.4f} s a case", flush=True)
+    # the loop that makes what a study makes: the same cases and the same store file
+    # (run_serial + the NetCDF write), one numba thread as a worker has
+    numba.set_num_threads(1)
+    forget_tables()
+    t0 = time.perf_counter()
+    run_serial(study).to_netcdf(tmp / "serial.nc", engine="h5netcdf")
+    dt = time.perf_counter() - t0
+    serial["store"] = 60 * n_cases / dt
+    numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+    print(f"serial loop writing the store, 1 numba thread: {n_cases} cases in "
+          f"{dt:7.2f} s = {serial['store']:6.1f} cases/min", flush=True)
+    return serial
 
 
 if __name__ == "__main__":

@@ -14,19 +14,28 @@ that is the per-core reference), and once more writing the same store (``run_ser
 and the NetCDF write: what a study produces, made by a loop). Prints cases per minute and the scaling ratio
 (2-worker / 1-worker throughput).
 
-Run: ``.venv/bin/python benchmarks/bench_sweep.py [--cases 8]``
+Batches: the 2-worker study runs twice in the same process, once with one simulation
+group per Dask task (``batch=1``, as before batches) and once with ``--batch`` groups a
+task (default: :func:`gearsim.studies.sweep_run.plan_batch`'s automatic size), alternated
+``--repeat`` times (the machine is shared: compare the pairs), and the ratios of the two
+and of each to the serial loops are printed. ``--no-one-worker`` skips the 1-worker run
+(a larger study: ``--cases 300 --no-one-worker``), ``--no-serial`` the serial loops (the
+2000-case study: ``--cases 2000 --no-one-worker --no-serial``).
+
+Run: ``.venv/bin/python benchmarks/bench_sweep.py [--cases 8] [--batch N] [--repeat R]``
 """
 
 from __future__ import annotations
 
 import argparse
+import resource
 import tempfile
 import time
 from pathlib import Path
 
 from gearsim.studies.sweep import loads_study
 from gearsim.studies.sweep_case import run_group
-from gearsim.studies.sweep_run import groups, run_serial, run_study
+from gearsim.studies.sweep_run import groups, plan_batch, run_serial, run_study
 
 STUDY = """
 [study]
@@ -79,57 +88,127 @@ def forget_tables() -> None:
         cache.cache_clear()
 
 
+def _cpu() -> float:
+    """CPU time [s] of this process (client, and a local cluster's scheduler) and of its
+    finished children (the nannies and, reaped by them, the workers)."""
+    me, kids = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(
+        resource.RUSAGE_CHILDREN)
+    return me.ru_utime + me.ru_stime + kids.ru_utime + kids.ru_stime
+
+
+def _timed_study(study, store: Path, cases: int, workers: int, batch: int | None,
+                 ) -> tuple[float, float]:
+    """Wall time and CPU time (:func:`_cpu`: every process of the study, once its
+    cluster is closed) of ``run_study`` of ``study`` (fresh caches), checked complete [s].
+    The CPU time hardly depends on other jobs sharing the machine, the wall time does."""
+    forget_tables()
+    c0, t0 = _cpu(), time.perf_counter()
+    res = run_study(study, store, workers=workers, progress=False, batch=batch)
+    dt, cpu = time.perf_counter() - t0, _cpu() - c0
+    assert res.computed == cases and res.failed == 0, res
+    return dt, cpu
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--cases", type=int, default=8, help="cases per configuration")
+    ap.add_argument("--batch", type=int, default=None,
+                    help="groups per Dask task of the batched runs (default: automatic)")
+    ap.add_argument("--repeat", type=int, default=1,
+                    help="alternating pairs of unbatched and batched 2-worker runs")
+    ap.add_argument("--no-one-worker", action="store_true",
+                    help="skip the 1-worker run (in-process for a small study)")
+    ap.add_argument("--no-serial", action="store_true",
+                    help="skip the serial loops (a large study: the 2-worker pairs only)")
     args = ap.parse_args()
     study = loads_study(STUDY.format(n=args.cases))
+    n_groups = len(groups(study))
+    auto = plan_batch(n_groups - 1, 2, args.batch)  # the first group runs in-process
     rate = {}
     warm_up()  # this process warm, as for the serial loop (a cluster's workers start cold)
     with tempfile.TemporaryDirectory() as tmp:
-        for n in (1, 2):
-            forget_tables()
-            t0 = time.perf_counter()
-            res = run_study(study, Path(tmp) / f"w{n}.nc", workers=n, progress=False)
-            dt = time.perf_counter() - t0
-            assert res.computed == args.cases and res.failed == 0, res
-            rate[n] = 60 * args.cases / dt
-            print(f"Dask, {n} worker(s): {args.cases} cases in {dt:7.2f} s = {rate[n]:6.1f} "
-                  "cases/min (incl. any cluster start and worker warm-up)", flush=True)
-        import numba
+        if not args.no_one_worker:
+            dt, _ = _timed_study(study, Path(tmp) / "w1.nc", args.cases, 1, None)
+            rate[1] = 60 * args.cases / dt
+            print(f"Dask, 1 worker(s): {args.cases} cases in {dt:7.2f} s = {rate[1]:6.1f} "
+                  "cases/min (in-process: no cluster)", flush=True)
+        pairs = []
+        cpus: dict = {}
+        for r in range(args.repeat):
+            pair = {}
+            for b in (1, args.batch):  # None: automatic
+                dt, cpu = _timed_study(study, Path(tmp) / f"w2-{r}-{b}.nc", args.cases, 2, b)
+                pair[b] = dt
+                cpus.setdefault(b, []).append(cpu)
+                what = ("batch=1" if b == 1 else f"batch={b}" if b is not None
+                        else f"batch<={auto} (auto, smaller at the end)")
+                print(f"Dask, 2 workers, {what}: {args.cases} cases in {dt:7.2f} s = "
+                      f"{60 * args.cases / dt:6.1f} cases/min (incl. any cluster start and "
+                      f"worker warm-up); CPU {cpu:7.2f} s = {cpu / args.cases:6.4f} s a case "
+                      "(all processes)", flush=True)
+            pairs.append(pair)
+        rate[2] = 60 * args.cases / min(p[args.batch] for p in pairs)
+        rate["2u"] = 60 * args.cases / min(p[1] for p in pairs)
+        serial = {} if args.no_serial else _serial_runs(study, args.cases, Path(tmp), cpus)
+    for i, p in enumerate(pairs):
+        print(f"pair {i + 1}: 2 workers batch={args.batch or auto} / batch=1 throughput: "
+              f"{p[1] / p[args.batch]:6.3f}, CPU a case {cpus[args.batch][i] / cpus[1][i]:6.3f}")
+    if not serial:
+        return
+    import numba
 
-        serial = {}
-        for threads in (numba.config.NUMBA_NUM_THREADS, 1):
-            numba.set_num_threads(threads)
-            forget_tables()
-            t0 = time.perf_counter()
-            for cases in groups(study).values():
-                run_group(study, cases)
-            dt = time.perf_counter() - t0
-            serial[threads] = 60 * args.cases / dt
-            print(f"serial loop, no Dask, {threads} numba thread(s): {args.cases} cases in "
-                  f"{dt:7.2f} s = {serial[threads]:6.1f} cases/min", flush=True)
-        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
-        # the loop that makes what a study makes: the same cases and the same store file
-        # (run_serial + the NetCDF write), one numba thread as a worker has
-        numba.set_num_threads(1)
-        forget_tables()
-        t0 = time.perf_counter()
-        run_serial(study).to_netcdf(Path(tmp) / "serial.nc", engine="h5netcdf")
-        dt = time.perf_counter() - t0
-        serial["store"] = 60 * args.cases / dt
-        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
-        print(f"serial loop writing the store, 1 numba thread: {args.cases} cases in "
-              f"{dt:7.2f} s = {serial['store']:6.1f} cases/min", flush=True)
-    print(f"scaling 2 / 1 workers:          {rate[2] / rate[1]:6.2f} (ideal 2)")
-    print(f"1 worker / serial loop, 1 thread: {rate[1] / serial[1]:6.2f} (Dask overhead; a "
-          "Dask worker runs numba on 1 thread)")
+    one = cpus["serial1"] / args.cases
+    for b in (1, args.batch):
+        c = min(cpus[b]) / args.cases
+        print(f"CPU a case, 2 workers batch={b or auto}: {c:6.4f} s (best of "
+              f"{len(cpus[b])}) = {c / one:5.3f} x the 1-thread loop's {one:6.4f} s")
+    per_case = 1.0 / (serial[1] / 60)
+    for b, r in (("1", rate["2u"]), (str(args.batch or auto), rate[2])):
+        # a worker's time per case (2 workers x wall / cases) against the 1-thread loop's
+        print(f"2 workers, batch={b}: best {r:6.1f} cases/min; a worker's time per case "
+              f"{120 / r:6.3f} s = {120 / r / per_case:5.2f} x the 1-thread loop's")
+    if 1 in rate:
+        print(f"scaling 2 / 1 workers:          {rate[2] / rate[1]:6.2f} (ideal 2)")
+        print(f"1 worker / serial loop, 1 thread: {rate[1] / serial[1]:6.2f} (in-process "
+              "run_study: parts and store)")
     best = max(serial[numba.config.NUMBA_NUM_THREADS], serial[1])
     print(f"2 workers / serial loop, all threads: {rate[2] / best:6.2f}")
     print(f"2 workers / serial loop, 1 thread: {rate[2] / serial[1]:6.2f} (the loop writes "
-          "no file)")
+          "no file; ideal 2)")
     print(f"2 workers / serial loop writing the store: {rate[2] / serial['store']:6.2f} "
           "(target >= 1 for a small study: the cluster only when it pays)")
+
+
+def _serial_runs(study, n_cases: int, tmp: Path, cpus: dict) -> dict:
+    """The serial loops (numba's threads, one thread, one thread writing the store):
+    cases/min of each; their CPU times go into ``cpus`` (``serial<threads>``)."""
+    import numba
+
+    serial = {}
+    for threads in (numba.config.NUMBA_NUM_THREADS, 1):
+        numba.set_num_threads(threads)
+        forget_tables()
+        c0, t0 = _cpu(), time.perf_counter()
+        for cases in groups(study).values():
+            run_group(study, cases)
+        dt, cpu = time.perf_counter() - t0, _cpu() - c0
+        serial[threads] = 60 * n_cases / dt
+        cpus[f"serial{threads}"] = cpu
+        print(f"serial loop, no Dask, {threads} numba thread(s): {n_cases} cases in "
+              f"{dt:7.2f} s = {serial[threads]:6.1f} cases/min; CPU "
+              f"{cpu / n_cases:6.4f} s a case", flush=True)
+    # the loop that makes what a study makes: the same cases and the same store file
+    # (run_serial + the NetCDF write), one numba thread as a worker has
+    numba.set_num_threads(1)
+    forget_tables()
+    t0 = time.perf_counter()
+    run_serial(study).to_netcdf(tmp / "serial.nc", engine="h5netcdf")
+    dt = time.perf_counter() - t0
+    serial["store"] = 60 * n_cases / dt
+    numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+    print(f"serial loop writing the store, 1 numba thread: {n_cases} cases in "
+          f"{dt:7.2f} s = {serial['store']:6.1f} cases/min", flush=True)
+    return serial
 
 
 if __name__ == "__main__":

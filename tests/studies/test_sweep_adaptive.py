@@ -57,8 +57,8 @@ def test_the_cluster_when_the_rest_outweighs_its_start(study, tmp_path, monkeypa
     workers; the first group was computed here and is not sent again."""
     seen = {}
 
-    def record(study_, grouped, rest, hook, scheduler, n_workers, kwargs, keep):
-        seen.update(rest=list(rest), n_workers=n_workers)
+    def record(study_, grouped, rest, hook, scheduler, n_workers, kwargs, keep, batch=None):
+        seen.update(rest=list(rest), n_workers=n_workers, batch=batch)
         for key in rest:
             keep(key, sr.part_bytes(study_, grouped[key], hook))
 

@@ -26,6 +26,9 @@ def sweep(
         help="local worker processes (1 thread each; default one per CPU core and "
              "simulation; more than the study's simulations is refused, more than the "
              "cores reduced)")] = None,
+    batch: Annotated[int | None, typer.Option(
+        help="simulations per Dask task (one part file each; default: about 10 tasks "
+             "per worker, at most 32 simulations each)")] = None,
     show: Annotated[bool, typer.Option("--show", help="print the study TOML and stop")] = False,
     progress: Annotated[bool, typer.Option(help="progress bar on stderr")] = True,
     report: Annotated[Path | None, typer.Option(
@@ -37,14 +40,20 @@ def sweep(
     from gearsim.io.targets import check_output_file, check_output_folder
     from gearsim.studies.diagnostic import CLASSES, FAULT_CLASSES
     from gearsim.studies.sweep import expand, load_study
-    from gearsim.studies.sweep_run import check_scheduler, check_workers, groups, run_study
-
+    from gearsim.studies.sweep_run import (
+        check_batch,
+        check_scheduler,
+        check_workers,
+        groups,
+        run_study,
+    )
 
     st = load_study(study)  # every study-wide setting is checked here, once
     if show:
         typer.echo(st.text, nl=False)
         return
     workers = check_workers(workers, len(groups(st)), "simulation")
+    check_batch(batch)
     if scheduler is not None:
         check_scheduler(scheduler)
     check_output_file(out, "--out", (".nc",))
@@ -65,7 +74,7 @@ def sweep(
                              f"{z:g}: " + ", ".join(f"{c} {n[c, z]}" for c in classes)
                              + "); add replicates, depths or loads")
     res = run_study(st, out, scheduler=scheduler, workers=workers, progress=progress,
-                    note=lambda line: typer.echo(line, err=True))
+                    note=lambda line: typer.echo(line, err=True), batch=batch)
     typer.echo(f"gearsim: {res.n_cases} cases ({res.computed} computed, {res.skipped} resumed,"
                f" {res.failed} failed) written to {res.store}")
     if report is not None:

@@ -26,7 +26,7 @@ from gearsim.signals import analyze
 from gearsim.signals.tiers import stage_features
 from gearsim.studies.sweep import PARAMETERS, Case, Study
 
-__all__ = ["FEATURE_GROUPS", "add_noise", "build_case", "features", "run_group"]
+__all__ = ["FEATURE_GROUPS", "add_noise", "build_case", "features", "run_batch", "run_group"]
 
 #: Feature-name prefix -> feature group (used by the diagnostic analysis).
 FEATURE_GROUPS = {"td_": "time-domain", "sb_": "sideband", "tsa_": "TSA", "band_": "band energy"}
@@ -171,7 +171,10 @@ def features(summary: dict) -> dict[str, float]:
 
 
 def _table(study: Study, cases: Sequence[Case], rows: list[dict], status: list[str],
-           errors: list[str], signals: list[np.ndarray | None], fs: float | None):
+           errors: list[str], signals: list[np.ndarray | None], fs: float | None,
+           names: list[str] | None = None):
+    """The table of ``cases``; ``names``: the feature variables in order (default: every
+    feature of ``rows``, sorted)."""
     import xarray as xr
 
     coords: dict[str, Any] = {"case": ("case", [c.index for c in cases])}
@@ -182,7 +185,8 @@ def _table(study: Study, cases: Sequence[Case], rows: list[dict], status: list[s
             continue
         coords[name] = ("case", [getattr(c, name) for c in cases],
                         {"units": PARAM_UNITS[name]} if PARAM_UNITS[name] else {})
-    names = sorted({k for r in rows for k in r})
+    if names is None:
+        names = sorted({k for r in rows for k in r})
     data: dict[str, Any] = {
         "status": ("case", status), "error": ("case", errors),
     }
@@ -219,6 +223,57 @@ def run_group(study: Study, cases: Sequence[Case],
         One row per case along dimension ``case`` (see module docstring). Refused input
         and failed simulations are recorded (status, message), not raised.
     """
+    return _table(study, cases, *_group_rows(study, cases, hook))
+
+
+def run_batch(study: Study, batch: Sequence[Sequence[Case]],
+              hook: Callable[[Sequence[Case]], None] | None = None):
+    """Run several simulation groups, one after the other, into one table.
+
+    The same rows as :func:`run_group` of each group joined along ``case``
+    (:func:`gearsim.studies.sweep_run.join_tables`; a group's missing features NaN,
+    tested), made as one table: a table per group and their join cost ~2.3 ms a
+    group, the one table ~0.1 ms. The feature variables come in the order of their first
+    appearance, each group's sorted.
+
+    Parameters
+    ----------
+    study : Study
+        The study.
+    batch : sequence of sequence of Case
+        Simulation groups (each of equal :meth:`Study.simulation_key`), at least one.
+    hook : callable, optional
+        Called with each group's cases before its work (tests use it to inject faults).
+
+    Returns
+    -------
+    xarray.Dataset
+        One row per case of the batch, in the order of the groups.
+    """
+    rows: list[dict] = []
+    status: list[str] = []
+    errors: list[str] = []
+    signals: list[np.ndarray | None] = []
+    fs = None
+    names: dict[str, None] = {}
+    for cases in batch:
+        r, st, err, sig, f = _group_rows(study, cases, hook)
+        rows += r
+        status += st
+        errors += err
+        signals += sig
+        fs = f if fs is None else fs
+        names.update(dict.fromkeys(sorted({k for row in r for k in row})))
+    return _table(study, [c for cases in batch for c in cases], rows, status, errors,
+                  signals, fs, list(names))
+
+
+def _group_rows(study: Study, cases: Sequence[Case],
+                hook: Callable[[Sequence[Case]], None] | None = None,
+                ) -> tuple[list[dict], list[str], list[str], list[np.ndarray | None],
+                           float | None]:
+    """:func:`run_group`'s work: features, status, error and analysed record of each
+    case, and the sampling rate (``None`` if the gearbox could not be built)."""
     if hook is not None:
         hook(cases)
     n = len(cases)
@@ -233,10 +288,9 @@ def run_group(study: Study, cases: Sequence[Case],
         # a compound train: every stage's mesh (unless only the reference is analysed)
         kwargs = gb.analysis_train(study.shafts, study.signal) | {"settings": gb.analysis}
     except (InputError, SimulationError) as exc:
-        return _table(study, cases, rows, ["failed"] * n, [str(exc)] * n, signals, fs)
+        return rows, ["failed"] * n, [str(exc)] * n, signals, fs
     except Exception as exc:  # keep the study going; the message says what it was
-        return _table(study, cases, rows, ["error"] * n,
-                      [f"{type(exc).__name__}: {exc}"] * n, signals, fs)
+        return rows, ["error"] * n, [f"{type(exc).__name__}: {exc}"] * n, signals, fs
     for i, case in enumerate(cases):
         try:
             xn = add_noise(x, case.noise, int(study.case_key(case), 16))
@@ -247,4 +301,4 @@ def run_group(study: Study, cases: Sequence[Case],
             status[i], errors[i] = "failed", str(exc)
         except Exception as exc:
             status[i], errors[i] = "error", f"{type(exc).__name__}: {exc}"
-    return _table(study, cases, rows, status, errors, signals, fs)
+    return rows, status, errors, signals, fs

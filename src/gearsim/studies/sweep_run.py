@@ -3,20 +3,27 @@
 Design (see ``docs/studies.md``, "Parameter sweeps"):
 
 * The cases of :func:`gearsim.studies.sweep.expand` are grouped by simulation
-  (:meth:`Study.simulation_key`); each group is one Dask task
-  (:func:`gearsim.studies.sweep_case.run_group`, see :func:`group_runner`).
-* The worker encodes a group's table as bytes (:mod:`gearsim.io.npzset`: ``.npz``, far
+  (:meth:`Study.simulation_key`); a *batch* of consecutive groups is one Dask task
+  (:func:`batch_bytes`: :func:`gearsim.studies.sweep_case.run_batch`, the rows of
+  :func:`~gearsim.studies.sweep_case.run_group` of each group in one table), so that the
+  per-task costs (scheduling, transfer, a part file, its decoding) are paid once per
+  batch: :func:`plan_batch` gives each worker about
+  :data:`BATCH_TASKS_PER_WORKER` tasks of at most :data:`BATCH_MAX` groups, or the
+  user's ``batch``.
+* The worker encodes a batch's table as bytes (:mod:`gearsim.io.npzset`: ``.npz``, far
   cheaper than NetCDF for such small tables); the client writes them atomically
-  (temporary file + rename) as its own part file ``STORE.parts/<simulation key>.npz``. Keys hash
-  the case parameters and the study fingerprint (base config, dynamics overrides,
-  analysed signal, seed), so a restarted study skips every group whose part exists, and
-  a changed study never reuses a stale part.
+  (temporary file + rename) as its own part file: ``STORE.parts/<simulation key>.npz``
+  for one group, ``STORE.parts/batch-<hash of its keys>.npz`` for several (attribute
+  ``groups``: the simulation keys it holds). Keys hash the case parameters and the study
+  fingerprint (base config, dynamics overrides, analysed signal, seed), so a restarted
+  study skips every group some part holds whole (its rows are found by ``case_key``),
+  and a changed study never reuses a stale part.
 * When all groups are done the parts are concatenated in case order into ``STORE``
   (atomic write), with the study TOML text, the gearsim version and the case counts as
   attributes. The parts are kept (delete ``STORE.parts`` by hand), so extending a grid
   recomputes only the new cases.
-* A worker that dies mid-task is replaced by the nanny and the task rescheduled by the
-  scheduler (``distributed.scheduler.allowed-failures``, set to
+* A worker that dies mid-task is replaced by the nanny and the task (its whole batch)
+  rescheduled by the scheduler (``distributed.scheduler.allowed-failures``, set to
   :data:`ALLOWED_FAILURES` for the local cluster); an exception raised by a task is
   retried :data:`RETRIES` times. Errors inside a case are recorded, not raised.
 """
@@ -47,11 +54,12 @@ from gearsim.io.targets import check_output_file
 if TYPE_CHECKING:  # the simulation modules load on first use (gearsim analyze needs none)
     from gearsim.studies.sweep import Case, Study
 
-__all__ = ["ALLOWED_FAILURES", "CONNECT_TIMEOUT", "PART_SUFFIX", "RETRIES", "SweepResult",
-           "check_scheduler", "check_workers", "cluster_client", "cluster_pays", "combine",
-           "group_runner", "groups",
-           "lock_path", "part_bytes", "part_path", "parts_dir", "plan_workers", "read_part",
-           "run_serial", "run_study", "store_lock"]
+__all__ = ["ALLOWED_FAILURES", "BATCH_MAX", "BATCH_PREFIX", "BATCH_TASKS_PER_WORKER",
+           "CONNECT_TIMEOUT", "PART_SUFFIX", "RETRIES", "SweepResult", "batch_bytes",
+           "batch_path", "batches", "check_batch", "check_scheduler", "check_workers",
+           "cluster_client", "cluster_pays", "combine", "group_runner", "groups",
+           "join_tables", "lock_path", "part_bytes", "part_groups", "part_path", "parts_dir",
+           "plan_batch", "plan_workers", "read_part", "run_serial", "run_study", "store_lock"]
 
 #: Worker deaths a task may cause before the scheduler gives up on it (local cluster).
 ALLOWED_FAILURES = 3
@@ -66,6 +74,14 @@ CLUSTER_START_S = 5.0
 CONNECT_TIMEOUT = "10s"
 #: Suffix of a part file (:func:`part_path`; :mod:`gearsim.io.npzset` archives).
 PART_SUFFIX = ".npz"
+#: Name prefix of a part file holding several simulation groups (:func:`batch_path`).
+BATCH_PREFIX = "batch-"
+#: Most simulation groups a Dask task runs when the batch size is automatic
+#: (:func:`plan_batch`): bounds the work a lost worker or a Ctrl-C loses and the idle time
+#: of the other workers while the last batch runs (32 Table-1 cases: ~4 s).
+BATCH_MAX = 32
+#: Tasks per worker the automatic batch size aims at (:func:`plan_batch`).
+BATCH_TASKS_PER_WORKER = 10
 #: Seconds the local cluster's workers may take to start, and to be spawned.
 WORKER_START_TIMEOUT = 120.0
 SPAWN_WAIT = 10.0
@@ -162,12 +178,14 @@ def _write_nc(ds, path: str | Path) -> Path:
 
 
 def part_bytes(study: Study, cases: Sequence[Case], hook: Callable | None = None) -> bytes:
-    """Run a group (:func:`group_runner`) and encode its table as part bytes (the Dask task).
+    """Run a group (:func:`gearsim.studies.sweep_case.run_group`'s table) and encode it as
+    part bytes.
 
     The table is encoded by :func:`gearsim.io.npzset.to_bytes` (``.npz``, no HDF5): a
     part is written and read once, by gearsim; as NetCDF a 64-variable part cost ~0.25 s
     to write and ~0.14 s to read, more than the case's analysis (measured,
-    ``benchmarks/bench_sweep.py``). The store stays NetCDF (:func:`run_study`).
+    ``benchmarks/bench_sweep.py``). The store stays NetCDF (:func:`run_study`). The same
+    as :func:`batch_bytes` of one group.
 
     Parameters
     ----------
@@ -181,17 +199,154 @@ def part_bytes(study: Study, cases: Sequence[Case], hook: Callable | None = None
     Returns
     -------
     bytes
-        The group's table; the messages of the warnings the group raised (once each) in
-        its attribute ``warnings``.
+        The group's table; its simulation key in the attribute ``groups`` (a list of one),
+        the messages of the warnings the group raised (once each) in ``warnings``.
+    """
+    return batch_bytes(study, [cases], hook)
+
+
+def batch_bytes(study: Study, batch: Sequence[Sequence[Case]],
+                hook: Callable | None = None) -> bytes:
+    """Run several groups and encode their table as one part (the Dask task).
+
+    The groups run one after the other into one table
+    (:func:`gearsim.studies.sweep_case.run_batch`: the rows of :func:`run_group` of each
+    group, as :func:`join_tables` joins them), encoded once
+    (:func:`gearsim.io.npzset.to_bytes`).
+
+    Parameters
+    ----------
+    study : Study
+        The study.
+    batch : sequence of sequence of Case
+        Simulation groups (each of equal :meth:`Study.simulation_key`), at least one.
+    hook : callable, optional
+        Called with each group's cases before its work (fault injection in tests).
+
+    Returns
+    -------
+    bytes
+        The table of every case of the batch; attribute ``groups``: the simulation keys of
+        the groups, in order; ``warnings``: the messages of the warnings the groups
+        raised, once each (absent if none).
     """
     from gearsim.io.npzset import to_bytes
+    from gearsim.studies.sweep_case import run_batch
 
     with warnings.catch_warnings(record=True) as caught:  # not on the worker's stderr: the
-        ds = group_runner(study)(study, cases, hook)  # client says them (run_study)
+        ds = run_batch(study, batch, hook)  # client says them (run_study)
+    ds.attrs["groups"] = [study.simulation_key(cases[0]) for cases in batch]
     if caught:
         ds.attrs["warnings"] = "\n".join(dict.fromkeys(
             f"{w.category.__name__}\t{' '.join(str(w.message).split())}" for w in caught))
     return to_bytes(ds)
+
+
+def check_batch(batch: int | None) -> int | None:
+    """The ``--batch`` of ``gearsim sweep`` (simulation groups per Dask task), checked.
+
+    Parameters
+    ----------
+    batch : int or None
+        Groups per task; ``None``: chosen by :func:`plan_batch`.
+
+    Returns
+    -------
+    int or None
+        ``batch`` as an ``int``.
+
+    Raises
+    ------
+    InputError
+        ``--batch``: not an integer >= 1.
+
+    Examples
+    --------
+    >>> check_batch(8), check_batch(None)
+    (8, None)
+    >>> try:
+    ...     check_batch(0)
+    ... except InputError as exc:
+    ...     print(exc)
+    --batch = 0: must be an integer >= 1 (simulation groups per Dask task)
+    """
+    if batch is None:
+        return None
+    if (isinstance(batch, bool) or not isinstance(batch, (int, np.integer))
+            or batch < 1):
+        raise InputError("--batch", batch,
+                         "must be an integer >= 1 (simulation groups per Dask task)")
+    return int(batch)
+
+
+def plan_batch(tasks: int, workers: int, batch: int | None = None) -> int:
+    """Simulation groups per Dask task.
+
+    Automatic (``batch`` ``None``): each worker gets about :data:`BATCH_TASKS_PER_WORKER`
+    tasks, none of more than :data:`BATCH_MAX` groups (a study of up to
+    ``workers * BATCH_TASKS_PER_WORKER`` groups: one group a task, as without batches).
+    A given ``batch`` is kept (at most ``tasks``).
+
+    Parameters
+    ----------
+    tasks : int
+        Simulation groups to compute.
+    workers : int
+        Worker threads that run them (>= 1).
+    batch : int, optional
+        Groups per task asked for (:func:`check_batch`).
+
+    Returns
+    -------
+    int
+        Groups per task, >= 1.
+
+    Examples
+    --------
+    >>> plan_batch(2000, 2), plan_batch(300, 2), plan_batch(12, 2), plan_batch(12, 2, 5)
+    (32, 15, 1, 5)
+    """
+    if batch is not None:
+        return max(1, min(check_batch(batch), tasks))
+    per_task = -(-max(tasks, 1) // (max(workers, 1) * BATCH_TASKS_PER_WORKER))
+    return max(1, min(BATCH_MAX, per_task))
+
+
+def batches(keys: Sequence[str], size: int, workers: int = 0) -> list[list[str]]:
+    """``keys`` in consecutive runs of at most ``size``, smaller at the end with ``workers``.
+
+    With ``workers`` > 0 (the automatic batch size), no batch holds more than
+    ``1 / (2 workers)`` of the groups not yet handed out, so the last batches shrink to
+    one group and the workers finish together (guided self-scheduling) instead of one
+    worker running a whole last batch while the others wait.
+
+    Parameters
+    ----------
+    keys : sequence of str
+        Simulation keys, in study order.
+    size : int
+        Groups per batch (>= 1).
+    workers : int
+        Worker threads; 0: every batch ``size`` groups (the last one what is left).
+
+    Returns
+    -------
+    list of list of str
+
+    Examples
+    --------
+    >>> batches(list("abcde"), 2)
+    [['a', 'b'], ['c', 'd'], ['e']]
+    >>> [len(b) for b in batches([str(i) for i in range(40)], 8, workers=2)]
+    [8, 8, 6, 5, 4, 3, 2, 1, 1, 1, 1]
+    """
+    out: list[list[str]] = []
+    i = 0
+    while i < len(keys):
+        n = size if workers <= 0 else max(1, min(size, -(-(len(keys) - i) // (2 * workers))))
+        out.append(list(keys[i:i + n]))
+        i += n
+    return out
 
 
 def part_path(store: str | Path, key: str) -> Path:
@@ -212,19 +367,48 @@ def part_path(store: str | Path, key: str) -> Path:
     return parts_dir(store) / f"{key}{PART_SUFFIX}"
 
 
+def batch_path(store: str | Path, keys: Sequence[str]) -> Path:
+    """The part file of a batch of simulation groups of ``store``.
+
+    Parameters
+    ----------
+    store : str or Path
+        The study store.
+    keys : sequence of str
+        :meth:`Study.simulation_key` of its groups, in order.
+
+    Returns
+    -------
+    Path
+        :func:`part_path` for one group; ``STORE.parts/batch-<hash of the keys>.npz`` for
+        several.
+    """
+    return parts_dir(store) / f"{_batch_name(keys)}{PART_SUFFIX}"
+
+
+def _batch_name(keys: Sequence[str]) -> str:
+    """The name of a batch's part file without its suffix: the key of a single group."""
+    import hashlib
+
+    keys = list(keys)
+    if len(keys) == 1:
+        return keys[0]
+    return BATCH_PREFIX + hashlib.sha256("\n".join(keys).encode()).hexdigest()[:16]
+
+
 def read_part(path: str | Path):
-    """Read a part file written from :func:`part_bytes` bytes.
+    """Read a part file written from :func:`part_bytes` or :func:`batch_bytes` bytes.
 
     Parameters
     ----------
     path : str or Path
-        A part file (:func:`part_path`).
+        A part file (:func:`part_path`, :func:`batch_path`).
 
     Returns
     -------
     xarray.Dataset or None
-        The group's table; ``None`` if the file cannot be read or is not a part (it is
-        then recomputed).
+        The table of its groups; ``None`` if the file cannot be read or is not a part (its
+        groups are then recomputed).
     """
     from gearsim.io.npzset import from_bytes
 
@@ -234,7 +418,30 @@ def read_part(path: str | Path):
         return None
 
 
-def combine(study: Study, parts: Sequence):
+def part_groups(part, path: str | Path) -> list[str]:
+    """The simulation keys of the groups a part holds.
+
+    Parameters
+    ----------
+    part : xarray.Dataset
+        A part (:func:`read_part`).
+    path : str or Path
+        Its file: a part written before batches (no attribute ``groups``) holds the group
+        its name says.
+
+    Returns
+    -------
+    list of str
+        The attribute ``groups``, else the file name without :data:`PART_SUFFIX`.
+    """
+    held = part.attrs.get("groups")
+    if held is None:
+        name = Path(path).name
+        return [name[:-len(PART_SUFFIX)] if name.endswith(PART_SUFFIX) else name]
+    return [held] if isinstance(held, str) else [str(k) for k in held]
+
+
+def combine(study: Study, parts: Sequence, keys: Sequence[str] | None = None):
     """Concatenate group tables in case order into the study store (an ``xr.Dataset``).
 
     Variables missing from a part (features of a failed group, its record) are filled
@@ -248,7 +455,13 @@ def combine(study: Study, parts: Sequence):
     study : Study
         The study (its text, config and name go into the attributes).
     parts : sequence of xarray.Dataset
-        Group tables of :func:`run_group` (features one variable each), any order.
+        Group tables of :func:`run_group` (features one variable each), any order; a part
+        may hold several groups (:func:`batch_bytes`).
+    keys : sequence of str, optional
+        The ``case_key`` of every case of the study, in case order: the rows are then
+        taken by key (the first row of each key; rows of other keys are left out, as
+        the groups of a part resumed from another grid) and ``case`` numbered 0, 1, ...
+        in that order. Default: every row, sorted by ``case``.
 
     Returns
     -------
@@ -261,22 +474,9 @@ def combine(study: Study, parts: Sequence):
     ------
     ValueError
         Parts that differ in their coordinates or in the shape of a record (the groups
-        of one study share both).
+        of one study share both); a key of ``keys`` that no part holds.
     """
-    parts = list(parts)
-    names: dict[str, tuple] = {}
-    sample_time = None
-    for p in parts:
-        table = p.variables  # Variables: no DataArray made per access
-        for k in p.data_vars:
-            if k not in names:
-                v = table[k]
-                names[k] = (v.dims, v.dtype, v.shape[1:], v.attrs)
-        if "sample_time" in p.coords and sample_time is None:
-            sample_time = p["sample_time"]
-    ds = _join_arrays(parts, names)
-    if sample_time is not None:
-        ds = ds.assign_coords(sample_time=sample_time)
+    ds = join_tables(parts, keys)
     status = ds["status"].values
     ds.attrs = {
         "title": f"gearsim parameter study: {study.name}",
@@ -292,17 +492,55 @@ def combine(study: Study, parts: Sequence):
     return ds
 
 
+def join_tables(parts: Sequence, keys: Sequence[str] | None = None):
+    """Group tables joined along ``case`` (:func:`combine` without the study's attributes).
+
+    Parameters
+    ----------
+    parts : sequence of xarray.Dataset
+        Tables of :func:`run_group` or parts of :func:`batch_bytes`, at least one.
+    keys : sequence of str, optional
+        As in :func:`combine`.
+
+    Returns
+    -------
+    xarray.Dataset
+        The rows sorted by ``case`` (or in the order of ``keys``); no attributes.
+
+    Raises
+    ------
+    ValueError
+        As :func:`combine`.
+    """
+    parts = list(parts)
+    names: dict[str, tuple] = {}
+    sample_time = None
+    for p in parts:
+        table = p.variables  # Variables: no DataArray made per access
+        for k in p.data_vars:
+            if k not in names:
+                v = table[k]
+                names[k] = (v.dims, v.dtype, v.shape[1:], v.attrs)
+        if "sample_time" in p.coords and sample_time is None:
+            sample_time = p["sample_time"]
+    ds = _join_arrays(parts, names, keys)
+    if sample_time is not None:
+        ds = ds.assign_coords(sample_time=sample_time)
+    return ds
+
+
 def _fill(dims_dtype_tail: tuple, n: int) -> np.ndarray:
     """The values of a variable a part of ``n`` cases lacks: NaN, or empty text."""
     _, dtype, tail, _ = dims_dtype_tail
     return np.full((n, *tail), np.nan if dtype.kind == "f" else "", dtype=dtype)
 
 
-def _join_arrays(parts: list, names: dict):
+def _join_arrays(parts: list, names: dict, keys: Sequence[str] | None = None):
     """:func:`combine`'s join, array by array.
 
     Raises ``ValueError`` when the parts differ in their coordinates or in the shape of
-    a record: the groups of one study share both (xarray's join refuses them too).
+    a record: the groups of one study share both (xarray's join refuses them too); or
+    when a key of ``keys`` is in no part.
     """
     import xarray as xr
 
@@ -320,7 +558,17 @@ def _join_arrays(parts: list, names: dict):
                 raise ValueError(f"study parts differ in the shape of {k!r}: "
                                  f"{v[k].dims} {v[k].shape[1:]} against {spec[0]} {spec[2]}")
     sizes = [p.sizes["case"] for p in parts]
-    order = np.argsort(np.concatenate([v["case"].values for v in tables]), kind="stable")
+    if keys is None:
+        order = np.argsort(np.concatenate([v["case"].values for v in tables]), kind="stable")
+    else:  # the first row of each key, in the order of the keys
+        row_of: dict[str, int] = {}
+        for i, k in enumerate(np.concatenate([v["case_key"].values for v in tables]).tolist()):
+            row_of.setdefault(k, i)
+        missing = [k for k in keys if k not in row_of]
+        if missing:
+            raise ValueError(f"study parts lack {len(missing)} case(s), e.g. case_key "
+                             f"{missing[0]!r}")
+        order = np.array([row_of[k] for k in keys], dtype=np.intp)
 
     def joined(name: str, spec: tuple | None) -> np.ndarray:
         arrays = [v[name].values if name in v else _fill(spec, n)
@@ -328,13 +576,17 @@ def _join_arrays(parts: list, names: dict):
         return np.concatenate(arrays)[order]
 
     # the first part's variables in its order, then those only later parts have
-    keys = list(first.data_vars) + [k for k in names if k not in first.data_vars]
+    variables = list(first.data_vars) + [k for k in names if k not in first.data_vars]
     # attributes of the first part's variable (xarray.concat's rule): none if it lacks it
     data = {k: xr.Variable(names[k][0], joined(k, names[k]),
                            first.variables[k].attrs if k in first.data_vars else {})
-            for k in keys}
+            for k in variables}
     coord_vars = {c: xr.Variable(("case",), joined(c, None), first.variables[c].attrs)
                   for c in first.coords if c != "sample_time"}
+    if keys is not None:  # numbered as the study numbers its cases now
+        case = coord_vars["case"]
+        coord_vars["case"] = xr.Variable(("case",), np.arange(len(keys), dtype=case.dtype),
+                                         case.attrs)
     return xr.Dataset(data, coords=coord_vars)
 
 
@@ -782,19 +1034,34 @@ def cluster_client(workers: int, scheduler: str | None = None,
             _shutdown(live.get("client"), live.get("cluster"))
 
 
+def _cases_text(study_cases: list[Case]) -> str:
+    """The case numbers of a failed task, for its message (a range for a long batch)."""
+    idx = [c.index for c in study_cases]
+    if len(idx) <= 8:
+        return f"cases {idx}"
+    return f"{len(idx)} cases ({idx[0]} ... {idx[-1]})"
+
+
 def _run_on_dask(study: Study, grouped: dict, todo: list[str], hook: Callable | None,
                  scheduler: str | None, n_workers: int, cluster_kwargs: dict | None,
-                 keep: Callable[[str, bytes], None]) -> None:
-    """Run the groups ``todo`` as Dask tasks (local cluster or ``scheduler``); ``keep``
-    each part as it arrives; the cluster is shut down whatever happens."""
+                 keep: Callable[[list[str], bytes], None], batch: int | None = None) -> None:
+    """Run the groups ``todo`` as Dask tasks of :func:`plan_batch` groups each (local
+    cluster or ``scheduler``); ``keep`` each batch's part as it arrives; the cluster is
+    shut down whatever happens."""
     from distributed import as_completed
 
     with cluster_client(n_workers, scheduler, cluster_kwargs) as client:
-        futures = {client.submit(part_bytes, study, grouped[k], hook, key=f"case-{k}",
-                                 pure=False, retries=RETRIES): k for k in todo}
+        threads = n_workers if scheduler is None else max(1, sum(client.nthreads().values()))
+        size = plan_batch(len(todo), threads, batch)
+        futures = {}
+        # the automatic size shrinks towards the end (the workers finish together)
+        for keys in batches(todo, size, threads if batch is None else 0):
+            name = _batch_name(keys)
+            futures[client.submit(batch_bytes, study, [grouped[k] for k in keys], hook,
+                                  key=f"case-{name}", pure=False, retries=RETRIES)] = keys
         kept = 0
         for fut in as_completed(futures):
-            key = futures[fut]
+            keys = futures[fut]
             try:
                 data = fut.result()
             except Exception as exc:
@@ -805,26 +1072,53 @@ def _run_on_dask(study: Study, grouped: dict, todo: list[str], hook: Callable | 
                         f"{len(todo)} groups to compute are written; the same command "
                         "resumes from them") from exc
                 raise SimulationError(
-                    f"sweep: cases {[c.index for c in grouped[key]]} failed after"
-                    f" retries: {_first_line(exc)}") from exc
-            keep(key, data)
-            kept += 1
+                    f"sweep: {_cases_text([c for k in keys for c in grouped[k]])} failed "
+                    f"after retries: {_first_line(exc)}") from exc
+            keep(keys, data)
+            kept += len(keys)
             fut.release()
+
+
+def _finished_parts(store: Path, grouped: dict, case_keys: dict,
+                    ) -> tuple[set[str], list[tuple[int, object]]]:
+    """The groups of ``grouped`` some part file in ``STORE.parts`` holds whole, and the
+    parts that hold them (each group counted in the first such part, by file name), each
+    with the position of its first such group in ``grouped``."""
+    done: set[str] = set()
+    found: list[tuple[int, object]] = []
+    position = {k: i for i, k in enumerate(grouped)}
+    folder = parts_dir(store)
+    if not folder.is_dir():
+        return done, found
+    for path in sorted(folder.glob(f"*{PART_SUFFIX}")):
+        stem = path.name[:-len(PART_SUFFIX)]
+        if stem not in grouped and not stem.startswith(BATCH_PREFIX):
+            continue  # another study's group (another fingerprint or grid): not read
+        part = read_part(path)
+        if part is None or "case_key" not in part.coords:
+            continue
+        have = set(part["case_key"].values.tolist())
+        new = [g for g in part_groups(part, path) if g in grouped and g not in done
+               and all(k in have for k in case_keys[g])]
+        if new:
+            done.update(new)
+            found.append((min(position[g] for g in new), part))
+    return done, found
 
 
 def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
               workers: int = 2, progress: bool = True, hook: Callable | None = None,
               cluster_kwargs: dict | None = None,
               note: Callable[[str], None] | None = None, adaptive: bool = True,
-              ) -> SweepResult:
+              batch: int | None = None) -> SweepResult:
     """Run a study on Dask and write its store; resume from ``STORE.parts`` if present.
 
     Checks come first (the study's settings were checked when it was read,
-    :func:`gearsim.studies.sweep.check_study`): ``workers``, the scheduler address, the
-    store path; then the store's lock (``STORE.lock``: a second sweep on the same store
-    is refused). The local cluster has at most one worker per group to compute and per
-    CPU core. On Ctrl-C (``KeyboardInterrupt``) the client and cluster are shut down
-    quietly and the finished parts are kept: the next run resumes from them.
+    :func:`gearsim.studies.sweep.check_study`): ``workers``, ``batch``, the scheduler
+    address, the store path; then the store's lock (``STORE.lock``: a second sweep on the
+    same store is refused). The local cluster has at most one worker per group to compute
+    and per CPU core. On Ctrl-C (``KeyboardInterrupt``) the client and cluster are shut
+    down quietly and the finished parts are kept: the next run resumes from them.
 
     Parameters
     ----------
@@ -853,6 +1147,11 @@ def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
         workers, saves more than its start-up (:data:`CLUSTER_START_S`); else the rest
         runs here too. The parts and the store are the same either way. ``False``:
         always the cluster.
+    batch : int, optional
+        Simulation groups per Dask task (one part file each, :func:`batch_bytes`);
+        default: :func:`plan_batch` (about :data:`BATCH_TASKS_PER_WORKER` tasks per
+        worker, at most :data:`BATCH_MAX` groups each). Groups run in this process are
+        written one part each. The store is the same whatever the batch.
 
     Returns
     -------
@@ -861,8 +1160,8 @@ def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
     Raises
     ------
     InputError
-        Bad ``workers``, scheduler address or store path; a store being written by
-        another sweep; a scheduler that cannot be reached.
+        Bad ``workers``, ``batch``, scheduler address or store path; a store being
+        written by another sweep; a scheduler that cannot be reached.
     SimulationError
         A group failed after its retries.
 
@@ -872,22 +1171,21 @@ def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
         Each distinct warning the groups raised in the workers, once, here in the client
         (a :class:`~gearsim.errors.ModelRangeWarning` as itself).
     """
+    from gearsim.io.npzset import from_bytes
     from gearsim.studies.sweep import expand
 
     plan_workers(workers, 1)  # the type and sign of workers, before anything else
+    batch = check_batch(batch)
     if scheduler is not None:
         scheduler = check_scheduler(scheduler)
     store = check_output_file(store, "--out", (".nc",))
     cases = expand(study)
     grouped = groups(study, cases)
+    all_keys = [study.case_key(c) for c in cases]  # in case order (Case.index)
+    case_keys = {g: [all_keys[c.index] for c in cs] for g, cs in grouped.items()}
+    position = {k: i for i, k in enumerate(grouped)}
     with store_lock(store):
-        done: dict[str, object] = {}
-        for key in grouped:
-            path = part_path(store, key)
-            if path.exists():
-                part = read_part(path)
-                if part is not None and part.sizes.get("case") == len(grouped[key]):
-                    done[key] = part
+        done, parts = _finished_parts(store, grouped, case_keys)
         todo = [k for k in grouped if k not in done]
         skipped = sum(len(grouped[k]) for k in done)
         computed = 0
@@ -897,12 +1195,17 @@ def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
                 note(msg)
             bar = _progress(len(cases), skipped, progress)
 
-            def keep(key: str, data: bytes) -> None:
+            def keep(keys: str | Sequence[str], data: bytes) -> None:
+                # written, then decoded here while the workers go on (the store is made
+                # from the decoded parts, not read back once the cluster is gone)
                 nonlocal computed
-                atomic_write(part_path(store, key), lambda p, d=data: p.write_bytes(d))
-                computed += len(grouped[key])
+                keys = [keys] if isinstance(keys, str) else list(keys)
+                atomic_write(batch_path(store, keys), lambda p, d=data: p.write_bytes(d))
+                n = sum(len(grouped[k]) for k in keys)
+                computed += n
+                parts.append((min(position[k] for k in keys), from_bytes(data)))
                 if bar is not None:
-                    bar[0].advance(bar[1], len(grouped[key]))
+                    bar[0].advance(bar[1], n)
 
             def here(keys: list[str]) -> None:
                 # a Ctrl-C is remembered as well as raised: where it lands, library code
@@ -953,20 +1256,17 @@ def run_study(study: Study, store: str | Path, *, scheduler: str | None = None,
                     here(rest)
                 elif rest:
                     _run_on_dask(study, grouped, rest, hook, scheduler,
-                                 min(n_workers, len(rest)), cluster_kwargs, keep)
+                                 min(n_workers, len(rest)), cluster_kwargs, keep, batch=batch)
             finally:
                 if bar is not None:
                     bar[0].stop()
-        for key in todo:  # read after the cluster is gone (no GIL contention with it)
-            done[key] = read_part(part_path(store, key))
-            if done[key] is None:
-                raise SimulationError(f"sweep: part {part_path(store, key)} cannot be read")
-        for line in dict.fromkeys(w for p in done.values() for w in
+        parts.sort(key=lambda item: item[0])  # in the order of their groups
+        for line in dict.fromkeys(w for _, p in parts for w in
                                   str(p.attrs.get("warnings", "")).splitlines()):
             kind, _, text = line.partition("\t")  # the workers' warnings, once each
             warnings.warn(text, ModelRangeWarning if kind == "ModelRangeWarning" else UserWarning,
                           stacklevel=2)
-        ds = combine(study, [done[k] for k in grouped])
+        ds = combine(study, [p for _, p in parts], keys=all_keys)
         _write_nc(ds, store)
     failed = int(ds.attrs["n_failed"])
     return SweepResult(store=store, n_cases=len(cases), computed=computed, skipped=skipped,

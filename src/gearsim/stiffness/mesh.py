@@ -329,7 +329,8 @@ def _slice_stiffness(diag: np.ndarray, width: np.ndarray, cross: np.ndarray | No
 
 def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
              width: np.ndarray, r1: np.ndarray, r2: np.ndarray, *,
-             force: float | None = None, coupling=None
+             force: float | None = None, coupling=None,
+             corner: np.ndarray | None = None, separation: np.ndarray | None = None
              ) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
     """The contact law and coupling of a mesh's slice contacts, as a function of the teeth.
 
@@ -362,6 +363,10 @@ def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
     coupling : optional
         Body coupling model with ``cross(gear, r_read, r_load)`` [m^2/N]
         (:class:`gearsim.fem.coupling.FiniteElementCoupling`); needed with coupling.
+    corner, separation : ndarray, shape (npc, n_age, ns), optional
+        Tip-corner contacts outside the path of contact (:func:`extended_grid`; their
+        ``lmid``, ``r1``, ``r2`` at the nearer end of the path) and their no-load
+        separations [m]: the law is then :func:`extended_law` (line contact only).
 
     Returns
     -------
@@ -410,6 +415,10 @@ def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
             return line_contact_compliance(np.maximum(q, 1e-3), rho1, rho2, dep1, dep2,
                                            g1.material, g2.material, settings.plane)
 
+    if corner is not None:
+        require(line, "stiffness.contact", settings.contact,
+                'contact outside the path needs the line contact (stiffness.contact = "line")')
+        return extended_law(width, corner, separation, ch, cross, contact, force)
     return slice_law(width, ch, cross, contact, force)
 
 
@@ -460,10 +469,214 @@ def slice_law(width: np.ndarray, ch: float, cross: np.ndarray | None,
     return law
 
 
+#: Largest number of active-set passes of :func:`extended_law` on the tip-corner
+#: contacts (a slice has at most two candidate corners, so two or three passes settle it;
+#: the cap only guards against cycling).
+CORNER_PASSES = 8
+
+
+def extended_grid(pair: GearPair, settings: StiffnessSettings
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int, int, int,
+                             np.ndarray]:
+    """Slice contacts on and just outside the path of contact (tip corners), point sampled.
+
+    Pair age a = m + first (first = -1) at position u of a cycle has its slice centre
+    at c = l_A + (u + a) p_b - z tan(beta_b). On the path (l_A <= c <= l_E) it is an
+    involute contact at c; within one base pitch before l_A (incoming pair: the driven
+    tip corner against the driver flank) or after l_E (outgoing pair: the driver tip
+    corner against the driven flank), and between the base tangent points T1 and T2, it
+    is a tip-corner contact with the no-load separation of
+    :func:`gearsim.stiffness.contacts.corner_separation` (Litvin & Fuentes 2004, ch. 10;
+    zero at l_A and l_E, quadratic away from them) and the contact law and teeth of the
+    nearer path end (``lmid`` = l_A or l_E). The stiffness is then continuous across
+    l_A and l_E (the corner's law at separation 0 is the path end's), so the samples
+    are points, not the in-path cell fractions of :func:`in_path_fraction` (those
+    average a jump that the tip-corner contact removes).
+
+    Parameters
+    ----------
+    pair : GearPair
+        The mesh.
+    settings : StiffnessSettings
+        Positions per cycle and slices.
+
+    Returns
+    -------
+    lmid, width, corner, separation, n_age, first, ns, zfrac
+        Contact point for the law (clipped to the path) [m], slice width of each
+        existing contact (0: none) [m], tip-corner flags, no-load separations [m], all
+        (npc, n_age, ns); number of ages, age of the first column (-1), slices, slice
+        centres over the face width [-].
+    """
+    from gearsim.stiffness.contacts import corner_separation
+
+    tb = math.tan(pair.driver.base_helix_angle)
+    b = pair.face_width
+    pb = pair.base_pitch
+    la, le, big_l = pair.start_of_contact, pair.end_of_contact, pair.line_length
+    ns = settings.slices if tb > 0 else 1
+    npc = settings.positions_per_cycle
+    first = -1
+    n_age = int(math.ceil((le - la) / pb + b * tb / pb)) + 3
+    u = np.arange(npc) / npc
+    age = u[:, None] + (np.arange(n_age) + first)[None, :]
+    dz = b / ns
+    zc = (np.arange(ns) + 0.5) * dz
+    centre = la + age[:, :, None] * pb - zc[None, None, :] * tb
+    path = (centre >= la) & (centre <= le)
+    corner = ~path & (((centre < la) & (centre > max(la - pb, 0.0)))
+                      | ((centre > le) & (centre < min(le + pb, big_l))))
+    width = np.where(path | corner, dz, 0.0)
+    sep = np.where(corner, corner_separation(pair, centre), 0.0)
+    return np.clip(centre, la, le), width, corner, sep, n_age, first, ns, zc / b
+
+
+def extended_law(width: np.ndarray, corner: np.ndarray, separation: np.ndarray, ch: float,
+                 cross: np.ndarray | None, contact: Callable[[np.ndarray], np.ndarray],
+                 force: float) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
+    """The law of :func:`slice_law` with tip-corner contacts that close under load.
+
+    At each position the mesh deflects by delta along the line of action under the force
+    F; a contact j with per-unit-width compliance matrix C (diagonal: contact plus both
+    teeth; off-diagonal: body cross compliance of adjacent pairs, as in
+    :func:`slice_law`), width w_j and no-load separation s_j (0 on the path, the tip
+    corner's outside it) carries the load per unit width q_j >= 0, with
+
+        (C q)_j = delta - s_j  (closed),   q_j = 0 and delta - (C q)_j < s_j  (open),
+        sum_j w_j q_j = F,
+
+    the static equilibrium of the loaded mesh (the deflection that carries F when the
+    loaded transmission error exceeds a corner's separation, as in the FE gear pair).
+    For an active set A: q_A = delta C_AA^-1 1 - C_AA^-1 s_A and
+    delta = (F + w . C_AA^-1 s_A) / (w . C_AA^-1 1); a corner opens when its q < 0 and
+    closes when its gap s_j - delta + (C q)_j < 0 (at most :data:`CORNER_PASSES`
+    passes). The line contact compliance of every closed contact follows its load per
+    unit width by :data:`LINE_ITERATIONS` fixed-point passes (an open corner keeps the
+    compliance of the previous pass). The mesh stiffness is the secant F / delta, the
+    quantity the FE gear pair computes; contact j's share of it is w_j q_j / delta.
+
+    Tip-corner contact law: the 2D line contact of the nearer path end
+    (:func:`gearsim.stiffness.tooth.line_contact_compliance`, Johnson 1985 eq. 5.79:
+    radii of curvature and centre-line depths at l_A or l_E) at the corner's own load
+    per unit width. A corner has no curvature of its own (the FE gear pair finds no
+    Hertz width there); this is the limit of the involute contact at the path end,
+    where the touching point is the same material point (the end of the involute), so
+    the stiffness is continuous across l_A and l_E. The compliance depends on the
+    contact width only through ln(2 d / a): halving or doubling the half width a
+    changes a corner's contact compliance by ln 2 / ln(2 d / a), about 15-20 % of it
+    (docs/stiffness.md, section 4c).
+
+    Parameters
+    ----------
+    width : ndarray, shape (npc, n_age, ns)
+        Width of each slice contact [m] (0: none).
+    corner : ndarray of bool, shape (npc, n_age, ns)
+        Tip-corner contacts (outside the path).
+    separation : ndarray, shape (npc, n_age, ns)
+        No-load separation of each contact along the line of action [m].
+    ch : float
+        Load-independent contact compliance per unit width, 1/k_h [m^2/N]: the start of
+        the fixed point.
+    cross : ndarray, shape (npc, n_age - 1, ns), or None
+        Body cross compliance between ages m and m + 1 per unit width [m^2/N].
+    contact : callable
+        ``contact(q)``: line contact compliance per unit width [m^2/N] at the load per
+        unit width q [N/m].
+    force : float
+        Line-of-action force of the mesh [N].
+
+    Returns
+    -------
+    callable
+        ``law(teeth) -> (ks, chs)``: the share of each slice contact in the secant mesh
+        stiffness [N/m] (0 for an open corner) and the contact compliance per unit
+        width used [m^2/N], both (npc, n_age, ns).
+    """
+    exists = width > 0
+    path = exists & ~corner
+    cand = exists & corner
+    s_pos = np.where(cand, separation, 0.0)
+
+    def solve(cdiag: np.ndarray, act: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        if cross is None:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                a = np.where(act, 1.0 / cdiag, 0.0)
+            b = a * s_pos
+        else:
+            off = np.where(act[:, :-1] & act[:, 1:], cross, 0.0)
+            a, b = _tridiagonal_solve(np.where(act, cdiag, 1.0), off,
+                                      np.where(act, 1.0, 0.0), np.where(act, s_pos, 0.0))
+        delta = (force + np.sum(width * b, axis=(1, 2))) / np.sum(width * a, axis=(1, 2))
+        return delta, np.where(act, delta[:, None, None] * a - b, 0.0)
+
+    def law(teeth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        chs = np.full(width.shape, ch)
+        act = path.copy()
+        q = np.zeros(width.shape)
+        for it in range(LINE_ITERATIONS + 1):
+            if it:
+                chs = np.where(exists & (q > 0), contact(np.where(q > 0, q, 1.0)), chs)
+            cdiag = chs + teeth
+            for _ in range(CORNER_PASSES):
+                delta, q = solve(cdiag, act)
+                approach = np.broadcast_to(delta[:, None, None], q.shape).copy()
+                if cross is not None:  # the neighbours' loads deflect an open corner
+                    approach[:, 1:] -= np.where(cand[:, 1:], cross * q[:, :-1], 0.0)
+                    approach[:, :-1] -= np.where(cand[:, :-1], cross * q[:, 1:], 0.0)
+                new = path | (cand & np.where(act, q > 0, approach > s_pos))
+                if np.array_equal(new, act):
+                    break
+                act = new
+        ks = np.where(act, width * q / delta[:, None, None], 0.0)
+        return ks, chs
+
+    return law
+
+
+def _tridiagonal_solve(diag: np.ndarray, off: np.ndarray, *rhs: np.ndarray
+                       ) -> tuple[np.ndarray, ...]:
+    """Solve symmetric tridiagonal systems along axis 1 (Thomas algorithm).
+
+    The compliance matrix of the pairs of a slice is tridiagonal (the body couples
+    adjacent pairs only) and diagonally dominant (a cross compliance is a few per cent of
+    a pair's compliance), so elimination without pivoting is stable (Golub & Van Loan,
+    Matrix Computations, 4th ed., sec. 4.3).
+
+    Parameters
+    ----------
+    diag : ndarray, shape (n, m, ...)
+        Diagonal [m^2/N].
+    off : ndarray, shape (n, m - 1, ...)
+        Off-diagonal between rows i and i + 1 [m^2/N].
+    *rhs : ndarray, shape of ``diag``
+        Right-hand sides.
+
+    Returns
+    -------
+    tuple of ndarray
+        The solutions, shape of ``diag``, one per right-hand side.
+    """
+    m = diag.shape[1]
+    cp = np.empty(off.shape)
+    rp = [np.empty(diag.shape) for _ in rhs]
+    den = diag[:, 0]
+    for j, r in enumerate(rhs):
+        rp[j][:, 0] = r[:, 0] / den
+    for i in range(1, m):
+        cp[:, i - 1] = off[:, i - 1] / den
+        den = diag[:, i] - off[:, i - 1] * cp[:, i - 1]
+        for j, r in enumerate(rhs):
+            rp[j][:, i] = (r[:, i] - off[:, i - 1] * rp[j][:, i - 1]) / den
+    for i in range(m - 2, -1, -1):
+        for x in rp:
+            x[:, i] -= cp[:, i] * x[:, i + 1]
+    return tuple(rp)
+
+
 def assemble_revolution(teeth: tuple[int, int], z_rev: int, npc: int,
                         healthy: tuple[np.ndarray, np.ndarray],
                         cracked: tuple[dict[int, np.ndarray], dict[int, np.ndarray]],
-                        width: np.ndarray, pairs: Callable
+                        width: np.ndarray, pairs: Callable, first: int = 0
                         ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Mesh stiffness over ``z_rev`` mesh cycles from the tooth compliances of one cycle.
 
@@ -491,6 +704,9 @@ def assemble_revolution(teeth: tuple[int, int], z_rev: int, npc: int,
         ``pairs(teeth_compliance) -> (ks, contact)``: the slice stiffnesses [N/m] and the
         contact compliance per unit width used, both (npc, n_age, ns), from the summed
         tooth compliances of both gears.
+    first : int
+        Age of the first column (-1 with the tip-corner contacts of
+        :func:`extended_grid`: the pair before the path of contact).
 
     Returns
     -------
@@ -511,8 +727,8 @@ def assemble_revolution(teeth: tuple[int, int], z_rev: int, npc: int,
     done: dict[tuple, slice] = {}
     for c in range(z_rev):
         sl = slice(c * npc, (c + 1) * npc)
-        i1 = [(c - m) % teeth[0] for m in range(n_age)]
-        i2 = [(c - m) % teeth[1] for m in range(n_age)]
+        i1 = [(c - m - first) % teeth[0] for m in range(n_age)]
+        i2 = [(c - m - first) % teeth[1] for m in range(n_age)]
         t1[sl] = i1
         t2[sl] = i2
         key = (tuple(i if i in cracked[0] else -1 for i in i1),
@@ -585,14 +801,32 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     require(model.name == settings.source, "stiffness.source", settings.source,
             f"the tooth-compliance model passed is {model.name!r}: pass the model the "
             "settings name (gearsim.system.tooth_compliance) or use GearTrain.mesh_stiffness")
-    lmid, frac, dz, n_age, ns, zfrac = _slice_grid(pair, settings)
+    # contact outside the path (tip corners) under the load-dependent line contact law;
+    # the seed's load-independent law keeps the path of contact (docs/stiffness.md 4c)
+    extended = settings.contact == "line" and settings.corner_contact
+    first, corner, sep = 0, None, None
+    if extended:
+        lmid, width, corner, sep, n_age, first, ns, zfrac = extended_grid(pair, settings)
+        inside = width > 0
+    else:
+        lmid, frac, dz, n_age, ns, zfrac = _slice_grid(pair, settings)
+        inside = frac > 0
     npc = settings.positions_per_cycle
-    inside = frac > 0
     r1 = np.where(inside, np.hypot(g1.base_radius, lmid), 0.0)
     r2 = np.where(inside, np.hypot(g2.base_radius, pair.line_length - lmid), 0.0)
 
     def table(gear, radii: np.ndarray, tc: ToothCrack | None) -> np.ndarray:
-        return model.compliance(gear, radii, tc, zfrac, settings)
+        if corner is None:
+            return model.compliance(gear, radii, tc, zfrac, settings)
+        # a tip-corner contact takes the teeth at its path end: two radii per slice
+        out = model.compliance(gear, np.where(corner, 0.0, radii), tc, zfrac, settings)
+        before = corner & (lmid <= pair.start_of_contact)
+        ends = np.stack([radii[before].max(initial=0.0), radii[corner & ~before].max(
+            initial=0.0)])
+        at = model.compliance(gear, np.broadcast_to(ends[:, None], (2, ns)), tc, zfrac,
+                              settings)
+        return np.where(before[..., None], at[0], np.where((corner & ~before)[..., None],
+                                                             at[1], out))
 
     healthy1 = table(g1, r1, None)
     healthy2 = table(g2, r2, None)
@@ -602,13 +836,15 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
         gear, radii, store = (g1, r1, cracked1) if tc.gear == 1 else (g2, r2, cracked2)
         store[tc.crack.tooth] = table(gear, radii, tc)
 
-    width = frac * dz  # carried face width of each slice [m]
-    pairs = pair_law(pair, settings, lmid, width, r1, r2, force=force, coupling=coupling)
+    if not extended:
+        width = frac * dz  # carried face width of each slice [m]
+    pairs = pair_law(pair, settings, lmid, width, r1, r2, force=force, coupling=coupling,
+                     corner=corner, separation=sep)
 
     z_rev = g1.teeth if revolution_of == 1 else g2.teeth
     k, comp, pair_k, t1, t2 = assemble_revolution(
         (g1.teeth, g2.teeth), z_rev, npc, (healthy1, healthy2), (cracked1, cracked2), width,
-        pairs)
+        pairs, first)
     n_pos = z_rev * npc
     cycles = np.arange(n_pos) / npc
     return MeshStiffness(
@@ -626,5 +862,6 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
                "positions_per_cycle": npc, "plane": settings.plane,
                "gauss_points": settings.gauss_points, "source": model.name,
                "contact": settings.contact, "coupling": settings.coupling,
-               **({"force": float(force)} if settings.contact == "line" else {})},
+               **({"force": float(force), "corner_contact": int(extended)}
+                  if settings.contact == "line" else {})},
     )

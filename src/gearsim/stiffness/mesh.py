@@ -330,7 +330,8 @@ def _slice_stiffness(diag: np.ndarray, width: np.ndarray, cross: np.ndarray | No
 def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
              width: np.ndarray, r1: np.ndarray, r2: np.ndarray, *,
              force: float | None = None, coupling=None,
-             corner: np.ndarray | None = None, separation: np.ndarray | None = None
+             corner: np.ndarray | None = None, separation: np.ndarray | None = None,
+             rate: np.ndarray | None = None
              ) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
     """The contact law and coupling of a mesh's slice contacts, as a function of the teeth.
 
@@ -363,10 +364,11 @@ def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
     coupling : optional
         Body coupling model with ``cross(gear, r_read, r_load)`` [m^2/N]
         (:class:`gearsim.fem.coupling.FiniteElementCoupling`); needed with coupling.
-    corner, separation : ndarray, shape (npc, n_age, ns), optional
+    corner, separation, rate : ndarray, shape (npc, n_age, ns), optional
         Tip-corner contacts outside the path of contact (:func:`extended_grid`; their
-        ``lmid``, ``r1``, ``r2`` at the nearer end of the path) and their no-load
-        separations [m]: the law is then :func:`extended_law` (line contact only).
+        ``lmid``, ``r1``, ``r2`` at the nearer end of the path), their no-load
+        separations [m] and closing rates [-]: the law is then :func:`extended_law`
+        (line contact only).
 
     Returns
     -------
@@ -418,7 +420,7 @@ def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
     if corner is not None:
         require(line, "stiffness.contact", settings.contact,
                 'contact outside the path needs the line contact (stiffness.contact = "line")')
-        return extended_law(width, corner, separation, ch, cross, contact, force)
+        return extended_law(width, corner, separation, rate, ch, cross, contact, force)
     return slice_law(width, ch, cross, contact, force)
 
 
@@ -473,11 +475,15 @@ def slice_law(width: np.ndarray, ch: float, cross: np.ndarray | None,
 #: contacts (a slice has at most two candidate corners, so two or three passes settle it;
 #: the cap only guards against cycling).
 CORNER_PASSES = 8
+#: Fixed-point passes on the outgoing corner's separation delta* = s(c + delta*)
+#: (:func:`extended_grid`): the contraction factor is s' < 0.1 where a corner can close
+#: under load (19/48 at 400 N m), so six passes leave < 1e-6 of it.
+SEPARATION_PASSES = 6
 
 
 def extended_grid(pair: GearPair, settings: StiffnessSettings
-                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int, int, int,
-                             np.ndarray]:
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                             int, int, int, np.ndarray]:
     """Slice contacts on and just outside the path of contact (tip corners), point sampled.
 
     Pair age a = m + first (first = -1) at position u of a cycle has its slice centre
@@ -488,7 +494,18 @@ def extended_grid(pair: GearPair, settings: StiffnessSettings
     is a tip-corner contact with the no-load separation of
     :func:`gearsim.stiffness.contacts.corner_separation` (Litvin & Fuentes 2004, ch. 10;
     zero at l_A and l_E, quadratic away from them) and the contact law and teeth of the
-    nearer path end (``lmid`` = l_A or l_E). The stiffness is then continuous across
+    nearer path end (``lmid`` = l_A or l_E).
+
+    Position convention: as in the FE gear pair (:mod:`gearsim.fem.pair`), the driven
+    gear stays at its kinematic angle of the position and the driver turns by the
+    deflection delta (line-of-action units). The incoming corner's separation is that
+    rotation already; the outgoing corner's is given by ``corner_separation`` as a
+    rotation of the driven gear, and turning the driver instead advances the mesh by
+    delta too, so the corner closes at delta* = s(c + delta*) and, beyond it, its gap
+    closes at the rate rho = 1 - s'(c + delta*) < 1 per unit delta (the ratio of the
+    driver's moment arm about the corner's contact normal, which is not the line of
+    action, to r_b1). The corner's normal load f then carries rho f of the
+    line-of-action force. The stiffness is then continuous across
     l_A and l_E (the corner's law at separation 0 is the path end's), so the samples
     are points, not the in-path cell fractions of :func:`in_path_fraction` (those
     average a jump that the tip-corner contact removes).
@@ -502,11 +519,12 @@ def extended_grid(pair: GearPair, settings: StiffnessSettings
 
     Returns
     -------
-    lmid, width, corner, separation, n_age, first, ns, zfrac
+    lmid, width, corner, separation, rate, n_age, first, ns, zfrac
         Contact point for the law (clipped to the path) [m], slice width of each
-        existing contact (0: none) [m], tip-corner flags, no-load separations [m], all
-        (npc, n_age, ns); number of ages, age of the first column (-1), slices, slice
-        centres over the face width [-].
+        existing contact (0: none) [m], tip-corner flags, no-load separations [m] and
+        closing rates [-] (1 on the path and before it), all (npc, n_age, ns); number of
+        ages, age of the first column (-1), slices, slice centres over the face width
+        [-].
     """
     from gearsim.stiffness.contacts import corner_separation
 
@@ -528,32 +546,56 @@ def extended_grid(pair: GearPair, settings: StiffnessSettings
                       | ((centre > le) & (centre < min(le + pb, big_l))))
     width = np.where(path | corner, dz, 0.0)
     sep = np.where(corner, corner_separation(pair, centre), 0.0)
-    return np.clip(centre, la, le), width, corner, sep, n_age, first, ns, zc / b
+    rate = np.ones(centre.shape)
+    out = corner & (centre > le)
+    if np.any(out):
+        # corner_separation gives the outgoing corner's as a rotation of the driven gear
+        # at a fixed driver; the table, as the FE gear pair, holds the driven gear at the
+        # position and turns the driver, which advances the mesh by the deflection itself:
+        # the corner closes at delta* = s(c + delta*) and its gap at the rate
+        # 1 - s'(c + delta*) per unit delta (the moment-arm ratio of a non-conjugate
+        # contact); a fixed point, s' < 1 where a corner can close
+        c = centre[out]
+        top = min(le + pb, big_l) - 1e-3 * pb
+        s_out = sep[out]
+        for _ in range(SEPARATION_PASSES):
+            s_out = corner_separation(pair, np.minimum(c + s_out, top))
+        h = 1e-3 * pb
+        x = np.minimum(c + s_out, top - h)
+        slope = (corner_separation(pair, x + h) - corner_separation(pair, x - h)) / (2 * h)
+        sep[out] = s_out
+        rate[out] = 1.0 - slope
+        corner = corner & (rate > 0)  # a corner the turning driver cannot close
+        width = np.where(path | corner, dz, 0.0)
+    return np.clip(centre, la, le), width, corner, sep, rate, n_age, first, ns, zc / b
 
 
-def extended_law(width: np.ndarray, corner: np.ndarray, separation: np.ndarray, ch: float,
-                 cross: np.ndarray | None, contact: Callable[[np.ndarray], np.ndarray],
-                 force: float) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
+def extended_law(width: np.ndarray, corner: np.ndarray, separation: np.ndarray,
+                 rate: np.ndarray, ch: float, cross: np.ndarray | None,
+                 contact: Callable[[np.ndarray], np.ndarray], force: float
+                 ) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
     """The law of :func:`slice_law` with tip-corner contacts that close under load.
 
     At each position the mesh deflects by delta along the line of action under the force
     F; a contact j with per-unit-width compliance matrix C (diagonal: contact plus both
     teeth; off-diagonal: body cross compliance of adjacent pairs, as in
-    :func:`slice_law`), width w_j and no-load separation s_j (0 on the path, the tip
-    corner's outside it) carries the load per unit width q_j >= 0, with
+    :func:`slice_law`), width w_j, no-load separation s_j and closing rate rho_j (0 and 1
+    on the path; the tip corner's outside it, :func:`extended_grid`) carries the normal
+    load per unit width q_j >= 0, with
 
-        (C q)_j = delta - s_j  (closed),   q_j = 0 and delta - (C q)_j < s_j  (open),
-        sum_j w_j q_j = F,
+        (C q)_j = rho_j (delta - s_j)  (closed),
+        q_j = 0 and rho_j (delta - s_j) < (C q)_j  (open),
+        sum_j w_j rho_j q_j = F,
 
     the static equilibrium of the loaded mesh (the deflection that carries F when the
     loaded transmission error exceeds a corner's separation, as in the FE gear pair).
-    For an active set A: q_A = delta C_AA^-1 1 - C_AA^-1 s_A and
-    delta = (F + w . C_AA^-1 s_A) / (w . C_AA^-1 1); a corner opens when its q < 0 and
-    closes when its gap s_j - delta + (C q)_j < 0 (at most :data:`CORNER_PASSES`
-    passes). The line contact compliance of every closed contact follows its load per
-    unit width by :data:`LINE_ITERATIONS` fixed-point passes (an open corner keeps the
+    For an active set A, with a = C_AA^-1 rho_A and b = C_AA^-1 (rho s)_A:
+    q_A = delta a - b and delta = (F + w rho . b) / (w rho . a); a corner opens when its
+    q < 0 and closes when its gap is negative (at most :data:`CORNER_PASSES` passes).
+    The line contact compliance of every closed contact follows its load per unit width
+    by :data:`LINE_ITERATIONS` fixed-point passes (an open corner keeps the
     compliance of the previous pass). The mesh stiffness is the secant F / delta, the
-    quantity the FE gear pair computes; contact j's share of it is w_j q_j / delta.
+    quantity the FE gear pair computes; contact j's share of it is w_j rho_j q_j / delta.
 
     Tip-corner contact law: the 2D line contact of the nearer path end
     (:func:`gearsim.stiffness.tooth.line_contact_compliance`, Johnson 1985 eq. 5.79:
@@ -562,9 +604,10 @@ def extended_law(width: np.ndarray, corner: np.ndarray, separation: np.ndarray, 
     Hertz width there); this is the limit of the involute contact at the path end,
     where the touching point is the same material point (the end of the involute), so
     the stiffness is continuous across l_A and l_E. The compliance depends on the
-    contact width only through ln(2 d / a): halving or doubling the half width a
-    changes a corner's contact compliance by ln 2 / ln(2 d / a), about 15-20 % of it
-    (docs/stiffness.md, section 4c).
+    contact width only through ln(2 d / a): a corner whose real contact width differed
+    by a factor 2 would change its contact compliance by ln 2 / (ln(2 d / a) - nu / 2)
+    of it; the zone ends against the FE gear pair bound that error (docs/stiffness.md,
+    section 4c).
 
     Parameters
     ----------
@@ -574,6 +617,8 @@ def extended_law(width: np.ndarray, corner: np.ndarray, separation: np.ndarray, 
         Tip-corner contacts (outside the path).
     separation : ndarray, shape (npc, n_age, ns)
         No-load separation of each contact along the line of action [m].
+    rate : ndarray, shape (npc, n_age, ns)
+        Closing rate of each contact per unit delta [-] (1 on the path).
     ch : float
         Load-independent contact compliance per unit width, 1/k_h [m^2/N]: the start of
         the fixed point.
@@ -596,17 +641,19 @@ def extended_law(width: np.ndarray, corner: np.ndarray, separation: np.ndarray, 
     path = exists & ~corner
     cand = exists & corner
     s_pos = np.where(cand, separation, 0.0)
+    rho = np.where(cand, rate, 1.0)
 
     def solve(cdiag: np.ndarray, act: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         if cross is None:
             with np.errstate(divide="ignore", invalid="ignore"):
-                a = np.where(act, 1.0 / cdiag, 0.0)
+                a = np.where(act, rho / cdiag, 0.0)
             b = a * s_pos
         else:
             off = np.where(act[:, :-1] & act[:, 1:], cross, 0.0)
-            a, b = _tridiagonal_solve(np.where(act, cdiag, 1.0), off,
-                                      np.where(act, 1.0, 0.0), np.where(act, s_pos, 0.0))
-        delta = (force + np.sum(width * b, axis=(1, 2))) / np.sum(width * a, axis=(1, 2))
+            a, b = _tridiagonal_solve(np.where(act, cdiag, 1.0), off, np.where(act, rho, 0.0),
+                                      np.where(act, rho * s_pos, 0.0))
+        delta = (force + np.sum(width * rho * b, axis=(1, 2))) / np.sum(width * rho * a,
+                                                                         axis=(1, 2))
         return delta, np.where(act, delta[:, None, None] * a - b, 0.0)
 
     def law(teeth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -619,15 +666,15 @@ def extended_law(width: np.ndarray, corner: np.ndarray, separation: np.ndarray, 
             cdiag = chs + teeth
             for _ in range(CORNER_PASSES):
                 delta, q = solve(cdiag, act)
-                approach = np.broadcast_to(delta[:, None, None], q.shape).copy()
+                approach = rho * (delta[:, None, None] - s_pos)
                 if cross is not None:  # the neighbours' loads deflect an open corner
                     approach[:, 1:] -= np.where(cand[:, 1:], cross * q[:, :-1], 0.0)
                     approach[:, :-1] -= np.where(cand[:, :-1], cross * q[:, 1:], 0.0)
-                new = path | (cand & np.where(act, q > 0, approach > s_pos))
+                new = path | (cand & np.where(act, q > 0, approach > 0))
                 if np.array_equal(new, act):
                     break
                 act = new
-        ks = np.where(act, width * q / delta[:, None, None], 0.0)
+        ks = np.where(act, width * rho * q / delta[:, None, None], 0.0)
         return ks, chs
 
     return law
@@ -804,9 +851,10 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     # contact outside the path (tip corners) under the load-dependent line contact law;
     # the seed's load-independent law keeps the path of contact (docs/stiffness.md 4c)
     extended = settings.contact == "line" and settings.corner_contact
-    first, corner, sep = 0, None, None
+    first, corner, sep, rate = 0, None, None, None
     if extended:
-        lmid, width, corner, sep, n_age, first, ns, zfrac = extended_grid(pair, settings)
+        lmid, width, corner, sep, rate, n_age, first, ns, zfrac = extended_grid(pair,
+                                                                                settings)
         inside = width > 0
     else:
         lmid, frac, dz, n_age, ns, zfrac = _slice_grid(pair, settings)
@@ -839,7 +887,7 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     if not extended:
         width = frac * dz  # carried face width of each slice [m]
     pairs = pair_law(pair, settings, lmid, width, r1, r2, force=force, coupling=coupling,
-                     corner=corner, separation=sep)
+                     corner=corner, separation=sep, rate=rate)
 
     z_rev = g1.teeth if revolution_of == 1 else g2.teeth
     k, comp, pair_k, t1, t2 = assemble_revolution(

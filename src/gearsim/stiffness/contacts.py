@@ -24,8 +24,15 @@ Optionally (``corner=True``) the pair that has not yet entered the path of conta
 the pair that has just left it are springs too: out of the path, the driven tooth's tip
 corner (incoming pair) or the driver's tip corner (outgoing pair) touches the mating
 involute once the relative rotation, in line-of-action units, exceeds the corner
-separation of :func:`corner_separation`. They carry load only when contact is lost
-elsewhere (a broken tooth) or under overload: the "extended contact" of loaded gears.
+separation of :func:`corner_separation`. They carry load when contact is lost
+elsewhere (a broken tooth) and near the ends of the path under load: the "extended
+contact" of loaded gears. Under the seed's contact law a corner spring is the seed's
+Hertz contact and the teeth at the path end; under the line contact law it is the
+tables' corner law (:func:`gearsim.stiffness.mesh.extended_law`: the line contact and
+the teeth of the path end, separation and closing rate in the FE pair's position
+convention, :func:`gearsim.stiffness.mesh.corner_closing`), linearised at the
+single-pair load per unit width F / b and without the body coupling of its neighbour
+(the springs of the LTCA are independent).
 
 References
 ----------
@@ -45,11 +52,11 @@ import numpy as np
 from gearsim.errors import require
 from gearsim.geometry.pair import GearPair
 from gearsim.stiffness.faults import Patch
-from gearsim.stiffness.mesh import in_path_fraction, pair_law
+from gearsim.stiffness.mesh import centre_line_depth, corner_closing, in_path_fraction, pair_law
 from gearsim.stiffness.modifications import Modification
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance, ToothCrack
-from gearsim.stiffness.tooth import hertz_stiffness
+from gearsim.stiffness.tooth import hertz_stiffness, line_contact_compliance
 
 __all__ = ["MAX_GRID", "ContactGrid", "FlankState", "contact_grid", "corner_separation",
            "grid_period"]
@@ -442,7 +449,23 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
         rc2 = np.where(corner_mask, np.hypot(g2.base_radius, big_l - lend), 0.0)
         cc1 = table(g1, rc1, None)
         cc2 = table(g2, rc2, None)
-        kc_unit = np.where(corner_mask, 1.0 / (ch + cc1 + cc2), 0.0)
+        if settings.contact == "line":
+            # the tables' corner law (stiffness.mesh.extended_law): the line contact of
+            # the path end, in the FE pair's position convention (driven held), here
+            # linearised at the single-pair load per unit width F / b and uncoupled
+            s_corner, rate = corner_closing(pair, np.where(corner_mask, centre, la))
+            s_corner = np.where(corner_mask, s_corner, 0.0)
+            ok = corner_mask & (rate > 0)
+            cl = line_contact_compliance(
+                np.full(centre.shape, force / pair.face_width), np.where(ok, lend, 1.0),
+                np.where(ok, big_l - lend, 1.0),
+                np.where(ok, centre_line_depth(g1, np.where(ok, rc1, g1.base_radius)), 1.0),
+                np.where(ok, centre_line_depth(g2, np.where(ok, rc2, g2.base_radius)), 1.0),
+                g1.material, g2.material, settings.plane)
+            kc_unit = np.where(ok, np.maximum(rate, 0.0) ** 2 / (cl + cc1 + cc2), 0.0)
+            corner_mask = ok
+        else:
+            kc_unit = np.where(corner_mask, 1.0 / (ch + cc1 + cc2), 0.0)
     roll1 = np.where(corner_mask, np.clip(centre, la, le), lmid)
     roll2 = big_l - roll1
     s1 = roll1 ** 2 / (2 * g1.base_radius)

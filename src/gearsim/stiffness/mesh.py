@@ -47,8 +47,9 @@ from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance,
 from gearsim.stiffness.tooth import hertz_stiffness, line_contact_compliance
 
 __all__ = ["COMPONENTS", "DEFAULT_SLICES", "MeshStiffness", "StiffnessSettings", "ToothCrack",
-           "assemble_revolution", "centre_line_depth", "in_path_fraction", "mesh_stiffness",
-           "pair_law", "slice_grid", "slice_law"]
+           "assemble_revolution", "centre_line_depth", "corner_closing", "extended_grid",
+           "extended_law", "in_path_fraction", "mesh_stiffness", "pair_law", "slice_grid",
+           "slice_law"]
 
 COMPONENTS = ("hertz", "bending_1", "shear_1", "axial_1", "foundation_1",
               "bending_2", "shear_2", "axial_2", "foundation_2")
@@ -496,16 +497,9 @@ def extended_grid(pair: GearPair, settings: StiffnessSettings
     zero at l_A and l_E, quadratic away from them) and the contact law and teeth of the
     nearer path end (``lmid`` = l_A or l_E).
 
-    Position convention: as in the FE gear pair (:mod:`gearsim.fem.pair`), the driven
-    gear stays at its kinematic angle of the position and the driver turns by the
-    deflection delta (line-of-action units). The incoming corner's separation is that
-    rotation already; the outgoing corner's is given by ``corner_separation`` as a
-    rotation of the driven gear, and turning the driver instead advances the mesh by
-    delta too, so the corner closes at delta* = s(c + delta*) and, beyond it, its gap
-    closes at the rate rho = 1 - s'(c + delta*) < 1 per unit delta (the ratio of the
-    driver's moment arm about the corner's contact normal, which is not the line of
-    action, to r_b1). The corner's normal load f then carries rho f of the
-    line-of-action force. The stiffness is then continuous across
+    Position convention: as in the FE gear pair, the driven gear stays at its kinematic
+    angle of the position and the driver turns by the deflection (separation and
+    closing rate of :func:`corner_closing`). The stiffness is then continuous across
     l_A and l_E (the corner's law at separation 0 is the path end's), so the samples
     are points, not the in-path cell fractions of :func:`in_path_fraction` (those
     average a jump that the tip-corner contact removes).
@@ -526,8 +520,6 @@ def extended_grid(pair: GearPair, settings: StiffnessSettings
         ages, age of the first column (-1), slices, slice centres over the face width
         [-].
     """
-    from gearsim.stiffness.contacts import corner_separation
-
     tb = math.tan(pair.driver.base_helix_angle)
     b = pair.face_width
     pb = pair.base_pitch
@@ -545,29 +537,62 @@ def extended_grid(pair: GearPair, settings: StiffnessSettings
     corner = ~path & (((centre < la) & (centre > max(la - pb, 0.0)))
                       | ((centre > le) & (centre < min(le + pb, big_l))))
     width = np.where(path | corner, dz, 0.0)
-    sep = np.where(corner, corner_separation(pair, centre), 0.0)
-    rate = np.ones(centre.shape)
-    out = corner & (centre > le)
+    sep, rate = corner_closing(pair, np.where(corner, centre, la))
+    corner = corner & (rate > 0)  # a corner the turning driver cannot close
+    width = np.where(path | corner, dz, 0.0)
+    return (np.clip(centre, la, le), width, corner, np.where(corner, sep, 0.0),
+            np.where(corner, rate, 1.0), n_age, first, ns, zc / b)
+
+
+def corner_closing(pair: GearPair, l: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Separation and closing rate of tip-corner contacts with the driven gear held [m, -].
+
+    As in the FE gear pair (:mod:`gearsim.fem.pair`), the driven gear stays at its
+    kinematic angle of the position and the driver turns by the deflection delta
+    (line-of-action units). The incoming corner's separation of
+    :func:`gearsim.stiffness.contacts.corner_separation` is that rotation already (rate
+    1). The outgoing corner's is given there as a rotation of the driven gear; turning
+    the driver instead advances the mesh by delta too, so the corner closes at
+    delta* = s(l + delta*) (fixed point, :data:`SEPARATION_PASSES` passes) and beyond it
+    its gap closes at the rate rho = 1 - s'(l + delta*) per unit delta: the ratio of the
+    driver's moment arm about the corner's contact normal (not the line of action) to
+    r_b1 (Litvin & Fuentes 2004, ch. 10, for the involute geometry). The corner's normal
+    load f then carries rho f of the line-of-action force, so its stiffness along the
+    line of action is rho^2 times its normal stiffness.
+
+    Parameters
+    ----------
+    pair : GearPair
+        The mesh.
+    l : ndarray
+        Positions on the extended line of action, from T1 [m], outside [l_A, l_E] and
+        between T1 and T2.
+
+    Returns
+    -------
+    separation, rate : ndarray
+        Separation along the line of action [m] and closing rate [-] (<= 0: a corner the
+        turning driver cannot close), the shape of ``l``.
+    """
+    from gearsim.stiffness.contacts import corner_separation
+
+    l = np.asarray(l, dtype=float)
+    le, pb = pair.end_of_contact, pair.base_pitch
+    sep = corner_separation(pair, l)
+    rate = np.ones(l.shape)
+    out = l > le
     if np.any(out):
-        # corner_separation gives the outgoing corner's as a rotation of the driven gear
-        # at a fixed driver; the table, as the FE gear pair, holds the driven gear at the
-        # position and turns the driver, which advances the mesh by the deflection itself:
-        # the corner closes at delta* = s(c + delta*) and its gap at the rate
-        # 1 - s'(c + delta*) per unit delta (the moment-arm ratio of a non-conjugate
-        # contact); a fixed point, s' < 1 where a corner can close
-        c = centre[out]
-        top = min(le + pb, big_l) - 1e-3 * pb
+        c = l[out]
+        h = 1e-3 * pb  # central-difference step of s'
+        top = min(le + pb, pair.line_length) - 2 * h
         s_out = sep[out]
         for _ in range(SEPARATION_PASSES):
             s_out = corner_separation(pair, np.minimum(c + s_out, top))
-        h = 1e-3 * pb
-        x = np.minimum(c + s_out, top - h)
+        x = np.minimum(c + s_out, top)
         slope = (corner_separation(pair, x + h) - corner_separation(pair, x - h)) / (2 * h)
         sep[out] = s_out
         rate[out] = 1.0 - slope
-        corner = corner & (rate > 0)  # a corner the turning driver cannot close
-        width = np.where(path | corner, dz, 0.0)
-    return np.clip(centre, la, le), width, corner, sep, rate, n_age, first, ns, zc / b
+    return sep, rate
 
 
 def extended_law(width: np.ndarray, corner: np.ndarray, separation: np.ndarray,

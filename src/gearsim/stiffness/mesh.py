@@ -20,6 +20,13 @@ on the diagonal, the body cross compliances X of both gears off it) and w their 
 widths, the loads per unit width at a unit approach are q = C^-1 1 and the slice
 stiffness is w . q.
 
+Under the line contact law the tables also close the tip corners of the pairs just
+outside the path of contact when the loaded transmission error exceeds their separation
+(extended contact, as the FE gear pair does under load): :func:`extended_grid`,
+:func:`extended_law`, :func:`corner_closing`; the table is then the secant stiffness
+F / delta of the loaded mesh at each position. The seed's load-independent law keeps
+the path of contact (docs/stiffness.md, section 4c).
+
 All stiffnesses are transverse: force and deflection along the transverse line of
 action. The normal-plane stiffness is k / cos^2(beta_b).
 

@@ -543,7 +543,6 @@ def extended_grid(pair: GearPair, settings: StiffnessSettings
     path = (centre >= la) & (centre <= le)
     corner = ~path & (((centre < la) & (centre > max(la - pb, 0.0)))
                       | ((centre > le) & (centre < min(le + pb, big_l))))
-    width = np.where(path | corner, dz, 0.0)
     sep, rate = corner_closing(pair, np.where(corner, centre, la))
     corner = corner & (rate > 0)  # a corner the turning driver cannot close
     width = np.where(path | corner, dz, 0.0)

@@ -31,8 +31,8 @@ Hertz contact and the teeth at the path end; under the line contact law it is th
 tables' corner law (:func:`gearsim.stiffness.mesh.extended_law`: the line contact and
 the teeth of the path end, separation and closing rate in the FE pair's position
 convention, :func:`gearsim.stiffness.mesh.corner_closing`), linearised at the
-single-pair load per unit width F / b and without the body coupling of its neighbour
-(the springs of the LTCA are independent).
+single-pair load per unit width F / b, with the body coupling of its neighbour condensed
+into the spring (:func:`_condensed_corners`: the LTCA's springs are independent).
 
 References
 ----------
@@ -52,7 +52,13 @@ import numpy as np
 from gearsim.errors import require
 from gearsim.geometry.pair import GearPair
 from gearsim.stiffness.faults import Patch
-from gearsim.stiffness.mesh import centre_line_depth, corner_closing, in_path_fraction, pair_law
+from gearsim.stiffness.mesh import (
+    _tridiagonal_solve,
+    centre_line_depth,
+    corner_closing,
+    in_path_fraction,
+    pair_law,
+)
 from gearsim.stiffness.modifications import Modification
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance, ToothCrack
@@ -305,6 +311,66 @@ def corner_separation(pair: GearPair, l: np.ndarray) -> np.ndarray:
     return np.where(l > le, out_, out)
 
 
+def _corner_cross(g1, g2, coupling, inside: np.ndarray, corner: np.ndarray, r1: np.ndarray,
+                  r2: np.ndarray) -> np.ndarray:
+    """Body cross compliance of adjacent pairs, path or tip-corner contacts [m^2/N].
+
+    As :func:`gearsim.stiffness.mesh.pair_law` (the older pair is the driver tooth's +x
+    neighbour and the driven tooth's -x neighbour; Maxwell symmetry), with the corner
+    contacts at their path end's radii.
+    """
+    on = inside | corner
+    both = on[:, :-1] & on[:, 1:]
+    x1 = np.where(both, coupling.cross(g1, np.where(both, r1[:, :-1], g1.tip_radius),
+                                       np.where(both, r1[:, 1:], g1.tip_radius)), 0.0)
+    x2 = np.where(both, coupling.cross(g2, np.where(both, r2[:, 1:], g2.tip_radius),
+                                       np.where(both, r2[:, :-1], g2.tip_radius)), 0.0)
+    return x1 + x2
+
+
+def _condensed_corners(kpath: np.ndarray, cpath: np.ndarray, width: np.ndarray,
+                       inside: np.ndarray, corner: np.ndarray, ccorner: np.ndarray,
+                       rate: np.ndarray, sep: np.ndarray, dz: float, before: np.ndarray,
+                       cross: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """Tip-corner springs of the mesh of contacts, condensed from the tables' law.
+
+    The tables' law (:func:`gearsim.stiffness.mesh.extended_law`) couples a closed corner
+    to its neighbouring pair through the gear bodies; the contacts of the LTCA are
+    independent springs. With the path contacts closed and linearised (compliances
+    ``cpath``, springs ``kpath``) the coupled force is K_0 delta without the corner and
+    K_A delta - S_A with it (K_A = w rho . C^-1 rho, S_A = w rho . C^-1 (rho s), one
+    corner of a kind per slice), continuous where the corner closes: the corner is the
+    spring k = K_A - K_0 with separation S_A / k, exact for one corner at the path
+    contacts' linearised compliances.
+
+    Returns
+    -------
+    k, s : ndarray
+        Spring stiffness [N/m] and separation [m] of each corner, shape of ``corner``.
+    """
+    k0 = kpath.sum(axis=1, where=inside)  # (npc, ns)
+    k_out = np.zeros(corner.shape)
+    s_out = np.zeros(corner.shape)
+    for kind in (corner & before, corner & ~before):
+        if not kind.any():
+            continue
+        act = inside | kind
+        diag = np.where(inside, cpath, np.where(kind, ccorner, 1.0))
+        rho = np.where(kind, rate, np.where(inside, 1.0, 0.0))
+        w = np.where(kind, dz, np.where(inside, width, 0.0))
+        off = (np.zeros(diag[:, 1:].shape) if cross is None
+               else np.where(act[:, :-1] & act[:, 1:], cross, 0.0))
+        a, b = _tridiagonal_solve(diag, off, rho, rho * np.where(kind, sep, 0.0))
+        k_a = np.sum(w * rho * a, axis=1)
+        s_a = np.sum(w * rho * b, axis=1)
+        kc = np.maximum(k_a - k0, 0.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            sc = np.where(kc > 0, s_a / kc, 0.0)
+        k_out = np.where(kind, kc[:, None, :], k_out)
+        s_out = np.where(kind, sc[:, None, :], s_out)
+    return k_out, s_out
+
+
 def _grid_geometry(pair: GearPair, settings: StiffnessSettings, corner: bool, lead: bool):
     """Slice contact points, in-path fractions and raw slice-centre positions.
 
@@ -452,7 +518,8 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
         if settings.contact == "line":
             # the tables' corner law (stiffness.mesh.extended_law): the line contact of
             # the path end, in the FE pair's position convention (driven held), here
-            # linearised at the single-pair load per unit width F / b and uncoupled
+            # linearised at the single-pair load per unit width F / b; the coupling is
+            # condensed into the spring per cycle (_condensed_corners)
             s_corner, rate = corner_closing(pair, np.where(corner_mask, centre, la))
             s_corner = np.where(corner_mask, s_corner, 0.0)
             ok = corner_mask & (rate > 0)
@@ -464,6 +531,11 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
                 g1.material, g2.material, settings.plane)
             kc_unit = np.where(ok, np.maximum(rate, 0.0) ** 2 / (cl + cc1 + cc2), 0.0)
             corner_mask = ok
+            c_corner = cl + cc1 + cc2  # normal compliance per unit width [m^2/N]
+            cross = None
+            if settings.coupling != "none":
+                cross = _corner_cross(g1, g2, coupling, inside, corner_mask,
+                                      np.where(inside, r1, rc1), np.where(inside, r2, rc2))
         else:
             kc_unit = np.where(corner_mask, 1.0 / (ch + cc1 + cc2), 0.0)
     roll1 = np.where(corner_mask, np.clip(centre, la, le), lmid)
@@ -516,8 +588,14 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
                 kunit = np.where(inside, 1.0 / (ch + comp), 0.0)
             kfull = kunit * width
         else:
-            kfull = law(comp)[0]
-        if corner:
+            kfull, chs = law(comp)
+        if corner and settings.contact == "line":
+            kc, sc = _condensed_corners(kfull, np.where(inside, chs + comp, 1.0), width,
+                                        inside, corner_mask, c_corner, rate, s_corner, dz,
+                                        centre <= la, cross)
+            kfull = np.where(corner_mask, kc, kfull)
+            sep = np.where(corner_mask, sep - s_corner + sc, sep)
+        elif corner:
             kfull = np.where(corner_mask, kc_unit * dz, kfull)
         keep = 1.0 - lost
         k[sl, ..., 0] = kfull * keep * (1.0 - cover)

@@ -429,7 +429,7 @@ def test_contact_cli_writes_results_and_refuses_bad_options(tmp_path):
 
 #: The LTCA's tip-corner springs against the tables' extended contact, relative: the
 #: coupling is condensed exactly, the corner's line contact is linearised at the
-#: single-pair load F / b instead of its own (measured 0.4-1.9 % on 19/48 at 100 and
+#: single-pair load F / b instead of its own (measured 0.4-1.8 % on 19/48 at 100 and
 #: 400 N m).
 CORNER_LINEARISATION = 0.025
 

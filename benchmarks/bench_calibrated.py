@@ -14,9 +14,11 @@ window and pointwise inside the contact zones and at the zone ends (positions on
 nominal transition or where the FE pair touches outside the nominal path, tip corners),
 healthy, working-flank crack and closed non-working crack, at two torques a factor 4 apart; the numbers of
 docs/stiffness.md section 4c. ``--extra`` adds the 17/60 pair with x1 = +0.3 and the
-25/25 pair at 25 deg.
+25/25 pair at 25 deg; ``--healthy`` runs the healthy case only. Row ``cal_path`` is the
+calibrated table on the path of contact only (``corner_contact = False``: the tables
+before the tip-corner contacts under load).
 
-Run: ``.venv/bin/python benchmarks/bench_calibrated.py [--accuracy] [--extra]``.
+Run: ``.venv/bin/python benchmarks/bench_calibrated.py [--accuracy] [--extra] [--healthy]``.
 """
 
 from __future__ import annotations
@@ -61,6 +63,7 @@ def cost() -> None:
                                **MODELS["seed"])
     cal = dataclasses.replace(seed, source="calibrated", contact="line", coupling="fe")
     pe_line = dataclasses.replace(seed, contact="line", coupling="fe")
+    cal_path = dataclasses.replace(cal, corner_contact=False)
     _revolution(train, seed)  # compile the kernels
     old = os.environ.get("GEARSIM_CACHE")
     with tempfile.TemporaryDirectory() as tmp:
@@ -78,6 +81,7 @@ def cost() -> None:
             t_seed = _revolution(train, seed)
             t_line = _revolution(train, pe_line)
             t_cal = _revolution(train, cal)
+            t_path = _revolution(train, cal_path)
         finally:
             if old is None:
                 os.environ.pop("GEARSIM_CACHE", None)
@@ -88,6 +92,7 @@ def cost() -> None:
     print(f"seed PE (yang-lin, no coupling):   {t_seed:8.3f} s   1.00 x")
     print(f"PE + line + FE coupling:           {t_line:8.3f} s   {t_line / t_seed:5.2f} x")
     print(f"calibrated (after one-time cost):  {t_cal:8.3f} s   {t_cal / t_seed:5.2f} x")
+    print(f"calibrated, path of contact only:  {t_path:8.3f} s   {t_path / t_seed:5.2f} x")
     for name, (t, cpu) in once.items():
         print(f"one-time cost, gear {name:8s}      {t:8.3f} s   {t / t_seed:5.1f} x "
               f"(CPU {cpu:.1f} s; FE tooth table + FE coupling + ratio, level 2, empty "
@@ -119,9 +124,11 @@ def _zones(pair, torque: float, u: np.ndarray, npc: int) -> tuple[np.ndarray, np
     return ~ends, frac < eps - 1.0
 
 
-def calibrated_curve(train, mesh: int, crack: str, depth: float | None, u: np.ndarray
-                     ) -> np.ndarray:
-    """The calibrated section TVMS at the FE-pair positions ``u`` [N/m]."""
+def calibrated_curve(train, mesh: int, crack: str, depth: float | None, u: np.ndarray,
+                     corner: bool = True) -> np.ndarray:
+    """The calibrated section TVMS at the FE-pair positions ``u`` [N/m]; ``corner``:
+    with the tip-corner contacts under load (the default), else the path of contact
+    only (the tables before issue 25 item 2)."""
     if crack == "none":
         tr = train.with_cracks(())
     else:
@@ -131,26 +138,29 @@ def calibrated_curve(train, mesh: int, crack: str, depth: float | None, u: np.nd
     rev = cracks[0].gear if cracks else 1
     pair = tr.pairs[mesh]
     z_rev = pair.driver.teeth if rev == 1 else pair.driven.teeth
-    st = dataclasses.replace(tr.stiffness, source="calibrated", contact="line", coupling="fe")
+    st = dataclasses.replace(tr.stiffness, source="calibrated", contact="line", coupling="fe",
+                             corner_contact=corner)
     x, k = section_tvms(tr, mesh, st, PE_POSITIONS, revolution_of=rev)
     return np.interp(u, x, k, period=float(z_rev))
 
 
-def accuracy_case(name: str, train, torque: float, depth: float | None) -> list[dict]:
-    """All three crack cases of one train at one input torque; prints and returns rows."""
+def accuracy_case(name: str, train, torque: float, depth: float | None,
+                  cracks: tuple[str, ...] = ("none", "working", "non-working")) -> list[dict]:
+    """The crack cases of one train at one input torque; prints and returns rows."""
     tr = dataclasses.replace(train, operating=dataclasses.replace(train.operating,
                                                                   torque=torque))
     rows = []
     inside = double = None
-    for crack in ("none", "working", "non-working"):
+    for crack in cracks:
         t0 = time.perf_counter()
         chk = fe_pair_check(tr, 0, crack=crack, depth=depth)
         chk.curves["calibrated"] = calibrated_curve(tr, 0, crack, depth, chk.cycles)
+        chk.curves["cal_path"] = calibrated_curve(tr, 0, crack, depth, chk.cycles, False)
         if inside is None:  # the same positions in every case
             inside, double = _zones(tr.pairs[0], tr.torque(0), chk.cycles, 20)
         row = {"case": name, "torque": torque, "crack": crack,
                "seconds": time.perf_counter() - t0}
-        for c in ("pe", "pe_line", "fe_tooth", "calibrated"):
+        for c in ("pe", "pe_line", "fe_tooth", "calibrated", "cal_path"):
             d = chk.differences(c)
             p = 100.0 * (chk.curves[c] / chk.k_fe - 1.0)
             row[c] = {**d,
@@ -164,7 +174,7 @@ def accuracy_case(name: str, train, torque: float, depth: float | None) -> list[
 
 def _print_row(row: dict) -> None:
     head = f"{row['case']:14s} {row['torque']:7.0f} N m  {row['crack']:12s}"
-    for c in ("calibrated", "fe_tooth", "pe_line", "pe"):
+    for c in ("calibrated", "cal_path", "fe_tooth", "pe_line", "pe"):
         d = row[c]
         print(f"{head} {c:10s} max {d['max']:+6.1f} min {d['min']:+6.1f} mean "
               f"{d['mean']:+6.1f} | double {d['double'][0]:+6.1f}..{d['double'][1]:+6.1f}"
@@ -196,7 +206,7 @@ def _extra_train(teeth: tuple[int, int], shift: float, alpha_deg: float, torque:
                      stiffness=base.stiffness, cracks=base.cracks)
 
 
-def accuracy(extra: bool) -> None:
+def accuracy(extra: bool, healthy: bool = False) -> None:
     """The accuracy tables of docs/stiffness.md section 4c."""
     spur = load("spur-19-48").train
     table1 = load("idler-table1").train
@@ -211,11 +221,12 @@ def accuracy(extra: bool) -> None:
         cases += [("17/60 x1=+0.3", lambda: _extra_train(*p17), t, None) for t in (100., 400.)]
         cases += [("25/25 25deg", lambda: _extra_train(*p25), t, None) for t in (100., 400.)]
     for name, make, torque, depth in cases:
-        accuracy_case(name, make(), torque, depth)
+        accuracy_case(name, make(), torque, depth, ("none",) if healthy else
+                      ("none", "working", "non-working"))
 
 
 if __name__ == "__main__":
     if "--accuracy" in sys.argv:
-        accuracy("--extra" in sys.argv)
+        accuracy("--extra" in sys.argv, "--healthy" in sys.argv)
     else:
         cost()

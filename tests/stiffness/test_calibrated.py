@@ -11,9 +11,12 @@ level 2 on this pair (docs/fem.md, "Convergence and cost") at a quarter of the c
 the module stays under a minute; it is solved once per module.
 
 Positions: inside the contact zones, where the FE pair touches on the nominal path
-(u = 0.15, 0.35 double, 0.85 single contact at both torques; under load the FE pair
-touches outside the path near the transitions, up to u = 0.75 and from 0.90 at 400 N m,
-which no table models: issue 25 item 2), and a whole cycle for max / min / mean.
+(u = 0.15, 0.35 double, 0.85 single contact at both torques), at the zone ends (the
+start of contact u = 0 and the positions where the FE pair touches outside the nominal
+path at 400 N m, tip corners: u = 0.65-0.75 after the end of contact at
+u = eps_alpha - 1 = 0.646, 0.90-0.95 before the next start; the tables close the tip
+corners under load, issue 25 item 2, docs/stiffness.md 4c), and a whole cycle for max /
+min / mean.
 """
 
 from __future__ import annotations
@@ -39,6 +42,9 @@ TORQUES = (100.0, 400.0)
 #: Positions inside the double- and single-contact zones at both torques.
 DOUBLE = (0.15, 0.35)
 SINGLE = (0.85,)
+#: Zone ends: the start of contact and the positions with tip-corner contact in the FE
+#: pair at 400 N m (load share > 0.1 % on a contact without Hertz width).
+ENDS = (0.0, 0.65, 0.7, 0.75, 0.9, 0.95)
 #: Positions of the cracked checks: the cracked tooth in double contact (the younger
 #: pair) and alone in single contact.
 CRACKED = (0.35, 0.85)
@@ -49,6 +55,11 @@ CYCLE = 10
 NPC = 400
 #: The issue's target, relative: calibrated table within 3 % of the FE pair.
 TARGET = 0.03
+#: The issue's target at the zone ends, relative: within 5 % of the FE pair (measured
+#: +0.6 ... +3.5 % on this pair, bench_calibrated.py --accuracy; the corner's contact law
+#: is the line contact of the path end, stiffer than the FE pair's corner, whose contact
+#: is cut off by the edge).
+END_TARGET = 0.05
 #: Measured band of the healthy calibrated table inside the zones (bench_calibrated.py:
 #: +1.2 ... +1.8 %): the FE tooth's superposition error against the FE pair (+1.1-1.7 %,
 #: docs/fem.md, "Verification"), the ratio's spline and FE level 1 vs 2 (0.2 %).
@@ -58,9 +69,10 @@ HEALTHY_BAND = (0.005, 0.025)
 #: the PE section reduction of the working-flank crack is smaller than the FE slit's
 #: in single contact); regression guard, not the target.
 CRACK_BAND = (-0.01, 0.07)
-#: Measured band of the cycle mean (100 N m: -1.9 %, 400 N m: -4.3 %): the FE pair
-#: touches outside the nominal path near the transitions (tip corners), the table not.
-MEAN_BAND = (-0.06, 0.0)
+#: Measured band of the cycle mean (100 N m: +1.8 %, 400 N m: +1.5 %, bench_calibrated.py;
+#: -1.9 % and -4.3 % with the path of contact only): the band inside the zones, now that
+#: the tables close the tip corners under load as the FE pair does.
+MEAN_BAND = (0.005, 0.025)
 
 
 @pytest.fixture(scope="module")
@@ -74,7 +86,7 @@ def fe(spur, pair):
     out = {}
     model = fp.FEPairModel(pair, torque=TORQUES[0], level=LEVEL)
     for t in TORQUES:
-        for u in sorted({i / CYCLE for i in range(CYCLE)} | set(DOUBLE + SINGLE)):
+        for u in sorted({i / CYCLE for i in range(CYCLE)} | set(DOUBLE + SINGLE + ENDS)):
             out["none", t, u] = model.solve(u, torque=t).stiffness
     crack = spur.with_crack("working").mesh_cracks(0)[0].crack
     for flank, side in (("working", 1), ("non-working", -1)):
@@ -88,11 +100,12 @@ def fe(spur, pair):
     return out
 
 
-def _table(spur, pair, flank: str, torque: float, source: str = "calibrated"):
+def _table(spur, pair, flank: str, torque: float, source: str = "calibrated",
+           corner: bool = True):
     tr = spur.with_crack(flank, closure="contact")
     kw = {"contact": "line", "coupling": "fe"} if source != "seed" else {}
     st = StiffnessSettings(positions_per_cycle=NPC, source="pe" if source == "seed" else source,
-                           **kw)
+                           corner_contact=corner, **kw)
     return mesh_stiffness(pair, cracks=tr.mesh_cracks(0), settings=st,
                           compliance=tooth_compliance(st.source),
                           force=torque / pair.driver.base_radius, coupling=body_coupling(st))
@@ -112,6 +125,18 @@ def test_healthy_inside_the_zones(spur, pair, fe, torque):
         e = _err(ms, fe["none", torque, u], u)
         assert abs(e) < TARGET, (u, e)
         assert HEALTHY_BAND[0] < e < HEALTHY_BAND[1], (u, e)
+
+
+@pytest.mark.parametrize("torque", TORQUES)
+def test_healthy_zone_ends(spur, pair, fe, torque):
+    """Healthy 19/48: at the zone ends (start of contact, tip-corner contact in the FE
+    pair) the calibrated table is within the issue's 5 % of the FE pair; the table on the
+    path of contact only (corner_contact = False) misses them by up to 29 %."""
+    ms = _table(spur, pair, "none", torque)
+    path = _table(spur, pair, "none", torque, corner=False)
+    errs = [_err(ms, fe["none", torque, u], u) for u in ENDS]
+    assert max(abs(e) for e in errs) < END_TARGET, dict(zip(ENDS, errs, strict=True))
+    assert min(_err(path, fe["none", torque, u], u) for u in ENDS) < -0.1
 
 
 @pytest.mark.parametrize("torque", TORQUES)
@@ -165,12 +190,11 @@ def test_cycle_mean_band(spur, pair, fe, torque):
     assert MEAN_BAND[0] < _mean_error(spur, pair, fe, torque) < MEAN_BAND[1]
 
 
-@pytest.mark.xfail(strict=True, reason="at 400 N m the FE pair touches outside the nominal "
-                   "path (tip corners) at u = 0.65-0.75 and 0.90-0.95: mean "
-                   "-4 %; contact outside the path is issue 25 item 2, not done")
-def test_cycle_mean_within_target_at_four_times_the_torque(spur, pair, fe):
-    """Issue 25 target for the cycle mean at 400 N m."""
-    assert abs(_mean_error(spur, pair, fe, TORQUES[1])) < TARGET
+@pytest.mark.parametrize("torque", TORQUES)
+def test_cycle_mean_within_target(spur, pair, fe, torque):
+    """Issue 25 target for the cycle mean at both torques (at 400 N m it was -4.3 %
+    before the tables closed the tip corners under load)."""
+    assert abs(_mean_error(spur, pair, fe, torque)) < TARGET
 
 
 def test_seed_model_is_far_from_the_fe_pair(spur, pair, fe):

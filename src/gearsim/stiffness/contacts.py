@@ -24,8 +24,15 @@ Optionally (``corner=True``) the pair that has not yet entered the path of conta
 the pair that has just left it are springs too: out of the path, the driven tooth's tip
 corner (incoming pair) or the driver's tip corner (outgoing pair) touches the mating
 involute once the relative rotation, in line-of-action units, exceeds the corner
-separation of :func:`corner_separation`. They carry load only when contact is lost
-elsewhere (a broken tooth) or under overload: the "extended contact" of loaded gears.
+separation of :func:`corner_separation`. They carry load when contact is lost
+elsewhere (a broken tooth) and near the ends of the path under load: the "extended
+contact" of loaded gears. Under the seed's contact law a corner spring is the seed's
+Hertz contact and the teeth at the path end; under the line contact law it is the
+tables' corner law (:func:`gearsim.stiffness.mesh.extended_law`: the line contact and
+the teeth of the path end, separation and closing rate in the FE pair's position
+convention, :func:`gearsim.stiffness.mesh.corner_closing`), linearised at the
+single-pair load per unit width F / b, with the body coupling of its neighbour condensed
+into the spring (:func:`_condensed_corners`: the LTCA's springs are independent).
 
 References
 ----------
@@ -45,11 +52,17 @@ import numpy as np
 from gearsim.errors import require
 from gearsim.geometry.pair import GearPair
 from gearsim.stiffness.faults import Patch
-from gearsim.stiffness.mesh import in_path_fraction, pair_law
+from gearsim.stiffness.mesh import (
+    _tridiagonal_solve,
+    centre_line_depth,
+    corner_closing,
+    in_path_fraction,
+    pair_law,
+)
 from gearsim.stiffness.modifications import Modification
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance, ToothCrack
-from gearsim.stiffness.tooth import hertz_stiffness
+from gearsim.stiffness.tooth import hertz_stiffness, line_contact_compliance
 
 __all__ = ["MAX_GRID", "ContactGrid", "FlankState", "contact_grid", "corner_separation",
            "grid_period"]
@@ -298,6 +311,66 @@ def corner_separation(pair: GearPair, l: np.ndarray) -> np.ndarray:
     return np.where(l > le, out_, out)
 
 
+def _corner_cross(g1, g2, coupling, inside: np.ndarray, corner: np.ndarray, r1: np.ndarray,
+                  r2: np.ndarray) -> np.ndarray:
+    """Body cross compliance of adjacent pairs, path or tip-corner contacts [m^2/N].
+
+    As :func:`gearsim.stiffness.mesh.pair_law` (the older pair is the driver tooth's +x
+    neighbour and the driven tooth's -x neighbour; Maxwell symmetry), with the corner
+    contacts at their path end's radii.
+    """
+    on = inside | corner
+    both = on[:, :-1] & on[:, 1:]
+    x1 = np.where(both, coupling.cross(g1, np.where(both, r1[:, :-1], g1.tip_radius),
+                                       np.where(both, r1[:, 1:], g1.tip_radius)), 0.0)
+    x2 = np.where(both, coupling.cross(g2, np.where(both, r2[:, 1:], g2.tip_radius),
+                                       np.where(both, r2[:, :-1], g2.tip_radius)), 0.0)
+    return x1 + x2
+
+
+def _condensed_corners(kpath: np.ndarray, cpath: np.ndarray, width: np.ndarray,
+                       inside: np.ndarray, corner: np.ndarray, ccorner: np.ndarray,
+                       rate: np.ndarray, sep: np.ndarray, dz: float, before: np.ndarray,
+                       cross: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """Tip-corner springs of the mesh of contacts, condensed from the tables' law.
+
+    The tables' law (:func:`gearsim.stiffness.mesh.extended_law`) couples a closed corner
+    to its neighbouring pair through the gear bodies; the contacts of the LTCA are
+    independent springs. With the path contacts closed and linearised (compliances
+    ``cpath``, springs ``kpath``) the coupled force is K_0 delta without the corner and
+    K_A delta - S_A with it (K_A = w rho . C^-1 rho, S_A = w rho . C^-1 (rho s), one
+    corner of a kind per slice), continuous where the corner closes: the corner is the
+    spring k = K_A - K_0 with separation S_A / k, exact for one corner at the path
+    contacts' linearised compliances.
+
+    Returns
+    -------
+    k, s : ndarray
+        Spring stiffness [N/m] and separation [m] of each corner, shape of ``corner``.
+    """
+    k0 = kpath.sum(axis=1, where=inside)  # (npc, ns)
+    k_out = np.zeros(corner.shape)
+    s_out = np.zeros(corner.shape)
+    for kind in (corner & before, corner & ~before):
+        if not kind.any():
+            continue
+        act = inside | kind
+        diag = np.where(inside, cpath, np.where(kind, ccorner, 1.0))
+        rho = np.where(kind, rate, np.where(inside, 1.0, 0.0))
+        w = np.where(kind, dz, np.where(inside, width, 0.0))
+        off = (np.zeros(diag[:, 1:].shape) if cross is None
+               else np.where(act[:, :-1] & act[:, 1:], cross, 0.0))
+        a, b = _tridiagonal_solve(diag, off, rho, rho * np.where(kind, sep, 0.0))
+        k_a = np.sum(w * rho * a, axis=1)
+        s_a = np.sum(w * rho * b, axis=1)
+        kc = np.maximum(k_a - k0, 0.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            sc = np.where(kc > 0, s_a / kc, 0.0)
+        k_out = np.where(kind, kc[:, None, :], k_out)
+        s_out = np.where(kind, sc[:, None, :], s_out)
+    return k_out, s_out
+
+
 def _grid_geometry(pair: GearPair, settings: StiffnessSettings, corner: bool, lead: bool):
     """Slice contact points, in-path fractions and raw slice-centre positions.
 
@@ -442,7 +515,29 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
         rc2 = np.where(corner_mask, np.hypot(g2.base_radius, big_l - lend), 0.0)
         cc1 = table(g1, rc1, None)
         cc2 = table(g2, rc2, None)
-        kc_unit = np.where(corner_mask, 1.0 / (ch + cc1 + cc2), 0.0)
+        if settings.contact == "line":
+            # the tables' corner law (stiffness.mesh.extended_law): the line contact of
+            # the path end, in the FE pair's position convention (driven held), here
+            # linearised at the single-pair load per unit width F / b; the coupling is
+            # condensed into the spring per cycle (_condensed_corners)
+            s_corner, rate = corner_closing(pair, np.where(corner_mask, centre, la))
+            s_corner = np.where(corner_mask, s_corner, 0.0)
+            ok = corner_mask & (rate > 0)
+            cl = line_contact_compliance(
+                np.full(centre.shape, force / pair.face_width), np.where(ok, lend, 1.0),
+                np.where(ok, big_l - lend, 1.0),
+                np.where(ok, centre_line_depth(g1, np.where(ok, rc1, g1.base_radius)), 1.0),
+                np.where(ok, centre_line_depth(g2, np.where(ok, rc2, g2.base_radius)), 1.0),
+                g1.material, g2.material, settings.plane)
+            kc_unit = np.where(ok, np.maximum(rate, 0.0) ** 2 / (cl + cc1 + cc2), 0.0)
+            corner_mask = ok
+            c_corner = cl + cc1 + cc2  # normal compliance per unit width [m^2/N]
+            cross = None
+            if settings.coupling != "none":
+                cross = _corner_cross(g1, g2, coupling, inside, corner_mask,
+                                      np.where(inside, r1, rc1), np.where(inside, r2, rc2))
+        else:
+            kc_unit = np.where(corner_mask, 1.0 / (ch + cc1 + cc2), 0.0)
     roll1 = np.where(corner_mask, np.clip(centre, la, le), lmid)
     roll2 = big_l - roll1
     s1 = roll1 ** 2 / (2 * g1.base_radius)
@@ -493,8 +588,14 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
                 kunit = np.where(inside, 1.0 / (ch + comp), 0.0)
             kfull = kunit * width
         else:
-            kfull = law(comp)[0]
-        if corner:
+            kfull, chs = law(comp)
+        if corner and settings.contact == "line":
+            kc, sc = _condensed_corners(kfull, np.where(inside, chs + comp, 1.0), width,
+                                        inside, corner_mask, c_corner, rate, s_corner, dz,
+                                        centre <= la, cross)
+            kfull = np.where(corner_mask, kc, kfull)
+            sep = np.where(corner_mask, sep - s_corner + sc, sep)
+        elif corner:
             kfull = np.where(corner_mask, kc_unit * dz, kfull)
         keep = 1.0 - lost
         k[sl, ..., 0] = kfull * keep * (1.0 - cover)

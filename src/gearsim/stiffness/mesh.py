@@ -20,6 +20,13 @@ on the diagonal, the body cross compliances X of both gears off it) and w their 
 widths, the loads per unit width at a unit approach are q = C^-1 1 and the slice
 stiffness is w . q.
 
+Under the line contact law the tables also close the tip corners of the pairs just
+outside the path of contact when the loaded transmission error exceeds their separation
+(extended contact, as the FE gear pair does under load): :func:`extended_grid`,
+:func:`extended_law`, :func:`corner_closing`; the table is then the secant stiffness
+F / delta of the loaded mesh at each position. The seed's load-independent law keeps
+the path of contact (docs/stiffness.md, section 4c).
+
 All stiffnesses are transverse: force and deflection along the transverse line of
 action. The normal-plane stiffness is k / cos^2(beta_b).
 
@@ -47,8 +54,9 @@ from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance,
 from gearsim.stiffness.tooth import hertz_stiffness, line_contact_compliance
 
 __all__ = ["COMPONENTS", "DEFAULT_SLICES", "MeshStiffness", "StiffnessSettings", "ToothCrack",
-           "assemble_revolution", "centre_line_depth", "in_path_fraction", "mesh_stiffness",
-           "pair_law", "slice_grid", "slice_law"]
+           "assemble_revolution", "centre_line_depth", "corner_closing", "extended_grid",
+           "extended_law", "in_path_fraction", "mesh_stiffness", "pair_law", "slice_grid",
+           "slice_law"]
 
 COMPONENTS = ("hertz", "bending_1", "shear_1", "axial_1", "foundation_1",
               "bending_2", "shear_2", "axial_2", "foundation_2")
@@ -329,7 +337,9 @@ def _slice_stiffness(diag: np.ndarray, width: np.ndarray, cross: np.ndarray | No
 
 def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
              width: np.ndarray, r1: np.ndarray, r2: np.ndarray, *,
-             force: float | None = None, coupling=None
+             force: float | None = None, coupling=None,
+             corner: np.ndarray | None = None, separation: np.ndarray | None = None,
+             rate: np.ndarray | None = None
              ) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
     """The contact law and coupling of a mesh's slice contacts, as a function of the teeth.
 
@@ -362,6 +372,11 @@ def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
     coupling : optional
         Body coupling model with ``cross(gear, r_read, r_load)`` [m^2/N]
         (:class:`gearsim.fem.coupling.FiniteElementCoupling`); needed with coupling.
+    corner, separation, rate : ndarray, shape (npc, n_age, ns), optional
+        Tip-corner contacts outside the path of contact (:func:`extended_grid`; their
+        ``lmid``, ``r1``, ``r2`` at the nearer end of the path), their no-load
+        separations [m] and closing rates [-]: the law is then :func:`extended_law`
+        (line contact only).
 
     Returns
     -------
@@ -410,6 +425,10 @@ def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
             return line_contact_compliance(np.maximum(q, 1e-3), rho1, rho2, dep1, dep2,
                                            g1.material, g2.material, settings.plane)
 
+    if corner is not None:
+        require(line, "stiffness.contact", settings.contact,
+                'contact outside the path needs the line contact (stiffness.contact = "line")')
+        return extended_law(width, corner, separation, rate, ch, cross, contact, force)
     return slice_law(width, ch, cross, contact, force)
 
 
@@ -460,10 +479,282 @@ def slice_law(width: np.ndarray, ch: float, cross: np.ndarray | None,
     return law
 
 
+#: Largest number of active-set passes of :func:`extended_law` on the tip-corner
+#: contacts (a slice has at most two candidate corners, so two or three passes settle it;
+#: the cap only guards against cycling).
+CORNER_PASSES = 8
+#: Fixed-point passes on the outgoing corner's separation delta* = s(c + delta*)
+#: (:func:`extended_grid`): the contraction factor is s' < 0.1 where a corner can close
+#: under load (19/48 at 400 N m), so six passes leave < 1e-6 of it.
+SEPARATION_PASSES = 6
+
+
+def extended_grid(pair: GearPair, settings: StiffnessSettings
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                             int, int, int, np.ndarray]:
+    """Slice contacts on and just outside the path of contact (tip corners), point sampled.
+
+    Pair age a = m + first (first = -1) at position u of a cycle has its slice centre
+    at c = l_A + (u + a) p_b - z tan(beta_b). On the path (l_A <= c <= l_E) it is an
+    involute contact at c; within one base pitch before l_A (incoming pair: the driven
+    tip corner against the driver flank) or after l_E (outgoing pair: the driver tip
+    corner against the driven flank), and between the base tangent points T1 and T2, it
+    is a tip-corner contact with the no-load separation of
+    :func:`gearsim.stiffness.contacts.corner_separation` (Litvin & Fuentes 2004, ch. 10;
+    zero at l_A and l_E, quadratic away from them) and the contact law and teeth of the
+    nearer path end (``lmid`` = l_A or l_E).
+
+    Position convention: as in the FE gear pair, the driven gear stays at its kinematic
+    angle of the position and the driver turns by the deflection (separation and
+    closing rate of :func:`corner_closing`). The stiffness is then continuous across
+    l_A and l_E (the corner's law at separation 0 is the path end's), so the samples
+    are points, not the in-path cell fractions of :func:`in_path_fraction` (those
+    average a jump that the tip-corner contact removes).
+
+    Parameters
+    ----------
+    pair : GearPair
+        The mesh.
+    settings : StiffnessSettings
+        Positions per cycle and slices.
+
+    Returns
+    -------
+    lmid, width, corner, separation, rate, n_age, first, ns, zfrac
+        Contact point for the law (clipped to the path) [m], slice width of each
+        existing contact (0: none) [m], tip-corner flags, no-load separations [m] and
+        closing rates [-] (1 on the path and before it), all (npc, n_age, ns); number of
+        ages, age of the first column (-1), slices, slice centres over the face width
+        [-].
+    """
+    tb = math.tan(pair.driver.base_helix_angle)
+    b = pair.face_width
+    pb = pair.base_pitch
+    la, le, big_l = pair.start_of_contact, pair.end_of_contact, pair.line_length
+    ns = settings.slices if tb > 0 else 1
+    npc = settings.positions_per_cycle
+    first = -1
+    n_age = int(math.ceil((le - la) / pb + b * tb / pb)) + 3
+    u = np.arange(npc) / npc
+    age = u[:, None] + (np.arange(n_age) + first)[None, :]
+    dz = b / ns
+    zc = (np.arange(ns) + 0.5) * dz
+    centre = la + age[:, :, None] * pb - zc[None, None, :] * tb
+    path = (centre >= la) & (centre <= le)
+    corner = ~path & (((centre < la) & (centre > max(la - pb, 0.0)))
+                      | ((centre > le) & (centre < min(le + pb, big_l))))
+    sep, rate = corner_closing(pair, np.where(corner, centre, la))
+    corner = corner & (rate > 0)  # a corner the turning driver cannot close
+    width = np.where(path | corner, dz, 0.0)
+    return (np.clip(centre, la, le), width, corner, np.where(corner, sep, 0.0),
+            np.where(corner, rate, 1.0), n_age, first, ns, zc / b)
+
+
+def corner_closing(pair: GearPair, l: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Separation and closing rate of tip-corner contacts with the driven gear held [m, -].
+
+    As in the FE gear pair (:mod:`gearsim.fem.pair`), the driven gear stays at its
+    kinematic angle of the position and the driver turns by the deflection delta
+    (line-of-action units). The incoming corner's separation of
+    :func:`gearsim.stiffness.contacts.corner_separation` is that rotation already (rate
+    1). The outgoing corner's is given there as a rotation of the driven gear; turning
+    the driver instead advances the mesh by delta too, so the corner closes at
+    delta* = s(l + delta*) (fixed point, :data:`SEPARATION_PASSES` passes) and beyond it
+    its gap closes at the rate rho = 1 - s'(l + delta*) per unit delta: the ratio of the
+    driver's moment arm about the corner's contact normal (not the line of action) to
+    r_b1 (Litvin & Fuentes 2004, ch. 10, for the involute geometry). The corner's normal
+    load f then carries rho f of the line-of-action force, so its stiffness along the
+    line of action is rho^2 times its normal stiffness.
+
+    Parameters
+    ----------
+    pair : GearPair
+        The mesh.
+    l : ndarray
+        Positions on the extended line of action, from T1 [m], outside [l_A, l_E] and
+        between T1 and T2.
+
+    Returns
+    -------
+    separation, rate : ndarray
+        Separation along the line of action [m] and closing rate [-] (<= 0: a corner the
+        turning driver cannot close), the shape of ``l``.
+    """
+    from gearsim.stiffness.contacts import corner_separation
+
+    l = np.asarray(l, dtype=float)
+    le, pb = pair.end_of_contact, pair.base_pitch
+    sep = corner_separation(pair, l)
+    rate = np.ones(l.shape)
+    out = l > le
+    if np.any(out):
+        c = l[out]
+        h = 1e-3 * pb  # central-difference step of s'
+        top = min(le + pb, pair.line_length) - 2 * h
+        s_out = sep[out]
+        for _ in range(SEPARATION_PASSES):
+            s_out = corner_separation(pair, np.minimum(c + s_out, top))
+        x = np.minimum(c + s_out, top)
+        slope = (corner_separation(pair, x + h) - corner_separation(pair, x - h)) / (2 * h)
+        sep[out] = s_out
+        rate[out] = 1.0 - slope
+    return sep, rate
+
+
+def extended_law(width: np.ndarray, corner: np.ndarray, separation: np.ndarray,
+                 rate: np.ndarray, ch: float, cross: np.ndarray | None,
+                 contact: Callable[[np.ndarray], np.ndarray], force: float
+                 ) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
+    """The law of :func:`slice_law` with tip-corner contacts that close under load.
+
+    At each position the mesh deflects by delta along the line of action under the force
+    F; a contact j with per-unit-width compliance matrix C (diagonal: contact plus both
+    teeth; off-diagonal: body cross compliance of adjacent pairs, as in
+    :func:`slice_law`), width w_j, no-load separation s_j and closing rate rho_j (0 and 1
+    on the path; the tip corner's outside it, :func:`extended_grid`) carries the normal
+    load per unit width q_j >= 0, with
+
+        (C q)_j = rho_j (delta - s_j)  (closed),
+        q_j = 0 and rho_j (delta - s_j) < (C q)_j  (open),
+        sum_j w_j rho_j q_j = F,
+
+    the static equilibrium of the loaded mesh (the deflection that carries F when the
+    loaded transmission error exceeds a corner's separation, as in the FE gear pair).
+    For an active set A, with a = C_AA^-1 rho_A and b = C_AA^-1 (rho s)_A:
+    q_A = delta a - b and delta = (F + w rho . b) / (w rho . a); a corner opens when its
+    q < 0 and closes when its gap is negative (at most :data:`CORNER_PASSES` passes).
+    The line contact compliance of every closed contact follows its load per unit width
+    by :data:`LINE_ITERATIONS` fixed-point passes (an open corner keeps the
+    compliance of the previous pass). The mesh stiffness is the secant F / delta, the
+    quantity the FE gear pair computes; contact j's share of it is w_j rho_j q_j / delta.
+
+    Tip-corner contact law: the 2D line contact of the nearer path end
+    (:func:`gearsim.stiffness.tooth.line_contact_compliance`, Johnson 1985 eq. 5.79:
+    radii of curvature and centre-line depths at l_A or l_E) at the corner's own load
+    per unit width. A corner has no curvature of its own (the FE gear pair finds no
+    Hertz width there); this is the limit of the involute contact at the path end,
+    where the touching point is the same material point (the end of the involute), so
+    the stiffness is continuous across l_A and l_E. The compliance depends on the
+    contact width only through ln(2 d / a): a corner whose real contact width differed
+    by a factor 2 would change its contact compliance by ln 2 / (ln(2 d / a) - nu / 2)
+    of it; the zone ends against the FE gear pair bound that error (docs/stiffness.md,
+    section 4c).
+
+    Parameters
+    ----------
+    width : ndarray, shape (npc, n_age, ns)
+        Width of each slice contact [m] (0: none).
+    corner : ndarray of bool, shape (npc, n_age, ns)
+        Tip-corner contacts (outside the path).
+    separation : ndarray, shape (npc, n_age, ns)
+        No-load separation of each contact along the line of action [m].
+    rate : ndarray, shape (npc, n_age, ns)
+        Closing rate of each contact per unit delta [-] (1 on the path).
+    ch : float
+        Load-independent contact compliance per unit width, 1/k_h [m^2/N]: the start of
+        the fixed point.
+    cross : ndarray, shape (npc, n_age - 1, ns), or None
+        Body cross compliance between ages m and m + 1 per unit width [m^2/N].
+    contact : callable
+        ``contact(q)``: line contact compliance per unit width [m^2/N] at the load per
+        unit width q [N/m].
+    force : float
+        Line-of-action force of the mesh [N].
+
+    Returns
+    -------
+    callable
+        ``law(teeth) -> (ks, chs)``: the share of each slice contact in the secant mesh
+        stiffness [N/m] (0 for an open corner) and the contact compliance per unit
+        width used [m^2/N], both (npc, n_age, ns).
+    """
+    exists = width > 0
+    path = exists & ~corner
+    cand = exists & corner
+    s_pos = np.where(cand, separation, 0.0)
+    rho = np.where(cand, rate, 1.0)
+
+    def solve(cdiag: np.ndarray, act: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        if cross is None:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                a = np.where(act, rho / cdiag, 0.0)
+            b = a * s_pos
+        else:
+            off = np.where(act[:, :-1] & act[:, 1:], cross, 0.0)
+            a, b = _tridiagonal_solve(np.where(act, cdiag, 1.0), off, np.where(act, rho, 0.0),
+                                      np.where(act, rho * s_pos, 0.0))
+        delta = (force + np.sum(width * rho * b, axis=(1, 2))) / np.sum(width * rho * a,
+                                                                         axis=(1, 2))
+        return delta, np.where(act, delta[:, None, None] * a - b, 0.0)
+
+    def law(teeth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        chs = np.full(width.shape, ch)
+        act = path.copy()
+        q = np.zeros(width.shape)
+        for it in range(LINE_ITERATIONS + 1):
+            if it:
+                chs = np.where(exists & (q > 0), contact(np.where(q > 0, q, 1.0)), chs)
+            cdiag = chs + teeth
+            for _ in range(CORNER_PASSES):
+                delta, q = solve(cdiag, act)
+                approach = rho * (delta[:, None, None] - s_pos)
+                if cross is not None:  # the neighbours' loads deflect an open corner
+                    approach[:, 1:] -= np.where(cand[:, 1:], cross * q[:, :-1], 0.0)
+                    approach[:, :-1] -= np.where(cand[:, :-1], cross * q[:, 1:], 0.0)
+                new = path | (cand & np.where(act, q > 0, approach > 0))
+                if np.array_equal(new, act):
+                    break
+                act = new
+        ks = np.where(act, width * rho * q / delta[:, None, None], 0.0)
+        return ks, chs
+
+    return law
+
+
+def _tridiagonal_solve(diag: np.ndarray, off: np.ndarray, *rhs: np.ndarray
+                       ) -> tuple[np.ndarray, ...]:
+    """Solve symmetric tridiagonal systems along axis 1 (Thomas algorithm).
+
+    The compliance matrix of the pairs of a slice is tridiagonal (the body couples
+    adjacent pairs only) and diagonally dominant (a cross compliance is a few per cent of
+    a pair's compliance), so elimination without pivoting is stable (Golub & Van Loan,
+    Matrix Computations, 4th ed., sec. 4.3).
+
+    Parameters
+    ----------
+    diag : ndarray, shape (n, m, ...)
+        Diagonal [m^2/N].
+    off : ndarray, shape (n, m - 1, ...)
+        Off-diagonal between rows i and i + 1 [m^2/N].
+    *rhs : ndarray, shape of ``diag``
+        Right-hand sides.
+
+    Returns
+    -------
+    tuple of ndarray
+        The solutions, shape of ``diag``, one per right-hand side.
+    """
+    m = diag.shape[1]
+    cp = np.empty(off.shape)
+    rp = [np.empty(diag.shape) for _ in rhs]
+    den = diag[:, 0]
+    for j, r in enumerate(rhs):
+        rp[j][:, 0] = r[:, 0] / den
+    for i in range(1, m):
+        cp[:, i - 1] = off[:, i - 1] / den
+        den = diag[:, i] - off[:, i - 1] * cp[:, i - 1]
+        for j, r in enumerate(rhs):
+            rp[j][:, i] = (r[:, i] - off[:, i - 1] * rp[j][:, i - 1]) / den
+    for i in range(m - 2, -1, -1):
+        for x in rp:
+            x[:, i] -= cp[:, i] * x[:, i + 1]
+    return tuple(rp)
+
+
 def assemble_revolution(teeth: tuple[int, int], z_rev: int, npc: int,
                         healthy: tuple[np.ndarray, np.ndarray],
                         cracked: tuple[dict[int, np.ndarray], dict[int, np.ndarray]],
-                        width: np.ndarray, pairs: Callable
+                        width: np.ndarray, pairs: Callable, first: int = 0
                         ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Mesh stiffness over ``z_rev`` mesh cycles from the tooth compliances of one cycle.
 
@@ -491,6 +782,9 @@ def assemble_revolution(teeth: tuple[int, int], z_rev: int, npc: int,
         ``pairs(teeth_compliance) -> (ks, contact)``: the slice stiffnesses [N/m] and the
         contact compliance per unit width used, both (npc, n_age, ns), from the summed
         tooth compliances of both gears.
+    first : int
+        Age of the first column (-1 with the tip-corner contacts of
+        :func:`extended_grid`: the pair before the path of contact).
 
     Returns
     -------
@@ -511,8 +805,8 @@ def assemble_revolution(teeth: tuple[int, int], z_rev: int, npc: int,
     done: dict[tuple, slice] = {}
     for c in range(z_rev):
         sl = slice(c * npc, (c + 1) * npc)
-        i1 = [(c - m) % teeth[0] for m in range(n_age)]
-        i2 = [(c - m) % teeth[1] for m in range(n_age)]
+        i1 = [(c - m - first) % teeth[0] for m in range(n_age)]
+        i2 = [(c - m - first) % teeth[1] for m in range(n_age)]
         t1[sl] = i1
         t2[sl] = i2
         key = (tuple(i if i in cracked[0] else -1 for i in i1),
@@ -585,14 +879,33 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     require(model.name == settings.source, "stiffness.source", settings.source,
             f"the tooth-compliance model passed is {model.name!r}: pass the model the "
             "settings name (gearsim.system.tooth_compliance) or use GearTrain.mesh_stiffness")
-    lmid, frac, dz, n_age, ns, zfrac = _slice_grid(pair, settings)
+    # contact outside the path (tip corners) under the load-dependent line contact law;
+    # the seed's load-independent law keeps the path of contact (docs/stiffness.md 4c)
+    extended = settings.contact == "line" and settings.corner_contact
+    first, corner, sep, rate = 0, None, None, None
+    if extended:
+        lmid, width, corner, sep, rate, n_age, first, ns, zfrac = extended_grid(pair,
+                                                                                settings)
+        inside = width > 0
+    else:
+        lmid, frac, dz, n_age, ns, zfrac = _slice_grid(pair, settings)
+        inside = frac > 0
     npc = settings.positions_per_cycle
-    inside = frac > 0
     r1 = np.where(inside, np.hypot(g1.base_radius, lmid), 0.0)
     r2 = np.where(inside, np.hypot(g2.base_radius, pair.line_length - lmid), 0.0)
 
     def table(gear, radii: np.ndarray, tc: ToothCrack | None) -> np.ndarray:
-        return model.compliance(gear, radii, tc, zfrac, settings)
+        if corner is None:
+            return model.compliance(gear, radii, tc, zfrac, settings)
+        # a tip-corner contact takes the teeth at its path end: two radii per slice
+        out = model.compliance(gear, np.where(corner, 0.0, radii), tc, zfrac, settings)
+        before = corner & (lmid <= pair.start_of_contact)
+        ends = np.stack([radii[before].max(initial=0.0), radii[corner & ~before].max(
+            initial=0.0)])
+        at = model.compliance(gear, np.broadcast_to(ends[:, None], (2, ns)), tc, zfrac,
+                              settings)
+        return np.where(before[..., None], at[0], np.where((corner & ~before)[..., None],
+                                                             at[1], out))
 
     healthy1 = table(g1, r1, None)
     healthy2 = table(g2, r2, None)
@@ -602,13 +915,15 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
         gear, radii, store = (g1, r1, cracked1) if tc.gear == 1 else (g2, r2, cracked2)
         store[tc.crack.tooth] = table(gear, radii, tc)
 
-    width = frac * dz  # carried face width of each slice [m]
-    pairs = pair_law(pair, settings, lmid, width, r1, r2, force=force, coupling=coupling)
+    if not extended:
+        width = frac * dz  # carried face width of each slice [m]
+    pairs = pair_law(pair, settings, lmid, width, r1, r2, force=force, coupling=coupling,
+                     corner=corner, separation=sep, rate=rate)
 
     z_rev = g1.teeth if revolution_of == 1 else g2.teeth
     k, comp, pair_k, t1, t2 = assemble_revolution(
         (g1.teeth, g2.teeth), z_rev, npc, (healthy1, healthy2), (cracked1, cracked2), width,
-        pairs)
+        pairs, first)
     n_pos = z_rev * npc
     cycles = np.arange(n_pos) / npc
     return MeshStiffness(
@@ -626,5 +941,6 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
                "positions_per_cycle": npc, "plane": settings.plane,
                "gauss_points": settings.gauss_points, "source": model.name,
                "contact": settings.contact, "coupling": settings.coupling,
-               **({"force": float(force)} if settings.contact == "line" else {})},
+               **({"force": float(force), "corner_contact": int(extended)}
+                  if settings.contact == "line" else {})},
     )

@@ -25,8 +25,9 @@ COUPLINGS = ("none", "fe")
 #: each stands for: ``"seed"``, the source paper's potential-energy method (PE tooth,
 #: Yang-Lin contact, independent pairs; +24 % on the cycle mean of the 19/48 pair against
 #: the FE gear pair); ``"accurate"``, the calibrated tooth with the 2D line contact and
-#: the FE body coupling (within 3 % of the FE gear pair inside the contact zones,
-#: healthy; docs/stiffness.md, section 4c).
+#: the FE body coupling and the tip-corner contacts under load (within 3 % of the FE gear
+#: pair inside the contact zones and for the cycle mean, +0.6 to +5.3 % at the zone
+#: ends, healthy; docs/stiffness.md, section 4c).
 MODELS = {"seed": {"source": "pe", "contact": "yang-lin", "coupling": "none"},
           "accurate": {"source": "calibrated", "contact": "line", "coupling": "fe"}}
 #: The model of a gear train, a planetary stage or a stage's chain whose file names none
@@ -77,9 +78,12 @@ class StiffnessSettings:
         to the mesh of contacts (:mod:`gearsim.stiffness.contacts`; default on). They
         close when contact is lost elsewhere (a broken tooth: without them the gears
         would turn freely until the next pair reaches the path of contact) and, near the
-        ends of the path, under load (extended contact). Off: a healthy mesh of contacts
-        is exactly the TVMS of the slicing model. The stiffness table of a mesh without
-        faults (:func:`gearsim.stiffness.mesh.mesh_stiffness`) never has them.
+        ends of the path, under load (extended contact). Under the line contact law
+        (``contact = "line"``, the accurate model) the stiffness tables
+        (:func:`gearsim.stiffness.mesh.mesh_stiffness`) close them under load too
+        (:func:`gearsim.stiffness.mesh.extended_law`; docs/stiffness.md 4c); the seed's
+        load-independent law keeps the path of contact. Off: the path of contact only,
+        and a healthy mesh of contacts is exactly the TVMS of the slicing model.
     contact
         Contact law of the mesh stiffness: ``"yang-lin"`` (default, the seed's load-
         independent k_h = pi E b / (4 (1 - nu^2)), :func:`gearsim.stiffness.tooth.

@@ -69,9 +69,13 @@ flank = ["none", "working"]
 crack_depth = ["1 mm", "2 mm"]
 """
 
-#: Smallest relative change of the sensor RMS the deepest crack must cause (measured:
-#: ~0.4 % for 2 mm against no crack; a quarter of that leaves room for numerics).
-MIN_RMS_CHANGE = 1e-3
+#: Smallest relative rise of FM4 (the TSA's kurtosis of the difference signal, the
+#: classic localised-fault indicator) the deepest crack must cause: measured +0.26 % at
+#: 1 mm and +0.80 % at 2 mm against no crack (default stiffness with the tip corners); a
+#: quarter of that leaves room for numerics. The sensor RMS is no crack indicator here:
+#: with the tip corners closing under load it moves by -0.03 % and -0.07 % (it rose by
+#: ~0.4 % on the path-only tables).
+MIN_FM4_CHANGE = 2e-3
 
 
 @pytest.fixture(scope="module")
@@ -132,9 +136,10 @@ def test_store_rows_and_crack_trend(store):
     assert "fault" not in store.coords
     rms = store["td_rms"].values
     assert rms[0] == rms[2]  # one simulation (no crack), no noise
-    assert rms[0] < rms[1] < rms[3]  # deeper crack, larger sensor RMS
-    assert (rms[3] - rms[0]) / rms[0] > MIN_RMS_CHANGE
-    assert np.isfinite(store["tsa_fm4"].values).all()
+    fm4 = store["tsa_fm4"].values
+    assert np.isfinite(fm4).all()
+    assert fm4[0] < fm4[1] < fm4[3]  # deeper crack, larger FM4
+    assert (fm4[3] - fm4[0]) / fm4[0] > MIN_FM4_CHANGE
     assert store.attrs["n_ok"] == 4
 
 

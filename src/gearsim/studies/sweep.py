@@ -25,6 +25,7 @@ Layout::
     # or, instead of crack_depth and flank, the fault classes of gearsim.model.variants:
     # fault = ["none", "spall", "broken"]   # FAULT_CLASSES
     # severity = [0.5, 1.0]                 # fraction of each class's reference size
+    # gear = ["input-pinion", "intermediate-pinion"]   # the faulty gear (default: input)
     closure = ["contact"]
     speed = { min = "1200 rpm", max = "1900 rpm", num = 3 }   # grid: linspace
     torque = ["2000 N*m", "4876 N*m"]
@@ -36,7 +37,8 @@ are SI. A study with ``fault`` builds each case's train with
 :func:`gearsim.model.variants.fault_variant` (one fault on tooth 0 of the input gear, the
 base train's cracks and faults removed, every class on the contact-mesh path); it may not
 also give ``flank`` or ``crack_depth`` (its cases have ``flank = "none"`` and
-``crack_depth = 0``), and ``severity`` needs ``fault``. With
+``crack_depth = 0``), and ``severity`` and ``gear`` (the faulty gear, any gear of the
+train by name; default the input gear) need ``fault``. With
 ``sampling = "random"`` a list is sampled uniformly and a range ``{min, max}`` uniformly
 in value (``log = true``: in logarithm). Unknown keys, empty lists and empty ranges are
 refused with :class:`gearsim.errors.InputError`.
@@ -98,6 +100,7 @@ PARAMETERS: dict[str, str | tuple[str, ...]] = {
     "flank": CRACK_CHOICES,
     "fault": FAULT_CLASSES,
     "severity": "dimensionless",
+    "gear": "name",
     "closure": CLOSURES,
     "speed": "speed",
     "torque": "torque",
@@ -150,6 +153,9 @@ class Case:
         (:func:`gearsim.model.variants.fault_variant`); for ``fault == "none"`` the
         nominal severity of the grid cell (no fault is modelled); ``None`` without
         ``fault``.
+    gear : str or None
+        The faulty gear of a study that varies ``gear`` (a name of the train's gears);
+        ``None``: the input gear.
     """
 
     index: int
@@ -163,26 +169,30 @@ class Case:
     replicate: int
     fault: str | None = None
     severity: float | None = None
+    gear: str | None = None
 
     def params(self) -> dict[str, Any]:
         """Parameters without the index (the case's identity).
 
-        ``fault`` and ``severity`` are left out when ``fault`` is ``None``, so that the
-        keys of a study without faults are those it had before they existed.
+        ``fault`` and ``severity`` are left out when ``fault`` is ``None``, and ``gear``
+        when it is ``None``, so that the keys of a study without them are those it had
+        before they existed.
         """
         d = dataclasses.asdict(self)
         d.pop("index")
         if self.fault is None:
             d.pop("fault")
             d.pop("severity")
+        if self.gear is None:
+            d.pop("gear")
         return d
 
     def simulation_params(self) -> dict[str, Any]:
         """Parameters that change the simulation (not noise or replicate).
 
-        The crack depth of an uncracked case (``flank == "none"``) and the severity of a
-        healthy case (``fault == "none"``) count as 0: such cases share one simulation
-        whatever their nominal depth or severity.
+        The crack depth of an uncracked case (``flank == "none"``) and the severity and
+        gear of a healthy case (``fault == "none"``) count as 0 and none: such cases share
+        one simulation whatever their nominal depth, severity or gear.
         """
         d = self.params()
         d.pop("noise")
@@ -191,6 +201,7 @@ class Case:
             d["crack_depth"] = 0.0
         if self.fault == "none":
             d["severity"] = 0.0
+            d.pop("gear", None)
         return d
 
 
@@ -351,8 +362,9 @@ def _values(name: str, raw: Any) -> tuple | dict:
     kind = PARAMETERS[name]
     where = f"parameters.{name}"
     if isinstance(raw, dict):
-        if isinstance(kind, tuple):
-            raise InputError(where, raw, "give a list of choices: " + ", ".join(kind))
+        if isinstance(kind, tuple) or kind == "name":
+            raise InputError(where, raw, "give a list of choices" + (
+                ": " + ", ".join(kind) if isinstance(kind, tuple) else " (gear names)"))
         for key in raw:
             if key not in ("min", "max", "num", "log"):
                 raise InputError(f"{where}.{key}", raw[key], "unknown key; allowed: min, max, "
@@ -379,6 +391,10 @@ def _values(name: str, raw: Any) -> tuple | dict:
     for i, v in enumerate(raw):
         if isinstance(kind, tuple):
             require(v in kind, f"{where}[{i}]", v, "must be one of " + ", ".join(kind))
+            out.append(v)
+        elif kind == "name":  # checked against the gearbox in check_study
+            require(isinstance(v, str) and v != "", f"{where}[{i}]", v,
+                    "must be a gear's name (a non-empty string)")
             out.append(v)
         else:
             out.append(_checked(name, to_si(v, kind, f"{where}[{i}]"), f"{where}[{i}]", v))
@@ -501,9 +517,12 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
                                  "either the crack (flank, crack_depth) or the fault class "
                                  "(fault, severity; the working and non-working crack are "
                                  "fault classes too); remove one of them")
-    elif "severity" in parameters:
-        raise InputError("parameters.severity", params_raw["severity"],
-                         "needs parameters.fault (the fault classes it sizes)")
+    else:
+        for key, what in (("severity", "the fault classes it sizes"),
+                          ("gear", "the fault classes it places")):
+            if key in parameters:
+                raise InputError(f"parameters.{key}", params_raw[key],
+                                 f"needs parameters.fault ({what})")
     study = Study(name=name, text=text, config=config, config_text=config_text,
                   sampling=sampling, samples=int(samples or 0), seed=seed,
                   replicates=replicates, signal=signal, shafts=shafts,
@@ -700,16 +719,25 @@ def _check_faults(study: Study, gb: Gearbox) -> None:
     """Each fault class at each severity end of the study makes a valid variant of ``gb``."""
     severities = (_points(study, "severity") if "severity" in study.parameters
                   else [("parameters.fault", None, 1.0)])
+    if "gear" in study.parameters:
+        names = [g.name for g in gb.train.gears] if gb.stage is None else []
+        for where, raw, name in _points(study, "gear"):
+            require(name in names, where, raw, "is not a gear of the train; its gears: "
+                    + (", ".join(names) or "none (a planetary stage: vary its cracks)"))
+    gears = [g for _, _, g in _points(study, "gear")] if "gear" in study.parameters else [None]
     for where_f, raw_f, kind in _points(study, "fault"):
         if kind == "none":
             continue
         for where_s, raw_s, s in severities:
-            try:
-                fault_variant(gb, kind, s)
-            except InputError as exc:
-                where, raw = ((where_s, raw_s) if "severity" in study.parameters
-                              else (where_f, raw_f))
-                raise InputError(where, raw, f"{exc} (fault {kind}, severity {s:g})") from None
+            for gear in gears:
+                try:
+                    fault_variant(gb, kind, s, gear=gear)
+                except InputError as exc:
+                    where, raw = ((where_s, raw_s) if "severity" in study.parameters
+                                  else (where_f, raw_f))
+                    on = "" if gear is None else f", gear {gear}"
+                    raise InputError(where, raw, f"{exc} (fault {kind}, severity {s:g}"
+                                     f"{on})") from None
 
 
 def _base_values(study: Study) -> dict[str, tuple]:
@@ -722,7 +750,7 @@ def _base_values(study: Study) -> dict[str, tuple]:
         fault = severity = None
     speed, torque = gb.operating()
     return {"crack_depth": (depth,), "flank": (flank,), "fault": (fault,),
-            "severity": (severity,), "closure": (gb.stiffness.closure,),
+            "severity": (severity,), "gear": (None,), "closure": (gb.stiffness.closure,),
             "speed": (speed,), "torque": (torque,),
             "bearing_stiffness": (gb.dynamics.bearing_stiffness,), "noise": (0.0,)}
 

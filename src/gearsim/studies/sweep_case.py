@@ -33,7 +33,7 @@ FEATURE_GROUPS = {"td_": "time-domain", "sb_": "sideband", "tsa_": "TSA", "band_
 
 PARAM_UNITS = {"crack_depth": "m", "speed": "rad/s", "torque": "N*m",
                "bearing_stiffness": "N/m", "noise": "1", "flank": "", "closure": "",
-               "replicate": "", "fault": "", "severity": "1"}
+               "replicate": "", "fault": "", "severity": "1", "gear": ""}
 #: Parameters stored only for studies that vary the fault class.
 FAULT_PARAMETERS = ("fault", "severity")
 
@@ -80,7 +80,8 @@ def build_case(study: Study, case: Case) -> Gearbox:
         gb = gb.with_crack(case.flank, depth=depth, closure=case.closure)
     else:
         severity = 1.0 if case.fault == "none" else case.severity
-        gb = fault_variant(gb.with_crack(None, closure=case.closure), case.fault, severity)
+        gb = fault_variant(gb.with_crack(None, closure=case.closure), case.fault, severity,
+                           gear=case.gear)
     return gb.replace(dynamics={"bearing_stiffness": case.bearing_stiffness,
                                 **study.dynamics})
 
@@ -180,8 +181,10 @@ def _table(study: Study, cases: Sequence[Case], rows: list[dict], status: list[s
     coords: dict[str, Any] = {"case": ("case", [c.index for c in cases])}
     coords["case_key"] = ("case", [study.case_key(c) for c in cases])
     with_faults = any(c.fault is not None for c in cases)
+    with_gears = any(c.gear is not None for c in cases)
     for name in (*PARAMETERS, "replicate"):
-        if name in FAULT_PARAMETERS and not with_faults:
+        if (name in FAULT_PARAMETERS and not with_faults) or (name == "gear"
+                                                              and not with_gears):
             continue
         coords[name] = ("case", [getattr(c, name) for c in cases],
                         {"units": PARAM_UNITS[name]} if PARAM_UNITS[name] else {})

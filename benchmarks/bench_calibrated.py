@@ -32,9 +32,13 @@ import numpy as np
 from gearsim.model import load
 from gearsim.stiffness.mesh import mesh_stiffness
 from gearsim.stiffness.settings import MODELS
-from gearsim.studies.fe_pair_check import PE_POSITIONS, fe_pair_check, section_tvms
+from gearsim.studies.fe_pair_check import PE_POSITIONS, fe_pair_check
 from gearsim.system.train import body_coupling, tooth_compliance
 
+#: Curves of the accuracy rows: the calibrated model, before the crack correction (PE
+#: section reduction), with the correction on both crack sides, the FE tooth, the PE
+#: tooth with line contact and coupling, the seed model.
+CURVES = ("calibrated", "cal_pe_crack", "cal_q_both", "fe_tooth", "pe_line", "pe")
 #: Share of the torque above which a tip-corner contact of the FE pair (outside the
 #: nominal path of contact: no Hertz width) makes a position a "zone end" [-].
 CORNER_SHARE = 1e-3
@@ -66,8 +70,10 @@ def cost() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         os.environ["GEARSIM_CACHE"] = tmp
         calibration._MEMO.clear()
+        calibration._CRACK_MEMO.clear()
         try:
             once = {}
+            crack_once = {}
             for gear in (train.pairs[0].driver, train.pairs[0].driven):
                 t0, c0 = time.perf_counter(), time.process_time()
                 calibration.calibration_ratio(gear, plane=cal.plane,
@@ -75,6 +81,13 @@ def cost() -> None:
                 body_coupling(cal).cross(gear, np.array([gear.pitch_radius]),
                                          np.array([gear.pitch_radius]))
                 once[gear.name] = (time.perf_counter() - t0, time.process_time() - c0)
+            for tc in train.mesh_cracks(0):  # the measured crack correction of the crack
+                gear = train.pairs[0].driver if tc.gear == 1 else train.pairs[0].driven
+                t0, c0 = time.perf_counter(), time.process_time()
+                if tc.side in calibration.CORRECTED_SIDES:
+                    calibration.crack_factor_table(gear, tc.crack, tc.side,
+                                                   closure=cal.closure, plane=cal.plane)
+                crack_once[gear.name] = (time.perf_counter() - t0, time.process_time() - c0)
             t_seed = _revolution(train, seed)
             t_line = _revolution(train, pe_line)
             t_cal = _revolution(train, cal)
@@ -84,6 +97,7 @@ def cost() -> None:
             else:
                 os.environ["GEARSIM_CACHE"] = old
             calibration._MEMO.clear()
+            calibration._CRACK_MEMO.clear()
     print("== Table-1 mesh I, full revolution, 40 slices x 40 positions per cycle ==")
     print(f"seed PE (yang-lin, no coupling):   {t_seed:8.3f} s   1.00 x")
     print(f"PE + line + FE coupling:           {t_line:8.3f} s   {t_line / t_seed:5.2f} x")
@@ -92,6 +106,10 @@ def cost() -> None:
         print(f"one-time cost, gear {name:8s}      {t:8.3f} s   {t / t_seed:5.1f} x "
               f"(CPU {cpu:.1f} s; FE tooth table + FE coupling + ratio, level 2, empty "
               "cache)")
+    for name, (t, cpu) in crack_once.items():
+        print(f"crack correction, gear {name:8s}   {t:8.3f} s   {t / t_seed:5.1f} x "
+              f"(CPU {cpu:.1f} s; FE tooth at {len(calibration.CRACK_GRID)} crack depths, "
+              "once per gear and crack family)")
     print(f"load average during the run: {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
 
 
@@ -119,9 +137,17 @@ def _zones(pair, torque: float, u: np.ndarray, npc: int) -> tuple[np.ndarray, np
     return ~ends, frac < eps - 1.0
 
 
-def calibrated_curve(train, mesh: int, crack: str, depth: float | None, u: np.ndarray
-                     ) -> np.ndarray:
-    """The calibrated section TVMS at the FE-pair positions ``u`` [N/m]."""
+def calibrated_curve(train, mesh: int, crack: str, depth: float | None, u: np.ndarray,
+                     corrected_sides: tuple[int, ...] | None = None) -> np.ndarray:
+    """The calibrated section TVMS at the FE-pair positions ``u`` [N/m].
+
+    ``corrected_sides``: the crack sides the measured crack correction applies to
+    (default the model's, :data:`gearsim.fem.calibration.CORRECTED_SIDES`; ``()``: the
+    PE section reduction alone, the model before the correction).
+    """
+    from gearsim.fem.calibration import CORRECTED_SIDES, CalibratedCompliance
+    from gearsim.studies.fe_pair_check import SECTION
+
     if crack == "none":
         tr = train.with_cracks(())
     else:
@@ -131,9 +157,18 @@ def calibrated_curve(train, mesh: int, crack: str, depth: float | None, u: np.nd
     rev = cracks[0].gear if cracks else 1
     pair = tr.pairs[mesh]
     z_rev = pair.driver.teeth if rev == 1 else pair.driven.teeth
-    st = dataclasses.replace(tr.stiffness, source="calibrated", contact="line", coupling="fe")
-    x, k = section_tvms(tr, mesh, st, PE_POSITIONS, revolution_of=rev)
-    return np.interp(u, x, k, period=float(z_rev))
+    st = dataclasses.replace(tr.stiffness, source="calibrated", contact="line", coupling="fe",
+                             slices=1, positions_per_cycle=PE_POSITIONS)
+    # studies.fe_pair_check.section_tvms with the calibrated model of these sides
+    model = CalibratedCompliance(corrected_sides=CORRECTED_SIDES if corrected_sides is None
+                                 else corrected_sides)
+    thin = dataclasses.replace(pair, driver=dataclasses.replace(
+        pair.driver, face_width=pair.driver.face_width * SECTION), driven=dataclasses.replace(
+        pair.driven, face_width=pair.driven.face_width * SECTION))
+    ms = mesh_stiffness(thin, cracks=cracks, settings=st, compliance=model,
+                        force=tr.static_mesh_force(mesh) * SECTION,
+                        coupling=body_coupling(st), revolution_of=rev)
+    return np.interp(u, ms.cycles, ms.k / SECTION, period=float(z_rev))
 
 
 def accuracy_case(name: str, train, torque: float, depth: float | None) -> list[dict]:
@@ -146,11 +181,17 @@ def accuracy_case(name: str, train, torque: float, depth: float | None) -> list[
         t0 = time.perf_counter()
         chk = fe_pair_check(tr, 0, crack=crack, depth=depth)
         chk.curves["calibrated"] = calibrated_curve(tr, 0, crack, depth, chk.cycles)
+        if crack != "none":  # before the crack correction, and with it on both sides
+            chk.curves["cal_pe_crack"] = calibrated_curve(tr, 0, crack, depth, chk.cycles, ())
+            chk.curves["cal_q_both"] = calibrated_curve(tr, 0, crack, depth, chk.cycles,
+                                                        (1, -1))
         if inside is None:  # the same positions in every case
             inside, double = _zones(tr.pairs[0], tr.torque(0), chk.cycles, 20)
         row = {"case": name, "torque": torque, "crack": crack,
                "seconds": time.perf_counter() - t0}
-        for c in ("pe", "pe_line", "fe_tooth", "calibrated"):
+        for c in CURVES:
+            if c not in chk.curves:
+                continue
             d = chk.differences(c)
             p = 100.0 * (chk.curves[c] / chk.k_fe - 1.0)
             row[c] = {**d,
@@ -164,7 +205,9 @@ def accuracy_case(name: str, train, torque: float, depth: float | None) -> list[
 
 def _print_row(row: dict) -> None:
     head = f"{row['case']:14s} {row['torque']:7.0f} N m  {row['crack']:12s}"
-    for c in ("calibrated", "fe_tooth", "pe_line", "pe"):
+    for c in CURVES:
+        if c not in row:
+            continue
         d = row[c]
         print(f"{head} {c:10s} max {d['max']:+6.1f} min {d['min']:+6.1f} mean "
               f"{d['mean']:+6.1f} | double {d['double'][0]:+6.1f}..{d['double'][1]:+6.1f}"

@@ -2,19 +2,22 @@
 
 Cost (default): a full revolution of the Table-1 mesh I (40 slices, 40 positions per
 cycle, the train's crack) with the seed model (PE tooth, Yang-Lin contact, independent
-pairs) and with the calibrated model (PE tooth x FE/PE ratio, line contact, FE body
-coupling) after its one-time cost, and the one-time cost itself (FE tooth table, FE body
-coupling and ratio of both gears, computed in an empty cache), printed as ratios to the
-seed model's time in one run.
+pairs) and with the calibrated model (PE tooth x FE/PE ratio x the measured crack
+correction, line contact, FE body coupling) after its one-time cost, and the one-time
+cost itself (FE tooth table, FE body coupling and ratio of both gears, then the crack
+correction of the train's crack: FE tooth at the CRACK_GRID depths; computed in an empty
+cache), printed as ratios to the seed model's time in one run.
 
 Accuracy (``--accuracy``): transverse sections against the FE gear pair
 (:func:`gearsim.studies.fe_pair_check.fe_pair_check`, FE pair level 1, 20 positions per
 cycle, 4 cycles from the one before the cracked tooth enters): max / min / mean of the
 window and pointwise inside the contact zones and at the zone ends (positions on a
 nominal transition or where the FE pair touches outside the nominal path, tip corners),
-healthy, working-flank crack and closed non-working crack, at two torques a factor 4 apart; the numbers of
-docs/stiffness.md section 4c. ``--extra`` adds the 17/60 pair with x1 = +0.3 and the
-25/25 pair at 25 deg.
+healthy, working-flank crack and closed non-working crack, at two torques a factor 4
+apart; the numbers of docs/stiffness.md section 4c. Cracked rows also show the calibrated
+model before the crack correction (``cal_pe_crack``: the PE section reduction) and with
+the correction on both crack sides (``cal_q_both``). ``--extra`` adds the 17/60 pair
+with x1 = +0.3 and the 25/25 pair at 25 deg.
 
 Run: ``.venv/bin/python benchmarks/bench_calibrated.py [--accuracy] [--extra]``.
 """

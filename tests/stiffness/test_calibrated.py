@@ -288,6 +288,25 @@ def test_crack_deeper_than_the_grid_keeps_the_deepest_correction(spur, pair):
     np.testing.assert_allclose(at(q_top * (1 + 1e-9))[1], c_top, rtol=1e-6)
 
 
+def test_crack_of_zero_depth_needs_no_measurement(spur, pair, monkeypatch):
+    """A crack of depth 0 (the start of a depth sweep) is the healthy calibrated tooth,
+    without an FE run."""
+    def refuse(*a, **kw):
+        raise AssertionError("no FE crack factors for a crack of depth 0")
+
+    monkeypatch.setattr(cal, "crack_factor_table", refuse)
+    monkeypatch.setattr(cal, "_CRACK_MEMO", {})
+    st = StiffnessSettings(source="calibrated", contact="line", coupling="fe")
+    g = pair.driver
+    tc = spur.with_crack("working").mesh_cracks(0)[0]
+    tc = dataclasses.replace(tc, crack=dataclasses.replace(tc.crack, depth=0.0))
+    r = fe_nodes(g)[:, None]
+    z = np.array([0.5])
+    model = cal.CalibratedCompliance()
+    np.testing.assert_array_equal(model.compliance(g, r, tc, z, st),
+                                  model.compliance(g, r, None, z, st))
+
+
 def test_crack_correction_key_names_the_crack_family_not_its_depth(pair, monkeypatch):
     g = pair.driver
     crack = Crack(gear=g.name, depth=1e-3)

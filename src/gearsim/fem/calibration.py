@@ -160,7 +160,7 @@ CORRECTED_SIDES = (1,)
 #: Interpolants already read in this process, by cache key (the disk is read once).
 _MEMO: dict[str, tuple[CubicSpline, float, float]] = {}
 #: Crack-factor interpolants already read in this process, by cache key.
-_CRACK_MEMO: dict[str, tuple[CubicSpline, np.ndarray, float, float]] = {}
+_CRACK_MEMO: dict[str, tuple[CubicSpline, np.ndarray, float]] = {}
 #: Ring calibrations already read in this process, by cache key.
 _RING_MEMO: dict[str, tuple] = {}
 
@@ -626,9 +626,11 @@ class CalibratedCompliance:
         """
         r = np.asarray(radii, dtype=float)
         inside = r > 0
-        _, _, q_top = self._crack_spline(gear, crack, settings)
         ns = r.shape[-1]
         depths = crack.crack.depth_at(zfrac) if ns > 1 else np.array([crack.crack.depth])
+        if not np.any(depths > 0.0):  # no crack in any slice: nothing to measure
+            return np.ones(r.shape)
+        _, _, q_top = self._crack_spline(gear, crack, settings)
         if pe is None or np.any(depths > q_top):
             pe = _pe_cracked(gear, r, crack, np.minimum(depths, q_top), settings)
         healthy = self._pe.compliance(gear, r, None, zfrac, settings).sum(axis=-1)

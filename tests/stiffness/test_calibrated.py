@@ -288,6 +288,26 @@ def test_crack_deeper_than_the_grid_keeps_the_deepest_correction(spur, pair):
     np.testing.assert_allclose(at(q_top * (1 + 1e-9))[1], c_top, rtol=1e-6)
 
 
+def test_crack_profile_takes_each_slice_depth(spur, pair):
+    """A crack profile along the face width: each slice is the uniform crack of its local
+    depth (one measurement for all of them)."""
+    st = StiffnessSettings(source="calibrated", contact="line", coupling="fe")
+    g = pair.driver
+    tc = spur.with_crack("working").mesh_cracks(0)[0]
+    tc = dataclasses.replace(tc, crack=dataclasses.replace(tc.crack, depth=2e-3,
+                                                           profile="linear", extent=0.8))
+    z = np.array([0.1, 0.5, 0.9])  # depths 1.75, 0.75 and 0 mm
+    r = np.repeat(fe_nodes(g)[::3, None], z.size, axis=1)
+    model = cal.CalibratedCompliance()
+    c = model.compliance(g, r, tc, z, st)
+    for k, q in enumerate(tc.crack.depth_at(z)):
+        one = dataclasses.replace(tc, crack=dataclasses.replace(tc.crack, depth=float(q),
+                                                                profile="uniform", extent=1.0))
+        np.testing.assert_allclose(c[:, k], model.compliance(g, r[:, k:k + 1], one,
+                                                             np.array([0.5]), st)[:, 0],
+                                   rtol=1e-12)
+
+
 def test_crack_of_zero_depth_needs_no_measurement(spur, pair, monkeypatch):
     """A crack of depth 0 (the start of a depth sweep) is the healthy calibrated tooth,
     without an FE run."""

@@ -25,7 +25,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from gearsim.errors import InputError
+from gearsim.errors import InputError, ModelRangeWarning
 from gearsim.fem import calibration as cal
 from gearsim.fem import pair as fp
 from gearsim.fem.tables import fe_compliance, fe_nodes
@@ -306,6 +306,27 @@ def test_crack_profile_takes_each_slice_depth(spur, pair):
         np.testing.assert_allclose(c[:, k], model.compliance(g, r[:, k:k + 1], one,
                                                              np.array([0.5]), st)[:, 0],
                                    rtol=1e-12)
+
+
+def test_crack_the_fe_tooth_refuses_stays_the_pe_section_reduction(spur, pair,
+                                                                   monkeypatch):
+    """A crack family the FE tooth cannot mesh (e.g. at 10 deg on the 19/48 pinion the
+    mesher loses the tip at 0.99 q_c) keeps the PE section reduction, with a
+    ModelRangeWarning naming it."""
+    def refuse(*a, **kw):
+        raise InputError("crack.tip", "(0, 0)", "is not a node of the mesh")
+
+    monkeypatch.setattr(cal, "crack_factor_table", refuse)
+    monkeypatch.setattr(cal, "_CRACK_MEMO", {})
+    st = StiffnessSettings(source="calibrated", contact="line", coupling="fe")
+    g = pair.driver
+    tc = spur.with_crack("working").mesh_cracks(0)[0]
+    r = fe_nodes(g)[:, None]
+    z = np.array([0.5])
+    with pytest.warns(ModelRangeWarning, match="crack correction of gear pinion"):
+        c = cal.CalibratedCompliance().compliance(g, r, tc, z, st)
+    before = cal.CalibratedCompliance(corrected_sides=()).compliance(g, r, tc, z, st)
+    np.testing.assert_array_equal(c, before)
 
 
 def test_crack_of_zero_depth_needs_no_measurement(spur, pair, monkeypatch):

@@ -83,6 +83,7 @@ import contextlib
 import hashlib
 import json
 import math
+import warnings
 import zipfile
 from pathlib import Path
 
@@ -90,7 +91,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline, RectBivariateSpline
 
 from gearsim._version import __version__
-from gearsim.errors import require
+from gearsim.errors import InputError, ModelRangeWarning, SimulationError, require
 from gearsim.fem.geometry import SectorOptions, element_size
 from gearsim.fem.ring import (
     RIM_THICKNESS,
@@ -160,7 +161,7 @@ CORRECTED_SIDES = (1,)
 #: Interpolants already read in this process, by cache key (the disk is read once).
 _MEMO: dict[str, tuple[CubicSpline, float, float]] = {}
 #: Crack-factor interpolants already read in this process, by cache key.
-_CRACK_MEMO: dict[str, tuple[CubicSpline, np.ndarray, float]] = {}
+_CRACK_MEMO: dict[str, tuple[CubicSpline, np.ndarray, float] | None] = {}
 #: Ring calibrations already read in this process, by cache key.
 _RING_MEMO: dict[str, tuple] = {}
 
@@ -305,8 +306,9 @@ def crack_depths(gear: Gear, crack: Crack, level: int = DEFAULT_LEVEL) -> np.nda
     reaches the tooth centre line (:class:`~gearsim.stiffness.crack.CrackGeometry`
     ``max_depth``; seed eqs. 10-11 with x_t = 0): the deepest crack the FE tooth takes
     (its slit stays on one side of the centre line, :func:`gearsim.fem.geometry.
-    crack_line`); none shallower than two elements of the FE level (2 h, the depth the
-    level resolves without refining, :func:`gearsim.fem.tooth.check_crack_resolved`).
+    crack_line`); none shallower than 2.02 elements of the FE level (the level resolves
+    2 h without refining, :func:`gearsim.fem.tooth.check_crack_resolved`; 1 % more as the
+    mesher's own check refuses 2 h by rounding).
 
     Parameters
     ----------
@@ -323,9 +325,9 @@ def crack_depths(gear: Gear, crack: Crack, level: int = DEFAULT_LEVEL) -> np.nda
         Depths [m], increasing.
     """
     q_c = crack_geometry(ToothProfile(gear), crack, 0.0).max_depth
-    # no shallower than 2 elements of the level (fe_compliance would refine the mesh)
+    # no shallower than the level resolves (fe_compliance would refine the mesh)
     return np.maximum(q_c * np.asarray(CRACK_GRID, dtype=float),
-                      2.0 * element_size(gear, level))
+                      2.02 * element_size(gear, level))
 
 
 def crack_correction_key(gear: Gear, crack: Crack, side: int, *, closure: str = "contact",
@@ -538,17 +540,29 @@ class CalibratedCompliance:
         return c * ratio[..., None]
 
     def _crack_spline(self, gear: Gear, crack: ToothCrack, settings: StiffnessSettings
-                      ) -> tuple[CubicSpline, np.ndarray, float]:
+                      ) -> tuple[CubicSpline, np.ndarray, float] | None:
+        """Interpolant of F_FE, roll lengths of its radii and deepest depth; None (with a
+        :class:`~gearsim.errors.ModelRangeWarning`, once per process) when the FE tooth
+        refuses the crack family (e.g. a mesher failure at a grid depth)."""
         key, _ = crack_correction_key(gear, crack.crack, crack.side, closure=settings.closure,
                                       plane=settings.plane, level=self.level)
         if key not in _CRACK_MEMO:
-            nodes, depths, factor = crack_factor_table(
-                gear, crack.crack, crack.side, closure=settings.closure, plane=settings.plane,
-                level=self.level)
-            q = np.concatenate([[0.0], depths])
-            f = np.vstack([np.ones(nodes.size), factor])
-            _CRACK_MEMO[key] = (CubicSpline(q, f, axis=0),
-                                np.sqrt(nodes**2 - gear.base_radius**2), float(depths[-1]))
+            try:
+                nodes, depths, factor = crack_factor_table(
+                    gear, crack.crack, crack.side, closure=settings.closure,
+                    plane=settings.plane, level=self.level)
+            except (InputError, SimulationError) as exc:  # the FE tooth refuses the family
+                warnings.warn(ModelRangeWarning(
+                    f"crack correction of gear {gear.name}: the FE tooth does not take the "
+                    f"crack at {math.degrees(crack.crack.angle):.4g} deg ({exc}); the crack "
+                    "stays the PE section reduction (Q = 1)"), stacklevel=3)
+                _CRACK_MEMO[key] = None
+            else:
+                q = np.concatenate([[0.0], depths])
+                f = np.vstack([np.ones(nodes.size), factor])
+                _CRACK_MEMO[key] = (CubicSpline(q, f, axis=0),
+                                    np.sqrt(nodes**2 - gear.base_radius**2),
+                                    float(depths[-1]))
         return _CRACK_MEMO[key]
 
     def fe_crack_factor(self, gear: Gear, radii: np.ndarray, crack: ToothCrack,
@@ -579,8 +593,11 @@ class CalibratedCompliance:
         ndarray
             The factor, the shape of ``radii``.
         """
-        spline, roll_nodes, q_top = self._crack_spline(gear, crack, settings)
         r = np.asarray(radii, dtype=float)
+        got = self._crack_spline(gear, crack, settings)
+        if got is None:
+            return np.ones(r.shape)
+        spline, roll_nodes, q_top = got
         ns = r.shape[-1]
         depths = crack.crack.depth_at(zfrac) if ns > 1 else np.array([crack.crack.depth])
         rows = spline(np.minimum(depths, q_top))  # (ns, NODES)
@@ -630,7 +647,10 @@ class CalibratedCompliance:
         depths = crack.crack.depth_at(zfrac) if ns > 1 else np.array([crack.crack.depth])
         if not np.any(depths > 0.0):  # no crack in any slice: nothing to measure
             return np.ones(r.shape)
-        _, _, q_top = self._crack_spline(gear, crack, settings)
+        got = self._crack_spline(gear, crack, settings)
+        if got is None:
+            return np.ones(r.shape)
+        q_top = got[2]
         if pe is None or np.any(depths > q_top):
             pe = _pe_cracked(gear, r, crack, np.minimum(depths, q_top), settings)
         healthy = self._pe.compliance(gear, r, None, zfrac, settings).sum(axis=-1)

@@ -212,7 +212,7 @@ def _print_row(row: dict) -> None:
         if c not in row:
             continue
         d = row[c]
-        print(f"{head} {c:10s} max {d['max']:+6.1f} min {d['min']:+6.1f} mean "
+        print(f"{head} {c:12s} max {d['max']:+6.1f} min {d['min']:+6.1f} mean "
               f"{d['mean']:+6.1f} | double {d['double'][0]:+6.1f}..{d['double'][1]:+6.1f}"
               f" single {d['single'][0]:+6.1f}..{d['single'][1]:+6.1f}"
               f" ends {d['ends'][0]:+6.1f}..{d['ends'][1]:+6.1f}")

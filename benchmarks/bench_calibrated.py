@@ -2,21 +2,27 @@
 
 Cost (default): a full revolution of the Table-1 mesh I (40 slices, 40 positions per
 cycle, the train's crack) with the seed model (PE tooth, Yang-Lin contact, independent
-pairs) and with the calibrated model (PE tooth x FE/PE ratio, line contact, FE body
-coupling) after its one-time cost, and the one-time cost itself (FE tooth table, FE body
-coupling and ratio of both gears, computed in an empty cache), printed as ratios to the
-seed model's time in one run.
+pairs) and with the calibrated model (PE tooth x FE/PE ratio x the measured crack
+correction, line contact, FE body coupling) after its one-time cost, and the one-time
+cost itself (FE tooth table, FE body coupling and ratio of both gears, then the crack
+correction of the train's crack: FE tooth at the CRACK_GRID depths; computed in an empty
+cache), printed as ratios to the seed model's time in one run.
 
 Accuracy (``--accuracy``): transverse sections against the FE gear pair
 (:func:`gearsim.studies.fe_pair_check.fe_pair_check`, FE pair level 1, 20 positions per
 cycle, 4 cycles from the one before the cracked tooth enters): max / min / mean of the
 window and pointwise inside the contact zones and at the zone ends (positions on a
 nominal transition or where the FE pair touches outside the nominal path, tip corners),
-healthy, working-flank crack and closed non-working crack, at two torques a factor 4 apart; the numbers of
-docs/stiffness.md section 4c. ``--extra`` adds the 17/60 pair with x1 = +0.3 and the
-25/25 pair at 25 deg; ``--healthy`` runs the healthy case only. Row ``cal_path`` is the
-calibrated table on the path of contact only (``corner_contact = False``: the tables
-before the tip-corner contacts under load).
+healthy, working-flank crack and closed non-working crack, at two torques a factor 4
+apart; the numbers of docs/stiffness.md section 4c. Row ``calibrated`` is the model
+(tip-corner contacts under load, measured crack correction on the loaded flank); the
+rows before: ``cal_path`` the calibrated table on the path of contact only
+(``corner_contact = False``: the tables before the tip-corner contacts under load),
+and for the cracked cases ``cal_pe_crack`` the model before the crack correction (the
+PE section reduction), ``cal_before`` before both (path of contact only, PE section
+reduction), ``cal_q_both`` the correction on both crack sides. ``--extra`` adds the
+17/60 pair with x1 = +0.3 and the 25/25 pair at 25 deg; ``--healthy`` runs the healthy
+case only.
 
 Run: ``.venv/bin/python benchmarks/bench_calibrated.py [--accuracy] [--extra] [--healthy]``.
 """
@@ -34,9 +40,19 @@ import numpy as np
 from gearsim.model import load
 from gearsim.stiffness.mesh import mesh_stiffness
 from gearsim.stiffness.settings import MODELS
-from gearsim.studies.fe_pair_check import PE_POSITIONS, fe_pair_check, section_tvms
+from gearsim.studies.fe_pair_check import PE_POSITIONS, fe_pair_check
 from gearsim.system.train import body_coupling, tooth_compliance
 
+#: The calibrated curves of the accuracy rows: (tip-corner contacts, crack sides of the
+#: correction or None for the model's, cracked cases only): the model, on the path of
+#: contact only, before the crack correction (PE section reduction), before both, with
+#: the correction on both crack sides.
+CALIBRATED = {"calibrated": (True, None, False), "cal_path": (False, None, False),
+              "cal_pe_crack": (True, (), True), "cal_before": (False, (), True),
+              "cal_q_both": (True, (1, -1), True)}
+#: Curves of the accuracy rows: the calibrated ones, the FE tooth, the PE tooth with line
+#: contact and coupling, the seed model.
+CURVES = (*CALIBRATED, "fe_tooth", "pe_line", "pe")
 #: Share of the torque above which a tip-corner contact of the FE pair (outside the
 #: nominal path of contact: no Hertz width) makes a position a "zone end" [-].
 CORNER_SHARE = 1e-3
@@ -69,8 +85,10 @@ def cost() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         os.environ["GEARSIM_CACHE"] = tmp
         calibration._MEMO.clear()
+        calibration._CRACK_MEMO.clear()
         try:
             once = {}
+            crack_once = {}
             for gear in (train.pairs[0].driver, train.pairs[0].driven):
                 t0, c0 = time.perf_counter(), time.process_time()
                 calibration.calibration_ratio(gear, plane=cal.plane,
@@ -78,6 +96,13 @@ def cost() -> None:
                 body_coupling(cal).cross(gear, np.array([gear.pitch_radius]),
                                          np.array([gear.pitch_radius]))
                 once[gear.name] = (time.perf_counter() - t0, time.process_time() - c0)
+            for tc in train.mesh_cracks(0):  # the measured crack correction of the crack
+                gear = train.pairs[0].driver if tc.gear == 1 else train.pairs[0].driven
+                t0, c0 = time.perf_counter(), time.process_time()
+                if tc.side in calibration.CORRECTED_SIDES:
+                    calibration.crack_factor_table(gear, tc.crack, tc.side,
+                                                   closure=cal.closure, plane=cal.plane)
+                crack_once[gear.name] = (time.perf_counter() - t0, time.process_time() - c0)
             t_seed = _revolution(train, seed)
             t_line = _revolution(train, pe_line)
             t_cal = _revolution(train, cal)
@@ -88,6 +113,7 @@ def cost() -> None:
             else:
                 os.environ["GEARSIM_CACHE"] = old
             calibration._MEMO.clear()
+            calibration._CRACK_MEMO.clear()
     print("== Table-1 mesh I, full revolution, 40 slices x 40 positions per cycle ==")
     print(f"seed PE (yang-lin, no coupling):   {t_seed:8.3f} s   1.00 x")
     print(f"PE + line + FE coupling:           {t_line:8.3f} s   {t_line / t_seed:5.2f} x")
@@ -97,6 +123,10 @@ def cost() -> None:
         print(f"one-time cost, gear {name:8s}      {t:8.3f} s   {t / t_seed:5.1f} x "
               f"(CPU {cpu:.1f} s; FE tooth table + FE coupling + ratio, level 2, empty "
               "cache)")
+    for name, (t, cpu) in crack_once.items():
+        print(f"crack correction, gear {name:8s}   {t:8.3f} s   {t / t_seed:5.1f} x "
+              f"(CPU {cpu:.1f} s; FE tooth at {len(calibration.CRACK_GRID)} crack depths, "
+              "once per gear and crack family)")
     print(f"load average during the run: {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
 
 
@@ -125,10 +155,19 @@ def _zones(pair, torque: float, u: np.ndarray, npc: int) -> tuple[np.ndarray, np
 
 
 def calibrated_curve(train, mesh: int, crack: str, depth: float | None, u: np.ndarray,
-                     corner: bool = True) -> np.ndarray:
-    """The calibrated section TVMS at the FE-pair positions ``u`` [N/m]; ``corner``:
-    with the tip-corner contacts under load (the default), else the path of contact
-    only (the tables before issue 25 item 2)."""
+                     corner: bool = True, corrected_sides: tuple[int, ...] | None = None
+                     ) -> np.ndarray:
+    """The calibrated section TVMS at the FE-pair positions ``u`` [N/m].
+
+    ``corner``: with the tip-corner contacts under load (the default), else the path of
+    contact only (the tables before issue 25 item 2). ``corrected_sides``: the crack
+    sides the measured crack correction applies to (default the model's,
+    :data:`gearsim.fem.calibration.CORRECTED_SIDES`; ``()``: the PE section reduction
+    alone, the model before the correction).
+    """
+    from gearsim.fem.calibration import CORRECTED_SIDES, CalibratedCompliance
+    from gearsim.studies.fe_pair_check import SECTION
+
     if crack == "none":
         tr = train.with_cracks(())
     else:
@@ -139,9 +178,18 @@ def calibrated_curve(train, mesh: int, crack: str, depth: float | None, u: np.nd
     pair = tr.pairs[mesh]
     z_rev = pair.driver.teeth if rev == 1 else pair.driven.teeth
     st = dataclasses.replace(tr.stiffness, source="calibrated", contact="line", coupling="fe",
-                             corner_contact=corner)
-    x, k = section_tvms(tr, mesh, st, PE_POSITIONS, revolution_of=rev)
-    return np.interp(u, x, k, period=float(z_rev))
+                             corner_contact=corner, slices=1,
+                             positions_per_cycle=PE_POSITIONS)
+    # studies.fe_pair_check.section_tvms with the calibrated model of these sides
+    model = CalibratedCompliance(corrected_sides=CORRECTED_SIDES if corrected_sides is None
+                                 else corrected_sides)
+    thin = dataclasses.replace(pair, driver=dataclasses.replace(
+        pair.driver, face_width=pair.driver.face_width * SECTION), driven=dataclasses.replace(
+        pair.driven, face_width=pair.driven.face_width * SECTION))
+    ms = mesh_stiffness(thin, cracks=cracks, settings=st, compliance=model,
+                        force=tr.static_mesh_force(mesh) * SECTION,
+                        coupling=body_coupling(st), revolution_of=rev)
+    return np.interp(u, ms.cycles, ms.k / SECTION, period=float(z_rev))
 
 
 def accuracy_case(name: str, train, torque: float, depth: float | None,
@@ -154,13 +202,17 @@ def accuracy_case(name: str, train, torque: float, depth: float | None,
     for crack in cracks:
         t0 = time.perf_counter()
         chk = fe_pair_check(tr, 0, crack=crack, depth=depth)
-        chk.curves["calibrated"] = calibrated_curve(tr, 0, crack, depth, chk.cycles)
-        chk.curves["cal_path"] = calibrated_curve(tr, 0, crack, depth, chk.cycles, False)
+        for c, (corner, sides, cracked) in CALIBRATED.items():
+            if cracked and crack == "none":
+                continue
+            chk.curves[c] = calibrated_curve(tr, 0, crack, depth, chk.cycles, corner, sides)
         if inside is None:  # the same positions in every case
             inside, double = _zones(tr.pairs[0], tr.torque(0), chk.cycles, 20)
         row = {"case": name, "torque": torque, "crack": crack,
                "seconds": time.perf_counter() - t0}
-        for c in ("pe", "pe_line", "fe_tooth", "calibrated", "cal_path"):
+        for c in CURVES:
+            if c not in chk.curves:
+                continue
             d = chk.differences(c)
             p = 100.0 * (chk.curves[c] / chk.k_fe - 1.0)
             row[c] = {**d,
@@ -174,9 +226,11 @@ def accuracy_case(name: str, train, torque: float, depth: float | None,
 
 def _print_row(row: dict) -> None:
     head = f"{row['case']:14s} {row['torque']:7.0f} N m  {row['crack']:12s}"
-    for c in ("calibrated", "cal_path", "fe_tooth", "pe_line", "pe"):
+    for c in CURVES:
+        if c not in row:
+            continue
         d = row[c]
-        print(f"{head} {c:10s} max {d['max']:+6.1f} min {d['min']:+6.1f} mean "
+        print(f"{head} {c:12s} max {d['max']:+6.1f} min {d['min']:+6.1f} mean "
               f"{d['mean']:+6.1f} | double {d['double'][0]:+6.1f}..{d['double'][1]:+6.1f}"
               f" single {d['single'][0]:+6.1f}..{d['single'][1]:+6.1f}"
               f" ends {d['ends'][0]:+6.1f}..{d['ends'][1]:+6.1f}")

@@ -101,6 +101,49 @@ def test_fem_contact_equals_open_when_faces_open(table1):
     assert np.all(b.closed_fraction < 0.5)
 
 
+#: Relative agreement of the crack-face contact solve with its factorization reused
+#: across load positions and the solve that factorizes afresh at every one: the same
+#: matrix and factorization, so only the solver's round-off may differ.
+REUSE_RTOL = 1e-9
+
+
+@pytest.mark.parametrize("side", [1, -1])
+def test_fem_contact_reuses_the_factorization_of_an_unchanged_active_set(
+        table1, monkeypatch, side):
+    """Crack-face contact: one factorization per set of closed faces, not per load
+    position, and the compliance the fresh factorizations give (working-flank crack
+    open, non-working closed)."""
+    from gearsim.fem.solve import ElasticModel
+
+    gear = table1.gears[0]
+    r = contact_radii(table1, gear.name, 5)
+    c = table1.cracks[0]
+    opt = SectorOptions(level=LEVEL)
+    count = {"n": 0}
+    factorize = ElasticModel._factorize
+
+    def counted(self, fixed, extra):
+        count["n"] += 1
+        return factorize(self, fixed, extra)
+
+    monkeypatch.setattr(ElasticModel, "_factorize", counted)
+    reused = fe_tooth_compliance(gear, r, crack=c, side=side, closure="contact",
+                                 options=opt)
+    n_reused = count["n"]
+    solve = ElasticModel.contact_solve
+    monkeypatch.setattr(ElasticModel, "contact_solve",
+                        lambda self, *a, reuse=None, **k: solve(self, *a, **k))
+    count["n"] = 0
+    fresh = fe_tooth_compliance(gear, r, crack=c, side=side, closure="contact",
+                                options=opt)
+    assert_allclose(reused.compliance, fresh.compliance, rtol=REUSE_RTOL, atol=0.0)
+    assert_allclose(reused.closed_fraction, fresh.closed_fraction, rtol=0.0, atol=0.0)
+    assert count["n"] == int(np.sum(fresh.contact_iterations))  # one per iteration before
+    assert n_reused < count["n"]
+    if side == -1:
+        assert np.all(fresh.closed_fraction > 0.5)  # the faces closed under the load
+
+
 def test_fem_non_working_open_faces_overlap_contact_prevents_it(spur):
     """Open model on the compressed side is softer than the contact model."""
     gear = spur.gears[0]

@@ -1,8 +1,10 @@
 """The calibrated tooth (``stiffness.source = "calibrated"``) against the FE gear pair.
 
 The calibrated tooth is the PE tooth (cracks included) times the FE/PE compliance ratio of
-the healthy tooth, measured once per gear and cached (:mod:`gearsim.fem.calibration`),
-with the 2D line contact and the FE body coupling (docs/stiffness.md, section 4c). It is
+the healthy tooth, measured once per gear and cached (:mod:`gearsim.fem.calibration`), and
+a crack on the loaded flank times its measured correction Q = F_FE / F_PE (FE tooth at a
+grid of crack depths, once per gear and crack family), with the 2D line contact and the
+FE body coupling (docs/stiffness.md, section 4c). It is
 checked on the 19/48 spur pair against the FE gear pair in contact (:mod:`gearsim.fem.
 pair`, an independent model: both gears meshed whole, exact contact) at two torques a
 factor 4 apart, healthy and with the example's 1 mm pinion crack on the working and on
@@ -26,13 +28,15 @@ import dataclasses
 import numpy as np
 import pytest
 
-from gearsim.errors import InputError
+from gearsim.errors import InputError, ModelRangeWarning
 from gearsim.fem import calibration as cal
 from gearsim.fem import pair as fp
-from gearsim.fem.tables import fe_compliance
+from gearsim.fem.tables import fe_compliance, fe_nodes
+from gearsim.stiffness.crack import Crack
 from gearsim.stiffness.mesh import mesh_stiffness
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.stiffness.source import PotentialEnergyCompliance
+from gearsim.stiffness.tooth import ToothModel
 from gearsim.system.train import body_coupling, tooth_compliance
 
 #: FE pair level (see the module docstring).
@@ -65,10 +69,12 @@ END_TARGET = 0.05
 #: docs/fem.md, "Verification"), the ratio's spline and FE level 1 vs 2 (0.2 %).
 HEALTHY_BAND = (0.005, 0.025)
 #: Measured band of the cracked calibrated tables inside the zones (1 mm crack, 19/48,
-#: bench_calibrated.py: working flank +1.4 ... +5.7 %, non-working closed +0.9 ... +1.9 %;
-#: the PE section reduction of the working-flank crack is smaller than the FE slit's
-#: in single contact); regression guard, not the target.
-CRACK_BAND = (-0.01, 0.07)
+#: bench_calibrated.py, both torques: working flank with the crack correction +1.0 ...
+#: +2.0 %, before it +1.2 ... +5.7 %; non-working closed, the PE section reduction,
+#: +0.9 ... +1.9 %; no tip corner closes at the positions of this test, u = 0.35 and
+#: 0.85): the healthy band, which holds the FE tooth's superposition error that the
+#: corrected crack shares; regression guard, not the target.
+CRACK_BAND = HEALTHY_BAND
 #: Measured band of the cycle mean (100 N m: +1.8 %, 400 N m: +1.5 %, bench_calibrated.py;
 #: -1.9 % and -4.3 % with the path of contact only): the band inside the zones, now that
 #: the tables close the tip corners under load as the FE pair does.
@@ -149,12 +155,20 @@ def test_cracked_inside_the_zones_band(spur, pair, fe, flank, torque):
         assert CRACK_BAND[0] < e < CRACK_BAND[1], (u, e)
 
 
-@pytest.mark.xfail(strict=True, reason="the PE section reduction of a 1 mm working-flank "
-                   "crack costs less stiffness than the FE slit in single contact: "
-                   "+4 to +6 % there (docs/stiffness.md 4c); no correction tuned")
 @pytest.mark.parametrize("torque", TORQUES)
 def test_working_crack_within_target(spur, pair, fe, torque):
-    """Issue 25 target for the working-flank crack: within 3 % inside the zones."""
+    """Issue 25 target for the working-flank crack: within 3 % inside the zones, with the
+    measured crack correction (before it +4 to +6 % in single contact: the PE section
+    reduction costs less stiffness than the FE slit; docs/stiffness.md 4c).
+
+    Holds on the three spur pairs of the benchmark at both torques (19/48 here, +1.0 ...
+    +2.0 %; 17/60 x1 = +0.3 and 25/25 at 25 deg, bench_calibrated.py --accuracy --extra,
+    +0.9 ... +2.4 %). Not on Table-1 mesh I with its 6 mm crack (+3.8 % at 4876 N m,
+    +4.4 % at 1219 N m, in the double contact after the cracked tooth's single contact),
+    which is left out: there the FE tooth table itself is as far from the FE pair
+    (single-tooth superposition with the healthy body coupling, finding 3), so no
+    correction of the tooth can meet the target.
+    """
     ms = _table(spur, pair, "working", torque)
     errs = [_err(ms, fe["working", torque, u], u) for u in CRACKED]
     assert max(abs(e) for e in errs) < TARGET, errs
@@ -218,19 +232,224 @@ def test_calibrated_healthy_tooth_is_the_fe_tooth_at_the_nodes(pair):
     assert np.all((ratio > 0.8) & (ratio < 0.95))  # the PE tooth is 5-20 % softer
 
 
-def test_crack_stays_the_pe_section_reduction(spur, pair):
-    """Cracked: c_cal / c_PE is the healthy ratio, component by component."""
-    tc = spur.with_crack("working").mesh_cracks(0)[0]
+def test_crack_without_the_correction_is_the_pe_section_reduction(spur, pair):
+    """Correction off (and a crack side it does not apply to): c_cal / c_PE is the
+    healthy ratio, component by component (the model before the crack correction)."""
     st = StiffnessSettings(source="calibrated", contact="line", coupling="fe")
     g = pair.driver
     r = np.concatenate([[0.0], np.linspace(max(g.base_radius, g.root_radius) * 1.02,
                                            g.tip_radius * 0.99, 7)])[:, None]
     z = np.array([0.5])
-    pe = PotentialEnergyCompliance().compliance(g, r, tc, z, st)
-    c = cal.CalibratedCompliance().compliance(g, r, tc, z, st)
     ratio = cal.CalibratedCompliance().ratio(g, r, st)
-    np.testing.assert_allclose(c, pe * ratio[..., None], rtol=1e-12)
-    assert np.all(c[r[:, 0] == 0] == 0)
+    for flank, sides in (("working", ()), ("non-working", cal.CORRECTED_SIDES)):
+        tc = spur.with_crack(flank).mesh_cracks(0)[0]
+        assert tc.side not in sides
+        pe = PotentialEnergyCompliance().compliance(g, r, tc, z, st)
+        c = cal.CalibratedCompliance(corrected_sides=sides).compliance(g, r, tc, z, st)
+        np.testing.assert_allclose(c, pe * ratio[..., None], rtol=1e-12)
+        assert np.all(c[r[:, 0] == 0] == 0)
+
+
+# --- the measured crack correction ---------------------------------------------------
+
+#: Interpolation error of the crack correction in depth allowed against a fresh FE tooth
+#: at a depth between grid points [-]: the spline of F_FE through F(0) = 1 and the
+#: CRACK_GRID depths was within 0.29 % of FE at 0.2 q_c (0.87 mm on the 19/48 pinion)
+#: and 0.41 % at any of 10 depths 0.1-0.95 q_c (docs/stiffness.md 4c); 1 mm is 0.23 q_c,
+#: in the widest relative gap (0.1-0.3 q_c). 0.5 % is that bound with margin, a sixth of
+#: the 3 % target.
+DEPTH_INTERPOLATION_TOL = 0.005
+
+
+def test_working_crack_at_a_grid_depth_is_the_fe_tooth(spur, pair):
+    """At the FE-table radii and a grid depth the corrected tooth is the calibrated
+    healthy tooth times the measured F_FE (definition), in the PE component split."""
+    st = StiffnessSettings(source="calibrated", contact="line", coupling="fe")
+    g = pair.driver
+    crack = spur.with_crack("working").mesh_cracks(0)[0]
+    nodes, depths, factor = cal.crack_factor_table(g, crack.crack, crack.side)
+    model = cal.CalibratedCompliance()
+    z = np.array([0.5])
+    healthy = model.compliance(g, nodes[:, None], None, z, st).sum(axis=-1)[:, 0]
+    for i, q in enumerate(depths):
+        tc = dataclasses.replace(crack, crack=dataclasses.replace(crack.crack, depth=float(q)))
+        c = model.compliance(g, nodes[:, None], tc, z, st)[:, 0]
+        np.testing.assert_allclose(c.sum(axis=-1), healthy * factor[i], rtol=1e-9)
+        pe = PotentialEnergyCompliance().compliance(g, nodes[:, None], tc, z, st)[:, 0]
+        split = c / pe  # R Q, the same for the four components
+        np.testing.assert_allclose(split, split[:, :1] * np.ones((1, 4)), rtol=1e-12)
+    assert np.all(np.diff(factor, axis=0) > 0)  # a deeper crack is more compliant
+
+
+def test_depth_interpolation_against_a_fresh_fe_tooth(spur, pair):
+    """19/48 pinion, 1 mm working crack (between grid depths 0.1 and 0.3 q_c): the
+    calibrated cracked tooth at the FE-table radii is the FE tooth with that crack, solved
+    afresh, within DEPTH_INTERPOLATION_TOL."""
+    st = StiffnessSettings(source="calibrated", contact="line", coupling="fe")
+    g = pair.driver
+    tc = spur.with_crack("working").mesh_cracks(0)[0]
+    depths = cal.crack_depths(g, tc.crack)
+    assert np.all(np.abs(depths - tc.crack.depth) > 0.2e-3)  # not a grid depth
+    nodes = fe_nodes(g)
+    c = cal.CalibratedCompliance().compliance(g, nodes[:, None], tc, np.array([0.5]), st)
+    fe = fe_compliance(g, nodes, crack=tc.crack, depth=tc.crack.depth, side=tc.side,
+                       settings=st, use_cache=False)[:, 0]
+    err = c.sum(axis=-1)[:, 0] / fe - 1.0
+    assert np.max(np.abs(err)) < DEPTH_INTERPOLATION_TOL, err
+
+
+def test_crack_deeper_than_the_grid_keeps_the_deepest_correction(spur, pair):
+    """Past the deepest grid depth (the FE tooth takes no crack past the centre line) Q
+    is held: c_cal = c_PE,crack R Q(q_top), continuous at q_top, growing with depth."""
+    st = StiffnessSettings(source="calibrated", contact="line", coupling="fe")
+    g = pair.driver
+    crack = spur.with_crack("working").mesh_cracks(0)[0]
+    q_top = cal.crack_depths(g, crack.crack)[-1]
+    model = cal.CalibratedCompliance()
+    r = fe_nodes(g)[:, None]
+    z = np.array([0.5])
+
+    def at(q):
+        tc = dataclasses.replace(crack, crack=dataclasses.replace(crack.crack, depth=q))
+        return tc, model.compliance(g, r, tc, z, st).sum(axis=-1)[:, 0]
+
+    tc_top, c_top = at(q_top)
+    q_top_factor = model.crack_factor(g, r, tc_top, z, st)
+    tc_deep, c_deep = at(q_top * 1.2)  # past the centre line: PE only
+    pe_deep = PotentialEnergyCompliance().compliance(g, r, tc_deep, z, st).sum(axis=-1)
+    ratio = model.ratio(g, r, st)
+    np.testing.assert_allclose(c_deep, (pe_deep * ratio * q_top_factor)[:, 0], rtol=1e-9)
+    assert np.all(c_deep > c_top)
+    np.testing.assert_allclose(at(q_top * (1 + 1e-9))[1], c_top, rtol=1e-6)
+
+
+def test_crack_profile_takes_each_slice_depth(spur, pair):
+    """A crack profile along the face width: each slice is the uniform crack of its local
+    depth (one measurement for all of them)."""
+    st = StiffnessSettings(source="calibrated", contact="line", coupling="fe")
+    g = pair.driver
+    tc = spur.with_crack("working").mesh_cracks(0)[0]
+    tc = dataclasses.replace(tc, crack=dataclasses.replace(tc.crack, depth=2e-3,
+                                                           profile="linear", extent=0.8))
+    z = np.array([0.1, 0.5, 0.9])  # depths 1.75, 0.75 and 0 mm
+    r = np.repeat(fe_nodes(g)[::3, None], z.size, axis=1)
+    model = cal.CalibratedCompliance()
+    c = model.compliance(g, r, tc, z, st)
+    for k, q in enumerate(tc.crack.depth_at(z)):
+        one = dataclasses.replace(tc, crack=dataclasses.replace(tc.crack, depth=float(q),
+                                                                profile="uniform", extent=1.0))
+        np.testing.assert_allclose(c[:, k], model.compliance(g, r[:, k:k + 1], one,
+                                                             np.array([0.5]), st)[:, 0],
+                                   rtol=1e-12)
+
+
+def test_crack_the_fe_tooth_refuses_stays_the_pe_section_reduction(spur, pair,
+                                                                   monkeypatch):
+    """A crack family the FE tooth cannot mesh (e.g. at 10 deg on the 19/48 pinion the
+    mesher loses the tip at 0.99 q_c) keeps the PE section reduction, with a
+    ModelRangeWarning naming it."""
+    def refuse(*a, **kw):
+        raise InputError("crack.tip", "(0, 0)", "is not a node of the mesh")
+
+    monkeypatch.setattr(cal, "crack_factor_table", refuse)
+    monkeypatch.setattr(cal, "_CRACK_MEMO", {})
+    st = StiffnessSettings(source="calibrated", contact="line", coupling="fe")
+    g = pair.driver
+    tc = spur.with_crack("working").mesh_cracks(0)[0]
+    r = fe_nodes(g)[:, None]
+    z = np.array([0.5])
+    with pytest.warns(ModelRangeWarning, match="crack correction of gear pinion"):
+        c = cal.CalibratedCompliance().compliance(g, r, tc, z, st)
+    before = cal.CalibratedCompliance(corrected_sides=()).compliance(g, r, tc, z, st)
+    np.testing.assert_array_equal(c, before)
+
+
+def test_crack_of_zero_depth_needs_no_measurement(spur, pair, monkeypatch):
+    """A crack of depth 0 (the start of a depth sweep) is the healthy calibrated tooth,
+    without an FE run."""
+    def refuse(*a, **kw):
+        raise AssertionError("no FE crack factors for a crack of depth 0")
+
+    monkeypatch.setattr(cal, "crack_factor_table", refuse)
+    monkeypatch.setattr(cal, "_CRACK_MEMO", {})
+    st = StiffnessSettings(source="calibrated", contact="line", coupling="fe")
+    g = pair.driver
+    tc = spur.with_crack("working").mesh_cracks(0)[0]
+    tc = dataclasses.replace(tc, crack=dataclasses.replace(tc.crack, depth=0.0))
+    r = fe_nodes(g)[:, None]
+    z = np.array([0.5])
+    model = cal.CalibratedCompliance()
+    np.testing.assert_array_equal(model.compliance(g, r, tc, z, st),
+                                  model.compliance(g, r, None, z, st))
+
+
+def test_crack_correction_key_names_the_crack_family_not_its_depth(pair, monkeypatch):
+    g = pair.driver
+    crack = Crack(gear=g.name, depth=1e-3)
+    key = cal.crack_correction_key(g, crack, 1)[0]
+    same = [cal.crack_correction_key(g, dataclasses.replace(crack, depth=2e-3), 1)[0],
+            cal.crack_correction_key(g, dataclasses.replace(crack, profile="linear"), 1)[0]]
+    assert set(same) == {key}
+    others = [cal.crack_correction_key(g, crack, -1)[0],
+              cal.crack_correction_key(g, dataclasses.replace(crack, angle=0.6), 1)[0],
+              cal.crack_correction_key(g, dataclasses.replace(crack, start_radius=0.031),
+                                       1)[0],
+              cal.crack_correction_key(g, crack, 1, closure="open")[0],
+              cal.crack_correction_key(g, crack, 1, plane="strain")[0],
+              cal.crack_correction_key(g, crack, 1, level=3)[0],
+              cal.crack_correction_key(dataclasses.replace(g, teeth=20), crack, 1)[0]]
+    monkeypatch.setattr(cal, "__version__", "9.9.9")
+    others.append(cal.crack_correction_key(g, crack, 1)[0])
+    assert len({key, *others}) == 9
+
+
+def test_corrupt_or_stale_crack_entry_is_rebuilt(pair, tmp_path, monkeypatch):
+    """A corrupt, stale or implausible crack-correction file is detected and rebuilt,
+    never used. The FE tooth is replaced by a stand-in (F = 1 + depth / 1 mm): the test
+    is about the cache file, not the FE solve."""
+    monkeypatch.setenv("GEARSIM_CACHE", str(tmp_path))
+    g = pair.driver
+    crack = Crack(gear=g.name, depth=1e-3)
+    calls = []
+
+    def stand_in(gear, radii, *, crack=None, depth=0.0, **kw):
+        calls.append(depth)  # a healthy tooth 0.9 times the PE tooth, F = 1 + q / 1 mm
+        out = np.zeros((np.size(radii), 4))
+        out[:, 0] = 0.9 * ToothModel(gear).compliance(radii).sum(axis=1) * (1 + depth / 1e-3)
+        return out
+
+    monkeypatch.setattr(cal, "fe_compliance", stand_in)
+    nodes, depths, fresh = cal.crack_factor_table(g, crack, 1)
+    n_grid = len(cal.CRACK_GRID)
+    assert len(calls) == 1 + n_grid  # the healthy calibration, then one per depth
+    np.testing.assert_allclose(fresh, (1.0 + depths / 1e-3)[:, None] * np.ones(nodes.size),
+                               rtol=1e-12)
+    key, doc = cal.crack_correction_key(g, crack, 1)
+    path = cal.calibration_dir() / f"crack-{key}.npz"
+    assert path.exists()
+    assert np.array_equal(cal.crack_factor_table(g, crack, 1)[2], fresh)
+    assert len(calls) == 1 + n_grid  # read from the cache
+
+    def rebuilt() -> None:
+        n = len(calls)
+        np.testing.assert_array_equal(cal.crack_factor_table(g, crack, 1)[2], fresh)
+        assert len(calls) == n + n_grid
+        assert cal._read_crack(path, doc, nodes, depths) is not None  # overwritten
+
+    path.write_bytes(b"not an npz file")  # corrupt
+    rebuilt()
+    path.write_bytes(path.read_bytes()[:100])  # truncated
+    rebuilt()
+    other = cal.crack_correction_key(g, crack, -1)[1]  # stale: written for another key
+    np.savez(path, key=np.array(other), radii=nodes, depths=depths, factor=fresh)
+    rebuilt()
+    for bad in (np.full_like(fresh, np.nan), np.full_like(fresh, 50.0), fresh[:-1]):
+        np.savez(path, key=np.array(doc), radii=nodes, depths=depths, factor=bad)
+        rebuilt()
+    np.savez(path, key=np.array(doc), radii=nodes, depths=depths * 1.01, factor=fresh)
+    rebuilt()
+    np.savez(path, key=np.array(doc), radii=nodes * 1.01, depths=depths, factor=fresh)
+    rebuilt()
 
 
 def test_source_needs_line_contact_and_coupling():

@@ -11,11 +11,27 @@ the PE computation and multiplies it by the ratio of the two healthy teeth,
 
 R measured once per gear at the :data:`~gearsim.fem.tables.NODES` radii of the FE tables
 (:func:`~gearsim.fem.tables.fe_nodes`, equally spaced in roll length from the form circle
-to the tip) and interpolated with a cubic spline in roll length. A crack, a crack
-profile along the face width, slicing and helical gears stay the PE computation (the
-crack's effect is the PE section reduction, which the FE tooth and pair confirm within
-2-3 %, docs/fem.md); the four PE components are scaled by the same R, so their split is
-the PE model's.
+to the tip) and interpolated with a cubic spline in roll length. Slicing, helical gears
+and a crack profile along the face width stay the PE computation; the four PE
+components are scaled alike, so their split is the PE model's.
+
+A crack on the loaded flank (:data:`CORRECTED_SIDES`) is further corrected by its
+measured effect: the PE section reduction costs less stiffness than the FE slit (FE
+crack factor 1.15-1.19 against PE 1.05-1.08 for the 1 mm crack of the 19/48 pinion,
+docs/stiffness.md 4c), so
+
+    c_cal(r, crack) = c_PE(r, crack) * R(r) * Q(r, q),
+    Q(r, q) = F_FE(r, q) / F_PE(r, q),   F = c_crack / c_healthy (per tooth model),
+
+F_FE measured with the FE tooth (the one of ``source = "fe"``) once per gear and crack
+family (start point, angle, side, closure) at the :data:`CRACK_GRID` depths up to the
+centre line (:func:`crack_factor_table`), interpolated with a not-a-knot cubic spline in
+depth (F_FE(0) = 1) and a cubic spline in roll length; F_PE is the PE tooth's own at the
+contact point. So c_cal,crack = R c_PE,healthy F_FE: the calibrated healthy tooth times
+the FE crack factor, at each slice's local depth. Past the deepest grid depth (the FE
+tooth takes no crack past the centre line) Q keeps its value there. The closed crack on
+the unloaded flank stays the PE section reduction (within 3 % of the FE pair without Q;
+docs/stiffness.md 4c).
 
 Cache: ``calibration_dir()``, ``$GEARSIM_CACHE/fe/calibration/`` (or
 ``~/.cache/gearsim/fe/calibration/``), one ``.npz`` per key, the SHA-256 of the gear
@@ -26,7 +42,10 @@ whose radii are not the gear's nodes or whose ratio is not finite and in
 (:data:`RATIO_BOUNDS`) is stale or corrupt: it is recomputed and overwritten, never used.
 The FE tooth values come from :func:`gearsim.fem.tables.fe_compliance` solved afresh
 (not from the FE-table cache, whose key does not name the gearsim version), once per
-calibration entry.
+calibration entry. The crack factors are cached the same way (``crack-<key>.npz``, key
+with the crack family, the depth grid and :data:`CRACK_CORRECTION_VERSION`; a file
+whose depths are not the gear's grid or whose factors are not finite and in
+:data:`CRACK_FACTOR_BOUNDS` is rebuilt, never used).
 
 The ring tooth of a planetary stage (:class:`CalibratedRingTooth`) is corrected by the
 FE ring segment of :mod:`gearsim.fem.ring` (tooth on a 3.5 m_n rim clamped outside,
@@ -64,6 +83,7 @@ import contextlib
 import hashlib
 import json
 import math
+import warnings
 import zipfile
 from pathlib import Path
 
@@ -71,8 +91,8 @@ import numpy as np
 from scipy.interpolate import CubicSpline, RectBivariateSpline
 
 from gearsim._version import __version__
-from gearsim.errors import require
-from gearsim.fem.geometry import SectorOptions
+from gearsim.errors import InputError, ModelRangeWarning, SimulationError, require
+from gearsim.fem.geometry import SectorOptions, element_size
 from gearsim.fem.ring import (
     RIM_THICKNESS,
     ROOT_FILLET,
@@ -90,15 +110,19 @@ from gearsim.fem.tables import (
 from gearsim.fem.tables import fe_nodes as _fe_nodes
 from gearsim.geometry.gear import Gear, Material
 from gearsim.geometry.planetary import RingGear
+from gearsim.geometry.profile import ToothProfile
 from gearsim.io.atomic import exclusive
+from gearsim.stiffness.crack import Crack, crack_geometry, crack_record
 from gearsim.stiffness.ring import RingToothModel
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCrack
 from gearsim.stiffness.tooth import ToothModel
 
-__all__ = ["CALIBRATION_VERSION", "RATIO_BOUNDS", "RING_CALIBRATION_VERSION", "RING_RATIO_BOUNDS",
-           "CalibratedCompliance", "CalibratedRingTooth", "calibration_dir",
-           "calibration_key", "calibration_ratio", "ring_calibration", "ring_calibration_key",
+__all__ = ["CALIBRATION_VERSION", "CORRECTED_SIDES", "CRACK_CORRECTION_VERSION",
+           "CRACK_FACTOR_BOUNDS", "CRACK_GRID", "RATIO_BOUNDS", "RING_CALIBRATION_VERSION",
+           "RING_RATIO_BOUNDS", "CalibratedCompliance", "CalibratedRingTooth",
+           "calibration_dir", "calibration_key", "calibration_ratio", "crack_correction_key",
+           "crack_depths", "crack_factor_table", "ring_calibration", "ring_calibration_key",
            "ring_nodes"]
 
 #: Bump when the calibration changes so that old cache files are not reused.
@@ -117,8 +141,27 @@ RING_RATIO_BOUNDS = (0.5, 20.0)
 #: 5 -> 7 teeth changes the tooth compliance by < 1.3 %, docs/planetary.md 4.3).
 RING_SEGMENT_TEETH = 5
 
+#: Bump when the crack correction changes so that old cache files are not reused.
+CRACK_CORRECTION_VERSION = 1
+#: Depths of the measured crack correction as fractions of q_c, the depth at which the
+#: crack tip reaches the tooth centre line (:func:`crack_depths`; 0.99: the FE tooth
+#: refuses a tip on the line); with F_FE(0) = 1 a not-a-knot cubic spline in depth
+#: through 5 points. Against FE at 11 depths 0.1-0.999 q_c (19/48 pinion, Table-1 input
+#: gear, working flank) it is within 0.29 % of F_FE at 0.2 q_c and 0.41 % at any depth
+#: up to 0.95 q_c; 3 depths (0.3, 0.7, top) 1.0 % at 0.1 q_c, 5 depths (0.1, 0.3, 0.6,
+#: 0.8, top) 0.27 % (docs/stiffness.md 4c). One FE solve per depth.
+CRACK_GRID = (0.1, 0.3, 0.6, 0.99)
+#: Plausible range of the FE crack factor c_FE,crack / c_FE,healthy [-]: measured
+#: 0.99-2.9 (19/48 pinion and Table-1 input gear, cracks up to the centre line); a cached
+#: factor outside (0.5, 20) is treated as corrupt.
+CRACK_FACTOR_BOUNDS = (0.5, 20.0)
+#: Sides of a crack the correction applies to (+1 loaded flank, -1 the other).
+CORRECTED_SIDES = (1,)
+
 #: Interpolants already read in this process, by cache key (the disk is read once).
 _MEMO: dict[str, tuple[CubicSpline, float, float]] = {}
+#: Crack-factor interpolants already read in this process, by cache key.
+_CRACK_MEMO: dict[str, tuple[CubicSpline, np.ndarray, float] | None] = {}
 #: Ring calibrations already read in this process, by cache key.
 _RING_MEMO: dict[str, tuple] = {}
 
@@ -255,26 +298,184 @@ def calibration_ratio(gear: Gear, *, plane: str = "stress", level: int = DEFAULT
     return nodes, ratio
 
 
+# ------------------------------------------------------------------ crack correction
+def crack_depths(gear: Gear, crack: Crack, level: int = DEFAULT_LEVEL) -> np.ndarray:
+    """Crack depths of the measured crack correction of ``gear`` [m].
+
+    :data:`CRACK_GRID` times q_c = x_s / sin(nu), the depth at which the crack tip
+    reaches the tooth centre line (:class:`~gearsim.stiffness.crack.CrackGeometry`
+    ``max_depth``; seed eqs. 10-11 with x_t = 0): the deepest crack the FE tooth takes
+    (its slit stays on one side of the centre line, :func:`gearsim.fem.geometry.
+    crack_line`); none shallower than 2.02 elements of the FE level (the level resolves
+    2 h without refining, :func:`gearsim.fem.tooth.check_crack_resolved`; 1 % more as the
+    mesher's own check refuses 2 h by rounding).
+
+    Parameters
+    ----------
+    gear : Gear
+        The cracked gear.
+    crack : Crack
+        The crack (start point and angle; its depth is not used).
+    level : int
+        FE mesh level of the correction.
+
+    Returns
+    -------
+    ndarray, shape (len(CRACK_GRID),)
+        Depths [m], increasing.
+    """
+    q_c = crack_geometry(ToothProfile(gear), crack, 0.0).max_depth
+    # no shallower than the level resolves (fe_compliance would refine the mesh)
+    return np.maximum(q_c * np.asarray(CRACK_GRID, dtype=float),
+                      2.02 * element_size(gear, level))
+
+
+def crack_correction_key(gear: Gear, crack: Crack, side: int, *, closure: str = "contact",
+                         plane: str = "stress", level: int = DEFAULT_LEVEL
+                         ) -> tuple[str, str]:
+    """Cache key of a gear's measured crack factors and the document it hashes.
+
+    Parameters
+    ----------
+    gear : Gear
+        The cracked gear.
+    crack : Crack
+        The crack: its family (start radius, angle) enters the key, its depth and
+        profile along the face width do not (the factors are measured on a grid of
+        depths and interpolated to each slice's depth).
+    side : {1, -1}
+        +1 the cracked flank is the loaded one, -1 the other.
+    closure : {"contact", "open"}
+        Crack-face model of the FE tooth.
+    plane : {"stress", "strain"}
+        Plane assumption.
+    level : int
+        FE mesh level.
+
+    Returns
+    -------
+    key, document : str
+        The first 32 hex digits of the SHA-256 of ``document`` (JSON of the gear
+        geometry and material, plane, level, crack family, side, closure, depth grid and
+        versions) and ``document``.
+    """
+    doc = _key_doc(gear, plane, level, 0)
+    doc.pop("gauss_points")  # FE only: the PE rule does not enter the factors
+    doc.update(kind="crack-correction", v=CRACK_CORRECTION_VERSION,
+               crack={"angle": crack.angle, "start_radius": crack.start_radius,
+                      "side": int(side), "closure": closure, "grid": list(CRACK_GRID)})
+    text = json.dumps(doc, sort_keys=True, default=repr)
+    return hashlib.sha256(text.encode()).hexdigest()[:32], text
+
+
+def _read_crack(path: Path, doc: str, nodes: np.ndarray, depths: np.ndarray
+                ) -> np.ndarray | None:
+    """The cached FE crack factors, or None when the file is missing, corrupt or stale."""
+    got = _entry(path, doc, nodes, ("depths", "factor"))
+    if got is None:
+        return None
+    d, factor = got
+    if (d.shape != depths.shape or not np.allclose(d, depths, rtol=1e-12, atol=0.0)
+            or factor.shape != (depths.size, nodes.size)):
+        return None
+    lo, hi = CRACK_FACTOR_BOUNDS
+    if not np.all(np.isfinite(factor)) or np.any(factor <= lo) or np.any(factor >= hi):
+        return None
+    return factor
+
+
+def crack_factor_table(gear: Gear, crack: Crack, side: int, *, closure: str = "contact",
+                       plane: str = "stress", level: int = DEFAULT_LEVEL,
+                       use_cache: bool = True
+                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """FE crack factors F_FE = c_FE,crack / c_FE,healthy on a grid of depths.
+
+    One FE tooth solve (:func:`gearsim.fem.tables.fe_compliance`, solved afresh, level
+    ``level`` or finer where the crack needs it) per depth of :func:`crack_depths`, loads
+    at the :func:`~gearsim.fem.tables.fe_nodes` radii; the healthy FE tooth is that of
+    :func:`calibration_ratio`'s entry (solved afresh once per gear), read back as
+    R c_PE,healthy.
+
+    Parameters
+    ----------
+    gear : Gear
+        The cracked gear.
+    crack : Crack
+        The crack family (start radius, angle; depth and profile not used).
+    side : {1, -1}
+        +1 crack on the loaded flank, -1 on the other.
+    closure : {"contact", "open"}
+        Crack-face model of the FE tooth (frictionless contact or free faces).
+    plane : {"stress", "strain"}
+        Plane assumption.
+    level : int
+        FE mesh level.
+    use_cache : bool
+        Read and write the disk cache (:func:`calibration_dir`).
+
+    Returns
+    -------
+    radii, depths, factor : ndarray
+        The FE-table radii [m], the depths [m] and F_FE[i, j] at depth i, radius j [-].
+    """
+    require(side in (1, -1), "side", side, "must be +1 or -1")
+    key, doc = crack_correction_key(gear, crack, side, closure=closure, plane=plane,
+                                    level=level)
+    nodes = _fe_nodes(gear)
+    depths = crack_depths(gear, crack, level)
+    path = calibration_dir() / f"crack-{key}.npz"
+    factor = _read_crack(path, doc, nodes, depths) if use_cache else None
+    if factor is not None:
+        return nodes, depths, factor
+    with exclusive(path.with_suffix(".lock")) if use_cache else contextlib.nullcontext():
+        factor = _read_crack(path, doc, nodes, depths) if use_cache else None
+        if factor is None:
+            st = StiffnessSettings(plane=plane, closure=closure)
+            # the healthy FE tooth of the gear's calibration entry, c_FE = R c_PE (16 Gauss
+            # points: any rule, R is taken against the PE tooth of the same rule)
+            _, ratio = calibration_ratio(gear, plane=plane, level=level, gauss_points=16,
+                                         use_cache=use_cache)
+            healthy = ratio * ToothModel(gear, plane=plane, gauss_points=16).compliance(
+                nodes).sum(axis=1)
+            factor = np.stack([
+                fe_compliance(gear, nodes, crack=crack, depth=float(q), side=side,
+                              settings=st, options=SectorOptions(level=level),
+                              use_cache=False)[:, 0] / healthy for q in depths])
+            if use_cache:
+                _write_npz(path, key=np.array(doc), radii=nodes, depths=depths,
+                           factor=factor)
+    return nodes, depths, factor
+
+
 class CalibratedCompliance:
-    """PE tooth times the FE/PE ratio of the healthy tooth (``source = "calibrated"``).
+    """PE tooth times the FE/PE ratio of the healthy tooth and a measured crack
+    correction (``source = "calibrated"``).
 
     Implements :class:`gearsim.stiffness.source.ToothCompliance`: the PE compliance
     (:class:`~gearsim.stiffness.source.PotentialEnergyCompliance`, cracks included)
     with all four components multiplied by R(r) of :func:`calibration_ratio` (cubic
-    spline in roll length, clipped to the involute of the FE table). The source is meant
-    for ``contact = "line"`` and ``coupling = "fe"``, which
+    spline in roll length, clipped to the involute of the FE table) and, for a crack on
+    a side in ``corrected_sides``, by the measured crack correction Q(r, q) of
+    :meth:`crack_factor` (module docstring). The source is meant for
+    ``contact = "line"`` and ``coupling = "fe"``, which
     :class:`~gearsim.stiffness.settings.StiffnessSettings` requires with it.
 
     Parameters
     ----------
     level : int
-        FE mesh level of the calibration.
+        FE mesh level of the calibration and the crack correction.
+    corrected_sides : tuple of int
+        Crack sides (+1 loaded flank, -1 the other) that take the measured crack
+        correction; default :data:`CORRECTED_SIDES`; ``()`` leaves every crack the PE
+        section reduction (the model before the correction).
     """
 
     name = "calibrated"
 
-    def __init__(self, level: int = DEFAULT_LEVEL) -> None:
+    def __init__(self, level: int = DEFAULT_LEVEL,
+                 corrected_sides: tuple[int, ...] = CORRECTED_SIDES) -> None:
         self.level = level
+        self.corrected_sides = tuple(corrected_sides)
         self._pe = PotentialEnergyCompliance()
 
     def ratio(self, gear: Gear, radii: np.ndarray, settings: StiffnessSettings) -> np.ndarray:
@@ -334,7 +535,143 @@ class CalibratedCompliance:
         inside = r > 0
         ratio = np.where(inside, self.ratio(gear, np.where(inside, r, gear.tip_radius),
                                             settings), 0.0)
+        if crack is not None and crack.side in self.corrected_sides:
+            ratio = ratio * self.crack_factor(gear, r, crack, zfrac, settings, pe=c)
         return c * ratio[..., None]
+
+    def _crack_spline(self, gear: Gear, crack: ToothCrack, settings: StiffnessSettings
+                      ) -> tuple[CubicSpline, np.ndarray, float] | None:
+        """Interpolant of F_FE, roll lengths of its radii and deepest depth; None (with a
+        :class:`~gearsim.errors.ModelRangeWarning`, once per process) when the FE tooth
+        refuses the crack family (e.g. a mesher failure at a grid depth)."""
+        key, _ = crack_correction_key(gear, crack.crack, crack.side, closure=settings.closure,
+                                      plane=settings.plane, level=self.level)
+        if key not in _CRACK_MEMO:
+            try:
+                nodes, depths, factor = crack_factor_table(
+                    gear, crack.crack, crack.side, closure=settings.closure,
+                    plane=settings.plane, level=self.level)
+            except (InputError, SimulationError) as exc:  # the FE tooth refuses the family
+                warnings.warn(ModelRangeWarning(
+                    f"crack correction of gear {gear.name}: the FE tooth does not take the "
+                    f"crack at {math.degrees(crack.crack.angle):.4g} deg ({exc}); the crack "
+                    "stays the PE section reduction (Q = 1)"), stacklevel=3)
+                _CRACK_MEMO[key] = None
+            else:
+                q = np.concatenate([[0.0], depths])
+                f = np.vstack([np.ones(nodes.size), factor])
+                _CRACK_MEMO[key] = (CubicSpline(q, f, axis=0),
+                                    np.sqrt(nodes**2 - gear.base_radius**2),
+                                    float(depths[-1]))
+        return _CRACK_MEMO[key]
+
+    def fe_crack_factor(self, gear: Gear, radii: np.ndarray, crack: ToothCrack,
+                        zfrac: np.ndarray, settings: StiffnessSettings) -> np.ndarray:
+        """F_FE(r, q) = c_FE,crack / c_FE,healthy at contact radii, interpolated [-].
+
+        From :func:`crack_factor_table`: a not-a-knot cubic spline in depth through
+        F_FE(0) = 1 and the grid of :func:`crack_depths`, then a cubic spline in roll
+        length through the FE-table radii (as R). Each face-width slice takes its local
+        depth (:meth:`~gearsim.stiffness.crack.Crack.depth_at`), clipped to the deepest
+        grid depth.
+
+        Parameters
+        ----------
+        gear : Gear
+            The cracked gear.
+        radii : ndarray, shape (..., ns)
+            Contact radii [m] (values off the involute are clipped to it).
+        crack : ToothCrack
+            The crack as seen by the mesh.
+        zfrac : ndarray, shape (ns,)
+            Axial position of each slice centre / face width [-].
+        settings : StiffnessSettings
+            ``closure`` and ``plane`` of the FE tooth.
+
+        Returns
+        -------
+        ndarray
+            The factor, the shape of ``radii``.
+        """
+        r = np.asarray(radii, dtype=float)
+        got = self._crack_spline(gear, crack, settings)
+        if got is None:
+            return np.ones(r.shape)
+        spline, roll_nodes, q_top = got
+        ns = r.shape[-1]
+        depths = crack.crack.depth_at(zfrac) if ns > 1 else np.array([crack.crack.depth])
+        rows = spline(np.minimum(depths, q_top))  # (ns, NODES)
+        roll = np.clip(np.sqrt(np.maximum(r**2 - gear.base_radius**2, 0.0)),
+                       roll_nodes[0], roll_nodes[-1])
+        out = np.empty(r.shape)
+        for k in range(ns):
+            out[..., k] = CubicSpline(roll_nodes, rows[k])(roll[..., k])
+        return out
+
+    def crack_factor(self, gear: Gear, radii: np.ndarray, crack: ToothCrack,
+                     zfrac: np.ndarray, settings: StiffnessSettings,
+                     pe: np.ndarray | None = None) -> np.ndarray:
+        """Measured crack correction Q = F_FE / F_PE at contact radii [-].
+
+        Q(r, q) = [c_FE,crack(r, q) / c_FE,healthy(r)] / [c_PE,crack(r, q) /
+        c_PE,healthy(r)], so that c_cal,crack = c_PE,crack R Q = R c_PE,healthy F_FE:
+        the calibrated healthy tooth times the FE tooth's crack factor, in the PE
+        model's component split. F_FE from :meth:`fe_crack_factor`, F_PE the PE tooth's
+        own at the point (sums of the four components). A slice deeper than the deepest
+        grid depth q_top (the FE tooth takes no crack past the centre line) keeps
+        Q(r, q_top): its compliance grows beyond q_top as the PE crack's.
+
+        Parameters
+        ----------
+        gear : Gear
+            The cracked gear.
+        radii : ndarray, shape (..., ns)
+            Contact radii [m]; 0 where not in contact (Q = 1 there).
+        crack : ToothCrack
+            The crack as seen by the mesh.
+        zfrac : ndarray, shape (ns,)
+            Axial position of each slice centre / face width [-].
+        settings : StiffnessSettings
+            Closure, plane and quadrature of both teeth.
+        pe : ndarray, shape (..., ns, 4), optional
+            The PE compliance of the cracked tooth at ``radii`` if already computed.
+
+        Returns
+        -------
+        ndarray
+            Q, the shape of ``radii``.
+        """
+        r = np.asarray(radii, dtype=float)
+        inside = r > 0
+        ns = r.shape[-1]
+        depths = crack.crack.depth_at(zfrac) if ns > 1 else np.array([crack.crack.depth])
+        if not np.any(depths > 0.0):  # no crack in any slice: nothing to measure
+            return np.ones(r.shape)
+        got = self._crack_spline(gear, crack, settings)
+        if got is None:
+            return np.ones(r.shape)
+        q_top = got[2]
+        if pe is None or np.any(depths > q_top):
+            pe = _pe_cracked(gear, r, crack, np.minimum(depths, q_top), settings)
+        healthy = self._pe.compliance(gear, r, None, zfrac, settings).sum(axis=-1)
+        f_pe = np.divide(pe.sum(axis=-1), healthy, out=np.ones(r.shape), where=inside)
+        f_fe = self.fe_crack_factor(gear, np.where(inside, r, gear.tip_radius), crack, zfrac,
+                                    settings)
+        return np.where(inside, f_fe / f_pe, 1.0)
+
+
+def _pe_cracked(gear: Gear, radii: np.ndarray, crack: ToothCrack, depths: np.ndarray,
+                settings: StiffnessSettings) -> np.ndarray:
+    """PE compliance (..., ns, 4) of the tooth with the crack at slice depths ``depths``."""
+    tm = ToothModel(gear, plane=settings.plane, gauss_points=settings.gauss_points,
+                    closure=settings.closure)
+    shape = radii.shape
+    recs = np.stack([crack_record(tm.profile, crack.crack, float(q), crack.side)
+                     for q in depths])
+    records = np.broadcast_to(recs.reshape((1,) * (len(shape) - 1) + recs.shape),
+                              shape + recs.shape[-1:]).reshape(-1, recs.shape[-1])
+    c = tm.compliance(radii.ravel(), records)
+    return np.nan_to_num(c, nan=0.0).reshape(shape + (4,))
 
 
 # ------------------------------------------------------------------------ ring tooth

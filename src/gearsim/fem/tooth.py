@@ -394,10 +394,11 @@ def fe_tooth_compliance(gear: Gear, radii, *, crack=None, depth: float | None = 
         pairs, weights = _contact_pairs(model, sector)
         u = np.zeros_like(loads)
         active = None
+        reuse: dict = {}  # one factorization while the closed crack faces do not change
         for k in range(n):
             u[:, k], active, iters[k] = model.contact_solve(
                 loads[:, k], fixed, pairs, cl.normal, weights, h=sector.h,
-                active=active)
+                active=active, reuse=reuse)
             closed[k] = float(np.sum(weights[active]) / np.sum(weights))
     else:
         u = model.solve(loads, fixed)

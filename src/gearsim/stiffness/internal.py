@@ -16,7 +16,8 @@ Pandey 2014). The Hertz term is the seed's load-independent line-contact stiffne
 The accurate model (``source = "calibrated"``, ``contact = "line"``, ``coupling = "fe"``;
 docs/planetary.md 4.4) takes the law of the external meshes
 (:func:`gearsim.stiffness.mesh.slice_law`): the planet tooth calibrated by its FE tooth
-(:class:`gearsim.fem.calibration.CalibratedCompliance`), the ring tooth corrected by the
+(:class:`gearsim.fem.calibration.CalibratedCompliance`; a planet crack on the flank the
+ring loads with its measured crack correction), the ring tooth corrected by the
 FE ring segment (:class:`gearsim.fem.calibration.CalibratedRingTooth`), both passed in by
 the caller (the system layer) since ``stiffness`` does not import ``fem``; the 2D line
 contact of :func:`gearsim.stiffness.tooth.line_contact_compliance` with the relative

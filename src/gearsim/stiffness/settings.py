@@ -68,7 +68,10 @@ class StiffnessSettings:
         stiffness from the FE gear pair in contact at the train's torque
         (:mod:`gearsim.system.fe_pair`; cracks only, no mesh of contacts);
         ``"calibrated"``: the PE tooth (cracks included) times the FE/PE compliance ratio
-        of the healthy tooth, measured once per gear and cached
+        of the healthy tooth, measured once per gear and cached, and a crack on the
+        loaded flank times its measured correction Q = F_FE / F_PE (the FE tooth's crack
+        factor over the PE tooth's, measured at a grid of depths once per gear and crack
+        family; a crack on the unloaded flank stays the PE section reduction)
         (:mod:`gearsim.fem.calibration`; docs/stiffness.md, section 4c); it requires
         ``contact = "line"`` and ``coupling = "fe"``, the options it was measured with
         against the FE gear pair. The model is chosen one layer up, by

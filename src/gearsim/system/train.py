@@ -65,8 +65,11 @@ def tooth_compliance(source: str) -> ToothCompliance:
         ``"pe"``: potential-energy model (:mod:`gearsim.stiffness.source`); ``"fe"``: the
         finite-element tooth (:mod:`gearsim.fem.tables`), the counterpart of the seed's
         rigid-flexible coupling; ``"calibrated"``: the PE tooth times the FE/PE ratio of
-        the healthy tooth, measured once per gear and cached (:mod:`gearsim.fem.
-        calibration`; docs/stiffness.md 4c).
+        the healthy tooth, measured once per gear and cached, and a crack on the loaded
+        flank (``side = +1``; in a stage's ring-planet mesh a planet crack on the flank
+        the ring loads) times its measured correction Q = F_FE / F_PE, measured once per
+        gear and crack family; a crack on the unloaded flank stays the PE section
+        reduction (:mod:`gearsim.fem.calibration`; docs/stiffness.md 4c).
 
     Returns
     -------

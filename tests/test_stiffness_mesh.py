@@ -97,8 +97,16 @@ def test_stiffness_decreases_with_depth(spur, closure, flank):
 
 
 def test_open_model_is_flank_blind_contact_is_not(spur):
-    w = _cracked(spur, 1.5e-3, "working", "open").k
-    n = _cracked(spur, 1.5e-3, "non-working", "open").k
+    # flank-blindness of an open crack is the PE section reduction's (the seed's model);
+    # the default's calibrated source corrects a crack on the loaded flank only by its
+    # FE measurement (fem.calibration.CORRECTED_SIDES), so there an open working crack
+    # is up to 5.5 % softer than the same open crack on the other flank (measured)
+    from gearsim.stiffness.settings import MODELS
+
+    pe = dataclasses.replace(spur, stiffness=dataclasses.replace(spur.stiffness,
+                                                                 **MODELS["seed"]))
+    w = _cracked(pe, 1.5e-3, "working", "open").k
+    n = _cracked(pe, 1.5e-3, "non-working", "open").k
     assert_allclose(w, n, rtol=1e-14)
     healthy = spur.with_cracks(()).mesh_stiffness(0).k
     wc = _cracked(spur, 1.5e-3, "working", "contact").k

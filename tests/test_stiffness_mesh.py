@@ -98,9 +98,9 @@ def test_stiffness_decreases_with_depth(spur, closure, flank):
 
 def test_open_model_is_flank_blind_contact_is_not(spur):
     # flank-blindness of an open crack is the PE section reduction's (the seed's model);
-    # the default's calibrated source corrects a crack on the loaded flank only by its
-    # FE measurement (fem.calibration.CORRECTED_SIDES), so there an open working crack
-    # is up to 5.5 % softer than the same open crack on the other flank (measured)
+    # the default's calibrated source corrects an open crack on either flank by its FE
+    # measurement, and the FE tooth's open crack is not flank-blind: the two tables are
+    # up to 4.6 % apart on this pair (measured; docs/stiffness.md 4c)
     from gearsim.stiffness.settings import MODELS
 
     pe = dataclasses.replace(spur, stiffness=dataclasses.replace(spur.stiffness,

@@ -532,3 +532,22 @@ def test_config_file_names_the_calibrated_model(spur, pair):
     np.testing.assert_allclose(ms.k, direct.k, rtol=1e-12)
     with pytest.raises(InputError, match="stiffness.source"):
         loads(text.replace('contact = "line"\n', ""))
+
+
+@pytest.mark.parametrize(("closure", "expected"), [("contact", 1.0), ("open", 2.0)])
+def test_unloaded_flank_takes_q_only_when_open(spur, pair, monkeypatch, closure, expected):
+    """The closed crack on the unloaded flank stays the PE section reduction (measured
+    better without Q); an open one, with no face contact, takes its Q as on the loaded
+    flank (a stand-in Q of 2 here, no FE)."""
+    monkeypatch.setattr(cal.CalibratedCompliance, "crack_factor",
+                        lambda self, gear, r, *a, **kw: np.full(np.shape(r), 2.0))
+    st = StiffnessSettings(source="calibrated", contact="line", coupling="fe",
+                           closure=closure)
+    g = pair.driver
+    tc = spur.with_crack("non-working").mesh_cracks(0)[0]
+    assert tc.side == -1
+    r = fe_nodes(g)[:, None]
+    z = np.array([0.5])
+    c = cal.CalibratedCompliance().compliance(g, r, tc, z, st)
+    before = cal.CalibratedCompliance(corrected_sides=()).compliance(g, r, tc, z, st)
+    np.testing.assert_allclose(c, expected * before, rtol=1e-15)

@@ -466,8 +466,9 @@ class CalibratedCompliance:
         FE mesh level of the calibration and the crack correction.
     corrected_sides : tuple of int
         Crack sides (+1 loaded flank, -1 the other) that take the measured crack
-        correction; default :data:`CORRECTED_SIDES`; ``()`` leaves every crack the PE
-        section reduction (the model before the correction).
+        correction; default :data:`CORRECTED_SIDES`; an open crack (``closure =
+        "open"``) takes it on either side unless this is ``()``, which leaves every crack
+        the PE section reduction (the model before the correction).
     """
 
     name = "calibrated"
@@ -535,7 +536,11 @@ class CalibratedCompliance:
         inside = r > 0
         ratio = np.where(inside, self.ratio(gear, np.where(inside, r, gear.tip_radius),
                                             settings), 0.0)
-        if crack is not None and crack.side in self.corrected_sides:
+        # an open crack (faces free) is corrected on either flank: the reason the closed
+        # crack on the unloaded flank is left without Q (measured worse with it) is its
+        # face contact, which an open crack does not have
+        if crack is not None and (crack.side in self.corrected_sides
+                                  or (settings.closure == "open" and self.corrected_sides)):
             ratio = ratio * self.crack_factor(gear, r, crack, zfrac, settings, pe=c)
         return c * ratio[..., None]
 

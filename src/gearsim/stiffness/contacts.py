@@ -32,7 +32,11 @@ tables' corner law (:func:`gearsim.stiffness.mesh.extended_law`: the line contac
 the teeth of the path end, separation and closing rate in the FE pair's position
 convention, :func:`gearsim.stiffness.mesh.corner_closing`), linearised at the
 single-pair load per unit width F / b, with the body coupling of its neighbour condensed
-into the spring (:func:`_condensed_corners`: the LTCA's springs are independent).
+into the spring (:func:`_condensed_corners`: the LTCA's springs are independent), and
+the path contacts are point samples as the tables'
+(:func:`gearsim.stiffness.mesh.extended_grid`: the corner makes the stiffness
+continuous across A and E) instead of the in-path cell fractions of
+:func:`gearsim.stiffness.mesh.in_path_fraction`, which the seed's law keeps.
 
 References
 ----------
@@ -371,10 +375,16 @@ def _condensed_corners(kpath: np.ndarray, cpath: np.ndarray, width: np.ndarray,
     return k_out, s_out
 
 
-def _grid_geometry(pair: GearPair, settings: StiffnessSettings, corner: bool, lead: bool):
+def _grid_geometry(pair: GearPair, settings: StiffnessSettings, corner: bool, lead: bool,
+                   points: bool = False):
     """Slice contact points, in-path fractions and raw slice-centre positions.
 
-    A spur face is one slice unless a lead modification (``lead``) varies along it.
+    A spur face is one slice unless a lead modification (``lead``) varies along it. With
+    ``points`` (the line contact law with the tip corners, as
+    :func:`gearsim.stiffness.mesh.extended_grid`) a slice centre on the closed path
+    [l_A, l_E] is a whole contact at its centre and one outside it none (the corner takes
+    over there); otherwise each contact carries the in-path fraction of its sampling cell
+    (:func:`gearsim.stiffness.mesh.in_path_fraction`).
     """
     tb = math.tan(pair.driver.base_helix_angle)
     b = pair.face_width
@@ -394,7 +404,11 @@ def _grid_geometry(pair: GearPair, settings: StiffnessSettings, corner: bool, le
     hi = base - z0[None, None, :] * tb
     lo = base - z1[None, None, :] * tb
     centre = 0.5 * (hi + lo)
-    lmid, frac = in_path_fraction(centre, la, le, pb / npc, dz * tb)
+    if points:
+        frac = ((centre >= la) & (centre <= le)).astype(float)
+        lmid = centre
+    else:
+        lmid, frac = in_path_fraction(centre, la, le, pb / npc, dz * tb)
     lmid = np.where(frac > 0, lmid, la)
     return lmid, frac, centre, dz, n_age, first, ns, z0, z1
 
@@ -425,7 +439,8 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
         cracks (a multiple of it is allowed).
     corner : bool
         Add the tip-corner contacts of the pairs just outside the path of contact
-        (:func:`corner_separation`).
+        (:func:`corner_separation`). Under the line contact law the path contacts are
+        then point samples, as in the tables' extended contact (module docstring).
     force : float, optional
         Transverse line-of-action force of the mesh [N]: the load at which the line
         contact law (``settings.contact = "line"``) is linearised (required then).
@@ -472,7 +487,11 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
             period, f"must be a multiple of {natural} mesh cycles (the contacts' period)")
     lead = any(f.modification is not None and (f.modification.crowning or f.modification.helix_slope)
                for f in (flank1, flank2))
-    lmid, frac, centre, dz, n_age, first, ns, z0, z1_ = _grid_geometry(pair, settings, corner, lead)
+    # under the line law the tip corners make the stiffness continuous across A and E:
+    # point samples, as the tables' extended_grid (the seed's law keeps the cell fractions)
+    points = corner and settings.contact == "line"
+    lmid, frac, centre, dz, n_age, first, ns, z0, z1_ = _grid_geometry(pair, settings, corner,
+                                                                         lead, points)
     npc = settings.positions_per_cycle
     layers = 2
     size = period * npc * n_age * ns * layers

@@ -77,6 +77,10 @@ def test_store_rows_hold_the_gear(study):
     (('fault = ["none", "spall", "working"]', 'flank = ["working"]'), "parameters.gear"),
     (('gear = ["input-pinion", "intermediate-pinion"]', 'gear = { min = 1, max = 2 }'),
      "parameters.gear"),
+    (('gear = ["input-pinion", "intermediate-pinion"]', 'gear = ["input-pinion", ""]'),
+     "parameters.gear[1]"),
+    (('gear = ["input-pinion", "intermediate-pinion"]', 'gear = [1e300]'),
+     "parameters.gear[0]"),
 ])
 def test_bad_gear_is_refused_naming_it(folder, edit, where):
     from gearsim.studies.sweep import check_study

@@ -170,6 +170,13 @@ def test_both_mesh_lines_in_the_simulated_spectrum(box):
 @pytest.mark.parametrize(("edit", "parameter"), [
     (('name = "sun-drive-gear"', 'name = "sun"'), "input_chain.gears"),
     (("[input_chain.common]", "side = 3\n[input_chain.common]"), "input_chain.side"),
+    (('shaft_stiffness = "2e6 N*m/rad"', 'shaft_stiffness = "0 N*m/rad"'),
+     "input_chain.shaft_stiffness"),
+    (('shaft_stiffness = "2e6 N*m/rad"', 'shaft_stiffness = "1e300 N*m/rad"'),
+     "input_chain.shaft_stiffness"),
+    (('shaft_stiffness = "2e6 N*m/rad"', 'shaft_stiffness = "-2e6 N*m/rad"'),
+     "input_chain.shaft_stiffness"),
+    (('teeth = 60', 'teeth = 0'), "input_chain.gears"),
 ])
 def test_bad_input_chain_is_one_line(tmp_path, capsys, edit, parameter):
     path = tmp_path / "box.toml"

@@ -233,6 +233,14 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain | None,
     return model
 
 
+def _rotation(model: DynamicModel, chain: GearTrain, gear) -> int:
+    """Index in ``model`` (a chain's) of the rotation coordinate ``gear`` turns with: its
+    shaft's, or its own on a shaft that twists between its gears."""
+    shaft = chain.flow.shafts[chain.flow.shaft_of[gear.name]].name
+    label = f"{shaft}.theta" if f"{shaft}.theta" in model.dof_labels else f"{gear.name}.theta"
+    return model.dof_labels.index(label)
+
+
 def _stack(a: np.ndarray | None, b: np.ndarray | None, r1: int, r2: int) -> np.ndarray | None:
     """Rows of ``a`` (r1) then ``b`` (r2) then one zero row, columns padded with zeros;
     None when both are None."""
@@ -271,10 +279,7 @@ def _join(base: DynamicModel, train: PlanetaryTrain, chain: GearTrain, side: str
     # load, an input with its driving torque
     s = math.copysign(1.0, t_model) * (-1.0 if side == "output" else 1.0)
     gear = chain.gears[0] if side == "output" else chain.gear(chain.flow.meshes[-1][1])
-    shaft_name = chain.flow.shafts[chain.flow.shaft_of[gear.name]].name
-    i_theta = n1 + cm_.dof_labels.index(f"{shaft_name}.theta"
-                                        if f"{shaft_name}.theta" in cm_.dof_labels
-                                        else f"{gear.name}.theta")  # the shaft's rotation
+    i_theta = n1 + _rotation(cm_, chain, gear)
     next_mesh = 0 if side == "output" else len(chain.pairs) - 1
     if shaft_stiffness is None:
         shaft_stiffness = SHAFT_FACTOR * cm_.tables[next_mesh].mean * gear.base_radius ** 2
@@ -307,8 +312,8 @@ def _join(base: DynamicModel, train: PlanetaryTrain, chain: GearTrain, side: str
     # on the shaft); the speed profile, its load and the inertia at the gearbox's input
     w = np.concatenate([base.info["nominal_velocity"], cm_.info["nominal_velocity"]])
     first = base if side == "output" else cm_
-    i_in = (base.info["input_index"] if side == "output"
-            else n1 + int(np.flatnonzero(cm_.fext > 0.0)[0]))  # the chain's driven coordinate
+    i_in = (base.info["input_index"] if side == "output"  # the gearbox's driven coordinate
+            else n1 + _rotation(cm_, chain, chain.gears[0]))
     inertial = None if first.profile is None else nominal_inertia(mass, w, i_in)
     chain_rows = tuple(range(r1, r1 + len(chain.pairs)))  # its meshes (then its springs)
     chain_rate = np.ones(r2) if cm_.rate is None else np.asarray(cm_.rate)

@@ -761,8 +761,8 @@ class Gearbox:
         >>> member, teeth
         ('carrier', [99, 21, 39])
         """
-        if self.stage is None or self._gears_record(signal) is not None:
-            tr = self.train if self.stage is None else self._gears_record(signal)
+        tr = self.train if self.stage is None else self._gears_record(signal)
+        if tr is not None:
             teeth = [g.teeth for g in tr.gears]
             member, freq = tr.flow.shafts[0].name, tr.shaft_frequency(0)
         else:
@@ -781,16 +781,18 @@ class Gearbox:
         (else its input's), ``input_shaft_torque`` the input chain's."""
         if self.stage is None or not self.chains or signal is None:
             return None
-        key = self.signal_key(signal) or ""
-        if key == "input_shaft_torque":
+        m = _SIGNAL.fullmatch(signal)
+        if m is None:
+            return None
+        var, label = m.group(1), m.group(2)
+        if var == "input_shaft_torque":
             return self.input_train
-        if key == "shaft_torque":
+        if var == "shaft_torque":
             return self.chains[-1]
-        label = key[key.find("[") + 1:key.find(",") if "," in key else -1]
-        if key.startswith("chain_acceleration["):
+        if var == "chain_acceleration":
             return next((t for t in self.chains
                          if label in [sh.name for sh in t.flow.shafts]), None)
-        if key.startswith("chain_mesh_force["):
+        if var == "chain_mesh_force":
             names, k = self._chain_mesh_names(), 0
             for t in self.chains:
                 if label in names[k:k + len(t.pairs)]:

@@ -89,7 +89,12 @@ def test_failed_write_keeps_existing_file(tmp_path, monkeypatch):
             fh.write(b"partial")
         raise OSError("disk full")
 
+    def broken_store(self, store, **kwargs):  # the temporary file is open, half written
+        raise OSError("disk full")
+
+    # write_results writes numpy records through dump_to_store, dask ones by to_netcdf
     monkeypatch.setattr(xr.Dataset, "to_netcdf", broken)
+    monkeypatch.setattr(xr.Dataset, "dump_to_store", broken_store)
     with pytest.raises(OSError, match="disk full"):
         write_results(ds, out)
     assert out.read_bytes() == b"previous result"

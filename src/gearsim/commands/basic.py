@@ -139,10 +139,9 @@ def contact(
     train = with_torque(train, torque)
     lc = loaded_contact(train.mesh_contacts(mesh), train.static_mesh_force(mesh))
     if out is not None:
-        from gearsim.io.atomic import atomic_write
+        from gearsim.io.results import write_results
 
-        ds = lc.to_dataset()
-        atomic_write(out, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+        write_results(lc.to_dataset(), out)
     if plot is not None:
         save(lc.plot(), plot, parameter="--plot")
     s = lc.summary()

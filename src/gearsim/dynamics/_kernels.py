@@ -433,3 +433,44 @@ def integrate_rk4_contacts_profile(q0, v0, t0, dt, n_steps, rec_start, rec_every
     """:func:`integrate_rk4` with meshes of contacts and profiles (same arguments)."""
     return _rk4(True, True, q0, v0, t0, dt, n_steps, rec_start, rec_every, rec_q, rec_v,
                 rec_f, cq, cv, cf, qlim, dof, vcol, vval, mp, mi, tab, tabz, tabd, prof, harm, ptr, cx, lam)
+
+
+@njit(cache=True, error_model="numpy")
+def fir_decimate(h, x, down, first, n_out):
+    """Filter each row of ``x`` by the FIR ``h`` and keep every ``down``-th sample.
+
+    y[c, o] = sum_i h[i] x[c, (first + o) down - i], i = 0 .. len(h) - 1: the full
+    convolution of row c with h, sampled at (first + o) down (the polyphase decimation of
+    ``scipy.signal.upfirdn(h, x, down=down)[:, first:first + n_out]``, sums in the same
+    order). The caller guarantees first down >= len(h) - 1 and (first + n_out - 1) down
+    < x.shape[1] (no sample outside the record).
+
+    Parameters
+    ----------
+    h : ndarray, shape (L,)
+        Filter taps.
+    x : ndarray, shape (n_channel, n)
+        Records, one channel per row.
+    down : int
+        Decimation factor.
+    first : int
+        Index of the first output sample in the full convolution's decimated grid.
+    n_out : int
+        Output samples per channel.
+
+    Returns
+    -------
+    ndarray, shape (n_channel, n_out)
+    """
+    n_ch = x.shape[0]
+    taps = h.size
+    y = np.empty((n_ch, n_out))
+    for c in range(n_ch):
+        row = x[c]
+        for o in range(n_out):
+            j = (first + o) * down
+            s = 0.0
+            for i in range(taps):
+                s += h[i] * row[j - i]
+            y[c, o] = s
+    return y

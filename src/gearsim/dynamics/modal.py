@@ -13,7 +13,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from gearsim.dynamics.model import DynamicModel, mean_stiffness_matrix
 
@@ -49,8 +48,12 @@ class Modes:
 def modes(model: DynamicModel, *, which: str = "mean") -> Modes:
     """Solve K phi = omega^2 M phi for the mean (or maximum) mesh stiffness.
 
-    Uses :func:`scipy.linalg.eigh` on (K, M) (generalized symmetric eigenproblem of an
-    undamped linear system); modes with omega <= 1e-6 of the largest are the rigid-body
+    The generalized symmetric eigenproblem of an undamped linear system with the
+    diagonal M is solved in its standard form: with D = M^(-1/2), the eigenpairs
+    (omega^2, psi) of the symmetric D K D (:func:`numpy.linalg.eigh`) give the
+    mass-normalised shapes phi = D psi (phi^T M phi = I), the same as
+    ``scipy.linalg.eigh(K, M)`` to rounding (``scipy.linalg`` is not imported for it:
+    0.2 s of start-up). Modes with omega <= 1e-6 of the largest are the rigid-body
     rotation of the chain and are removed. K is :func:`mean_stiffness_matrix`.
 
     Parameters
@@ -94,8 +97,9 @@ def modes(model: DynamicModel, *, which: str = "mean") -> Modes:
     [348.69]
     """
     K = mean_stiffness_matrix(model, which=which)
-    M = np.diag(model.mass)
-    w2, phi = scipy.linalg.eigh(K, M)
+    d = 1.0 / np.sqrt(model.mass)
+    w2, psi = np.linalg.eigh(d[:, None] * K * d[None, :])
+    phi = d[:, None] * psi
     w2 = np.clip(w2, 0.0, None)
     keep = w2 > 1e-12 * w2.max()
     w = np.sqrt(w2[keep])

@@ -34,7 +34,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from gearsim.errors import require
 
@@ -278,6 +277,8 @@ class LinParkerModel:
             Frequencies, shapes and the classified groups.
         """
         m, k = self.mass_matrix(), self.stiffness_matrix()
+        import scipy.linalg
+
         w2, phi = scipy.linalg.eigh(k, m)
         w2 = np.where(w2 < 0.0, 0.0, w2)
         f = np.sqrt(w2) / (2.0 * math.pi)

@@ -41,7 +41,6 @@ import json
 import math
 
 import numpy as np
-from scipy.interpolate import RectBivariateSpline
 
 from gearsim.errors import require
 from gearsim.fem.geometry import SectorOptions, mesh_sector
@@ -146,7 +145,7 @@ class FiniteElementCoupling:
     def __init__(self, plane: str = "stress", level: int = DEFAULT_LEVEL) -> None:
         self.plane = plane
         self.level = level
-        self._splines: dict[tuple, RectBivariateSpline] = {}
+        self._splines: dict[tuple, tuple] = {}
 
     def cross(self, gear: Gear, r_read: np.ndarray, r_load: np.ndarray) -> np.ndarray:
         """Cross compliance X(r_read, r_load) per unit face width [m/(N/m)].
@@ -171,6 +170,8 @@ class FiniteElementCoupling:
             nodes, x = fe_coupling(gear, plane=self.plane, level=self.level)
             rb = gear.base_radius
             ln = np.sqrt(nodes**2 - rb**2)
+            from scipy.interpolate import RectBivariateSpline
+
             self._splines[key] = (RectBivariateSpline(ln, ln, x, kx=3, ky=3), ln[0], ln[-1])
         spl, lo, hi = self._splines[key]
         rb = gear.base_radius

@@ -87,10 +87,12 @@ import functools
 import math
 import time
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.linalg import splu
+
+if TYPE_CHECKING:  # scipy.sparse is imported where it is used (start-up time)
+    import scipy.sparse as sp
 
 from gearsim.errors import InputError, SimulationError
 from gearsim.fem.geometry import (
@@ -163,6 +165,8 @@ class _Body:
         n = self.model.ndofs
         self.free = np.setdiff1d(np.arange(n), self.fixed)
         kff = self.model.K[self.free][:, self.free].tocsc()
+        from scipy.sparse.linalg import splu
+
         try:  # symmetric positive definite: symmetric ordering, no pivoting (half the fill)
             self.lu = splu(kff, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                            options={"SymmetricMode": True})
@@ -461,6 +465,8 @@ def _rows(pairs: list[_Pairs], bodies: list[_Body], keep: list[np.ndarray]
             info[key].append(arr[idx])
         info["pass"].append(np.full(k, ip))
         r0 += k
+    import scipy.sparse as sp
+
     out = []
     for i, body in enumerate(bodies):
         if rows[i]:
@@ -1114,6 +1120,8 @@ class FEPairModel:
         cols = np.column_stack([dofs[:, 1, 0], dofs[:, 1, 1], dofs[:, 0, 0],
                                 dofs[:, 0, 1]]).ravel()
         vals = np.tile([nrm[0], nrm[1], -nrm[0], -nrm[1]], k)
+        import scipy.sparse as sp
+
         out = []
         for i, (b, body) in enumerate(zip(brows, self.bodies, strict=True)):
             extra = (sp.csr_matrix((vals, (rows, cols)), shape=(k, body.model.ndofs))

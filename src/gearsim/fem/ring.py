@@ -69,7 +69,6 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq, minimize_scalar
 
 from gearsim.errors import InputError
 from gearsim.fem.geometry import distance_threshold, gmsh_nodes_on, gmsh_session, gmsh_triangles
@@ -254,6 +253,8 @@ def _root_fillet(ring: RingGear, radius: float) -> tuple[float, float, float]:
     (centre at r_f - radius, polar angle theta_centre; root tangent point at the same
     angle) and to the involute (tangent point at radius rho_t).
     """
+    from scipy.optimize import brentq, minimize_scalar
+
     r_f = ring.root_radius
     rc = r_f - radius
 

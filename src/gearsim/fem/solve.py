@@ -31,10 +31,12 @@ from __future__ import annotations
 
 import hashlib
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.linalg import splu
+
+if TYPE_CHECKING:  # scipy.sparse is imported where it is used (start-up time)
+    import scipy.sparse as sp
 
 from gearsim.errors import InputError, SimulationError
 
@@ -343,6 +345,8 @@ class ElasticModel:
         free = np.setdiff1d(np.arange(n), fixed)
         a = self.K if extra is None else (self.K + extra).tocsr()
         aff = a[free][:, free].tocsc()
+        from scipy.sparse.linalg import splu
+
         try:  # symmetric positive definite: symmetric ordering, no pivoting (as the FE
             # pair's gears): half the fill of the default COLAMD, factor 30 % faster
             # (measured on the level-2 sectors of the 19/48 and Table-1 gears)
@@ -421,6 +425,8 @@ class ElasticModel:
         cols = np.column_stack([pairs[:, 1, 0], pairs[:, 1, 1], pairs[:, 0, 0],
                                 pairs[:, 0, 1]]).ravel()
         vals = np.tile([normal[0], normal[1], -normal[0], -normal[1]], k)
+        import scipy.sparse as sp
+
         b = sp.csr_matrix((vals, (rows, cols)), shape=(k, n))
         # the crack problem a kept factorization must belong to (the active set aside)
         problem = None if reuse is None else hashlib.sha256(b"".join(

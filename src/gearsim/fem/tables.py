@@ -23,7 +23,6 @@ import os
 from pathlib import Path
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from gearsim.errors import InputError
 from gearsim.fem.geometry import SectorOptions, element_size
@@ -180,6 +179,8 @@ def fe_compliance(gear: Gear, radii, *, crack=None, depth: float = 0.0, side: in
         if use_cache:
             _write_npz(path, radii=nodes, compliance=values, level=np.array(opt.level))
     rb = gear.base_radius
+    from scipy.interpolate import CubicSpline
+
     spline = CubicSpline(np.sqrt(nodes**2 - rb**2), values)
     out = np.zeros((r.size, 4))
     out[:, 0] = spline(np.sqrt(np.maximum(np.clip(r, lo, hi) ** 2 - rb**2, 0.0)))

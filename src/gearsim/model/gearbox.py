@@ -447,9 +447,10 @@ class Gearbox:
 
         def write(path: str | Path) -> Path:
             from gearsim.io.atomic import atomic_write
+            from gearsim.io.results import write_results
 
             if str(path).endswith(".nc"):
-                return atomic_write(path, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+                return write_results(ds, path)
 
             def rows(tmp) -> None:
                 with open(tmp, "w", encoding="utf-8") as f:

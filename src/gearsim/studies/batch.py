@@ -764,7 +764,9 @@ def write_table(records: Sequence, labels: Sequence | None, path: str | Path) ->
     p = Path(path)
     if p.suffix.lower() == ".nc":
         ds = records_table(records, labels)
-        return atomic_write(p, lambda t: ds.to_netcdf(t, engine="h5netcdf"))
+        from gearsim.io.results import write_results
+
+        return write_results(ds, p)
     text = table_csv(records, labels)
     return atomic_write(p, lambda t: t.write_text(text))
 

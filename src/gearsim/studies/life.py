@@ -1161,9 +1161,9 @@ def write_store(ds: Any, path: str | Path) -> Path:
     -------
     Path
     """
-    from gearsim.io.atomic import atomic_write
+    from gearsim.io.results import write_results
 
-    return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf"))
+    return write_results(ds, path)
 
 
 def sideband_feature(gb: Gearbox, gear: str) -> str:

@@ -70,6 +70,7 @@ from gearsim.errors import InputError, require
 from gearsim.fem.check import MAX_POINTS, fe_check
 from gearsim.io.atomic import atomic_write
 from gearsim.io.jsonout import strict_json
+from gearsim.io.results import write_results
 from gearsim.io.targets import atomic_folder, check_output_folder
 from gearsim.model import load
 from gearsim.model.variants import FAULT_CLASSES, fault_variant
@@ -583,7 +584,7 @@ def _write_loads(rep: Reproduction, path: Path) -> None:
                "crack_depth_m": rep.options.depth, "fs": first.fs,
                "gearsim_version": __version__},
     )
-    atomic_write(path, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+    write_results(ds, path)
 
 
 def _write_claims(rep: Reproduction, path: Path) -> None:

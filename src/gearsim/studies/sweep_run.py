@@ -49,6 +49,7 @@ import numpy as np
 from gearsim._version import __version__
 from gearsim.errors import InputError, ModelRangeWarning, SimulationError
 from gearsim.io.atomic import atomic_write
+from gearsim.io.results import write_results
 from gearsim.io.targets import check_output_file
 
 if TYPE_CHECKING:  # the simulation modules load on first use (gearsim analyze needs none)
@@ -174,7 +175,7 @@ def parts_dir(store: str | Path) -> Path:
 
 
 def _write_nc(ds, path: str | Path) -> Path:
-    return atomic_write(path, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+    return write_results(ds, path)
 
 
 def part_bytes(study: Study, cases: Sequence[Case], hook: Callable | None = None) -> bytes:

@@ -133,10 +133,9 @@ class TrainStiffness:
             out = xr.merge(sets)
             out.attrs.update({"gearsim_version": __version__, "train": self.train.name,
                               "closure": self.train.stiffness.closure})
+            from gearsim.io.results import write_results
 
-            def wn(tmp: Path) -> None:
-                out.to_netcdf(tmp, engine="h5netcdf")
-            return atomic_write(path, wn)
+            return write_results(out, path)
         raise InputError("--out", str(path), "must end in .csv or .nc")
 
 

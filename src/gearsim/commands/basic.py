@@ -46,9 +46,10 @@ def layout(
         typer.echo(json.dumps(out, indent=2))
         return
     typer.echo(out["name"])
-    if "stage" in out:
-        s_ = out["stage"]
-        typer.echo(f"stage {s_['teeth'][0]}/{s_['teeth'][1]}/{s_['teeth'][2]} x "
+    for k, s_ in enumerate([out["stage"], *out.get("next_stages", [])] if "stage" in out
+                           else []):
+        typer.echo(f"stage{f' {k + 1}' if 'next_stages' in out else ''} "
+                   f"{s_['teeth'][0]}/{s_['teeth'][1]}/{s_['teeth'][2]} x "
                    f"{s_['planets']}: {s_['input']} in, {s_['fixed']} held; f_m "
                    f"{s_['mesh_frequency_hz']:.6g} Hz")
     for sh in out["shafts"]:
@@ -90,22 +91,32 @@ def stiffness(
     if json_:
         typer.echo(json.dumps(summary, indent=2))
         return
-    if "phasing" in summary:
-        typer.echo(f"{summary['name']}: f_m {summary['mesh_frequency']:.6g} Hz, "
-                   f"{summary['phasing']} planets; eps_alpha sun-planet "
-                   f"{summary['eps_alpha_sun']:.3f}, ring-planet "
-                   f"{summary['eps_alpha_ring']:.3f}, eps_beta {summary['eps_beta']:.3f}")
-    for pre, m in (*(("input chain ", m)
-                     for m in summary.get("input_chain", {}).get("meshes", [])),
-                   *(("", m) for m in summary["meshes"]),
-                   *(("chain ", m) for m in summary.get("chain", {}).get("meshes", []))):
+    nexts = summary.get("next_stages", [])  # stages in series, each with its meshes
+    stages = [("", summary)] if not nexts else [
+        (f"stage{k}-", st) for k, st in enumerate([summary, *nexts], 1)]
+
+    def show(pre: str, m: dict) -> None:
         gears = f" ({m['gears'][0]} -> {m['gears'][1]})" if "gears" in m else ""
         extra = (f"period {m['period_cycles']} cycles, phase {m['phase_cycles']:+.4f}"
                  if "period_cycles" in m else
                  f"eps_alpha {m['eps_alpha']:.3f}, eps_beta {m['eps_beta']:.3f}")
-        typer.echo(f"{pre}mesh {m['mesh']}{gears}: k mean {m['k_mean'] / 1e9:.4f} GN/m, min "
+        typer.echo(f"{pre}{gears}: k mean {m['k_mean'] / 1e9:.4f} GN/m, min "
                    f"{m['k_min'] / 1e9:.4f}, max {m['k_max'] / 1e9:.4f}; {extra}; mean / "
                    f"ISO 6336 c_ga b = {m['ratio_to_iso6336']:.3f}")
+
+    for m in summary.get("input_chain", {}).get("meshes", []):
+        show(f"input chain mesh {m['mesh']}", m)
+    for pre, st in stages:
+        if "phasing" in st:
+            title = f"{pre[:-1]} ({st['name']})" if pre else st["name"]
+            typer.echo(f"{title}: f_m {st['mesh_frequency']:.6g} Hz, "
+                       f"{st['phasing']} planets; eps_alpha sun-planet "
+                       f"{st['eps_alpha_sun']:.3f}, ring-planet "
+                       f"{st['eps_alpha_ring']:.3f}, eps_beta {st['eps_beta']:.3f}")
+        for m in st["meshes"]:
+            show(f"mesh {pre}{m['mesh']}", m)
+    for m in summary.get("chain", {}).get("meshes", []):
+        show(f"chain mesh {m['mesh']}", m)
 
 
 def contact(

@@ -84,6 +84,13 @@ def simulate(
         typer.echo(f"natural frequencies of the stage's mean-stiffness Lin & Parker model "
                    f"[Hz] (r rotational, t translational, p planet, m mixed; multiplicity): "
                    f"{modes}")
+    for st in s.get("stages", []):  # stages in series: each stage's torques
+        shaft = (f"; shaft {st['shaft']}: torque mean {st['shaft_torque_mean']:.6g} N m "
+                 f"(static {st['static_shaft_torque']:.6g}), RMS "
+                 f"{st['shaft_torque_rms']:.6g} N m" if "shaft" in st else "")
+        typer.echo(f"{st['stage']}: f_m {st['mesh_frequency']:.6g} Hz, sun torque "
+                   f"{st['sun_torque']:.6g} N m, carrier torque {st['carrier_torque']:.6g} "
+                   f"N m{shaft}")
     if "shaft_torque_mean" in s:
         if "input_shaft_torque_mean" in s:
             typer.echo(f"input shaft ({s['input_member']}): torque mean "

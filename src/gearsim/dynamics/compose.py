@@ -33,6 +33,14 @@ the chain's load torque on theta_N and the stage's input torque on u_i, and the 
 at the chain's output speed and torque (:func:`stage_operating`). The gearbox's input,
 its speed profile and its inertia load are then the chain's.
 
+Stages in series (:class:`NextStage`, a helicopter's or a wind turbine's planetary stages)
+are joined the same way, by one shaft row from stage k's output member u_o to stage
+k+1's input member u_i, tau = k_t (s_o u_o / r_o - s_i u_i / r_i) + c_t (...)', with
+J_eq from both members (J = m_u r^2); stage k+1 runs at stage k's output speed and
+torque (:func:`next_operating`), its rows read their tables at rate f_m,k+1 / f_m,1. One
+function, ``_join``, joins a part (a chain's or a stage's model) to the model built so
+far through such a shaft; the parts only say which coordinates the shaft turns.
+
 The chain runs at the stage's output speed and torque (:func:`chain_operating`); its
 other options (layout, bearings, profile modification, runout, cracks and faults of its
 gears) are its own. The default shaft is stiff: ten times the torsional stiffness of the
@@ -49,6 +57,8 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -63,9 +73,9 @@ from gearsim.system.graph import MAX_SHAFT_STIFFNESS, MIN_SHAFT_STIFFNESS
 from gearsim.system.planetary import MEMBERS, PlanetaryTrain, StageOperating
 from gearsim.system.train import Operating
 
-__all__ = ["SHAFT_FACTOR", "SIDES", "STAGE_ONLY", "build_stage_chain_model",
-           "chain_operating", "output_member", "simulate_stage_chain", "stage_operating",
-           "stage_settings"]
+__all__ = ["SHAFT_FACTOR", "SIDES", "STAGE_ONLY", "NextStage", "build_stage_chain_model",
+           "chain_operating", "next_operating", "output_member", "simulate_stage_chain",
+           "stage_operating", "stage_prefix", "stage_settings"]
 
 #: Where the chain sits: driven by the stage's output ("output") or driving its input.
 SIDES = ("output", "input")
@@ -79,6 +89,29 @@ STAGE_ONLY = {"profile_modification": (0.0,), "crowning": (0.0,),
               "idler_angle": ()}
 #: Relative agreement required between the chain's operating point and the stage output.
 OPERATING_RTOL = 1e-9
+
+
+@dataclass(frozen=True)
+class NextStage:
+    """A planetary stage driven by the previous stage's output member through a shaft.
+
+    Parameters
+    ----------
+    train : PlanetaryTrain
+        The stage, at the previous stage output's speed and torque
+        (:func:`next_operating`).
+    members : StageDynamics
+        Its members' masses, inertias and supports (its sensor is not used: the ring
+        sensor of a result is the first stage's).
+    shaft_stiffness : float or None
+        k_t [N m/rad] of the shaft from the previous stage's output member to this
+        stage's input member; ``None``: ``SHAFT_FACTOR`` N k_sp r_b,s^2 of this stage
+        (ten times the torsional stiffness of its sun meshes about the sun).
+    """
+
+    train: PlanetaryTrain
+    members: StageDynamics = field(default_factory=StageDynamics)
+    shaft_stiffness: float | None = None
 
 
 def output_member(train: PlanetaryTrain) -> str:
@@ -168,19 +201,20 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain | None,
                             settings: DynamicsSettings | None = None, *,
                             shaft_stiffness: float | None = None,
                             side: str = "output", input_chain: GearTrain | None = None,
-                            input_shaft_stiffness: float | None = None) -> DynamicModel:
-    """Equations of motion of a stage, chains of parallel gears and the shafts between.
+                            input_shaft_stiffness: float | None = None,
+                            stages: Sequence[NextStage] = ()) -> DynamicModel:
+    """Equations of motion of stages, chains of parallel gears and the shafts between.
 
     Parameters
     ----------
     train
-        The stage in operation.
+        The (first) stage in operation.
     chain
-        A chain; its operating point must be :func:`chain_operating` of ``train``
-        (``side = "output"``), or the stage's that of the chain's last gear
-        (:func:`stage_operating`, ``side = "input"``). ``None``: only ``input_chain``.
+        A chain; its operating point must be :func:`chain_operating` of the last stage
+        (``side = "output"``), or the first stage's that of the chain's last gear
+        (:func:`stage_operating`, ``side = "input"``). ``None``: no such chain.
     dyn
-        Members, supports and sensor of the stage.
+        Members, supports and sensor of the first stage.
     settings
         Dynamics options (the chains' own options apply to the chains only).
     shaft_stiffness
@@ -188,19 +222,28 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain | None,
         r_b^2 of the chain's mesh next to the shaft (its first on the output side, its
         last on the input side).
     side : {"output", "input"}
-        ``chain`` is driven by the stage's output member, or drives its input member.
+        ``chain`` is driven by the last stage's output member, or drives the first
+        stage's input member.
     input_chain
-        Gears driving the stage's input member as well (with ``chain`` on the output
-        side): the stage between two chains.
+        Gears driving the first stage's input member as well (with ``chain`` on the
+        output side): the stages between two chains.
     input_shaft_stiffness
         k_t [N m/rad] of ``input_chain``'s shaft (default as ``shaft_stiffness``).
+    stages
+        Further stages in series, each driven by the previous stage's output member
+        through its shaft (:class:`NextStage`). With any, the coordinates, gear names and
+        rows of stage k are prefixed ``stage<k>-`` (:func:`stage_prefix`).
 
     Returns
     -------
     DynamicModel
-        ``kind = "stage+chain"``: the stage's coordinates, then each chain's in the
-        order joined; rows: the stage's springs, then per chain its meshes, springs and
-        shaft. ``info`` holds the stage's ``lin_parker``, ``mesh_rows``, ``row_names``;
+        ``kind = "stage+chain"``: the stages' coordinates, then each chain's in the
+        order joined; rows: the first stage's springs, per further stage its springs and
+        shaft, then per chain its meshes, springs and shaft. ``info`` holds the first
+        stage's ``lin_parker``; ``mesh_rows`` and ``row_names`` of all stages;
+        ``stages`` (with further stages), one dict per stage (``train``, ``prefix``,
+        ``rows`` (its meshes), ``shaft_row`` (from the previous stage; None for the
+        first), ``shaft_stiffness``, ``member``, ``dofs``, ``mesh_frequency``);
         ``chains``, one dict per chain (``chain``, ``side``, ``rows`` (its meshes),
         ``shaft_row``, ``shaft_stiffness``, ``member``, ``dofs``, ``bearing_dofs``,
         ``axes``, ``shafts``, ``mesh_frequency``); and, of the first chain,
@@ -219,18 +262,77 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain | None,
     """
     settings = settings or DynamicsSettings()
     require(side in SIDES, "chain.side", side, 'must be "output" or "input"')
-    require(chain is not None or input_chain is not None, "chain", None,
+    require(chain is not None or input_chain is not None or stages, "chain", None,
             "a stage alone is gearsim.dynamics.stage.build_stage_model")
     require(input_chain is None or chain is None or side == "output", "chain.side", side,
             "with an input chain the other chain is on the output side")
-    sm = build_stage_model(train, dyn, stage_settings(settings))
-    sm.info["input_index"] = sm.dof_labels.index(f"{train.operating.input}.u")
-    model = sm
+    trains = (train, *(s.train for s in stages))
+    prefix = [stage_prefix(k, len(trains)) for k in range(len(trains))]
+    model = _prefixed(build_stage_model(train, dyn, stage_settings(settings)), prefix[0])
+    model.info["input_index"] = model.dof_labels.index(f"{prefix[0]}{train.operating.input}.u")
+    if stages:
+        model.info["stages"] = ({"train": train, "prefix": prefix[0], "shaft_row": None,
+                                 "rows": model.info["mesh_rows"], "shaft_stiffness": None,
+                                 "member": train.operating.input, "dofs": (0, model.n_dof),
+                                 "mesh_frequency": train.mesh_frequency},)
+    for k, nxt in enumerate(stages, 1):
+        model = _join_stage(model, trains[k - 1], prefix[k - 1], nxt, prefix[k], settings)
     if chain is not None:
-        model = _join(model, train, chain, side, shaft_stiffness, settings)
+        at = -1 if side == "output" else 0
+        model = _join_chain(model, trains[at], prefix[at], chain, side, shaft_stiffness,
+                            settings)
     if input_chain is not None:
-        model = _join(model, train, input_chain, "input", input_shaft_stiffness, settings)
+        model = _join_chain(model, train, prefix[0], input_chain, "input",
+                            input_shaft_stiffness, settings)
     return model
+
+
+def stage_prefix(k: int, n: int) -> str:
+    """Prefix of the coordinates, gears and meshes of stage ``k`` (from 0) of ``n``.
+
+    Parameters
+    ----------
+    k, n : int
+        The stage's index in power-flow order and the number of stages.
+
+    Returns
+    -------
+    str
+        ``""`` for a stage alone (its names are unchanged), else ``"stage<k+1>-"``
+        (``stage1-sun-planet-1``, ``stage2-sun-planet-1``: as the meshes of several
+        chains are numbered through).
+    """
+    return "" if n == 1 else f"stage{k + 1}-"
+
+
+def next_operating(prev: PlanetaryTrain, fixed: str, driven: str) -> StageOperating:
+    """Operating point of a stage driven by the output member of the stage ``prev``.
+
+    Parameters
+    ----------
+    prev : PlanetaryTrain
+        The driving stage in operation.
+    fixed, driven : str
+        The next stage's held member and the member the shaft drives.
+
+    Returns
+    -------
+    StageOperating
+        Speed |omega_o| [rad/s] and torque |T_o| [N m] of ``prev``'s output member
+        (:func:`chain_operating`; loss-free).
+    """
+    op = chain_operating(prev)
+    return StageOperating(fixed=fixed, input=driven, speed=op.speed, torque=op.torque)
+
+
+def _prefixed(model: DynamicModel, prefix: str) -> DynamicModel:
+    """``model`` (a stage's) with ``prefix`` before its coordinate, gear and row names."""
+    if not prefix:
+        return model
+    return dataclasses.replace(
+        model, dof_labels=tuple(prefix + s for s in model.dof_labels),
+        gear_names=tuple(prefix + s for s in model.gear_names),
+        info={**model.info, "row_names": tuple(prefix + s for s in model.info["row_names"])})
 
 
 def _rotation(model: DynamicModel, chain: GearTrain, gear) -> int:
@@ -239,6 +341,109 @@ def _rotation(model: DynamicModel, chain: GearTrain, gear) -> int:
     shaft = chain.flow.shafts[chain.flow.shaft_of[gear.name]].name
     label = f"{shaft}.theta" if f"{shaft}.theta" in model.dof_labels else f"{gear.name}.theta"
     return model.dof_labels.index(label)
+
+
+def _member(model: DynamicModel, prefix: str, train: PlanetaryTrain, member: str,
+            side: str) -> tuple[int, float, float]:
+    """(index, a, J) of a stage member on a shaft: its coordinate u in ``model``, the
+    factor a = s / r turning u into the angle in the member's sense of rotation (s as in
+    the module docstring: an output turns against its load, an input with its driving
+    torque; r from :func:`model_radii`) and its inertia J = m_u r^2 [kg m^2]."""
+    i = model.dof_labels.index(f"{prefix}{member}.u")
+    r = model_radii(train.stage)[member]
+    t_model = train.model_torques[member]
+    require(t_model != 0.0, "stage", member, "the member on the shaft carries no torque")
+    s = math.copysign(1.0, t_model) * (-1.0 if side == "output" else 1.0)
+    return i, s / r, model.mass[i] * r ** 2
+
+
+def _check_shaft(kt: object, parameter: str) -> float:
+    """``kt`` [N m/rad] if finite in the shafts' bounds, else one line naming it."""
+    if not (isinstance(kt, (int, float)) and MIN_SHAFT_STIFFNESS <= kt <= MAX_SHAFT_STIFFNESS):
+        raise InputError(parameter, kt, f"must be a finite number in "
+                         f"[{MIN_SHAFT_STIFFNESS:g}, {MAX_SHAFT_STIFFNESS:g}] N*m/rad")
+    return kt
+
+
+def _check_operating(got_op, want, what: str, hint: str) -> None:
+    for name in ("speed", "torque"):
+        got, ref = getattr(got_op, name), getattr(want, name)
+        require(abs(got - ref) <= OPERATING_RTOL * ref, f"{what}.operating.{name}", got,
+                "must be " + hint.format(ref))
+
+
+def _join_chain(base: DynamicModel, train: PlanetaryTrain, prefix: str, chain: GearTrain,
+                side: str, shaft_stiffness: float | None,
+                settings: DynamicsSettings) -> DynamicModel:
+    """``base`` and ``chain`` joined by a shaft on the output (``side = "output"``) or
+    input member of the stage ``train`` (names ``prefix``-ed in ``base``)."""
+    if side == "output":
+        _check_operating(chain.operating, chain_operating(train), "chain",
+                         "the stage output's {:.10g} (use chain_operating)")
+    else:
+        _check_operating(train.operating,
+                         stage_operating(chain, train.operating.fixed, train.operating.input),
+                         "stage", "the chain output's {:.10g} (use stage_operating)")
+    cm_ = build_lta(chain, settings)
+    # the member on the shaft and the chain's gear on it (its first or its last)
+    member = output_member(train) if side == "output" else train.operating.input
+    gear = chain.gears[0] if side == "output" else chain.gear(chain.flow.meshes[-1][1])
+    next_mesh = 0 if side == "output" else len(chain.pairs) - 1
+    if shaft_stiffness is None:
+        shaft_stiffness = SHAFT_FACTOR * cm_.tables[next_mesh].mean * gear.base_radius ** 2
+    kt = _check_shaft(shaft_stiffness, "chain.shaft_stiffness")
+    n1, r1 = base.n_dof, base.n_mesh
+    rows = r1 + cm_.n_mesh + 1
+    chain_rows = tuple(range(r1, r1 + len(chain.pairs)))  # its meshes (then its springs)
+    entry = {"chain": chain, "side": side, "rows": chain_rows, "shaft_row": rows - 1,
+             "shaft_stiffness": kt, "member": member, "dofs": (n1, n1 + cm_.n_dof),
+             "bearing_dofs": cm_.bearing_dofs + n1, "axes": cm_.axes,
+             "shafts": cm_.gear_names, "mesh_frequency": chain.mesh_frequency}
+    info = {"chains": (*base.info.get("chains", ()), entry),
+            "output_member": base.info.get("output_member", output_member(train))}
+    if "chain_rows" not in base.info:  # the first chain joined, under its own keys
+        info.update({"chain_rows": chain_rows, "shaft_row": rows - 1,
+                     "chain_mesh_names": tuple(p.name for p in chain.pairs), "chain": chain,
+                     "chain_mesh_frequency": chain.mesh_frequency, "shaft_stiffness": kt,
+                     "chain_side": side, "chain_dofs": entry["dofs"], "shaft_member": member,
+                     "chain_name": chain.name, "chain_bearing_dofs": entry["bearing_dofs"],
+                     "chain_axes": cm_.axes, "chain_shafts": cm_.gear_names})
+    i_in = None if side == "output" else _rotation(cm_, chain, chain.gears[0])
+    return _join(base, cm_, _member(base, prefix, train, member, side),
+                 (_rotation(cm_, chain, gear), 1.0, gear.polar_inertia), kt,
+                 abs(train.torques[member]), settings, downstream=side == "output",
+                 part_input=i_in, info=info)
+
+
+def _join_stage(base: DynamicModel, prev: PlanetaryTrain, prev_prefix: str, nxt: NextStage,
+                prefix: str, settings: DynamicsSettings) -> DynamicModel:
+    """``base`` and the stage ``nxt`` joined by a shaft from the output member of the
+    stage ``prev`` (the last of ``base``) to ``nxt``'s input member."""
+    op = nxt.train.operating
+    _check_operating(op, next_operating(prev, op.fixed, op.input), "stages",
+                     "the previous stage output's {:.10g} (use next_operating)")
+    part = _prefixed(build_stage_model(nxt.train, nxt.members, stage_settings(settings)),
+                     prefix)
+    kt = nxt.shaft_stiffness
+    if kt is None:  # ten times the torsional stiffness of its sun meshes about the sun
+        lp = part.info["lin_parker"]
+        kt = SHAFT_FACTOR * lp.planets * lp.sun_mesh * nxt.train.stage.sun.base_radius ** 2
+    kt = _check_shaft(kt, "stages.shaft_stiffness")
+    out = output_member(prev)
+    r1, n1 = base.n_mesh, base.n_dof
+    rows = tuple(r1 + r for r in part.info["mesh_rows"])
+    entry = {"train": nxt.train, "prefix": prefix, "rows": rows,
+             "shaft_row": r1 + part.n_mesh, "shaft_stiffness": kt, "member": op.input,
+             "dofs": (n1, n1 + part.n_dof), "mesh_frequency": nxt.train.mesh_frequency}
+    info = {"stages": (*base.info["stages"], entry),
+            "mesh_rows": base.info["mesh_rows"] + rows,
+            "row_names": (base.info["row_names"] + part.info["row_names"]
+                          + (f"shaft-{prev_prefix}{out}-{prefix}{op.input}",)),
+            "output_member": output_member(nxt.train)}
+    return _join(base, part, _member(base, prev_prefix, prev, out, "output"),
+                 _member(part, prefix, nxt.train, op.input, "input"), kt,
+                 abs(prev.torques[out]), settings, downstream=True, part_input=None,
+                 info=info)
 
 
 def _stack(a: np.ndarray | None, b: np.ndarray | None, r1: int, r2: int) -> np.ndarray | None:
@@ -250,113 +455,79 @@ def _stack(a: np.ndarray | None, b: np.ndarray | None, r1: int, r2: int) -> np.n
     return np.vstack([_pad(a, r1, nc), _pad(b, r2, nc), np.zeros((1, nc))])
 
 
-def _join(base: DynamicModel, train: PlanetaryTrain, chain: GearTrain, side: str,
-          shaft_stiffness: float | None, settings: DynamicsSettings) -> DynamicModel:
-    """``base`` (the stage's model, possibly with a chain joined) and ``chain`` joined by
-    a shaft on the stage's output (``side = "output"``) or input member (module
-    docstring)."""
-    if side == "output":
-        want, got_op, what = chain_operating(train), chain.operating, "chain"
-        hint = "the stage output's {:.10g} (use chain_operating)"
-    else:
-        want = stage_operating(chain, train.operating.fixed, train.operating.input)
-        got_op, what, hint = train.operating, "stage", "the chain output's {:.10g} (use stage_operating)"
-    for name in ("speed", "torque"):
-        got, ref = getattr(got_op, name), getattr(want, name)
-        require(abs(got - ref) <= OPERATING_RTOL * ref, f"{what}.operating.{name}", got,
-                "must be " + hint.format(ref))
-    cm_ = build_lta(chain, settings)
-    n1, n2 = base.n_dof, cm_.n_dof
-    r1, r2 = base.n_mesh, cm_.n_mesh
+def _join(base: DynamicModel, part: DynamicModel, at_base: tuple[int, float, float],
+          at_part: tuple[int, float, float], kt: float, torque: float,
+          settings: DynamicsSettings, *, downstream: bool, part_input: int | None,
+          info: dict) -> DynamicModel:
+    """``base`` and ``part`` (a chain's or a stage's model) joined by one shaft.
+
+    ``at_base`` and ``at_part`` are (index, a, J) of the coordinates on the shaft (a the
+    factor to the angle in the sense of rotation, J the inertia); the shaft twists by
+    a_up q_up - a_down q_down, ``downstream``: ``part`` is driven by ``base``. The shaft
+    replaces the load (or drive) of both coordinates and carries ``torque`` [N m]
+    statically; damping c_t = 2 zeta sqrt(k_t J_eq) (module docstring). ``part``'s rows
+    keep their tables at the rate part.f_m / base.f_m; ``part_input``: the gearbox's
+    input coordinate in ``part`` when it drives ``base``. ``info`` is added to
+    ``base.info``."""
+    n1, n2 = base.n_dof, part.n_dof
+    r1, r2 = base.n_mesh, part.n_mesh
     n, rows = n1 + n2, r1 + r2 + 1
-    # the member on the shaft and the chain's gear on it (its first or its last)
-    member = output_member(train) if side == "output" else train.operating.input
-    iu = base.dof_labels.index(f"{member}.u")
-    r_o = model_radii(train.stage)[member]
-    t_model = train.model_torques[member]
-    require(t_model != 0.0, "stage", member, "the member on the shaft carries no torque")
-    # sense of the member's rotation in the model frame: an output turns against its
-    # load, an input with its driving torque
-    s = math.copysign(1.0, t_model) * (-1.0 if side == "output" else 1.0)
-    gear = chain.gears[0] if side == "output" else chain.gear(chain.flow.meshes[-1][1])
-    i_theta = n1 + _rotation(cm_, chain, gear)
-    next_mesh = 0 if side == "output" else len(chain.pairs) - 1
-    if shaft_stiffness is None:
-        shaft_stiffness = SHAFT_FACTOR * cm_.tables[next_mesh].mean * gear.base_radius ** 2
-    kt = shaft_stiffness
-    if not (isinstance(kt, (int, float)) and MIN_SHAFT_STIFFNESS <= kt <= MAX_SHAFT_STIFFNESS):
-        raise InputError("chain.shaft_stiffness", kt, f"must be a finite number in "
-                         f"[{MIN_SHAFT_STIFFNESS:g}, {MAX_SHAFT_STIFFNESS:g}] N*m/rad")
-    mass = np.concatenate([base.mass, cm_.mass])
-    kb = np.concatenate([base.kb, cm_.kb])
-    cb = np.concatenate([base.cb, cm_.cb])
-    fext = np.concatenate([base.fext, cm_.fext])
+    (iu, a_u, j_u), (ip, a_p, j_p) = at_base, at_part
+    i_p = n1 + ip
+    mass = np.concatenate([base.mass, part.mass])
+    kb = np.concatenate([base.kb, part.kb])
+    cb = np.concatenate([base.cb, part.cb])
+    fext = np.concatenate([base.fext, part.fext])
     fext[iu] = 0.0  # the member's load (or drive) is now the shaft
-    fext[i_theta] = 0.0  # and so is the chain's input torque (or its load)
+    fext[i_p] = 0.0  # and so is the part's input torque (or its load)
     V = np.zeros((rows, n))
     V[:r1, :n1] = base.V
-    V[r1:r1 + r2, n1:] = cm_.V
+    V[r1:r1 + r2, n1:] = part.V
     # tau = k_t (upstream rotation - downstream rotation), each in its sense of rotation
-    up, down = (1.0, -1.0) if side == "output" else (-1.0, 1.0)
-    V[-1, iu] = up * s / r_o
-    V[-1, i_theta] = down
-    j_o = base.mass[iu] * r_o ** 2
-    j_eq = 1.0 / (1.0 / j_o + 1.0 / gear.polar_inertia)
+    up, down = (1.0, -1.0) if downstream else (-1.0, 1.0)
+    V[-1, iu] = up * a_u
+    V[-1, i_p] = down * a_p
+    j_eq = 1.0 / (1.0 / j_u + 1.0 / j_p)
     c_t = 2.0 * settings.bearing_damping_ratio * math.sqrt(kt * j_eq)
-    f_m, f_m2 = train.mesh_frequency, chain.mesh_frequency
-    kmean = np.concatenate([[t.mean for t in base.tables], [t.mean for t in cm_.tables],
+    kmean = np.concatenate([[t.mean for t in base.tables], [t.mean for t in part.tables],
                             [kt]])
-    e0 = np.concatenate([base.e0, cm_.e0, [0.0]])
+    e0 = np.concatenate([base.e0, part.e0, [0.0]])
     q0 = static_equilibrium(mass, kb, V, kmean, fext, e0)
     # the nominal motion of all parts (each at its operating point, which is the other's
     # on the shaft); the speed profile, its load and the inertia at the gearbox's input
-    w = np.concatenate([base.info["nominal_velocity"], cm_.info["nominal_velocity"]])
-    first = base if side == "output" else cm_
-    i_in = (base.info["input_index"] if side == "output"  # the gearbox's driven coordinate
-            else n1 + _rotation(cm_, chain, chain.gears[0]))
+    w = np.concatenate([base.info["nominal_velocity"], part.info["nominal_velocity"]])
+    first = base if downstream else part
+    i_in = base.info["input_index"] if downstream else n1 + part_input
     inertial = None if first.profile is None else nominal_inertia(mass, w, i_in)
-    chain_rows = tuple(range(r1, r1 + len(chain.pairs)))  # its meshes (then its springs)
-    chain_rate = np.ones(r2) if cm_.rate is None else np.asarray(cm_.rate)
+    part_rate = np.ones(r2) if part.rate is None else np.asarray(part.rate)
     base_rate = np.ones(r1) if base.rate is None else np.asarray(base.rate)
-    entry = {"chain": chain, "side": side, "rows": chain_rows, "shaft_row": rows - 1,
-             "shaft_stiffness": kt, "member": member, "dofs": (n1, n),
-             "bearing_dofs": cm_.bearing_dofs + n1, "axes": cm_.axes,
-             "shafts": cm_.gear_names, "mesh_frequency": f_m2}
-    info = {**base.info, "nominal_velocity": w, "input_index": i_in,
-            "chains": (*base.info.get("chains", ()), entry),
-            "output_member": output_member(train)}
-    if "chain_rows" not in base.info:  # the first chain joined, under its own keys
-        info.update({"chain_rows": chain_rows, "shaft_row": rows - 1,
-                     "chain_mesh_names": tuple(p.name for p in chain.pairs), "chain": chain,
-                     "chain_mesh_frequency": f_m2, "shaft_stiffness": kt,
-                     "chain_side": side, "chain_dofs": (n1, n), "shaft_member": member,
-                     "chain_name": chain.name, "chain_bearing_dofs": cm_.bearing_dofs + n1,
-                     "chain_axes": cm_.axes, "chain_shafts": cm_.gear_names})
+    info = {**base.info, "nominal_velocity": w, "input_index": i_in, **info}
 
     def h(a, b):
         nh = max(a.shape[1], b.shape[1])
         return np.vstack([_pad(a, r1, nh), _pad(b, r2, nh), np.zeros((1, nh))])
 
     return DynamicModel(
-        kind="stage+chain", gear_names=base.gear_names + cm_.gear_names,
-        dof_labels=base.dof_labels + cm_.dof_labels, mass=mass, kb=kb, cb=cb, fext=fext, V=V,
-        kappa=np.concatenate([base.kappa, cm_.kappa, [1.0]]),
-        kscale=np.concatenate([base.kscale, cm_.kscale, [1.0]]),
-        cm=np.concatenate([base.cm, cm_.cm, [c_t]]),
-        clearance=np.concatenate([base.clearance, cm_.clearance, [np.inf]]),
-        tables=base.tables + cm_.tables + (MeshTable(k=np.array([kt]), positions_per_cycle=1,
-                                                     period=1),),
-        phase=np.concatenate([base.phase, cm_.phase, [0.0]]), mesh_frequency=f_m, e0=e0,
-        h_amp=h(base.h_amp, cm_.h_amp), h_omega=h(base.h_omega, cm_.h_omega),
-        h_phase=h(base.h_phase, cm_.h_phase), a_amp=_stack(base.a_amp, cm_.a_amp, r1, r2),
-        a_omega=_stack(base.a_omega, cm_.a_omega, r1, r2),
-        a_phase=_stack(base.a_phase, cm_.a_phase, r1, r2),
-        to_transverse=np.concatenate([base.to_transverse, cm_.to_transverse, [1.0]]),
-        dte_offset=np.concatenate([base.dte_offset, cm_.dte_offset, [0.0]]),
-        static_force=np.concatenate([base.static_force, cm_.static_force,
-                                     [abs(train.torques[member])]]),
+        kind="stage+chain", gear_names=base.gear_names + part.gear_names,
+        dof_labels=base.dof_labels + part.dof_labels, mass=mass, kb=kb, cb=cb, fext=fext, V=V,
+        kappa=np.concatenate([base.kappa, part.kappa, [1.0]]),
+        kscale=np.concatenate([base.kscale, part.kscale, [1.0]]),
+        cm=np.concatenate([base.cm, part.cm, [c_t]]),
+        clearance=np.concatenate([base.clearance, part.clearance, [np.inf]]),
+        tables=base.tables + part.tables + (MeshTable(k=np.array([kt]), positions_per_cycle=1,
+                                                      period=1),),
+        phase=np.concatenate([base.phase, part.phase, [0.0]]),
+        mesh_frequency=base.mesh_frequency, e0=e0,
+        h_amp=h(base.h_amp, part.h_amp), h_omega=h(base.h_omega, part.h_omega),
+        h_phase=h(base.h_phase, part.h_phase), a_amp=_stack(base.a_amp, part.a_amp, r1, r2),
+        a_omega=_stack(base.a_omega, part.a_omega, r1, r2),
+        a_phase=_stack(base.a_phase, part.a_phase, r1, r2),
+        to_transverse=np.concatenate([base.to_transverse, part.to_transverse, [1.0]]),
+        dte_offset=np.concatenate([base.dte_offset, part.dte_offset, [0.0]]),
+        static_force=np.concatenate([base.static_force, part.static_force, [torque]]),
         bearing_dofs=base.bearing_dofs, axes=base.axes, q_static=q0,
-        rate=np.concatenate([base_rate, chain_rate * (f_m2 / f_m), [1.0]]),
+        rate=np.concatenate([base_rate, part_rate * (part.mesh_frequency / base.mesh_frequency),
+                             [1.0]]),
         profile=first.profile, load=first.load, inertial=inertial, info=info)
 
 
@@ -365,8 +536,9 @@ def simulate_stage_chain(train: PlanetaryTrain, chain: GearTrain | None,
                          settings: DynamicsSettings | None = None, *,
                          shaft_stiffness: float | None = None, side: str = "output",
                          input_chain: GearTrain | None = None,
-                         input_shaft_stiffness: float | None = None):
-    """Time response of a stage and its chains (:func:`build_stage_chain_model`).
+                         input_shaft_stiffness: float | None = None,
+                         stages: Sequence[NextStage] = ()):
+    """Time response of stages and their chains (:func:`build_stage_chain_model`).
 
     Parameters
     ----------
@@ -386,6 +558,8 @@ def simulate_stage_chain(train: PlanetaryTrain, chain: GearTrain | None,
         The chain is driven by the stage, or drives it.
     input_chain, input_shaft_stiffness
         Gears driving the stage besides ``chain`` on its output, and their shaft's k_t.
+    stages
+        Further stages in series (:class:`NextStage`).
 
     Returns
     -------
@@ -395,7 +569,9 @@ def simulate_stage_chain(train: PlanetaryTrain, chain: GearTrain | None,
         ``chain_acceleration`` (time, chain_shaft, chain_axis) [m/s^2] and
         ``shaft_torque`` (time) [N m] (with two chains also ``input_shaft_torque``);
         attributes ``chain_mesh_frequency``, ``shaft_stiffness``, ``output_member``,
-        ``chain_side``, ``shaft_member``, ``static_shaft_torque``.
+        ``chain_side``, ``shaft_member``, ``static_shaft_torque``; with further stages
+        their meshes in ``mesh_force`` and ``stage_shaft_torque`` (time, stage_shaft)
+        [N m] (:func:`gearsim.dynamics.stage.simulate_stage`).
 
     Raises
     ------
@@ -407,15 +583,17 @@ def simulate_stage_chain(train: PlanetaryTrain, chain: GearTrain | None,
     """
     settings = settings or DynamicsSettings()
     chains = [c for c in (input_chain, chain) if c is not None]
-    f_chain = max(f for c in chains for f in c.mesh_frequencies)
-    f_hi = max(train.mesh_frequency, f_chain)
+    f_chain = max((f for c in chains for f in c.mesh_frequencies), default=0.0)
+    f_stage = max(t.mesh_frequency for t in (train, *(s.train for s in stages)))
+    f_hi = max(f_stage, f_chain)
     if not settings.fs > 2.0 * f_hi:
         raise InputError("dynamics.fs", settings.fs,
                          f"must be > {2 * f_hi:.6g} Hz, twice the highest mesh frequency "
-                         f"(stage {train.mesh_frequency:.6g} Hz, gears "
+                         f"(stage{'s' if stages else ''} {f_stage:.6g} Hz, gears "
                          f"{f_chain:.6g} Hz), else the record is aliased")
     model = build_stage_chain_model(train, chain, dyn, settings,
                                     shaft_stiffness=shaft_stiffness, side=side,
                                     input_chain=input_chain,
-                                    input_shaft_stiffness=input_shaft_stiffness)
+                                    input_shaft_stiffness=input_shaft_stiffness,
+                                    stages=stages)
     return simulate_stage(train, dyn, settings, model=model)

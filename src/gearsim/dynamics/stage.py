@@ -523,7 +523,13 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
         ``acceleration`` of the ring translation [m/s^2], ``sensor`` [N] (module docstring),
         ``carrier_angle`` [rad] (omega_c tau(t): it follows a speed profile), ``tacho``
         (time, shaft) [V], a once-per-revolution pulse of every turning member and of a
-        driven chain's shafts; attributes: f_m, speeds, direction, phases.
+        driven chain's shafts; attributes: f_m, speeds, direction, phases. A model of
+        stages in series (:mod:`gearsim.dynamics.compose`): the meshes of all stages in
+        ``mesh_force`` (``stage1-sun-planet-1``, ...), ``stage_shaft_torque`` (time,
+        stage_shaft) [N m] and attributes ``stage_mesh_frequency`` [Hz],
+        ``stage_sun_torque``, ``stage_carrier_torque`` [N m] (physical, each stage),
+        ``stage_static_mesh_force`` [N], ``static_stage_shaft_torque`` [N m]; the sensor,
+        ring acceleration, carrier angle and f_m are the first stage's.
 
     Raises
     ------
@@ -570,14 +576,18 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     rows = list(model.info["mesh_rows"])
     names = [model.info["row_names"][i] for i in rows]
     forces = f[:, rows]
-    # ring acceleration from the equation of motion of its x, y coordinates
-    ring = [model.dof_labels.index(f"ring.{a}") for a in "xy" if f"ring.{a}" in model.dof_labels]
+    # stages in series (gearsim.dynamics.compose): the first is this one, named with
+    # its prefix; the ring's acceleration and sensor are the first stage's
+    series = model.info.get("stages", ())
+    pre = series[0]["prefix"] if series else ""
+    ring = [model.dof_labels.index(f"{pre}ring.{a}") for a in "xy"
+            if f"{pre}ring.{a}" in model.dof_labels]
     acc = (np.gradient(v[:, ring], t, axis=0) if n_out > 2 and ring
            else np.zeros((n_out, 2)))
     tau = model.nominal(t)[0]  # nominal time: the angles follow a speed profile
     theta_c = train.speeds["carrier"] * tau
     psi = train.stage.planet_angles_value
-    ring_f = forces[:, 1::2]
+    ring_f = forces[:, 1:2 * train.stage.planets:2]
     dyn_f = ring_f - ring_f.mean(axis=0)
     w = sensor_window(theta_c[:, None] + psi[None, :] - dyn.sensor_angle, dyn.sensor_width)
     sensor = np.sum(w * dyn_f, axis=1)
@@ -638,10 +648,26 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
             ch.gears if ch.is_chain else (ch.pairs[0].driver, ch.pairs[0].driven))]
         if (stages := ch.compound_stages()) is not None:
             extra_attrs["analysis_stages"] = ",".join(f"{d}/{n}" for d, n in stages)
-    # once-per-revolution tacho of every turning shaft (the stage's members, then the
+    if len(series) > 1:  # each stage's torques, the shafts between the stages
+        between = series[1:]
+        extra["stage_shaft_torque"] = (("time", "stage_shaft"),
+                                       f[:, [e["shaft_row"] for e in between]],
+                                       {"units": "N*m"})
+        extra_coords["stage_shaft"] = [model.info["row_names"][e["shaft_row"]]
+                                       for e in between]
+        extra_attrs |= {
+            "stage_names": [e["prefix"][:-1] for e in series],
+            "stage_mesh_frequency": [e["train"].mesh_frequency for e in series],
+            "stage_sun_torque": [e["train"].torques["sun"] for e in series],
+            "stage_carrier_torque": [e["train"].torques["carrier"] for e in series],
+            "stage_static_mesh_force": [float(model.static_force[i]) for i in rows],
+            "static_stage_shaft_torque": [float(model.static_force[e["shaft_row"]])
+                                          for e in between]}
+    # once-per-revolution tacho of every turning shaft (the stages' members, then the
     # chains' shafts), each in its own sense, following a speed profile
-    shafts = [(m, abs(train.speeds[m])) for m in ("carrier", "sun", "ring")
-              if train.speeds[m] != 0.0]
+    shafts = [(e["prefix"] + m, abs(e["train"].speeds[m]))
+              for e in (series or ({"train": train, "prefix": ""},))
+              for m in ("carrier", "sun", "ring") if e["train"].speeds[m] != 0.0]
     for e in chains:
         ch = e["chain"]
         shafts += [(sh.name, abs(ch.speed(ch.gear_index(sh.gears[0]))))
@@ -694,16 +720,20 @@ def stage_summary(ds) -> dict:
         ``meshes`` (name, mean, rms, peak, static force), ``sensor_rms``,
         ``mesh_frequency``, ``modes`` (frequency [Hz], multiplicity, kind of each group of
         the mean-stiffness Lin & Parker model), ``constant_meshes`` (no mesh table
-        varies: no parametric excitation, the response stays at the static load); with a
+        varies: no parametric excitation, the response stays at the static load); with
+        stages in series ``stages`` (per stage ``mesh_frequency`` [Hz], ``sun_torque``,
+        ``carrier_torque`` [N m], and the shaft driving it: ``shaft_torque_mean``,
+        ``shaft_torque_rms``, ``static_shaft_torque`` [N m]); with a
         chain (:mod:`gearsim.dynamics.compose`) also ``chain_meshes``,
         ``chain_mesh_frequency``, ``output_member``, ``shaft_torque_mean`` and
         ``shaft_torque_rms``.
     """
     f = ds["mesh_force"].values
-    static = float(ds.attrs["static_mesh_force"])
+    static = np.broadcast_to(ds.attrs.get("stage_static_mesh_force",
+                                          float(ds.attrs["static_mesh_force"])), f.shape[1])
     meshes = [{"mesh": str(name), "mean": float(np.mean(f[:, i])),
                "rms": float(np.std(f[:, i])), "peak": float(np.max(np.abs(f[:, i]))),
-               "static_force": static}
+               "static_force": float(static[i])}
               for i, name in enumerate(ds["mesh"].values)]
     return {"kind": "planetary", "meshes": meshes,
             "sensor_rms": float(np.std(ds["sensor"].values)),
@@ -714,7 +744,31 @@ def stage_summary(ds) -> dict:
                                          ds["mode_multiplicity"].values,
                                          ds["mode_kind"].values, strict=True)],
             "constant_meshes": bool(ds.attrs.get("constant_meshes", 0)),
-            **_chain_summary(ds)}
+            **_stages_summary(ds), **_chain_summary(ds)}
+
+
+def _stages_summary(ds) -> dict:
+    """Each stage's mesh frequency [Hz], sun and carrier torque [N m] and the torque of
+    the shaft driving it [N m] (mean, RMS, static) of a result of stages in series
+    (empty for one stage)."""
+    if "stage_shaft_torque" not in ds:
+        return {}
+    a = ds.attrs
+    tq = ds["stage_shaft_torque"].values
+    out = []
+    for k, name in enumerate(np.atleast_1d(a["stage_names"])):
+        e = {"stage": str(name), "mesh_frequency": float(np.atleast_1d(
+             a["stage_mesh_frequency"])[k]),
+             "sun_torque": float(np.atleast_1d(a["stage_sun_torque"])[k]),
+             "carrier_torque": float(np.atleast_1d(a["stage_carrier_torque"])[k])}
+        if k > 0:
+            e |= {"shaft": str(ds["stage_shaft"].values[k - 1]),
+                  "shaft_torque_mean": float(np.mean(tq[:, k - 1])),
+                  "shaft_torque_rms": float(np.std(tq[:, k - 1])),
+                  "static_shaft_torque": float(np.atleast_1d(
+                      a["static_stage_shaft_torque"])[k - 1])}
+        out.append(e)
+    return {"stages": out}
 
 
 def _chain_summary(ds) -> dict:

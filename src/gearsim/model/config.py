@@ -131,7 +131,7 @@ def parse(doc: dict[str, Any]) -> Gearbox:
     InputError
         The first problem found, naming the parameter, its value and the limit.
     """
-    if "stage" in doc:  # a planetary stage (gearsim.model.planetary)
+    if "stage" in doc or "stages" in doc:  # planetary stages (gearsim.model.planetary)
         return parse_planetary(doc, _material(doc.get("material", {}), "material"), parse)
     for key in doc:
         if key not in TOP_KEYS:

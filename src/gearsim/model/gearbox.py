@@ -26,6 +26,13 @@ from typing import Any
 
 import numpy as np
 
+from gearsim.dynamics.compose import (
+    NextStage,
+    chain_operating,
+    next_operating,
+    output_member,
+    stage_prefix,
+)
 from gearsim.dynamics.lta import AXES as LTA_AXES
 from gearsim.dynamics.lta import dof_map
 from gearsim.dynamics.settings import DynamicsSettings
@@ -90,6 +97,10 @@ class Gearbox:
     input_shaft_stiffness : float, optional
         Torsional stiffness [N m/rad] of the shaft from ``input_train`` to the stage
         (``None``: the default of :func:`~gearsim.dynamics.compose.build_stage_chain_model`).
+    next_stages : tuple of NextStage, optional
+        Planetary stages in series after ``stage`` (``[[stages]]``), each driven by the
+        previous one's output member through its shaft; ``train`` is then driven by the
+        last.
 
     Examples
     --------
@@ -112,12 +123,21 @@ class Gearbox:
     shaft_stiffness: float | None = None
     input_train: GearTrain | None = None
     input_shaft_stiffness: float | None = None
+    next_stages: tuple[NextStage, ...] = ()
 
     def __post_init__(self) -> None:
         require(self.train is not None or self.stage is not None, "gearbox", "empty",
                 "needs gears ([[gears]]) or a planetary stage ([stage])")
         require(self.input_train is None or self.stage is not None, "input_chain",
                 "given", "gears driving a stage need the stage ([stage])")
+        require(not self.next_stages or self.stage is not None, "stages", "given",
+                "stages in series need the first stage")
+
+    @property
+    def stages(self) -> tuple[PlanetaryTrain, ...]:
+        """The planetary stages in power-flow order (none for gears alone)."""
+        return (() if self.stage is None
+                else (self.stage, *(s.train for s in self.next_stages)))
 
     @property
     def chains(self) -> tuple[GearTrain, ...]:
@@ -270,7 +290,10 @@ class Gearbox:
             train, inp = (None if t is None else dataclasses.replace(
                 t, stiffness=dataclasses.replace(t.stiffness, **stiffness))
                 for t in (train, gb.input_train))
-            gb = gb._parts(stage, train, inp)
+            gb = dataclasses.replace(gb._parts(stage, train, inp), next_stages=tuple(
+                dataclasses.replace(s, train=dataclasses.replace(
+                    s.train, settings=dataclasses.replace(s.train.settings, **stiffness)))
+                for s in gb.next_stages))
         return gb
 
     def mesh_stiffness(self, mesh: int = 0, *, revolution_of: int = 1):
@@ -337,7 +360,7 @@ class Gearbox:
 
             return simulate(self.train, settings, harmonics=harmonics, force=force)
         dataclasses.replace(self, dynamics=settings).check_run(harmonics)
-        if not self.chains:
+        if not self.chains and not self.next_stages:
             from gearsim.dynamics.stage import simulate_stage
 
             return simulate_stage(self.stage, self.members, settings)
@@ -346,7 +369,8 @@ class Gearbox:
         return simulate_stage_chain(self.stage, self.train, self.members, settings,
                                     shaft_stiffness=self.shaft_stiffness,
                                     input_chain=self.input_train,
-                                    input_shaft_stiffness=self.input_shaft_stiffness)
+                                    input_shaft_stiffness=self.input_shaft_stiffness,
+                                    stages=self.next_stages)
 
     def record(self, spec: str, *, harmonics: int = 1, force: bool | None = None,
                **dynamics: Any) -> np.ndarray:
@@ -438,6 +462,8 @@ class Gearbox:
 
         stage = self.stage
         summary, ds = stage_stiffness(stage)
+        if self.next_stages:  # the tables of the stages after the first (summary only)
+            summary["next_stages"] = [stage_stiffness(s.train)[0] for s in self.next_stages]
         names = iter(self._chain_mesh_names())  # as the results name them
         for key, tr in (("input_chain", self.input_train), ("chain", self.train)):
             if tr is not None:
@@ -478,7 +504,8 @@ class Gearbox:
         -------
         dict
             ``name``; ``stage`` (teeth, planets, held and input member, mesh frequency
-            [Hz], member speeds [rpm]; with a stage); ``shafts`` (name, gears, speed [rpm],
+            [Hz], member speeds [rpm]; with a stage); ``next_stages`` (the same of the
+            stages after it, with member torques [N m]); ``shafts`` (name, gears, speed [rpm],
             torque [N m]); ``meshes`` (driver -> driven, mesh frequency [Hz], static force
             [N]); ``plan``: the positional arguments of :func:`gearsim.viz.layout.
             plot_layout` (shaft centres from :func:`gearsim.dynamics.layout.layout`).
@@ -488,13 +515,19 @@ class Gearbox:
 
         out: dict = {"name": self.name, "shafts": [], "meshes": []}
         st = None
+        for k, tr in enumerate(self.stages):  # the first as "stage", the others after it
+            s = tr.stage
+            entry = {"teeth": [s.sun_teeth, s.planet_teeth, s.ring_teeth],
+                     "planets": s.planets, "fixed": tr.operating.fixed,
+                     "input": tr.operating.input, "mesh_frequency_hz": tr.mesh_frequency,
+                     "speeds_rpm": {m: w * 30 / math.pi for m, w in tr.speeds.items()},
+                     **({"torques_Nm": dict(tr.torques)} if len(self.stages) > 1 else {})}
+            if k:
+                out.setdefault("next_stages", []).append(entry)
+            else:
+                out["stage"] = entry
         if self.stage is not None:
             tr, s = self.stage, self.stage.stage
-            out["stage"] = {"teeth": [s.sun_teeth, s.planet_teeth, s.ring_teeth],
-                            "planets": s.planets, "fixed": tr.operating.fixed,
-                            "input": tr.operating.input,
-                            "mesh_frequency_hz": tr.mesh_frequency,
-                            "speeds_rpm": {m: w * 30 / math.pi for m, w in tr.speeds.items()}}
             st = {"sun": s.sun.pitch_radius, "ring": s.ring.pitch_radius,
                   "planet": s.planet.pitch_radius, "centre": s.centre_distance,
                   "angles": list(s.planet_angles_value),
@@ -560,9 +593,10 @@ class Gearbox:
             Name and absolute frequency [Hz].
         """
         f: dict[str, float] = {}
-        if self.stage is not None:
-            f = {m: abs(v) / (2.0 * math.pi) for m, v in self.stage.speeds.items()
-                 if m in ("sun", "carrier", "ring") and v != 0.0}
+        for k, st in enumerate(self.stages):
+            f.update({stage_prefix(k, len(self.stages)) + m: abs(v) / (2.0 * math.pi)
+                      for m, v in st.speeds.items()
+                      if m in ("sun", "carrier", "ring") and v != 0.0})
         for tr in self.chains:
             f.update({sh.name: abs(tr.shaft_frequency(tr.gear_index(sh.gears[0])))
                       for sh in tr.flow.shafts})
@@ -588,7 +622,7 @@ class Gearbox:
 
             check_cost(self.train, self.dynamics, harmonics=harmonics)
             return
-        f_m = max((self.stage.mesh_frequency,
+        f_m = max((*(s.mesh_frequency for s in self.stages),
                    *(f for t in self.chains for f in t.mesh_frequencies)))
         which = ("the mesh frequency f_m" if harmonics == 1 else
                  f"the highest analysed mesh harmonic {harmonics} f_m")
@@ -623,10 +657,16 @@ class Gearbox:
         ['sensor', 'mesh_force[sun-planet-1]', 'mesh_force[ring-planet-1]']
         """
         if self.stage is not None:
-            out = ["sensor"]
-            for j in range(self.stage.stage.planets):
-                out += [f"mesh_force[{m}-{planet_name(j)}]" for m in ("sun", "ring")]
+            out, n = ["sensor"], len(self.stages)
+            for k, st in enumerate(self.stages):
+                for j in range(st.stage.planets):
+                    out += [f"mesh_force[{stage_prefix(k, n)}{m}-{planet_name(j)}]"
+                            for m in ("sun", "ring")]
             out += [f"ring_acceleration[{a}]" for a in ("x", "y")]
+            if n > 1:
+                out += [f"stage_shaft_torque[shaft-{stage_prefix(k - 1, n)}"
+                        f"{output_member(self.stages[k - 1])}-{stage_prefix(k, n)}"
+                        f"{self.stages[k].operating.input}]" for k in range(1, n)]
             if self.chains:  # the gears the stage drives and those that drive it
                 out += [f"chain_mesh_force[{name}]" for name in self._chain_mesh_names()]
                 out.append("shaft_torque")
@@ -896,9 +936,13 @@ class Gearbox:
             speed, torque = last.speed, last.torque
         stage = dataclasses.replace(self.stage, operating=StageOperating(
             fixed=op.fixed, input=op.input, speed=speed, torque=torque))
+        nexts, last = [], stage
+        for s in self.next_stages:  # each stage at the previous one's output
+            o = s.train.operating
+            last = dataclasses.replace(s.train, operating=next_operating(last, o.fixed,
+                                                                         o.input))
+            nexts.append(dataclasses.replace(s, train=last))
         train = self.train
-        if train is not None:  # the gears run at the stage output's speed and torque
-            from gearsim.dynamics.compose import chain_operating
-
-            train = dataclasses.replace(train, operating=chain_operating(stage))
-        return self._parts(stage, train, inp)
+        if train is not None:  # the gears run at the last stage output's speed and torque
+            train = dataclasses.replace(train, operating=chain_operating(last))
+        return dataclasses.replace(self._parts(stage, train, inp), next_stages=tuple(nexts))

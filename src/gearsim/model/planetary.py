@@ -35,6 +35,16 @@ first gear's (the gearbox input), and the stage runs at its output's speed and t
 A stage may have both (gears, a planetary stage, gears); gear and shaft names are unique
 across the gearbox and differ from the stage's members.
 
+Planetary stages in series are written ``[[stages]]`` instead of ``[stage]``: an array
+of tables in power-flow order, each with the keys of ``[stage]``. The first is the
+``[stage]`` of the layout above (``[operating]``, ``[members]``, ``[sensor]``,
+``[[cracks]]`` and ``[[faults]]`` are its); each later one is driven by the previous
+stage's output member through a shaft and may add ``fixed`` and ``input`` (its held and
+driven members, default ``"ring"`` and ``"sun"``), ``shaft_stiffness`` (default:
+:class:`gearsim.dynamics.compose.NextStage`), ``name`` and a ``members`` table. A bad
+value of entry k is named ``stages[k].<key>`` (k from 1). ``[input_chain]`` drives the
+first stage, ``[chain]`` is driven by the last.
+
 Assembly (coaxiality, (z_s + z_r)/N, planet spacing, tip interference of the internal
 pair) and the cracks (a planet the stage does not have) are checked where the stage is
 made: a bad value gives one line naming it, the numbers and the condition.
@@ -46,7 +56,7 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-from gearsim.dynamics.compose import chain_operating, stage_operating
+from gearsim.dynamics.compose import NextStage, chain_operating, next_operating, stage_operating
 from gearsim.dynamics.settings import parse_dynamics
 from gearsim.dynamics.stage import StageDynamics
 from gearsim.errors import InputError
@@ -78,9 +88,11 @@ MEMBER_KEYS = {f"{m}_{q}": kind for m in ("sun", "planet", "ring", "carrier")
                                ("bearing", "stiffness"))}
 MEMBER_KEYS["held_torsional"] = "torsional_stiffness"
 SENSOR_KEYS = {"angle": "angle", "width": "angle"}
-PLANETARY_TOP_KEYS = ("name", "material", "stage", "operating", "members", "sensor",
-                      "stiffness", "cracks", "faults", "dynamics", "analysis", "chain",
-                      "input_chain")
+PLANETARY_TOP_KEYS = ("name", "material", "stage", "stages", "operating", "members",
+                      "sensor", "stiffness", "cracks", "faults", "dynamics", "analysis",
+                      "chain", "input_chain")
+#: Keys of a ``[[stages]]`` entry after the first besides those of ``[stage]``.
+NEXT_STAGE_KEYS = ("name", "fixed", "input", "shaft_stiffness", "members")
 #: Keys of ``[chain]``: the shaft and a gear train's sections (no operating point).
 CHAIN_KEYS = ("name", "shaft_stiffness", "common", "shafts", "gears", "meshes", "stiffness",
               "cracks", "faults", "modifications")
@@ -88,7 +100,8 @@ CHAIN_KEYS = ("name", "shaft_stiffness", "common", "shafts", "gears", "meshes", 
 
 def parse_planetary(doc: dict[str, Any], material: Material,
                     parse_train: Callable[[dict[str, Any]], Any]) -> Gearbox:
-    """Build the :class:`~gearsim.model.Gearbox` of a parsed TOML document with a ``[stage]``.
+    """Build the :class:`~gearsim.model.Gearbox` of a parsed TOML document with a ``[stage]``
+    (or ``[[stages]]``).
 
     Parameters
     ----------
@@ -102,7 +115,8 @@ def parse_planetary(doc: dict[str, Any], material: Material,
     Returns
     -------
     Gearbox
-        ``stage`` the stage, ``train`` its ``[chain]`` (or ``None``).
+        ``stage`` the (first) stage, ``next_stages`` the stages after it, ``train`` the
+        ``[chain]`` (or ``None``).
 
     Raises
     ------
@@ -113,17 +127,9 @@ def parse_planetary(doc: dict[str, Any], material: Material,
         if key not in PLANETARY_TOP_KEYS:
             raise InputError(key, "...", "unknown section for a planetary stage; allowed: "
                              + ", ".join(PLANETARY_TOP_KEYS))
-    raw = doc.get("stage", {})
-    kw = convert(raw, STAGE_KEYS, "stage", list_keys=("planet_angles",))
-    for need in ("sun_teeth", "planet_teeth", "ring_teeth", "normal_module"):
-        if need not in kw:
-            raise InputError(f"stage.{need}", "missing", "a planetary stage needs it")
-    consts = {k: kw.pop(k) for k in ("sun_mesh_stiffness", "ring_mesh_stiffness",
-                                     "ring_foundation") if k in kw}
-    if "planet_angles" in kw and not isinstance(kw["planet_angles"], tuple):
-        kw["planet_angles"] = (kw["planet_angles"],)
-    with as_written(raw, "stage"):
-        stage = PlanetaryStage(material=material, **kw)
+    raw, more = _stage_tables(doc)
+    stage, consts = _stage_geometry(raw, "stages[1]" if more or "stages" in doc else "stage",
+                                    material)
     op_raw = doc.get("operating", {})
     with as_written(op_raw, "operating"):
         operating = StageOperating(**convert(op_raw, STAGE_OPERATING_KEYS, "operating"))
@@ -147,25 +153,110 @@ def parse_planetary(doc: dict[str, Any], material: Material,
     faults = parse_faults(doc.get("faults", []))
     train = PlanetaryTrain(stage=stage, operating=operating, settings=stiffness,
                            cracks=tuple(cracks), name=name, faults=faults, **consts)
-    mem = convert(doc.get("members", {}), MEMBER_KEYS, "members")
     sen = convert(doc.get("sensor", {}), SENSOR_KEYS, "sensor")
+    members = _members(doc.get("members", {}), "members", sensor_angle=sen.get("angle", 0.0),
+                       sensor_width=sen.get("width", math.pi))
+    nexts: list[NextStage] = []
+    for k, entry in enumerate(more, 2):  # each driven by the previous stage's output
+        nexts.append(_next_stage(entry, f"stages[{k}]", material, nexts[-1].train
+                                 if nexts else train, stiffness, f"{name}, stage {k}"))
+    dynamics = parse_dynamics(doc.get("dynamics", {}), "dynamics")
+    analysis = parse_analysis(doc.get("analysis", {}), "analysis")
+    last = nexts[-1].train if nexts else train
+    chain, shaft = (_parse_chain(doc["chain"], doc.get("material", {}),
+                                 chain_operating(last), parse_train, "chain")
+                    if "chain" in doc else (None, None))
+    _unique_names(inp, chain)
+    return Gearbox(train=chain, stage=train, members=members, dynamics=dynamics,
+                   analysis=analysis, shaft_stiffness=shaft, input_train=inp,
+                   input_shaft_stiffness=inp_shaft, next_stages=tuple(nexts))
+
+
+def _stage_tables(doc: dict[str, Any]) -> tuple[dict[str, Any], list[Any]]:
+    """The first stage's table (``[stage]``, or the first ``[[stages]]``) and those of
+    the stages after it (the other ``[[stages]]``)."""
+    if "stages" not in doc:
+        return doc.get("stage", {}), []
+    if "stage" in doc:
+        raise InputError("stages", "...", "give [stage] (one stage) or [[stages]] (stages "
+                         "in series), not both")
+    tables = doc["stages"]
+    if not isinstance(tables, list) or not tables or not all(
+            isinstance(t, dict) for t in tables):
+        raise InputError("stages", "...", "must be one or more [[stages]] tables")
+    where = {"fixed": "[operating]", "input": "[operating]", "members": "[members]",
+             "name": "the top-level name", "shaft_stiffness": "no shaft: its input is "
+             "[operating]'s"}
+    for key in tables[0]:
+        if key in where:
+            raise InputError(f"stages[1].{key}", "...", f"the first stage's is {where[key]}"
+                             if key != "shaft_stiffness" else f"the first stage has "
+                             f"{where[key]}")
+    return tables[0], tables[1:]
+
+
+def _stage_geometry(raw: Any, section: str, material: Material
+                    ) -> tuple[PlanetaryStage, dict[str, Any]]:
+    """The stage of table ``raw`` (``[stage]`` keys) and its constant-stiffness options."""
+    kw = convert(raw, STAGE_KEYS, section, list_keys=("planet_angles",))
+    for need in ("sun_teeth", "planet_teeth", "ring_teeth", "normal_module"):
+        if need not in kw:
+            raise InputError(f"{section}.{need}", "missing", "a planetary stage needs it")
+    consts = {k: kw.pop(k) for k in ("sun_mesh_stiffness", "ring_mesh_stiffness",
+                                     "ring_foundation") if k in kw}
+    if "planet_angles" in kw and not isinstance(kw["planet_angles"], tuple):
+        kw["planet_angles"] = (kw["planet_angles"],)
+    with as_written(raw, "stage", sources=[(section, raw)]):
+        return PlanetaryStage(material=material, **kw), consts
+
+
+def _members(raw: Any, section: str, **sensor: float) -> StageDynamics:
+    """The ``[members]`` table ``raw`` of a stage (and its sensor)."""
+    mem = convert(raw, MEMBER_KEYS, section)
     groups: dict[str, dict[str, float]] = {"masses": {}, "inertias": {}, "bearings": {}}
     held = mem.pop("held_torsional", None)
     for key, v in mem.items():
         member, q = key.split("_", 1)
         groups[{"mass": "masses", "inertia": "inertias", "bearing": "bearings"}[q]][member] = v
-    with as_written(doc.get("members", {}), "members"):
-        members = StageDynamics(held_torsional=held, sensor_angle=sen.get("angle", 0.0),
-                                sensor_width=sen.get("width", math.pi), **groups)
-    dynamics = parse_dynamics(doc.get("dynamics", {}), "dynamics")
-    analysis = parse_analysis(doc.get("analysis", {}), "analysis")
-    chain, shaft = (_parse_chain(doc["chain"], doc.get("material", {}),
-                                 chain_operating(train), parse_train, "chain")
-                    if "chain" in doc else (None, None))
-    _unique_names(inp, chain)
-    return Gearbox(train=chain, stage=train, members=members, dynamics=dynamics,
-                   analysis=analysis, shaft_stiffness=shaft, input_train=inp,
-                   input_shaft_stiffness=inp_shaft)
+    with as_written(raw, "members", sources=[(section, raw)]):
+        return StageDynamics(held_torsional=held, **sensor, **groups)
+
+
+def _next_stage(raw: dict[str, Any], section: str, material: Material,
+                prev: PlanetaryTrain, stiffness: StiffnessSettings, name: str) -> NextStage:
+    """A ``[[stages]]`` entry after the first: a stage driven by ``prev``'s output."""
+    for key in raw:
+        if key not in STAGE_KEYS and key not in NEXT_STAGE_KEYS:
+            raise InputError(f"{section}.{key}", "...", "unknown key; allowed: "
+                             + ", ".join((*NEXT_STAGE_KEYS, *STAGE_KEYS)))
+    geometry = {k: v for k, v in raw.items() if k not in NEXT_STAGE_KEYS}
+    stage, consts = _stage_geometry(geometry, section, material)
+    written = {k: raw[k] for k in ("fixed", "input") if k in raw}
+    ends = convert(written, STAGE_OPERATING_KEYS, section)
+    with as_written(written, "operating", sources=[(section, written)]):
+        operating = next_operating(prev, ends.get("fixed", "ring"), ends.get("input", "sun"))
+    own = raw.get("name", name)
+    if not isinstance(own, str):
+        raise InputError(f"{section}.name", own, "must be a string")
+    with as_written(raw, "stage", sources=[(section, raw)]):
+        train = PlanetaryTrain(stage=stage, operating=operating, settings=stiffness,
+                               name=own, **consts)
+    return NextStage(train=train, members=_members(raw.get("members", {}),
+                                                   f"{section}.members"),
+                     shaft_stiffness=_shaft(raw, section))
+
+
+def _shaft(raw: dict[str, Any], table: str) -> float | None:
+    """``shaft_stiffness`` [N m/rad] of table ``raw`` (None: not given), checked."""
+    if "shaft_stiffness" not in raw:
+        return None
+    shaft = convert({"shaft_stiffness": raw["shaft_stiffness"]},
+                    {"shaft_stiffness": "torsional_stiffness"}, table)["shaft_stiffness"]
+    if not (MIN_SHAFT_STIFFNESS <= shaft <= MAX_SHAFT_STIFFNESS):
+        raise InputError(f"{table}.shaft_stiffness", raw["shaft_stiffness"],
+                         f"must be a finite stiffness in [{MIN_SHAFT_STIFFNESS:g}, "
+                         f"{MAX_SHAFT_STIFFNESS:g}] N*m/rad")
+    return shaft
 
 
 def _unique_names(inp: GearTrain | None, chain: GearTrain | None) -> None:
@@ -198,14 +289,7 @@ def _parse_chain(raw: Any, material: Any, op: Operating, parse: Callable, table:
     if "gears" not in raw:
         raise InputError(f"{table}.gears", "missing", f"a chain needs [[{table}.gears]] "
                          "(two or more gears)")
-    shaft = None
-    if "shaft_stiffness" in raw:
-        shaft = convert({"shaft_stiffness": raw["shaft_stiffness"]},
-                        {"shaft_stiffness": "torsional_stiffness"}, table)["shaft_stiffness"]
-        if not (MIN_SHAFT_STIFFNESS <= shaft <= MAX_SHAFT_STIFFNESS):
-            raise InputError(f"{table}.shaft_stiffness", raw["shaft_stiffness"],
-                             f"must be a finite stiffness in [{MIN_SHAFT_STIFFNESS:g}, "
-                             f"{MAX_SHAFT_STIFFNESS:g}] N*m/rad")
+    shaft = _shaft(raw, table)
     sub = {k: v for k, v in raw.items() if k != "shaft_stiffness"}
     sub.setdefault("name", table.replace("_", " "))
     sub["material"] = material

@@ -1,0 +1,363 @@
+"""Two planetary stages in series (issue 23: helicopter and other transmissions).
+
+Stage 1: 24/24/72, three planets, ring held, sun in at 3000 rpm and 200 N m, carrier out;
+its carrier drives, through a shaft of 3e6 N m/rad, the sun of stage 2: 20/40/100, four
+planets, ring held, carrier out. Expected numbers are built here from the tooth counts
+and the gears' radii (loss-free kinematics and statics, Willis), not read from the model.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+from gearsim.cli import run as cli_run
+from gearsim.dynamics.compose import build_stage_chain_model
+from gearsim.dynamics.modal import modes
+from gearsim.dynamics.stage import build_stage_model, model_radii
+from gearsim.model import loads
+
+#: Static balance of the assembled model (a least-squares solve of the mean system).
+STATIC_RTOL = 1e-9
+#: Natural frequencies against the hand-assembled matrix (two eigen-solvers of the same
+#: matrices agree to round-off times the condition number).
+MODES_RTOL = 1e-9
+#: Kinematics: products and quotients of tooth counts, a few roundings.
+KIN_RTOL = 1e-12
+#: Mean of a simulated record against its static value (the parametric excitation
+#: averages out over the record to this).
+MEAN_RTOL = 1e-4
+
+TOML = """
+name = "two planetary stages in series"
+[material]
+youngs_modulus = "206 GPa"
+poisson_ratio = 0.3
+density = "7850 kg/m^3"
+[[stages]]
+sun_teeth = 24
+planet_teeth = 24
+ring_teeth = 72
+planets = 3
+normal_module = "3 mm"
+normal_pressure_angle = "20 deg"
+face_width = "30 mm"
+ring_addendum_coefficient = 0.8
+[[stages]]
+fixed = "ring"
+input = "sun"
+shaft_stiffness = "3e6 N*m/rad"
+sun_teeth = 20
+planet_teeth = 40
+ring_teeth = 100
+planets = 4
+normal_module = "4 mm"
+normal_pressure_angle = "20 deg"
+face_width = "40 mm"
+ring_addendum_coefficient = 0.8
+[operating]
+fixed = "ring"
+input = "sun"
+speed = "3000 rpm"
+torque = "200 N*m"
+[dynamics]
+duration = 0.2
+fs = 20000
+"""
+
+W_IN, T_IN = 3000 * 2 * math.pi / 60, 200.0
+RATIO_1, RATIO_2 = 1 + 72 / 24, 1 + 100 / 20  # ring held, sun in, carrier out: 4 and 6
+K_SHAFT = 3e6
+#: by hand: stage 1's carrier torque drives stage 2's sun
+T_S1, T_C1 = T_IN, T_IN * RATIO_1  # 200, 800 N m
+T_S2, T_C2 = T_C1, T_C1 * RATIO_2  # 800, 4800 N m
+
+
+@pytest.fixture(scope="module")
+def box():
+    return loads(TOML)
+
+
+def _model(box, model="lta"):
+    dyn = dataclasses.replace(box.dynamics, model=model)
+    return build_stage_chain_model(box.stage, box.train, box.members, dyn,
+                                   shaft_stiffness=box.shaft_stiffness,
+                                   input_chain=box.input_train,
+                                   input_shaft_stiffness=box.input_shaft_stiffness,
+                                   stages=box.next_stages)
+
+
+def test_kinematics_by_hand(box):
+    s1, s2 = box.stages
+    assert box.next_stages[0].shaft_stiffness == K_SHAFT
+    w_c1 = W_IN / RATIO_1
+    w_c2 = w_c1 / RATIO_2  # 125 rpm
+    assert s1.speeds["carrier"] == pytest.approx(w_c1, rel=KIN_RTOL)
+    assert s2.operating.speed == pytest.approx(w_c1, rel=KIN_RTOL)
+    assert s2.operating.torque == pytest.approx(T_C1, rel=KIN_RTOL)
+    # the overall ratio is the product of the stages' ratios, 4 x 6 = 24
+    assert s2.speeds["carrier"] == pytest.approx(w_c2, rel=KIN_RTOL)
+    assert W_IN / s2.speeds["carrier"] == pytest.approx(RATIO_1 * RATIO_2, rel=KIN_RTOL)
+    assert W_IN / s2.speeds["carrier"] == pytest.approx(24.0, rel=KIN_RTOL)
+    # f_m = z_s |omega_s - omega_c| / 2 pi: 24 (50 - 12.5) = 900 Hz, 20 (12.5 - 12.5/6)
+    f_s1, f_c1 = 3000 / 60, 3000 / 60 / 4
+    assert s1.mesh_frequency == pytest.approx(24 * (f_s1 - f_c1), rel=KIN_RTOL)
+    assert s1.mesh_frequency == pytest.approx(900.0, rel=KIN_RTOL)
+    assert s2.mesh_frequency == pytest.approx(20 * (f_c1 - f_c1 / 6), rel=KIN_RTOL)
+    assert s2.mesh_frequency == pytest.approx(625 / 3, rel=KIN_RTOL)
+    # the physical torques of each stage (Willis torque balance)
+    assert s1.torques == pytest.approx({"sun": T_S1, "ring": 3 * T_S1, "carrier": -T_C1},
+                                       rel=KIN_RTOL)
+    assert s2.torques == pytest.approx({"sun": T_S2, "ring": 5 * T_S2, "carrier": -T_C2},
+                                       rel=KIN_RTOL)
+
+
+def test_at_moves_every_stage(box):
+    moved = box.at(speed=2 * W_IN, torque=3 * T_IN)
+    s1, s2 = moved.stages
+    assert s2.operating.speed == pytest.approx(2 * W_IN / RATIO_1, rel=KIN_RTOL)
+    assert s2.operating.torque == pytest.approx(3 * T_IN * RATIO_1, rel=KIN_RTOL)
+    assert moved.next_stages[0].shaft_stiffness == K_SHAFT
+
+
+@pytest.mark.parametrize("model", ["lta", "torsional"])
+def test_static_torque_balance(box, model):
+    m = _model(box, model)
+    f = m.mean_stiffness() * (m.V @ m.q_static)
+    first, second = m.info["stages"]
+    assert f[second["shaft_row"]] == pytest.approx(T_C1, rel=STATIC_RTOL)
+    for entry, t_s, st in ((first, T_S1, box.stages[0]), (second, T_S2, box.stages[1])):
+        n, r_bs = st.stage.planets, st.stage.sun.base_radius
+        assert len(entry["rows"]) == 2 * n
+        for r in entry["rows"]:  # sun-planet and ring-planet meshes: T_s / (N r_b,s)
+            assert f[r] == pytest.approx(t_s / (n * r_bs), rel=STATIC_RTOL)
+    # the nominal motion deflects no spring (the shaft included)
+    w = m.info["nominal_velocity"]
+    assert np.abs(m.V @ w).max() <= 1e-12 * np.abs(w).max()
+
+
+def test_mesh_names_are_unique_and_name_the_stage(box):
+    m = _model(box)
+    names = [m.info["row_names"][r] for r in m.info["mesh_rows"]]
+    assert len(set(names)) == len(names) == 2 * 3 + 2 * 4
+    assert names[:2] == ["stage1-sun-planet-1", "stage1-ring-planet-1"]
+    assert names[6:8] == ["stage2-sun-planet-1", "stage2-ring-planet-1"]
+    assert len(set(m.dof_labels)) == len(m.dof_labels)
+
+
+def test_torsional_model_equals_a_hand_assembled_matrix(box):
+    """Kahraman's torsional model of each stage (u = r theta of carrier, ring, sun and
+    each planet; the carrier carries the planets' mass), joined by the shaft k_t
+    (u_c1 / r_c1 - u_s2 / r_s2), r_c the planet-centre radius, r_s the sun base radius."""
+    m = _model(box, "torsional")
+    lps = [build_stage_model(st, box.members, box.dynamics).info["lin_parker"]
+           for st in box.stages]
+    sizes = [3 + lp.planets for lp in lps]
+    n_all = sum(sizes)
+    M = np.zeros(n_all)
+    K = np.zeros((n_all, n_all))
+    off = 0
+    for lp in lps:
+        n = lp.planets
+        M[off:off + 3 + n] = ([lp.carrier_inertia + n * lp.planet_mass, lp.ring_inertia,
+                               lp.sun_inertia] + [lp.planet_inertia] * n)
+        K[off:off + 3, off:off + 3] += np.diag([lp.carrier_torsional, lp.ring_torsional,
+                                                lp.sun_torsional])
+        for j in range(n):
+            for k, alpha, (member, sign) in ((lp.sun_mesh, lp.sun_pressure_angle, (2, 1.0)),
+                                             (lp.ring_mesh, lp.ring_pressure_angle, (1, -1.0))):
+                b = np.zeros(n_all)
+                b[off], b[off + member], b[off + 3 + j] = -math.cos(alpha), 1.0, sign
+                K += k * np.outer(b, b)
+        off += 3 + n
+    b = np.zeros(n_all)
+    b[0] = 1.0 / model_radii(box.stages[0].stage)["carrier"]
+    b[sizes[0] + 2] = -1.0 / model_radii(box.stages[1].stage)["sun"]
+    K += K_SHAFT * np.outer(b, b)
+    w2 = scipy.linalg.eigh(K, np.diag(M), eigvals_only=True)
+    expected = np.sqrt(w2[w2 > 1e-12 * w2.max()]) / (2 * math.pi)
+    got = modes(m).frequencies
+    np.testing.assert_allclose(got[got > 1e-6 * got.max()], expected, rtol=MODES_RTOL)
+
+
+def test_one_stages_table_is_the_stage_section(box):
+    """``[[stages]]`` with one entry is ``[stage]``: the same model, array for array."""
+    one = TOML[:TOML.index("[[stages]]", TOML.index("[[stages]]") + 1)] + TOML[
+        TOML.index("[operating]"):]
+    a = loads(one)
+    b = loads(one.replace("[[stages]]", "[stage]"))
+    assert not a.next_stages and a.stages == (a.stage,)
+    for model in ("lta", "torsional"):
+        dyn = dataclasses.replace(a.dynamics, model=model)
+        ma, mb = (build_stage_model(g.stage, g.members, dyn) for g in (a, b))
+        for f in ("mass", "kb", "cb", "fext", "V", "cm", "phase", "q_static",
+                  "static_force"):
+            assert np.array_equal(getattr(ma, f), getattr(mb, f)), f
+        assert all(np.array_equal(x.k, y.k) for x, y in zip(ma.tables, mb.tables,
+                                                             strict=True))
+
+
+def test_simulate_prints_every_stage(box, tmp_path, capsys):
+    path = tmp_path / "two.toml"
+    path.write_text(TOML)
+    code = cli_run(["simulate", str(path), "--out", str(tmp_path / "two.nc")])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    assert "mesh stage2-sun-planet-4: mean" in out
+    assert "stage1: f_m 900 Hz, sun torque 200 N m, carrier torque -800 N m" in out
+    assert ("stage2: f_m 208.333 Hz, sun torque 800 N m, carrier torque -4800 N m; shaft "
+            "shaft-stage1-carrier-stage2-sun: torque mean") in out
+
+
+def test_result_records_and_summary(box):
+    ds = box.simulate(duration=0.1)
+    assert ds.sizes["mesh"] == 14 and len(set(ds["mesh"].values)) == 14
+    assert list(ds.attrs["stage_sun_torque"]) == pytest.approx([T_S1, T_S2], rel=KIN_RTOL)
+    assert list(ds.attrs["stage_carrier_torque"]) == pytest.approx([-T_C1, -T_C2],
+                                                                   rel=KIN_RTOL)
+    s = box.summary(ds)
+    assert [st["stage"] for st in s["stages"]] == ["stage1", "stage2"]
+    assert s["stages"][1]["static_shaft_torque"] == pytest.approx(T_C1, rel=STATIC_RTOL)
+    assert s["stages"][1]["shaft_torque_mean"] == pytest.approx(T_C1, rel=MEAN_RTOL)
+    r_bs2 = box.stages[1].stage.sun.base_radius
+    mesh = {m["mesh"]: m for m in s["meshes"]}
+    assert mesh["stage2-sun-planet-1"]["static_force"] == pytest.approx(
+        T_S2 / (4 * r_bs2), rel=STATIC_RTOL)
+    for spec in box.signals():  # every record a study may ask for is one record
+        assert box.select(ds, spec).shape == (ds.sizes["time"],), spec
+    assert "stage_shaft_torque[shaft-stage1-carrier-stage2-sun]" in box.signals()
+    assert "stage2-carrier" in list(ds["shaft"].values)  # its tacho
+
+
+# --- with gears on both sides: gears, two planetary stages, gears ------------------------
+
+TOML_CHAINS = TOML.replace('speed = "3000 rpm"', 'speed = "1500 rpm"') + """
+[input_chain]
+shaft_stiffness = "2e6 N*m/rad"
+[input_chain.common]
+normal_module = "3 mm"
+normal_pressure_angle = "20 deg"
+face_width = "30 mm"
+[[input_chain.gears]]
+name = "input-pinion"
+teeth = 20
+[[input_chain.gears]]
+name = "sun-drive-gear"
+teeth = 60
+[chain]
+shaft_stiffness = "5e7 N*m/rad"
+[chain.common]
+normal_module = "5 mm"
+normal_pressure_angle = "20 deg"
+face_width = "60 mm"
+[[chain.gears]]
+name = "carrier-gear"
+teeth = 50
+[[chain.gears]]
+name = "output-pinion"
+teeth = 25
+"""
+
+
+@pytest.mark.parametrize("model", ["lta", "torsional"])
+def test_gears_stages_gears_static_torque_at_every_shaft(model):
+    gb = loads(TOML_CHAINS)
+    t_sun1 = T_IN * 60 / 20  # the input gears: 600 N m on sun 1
+    t_c1, t_c2 = t_sun1 * RATIO_1, t_sun1 * RATIO_1 * RATIO_2  # 2400, 14400 N m
+    assert gb.stages[0].operating.torque == pytest.approx(t_sun1, rel=KIN_RTOL)
+    assert gb.train.operating.torque == pytest.approx(t_c2, rel=KIN_RTOL)
+    assert gb.train.operating.speed == pytest.approx(
+        1500 * 2 * math.pi / 60 / 3 / RATIO_1 / RATIO_2, rel=KIN_RTOL)
+    m = _model(gb, model)
+    f = m.mean_stiffness() * (m.V @ m.q_static)
+    chains = {e["side"]: e for e in m.info["chains"]}
+    assert f[chains["input"]["shaft_row"]] == pytest.approx(t_sun1, rel=STATIC_RTOL)
+    assert f[m.info["stages"][1]["shaft_row"]] == pytest.approx(t_c1, rel=STATIC_RTOL)
+    assert f[chains["output"]["shaft_row"]] == pytest.approx(t_c2, rel=STATIC_RTOL)
+    (row,) = chains["output"]["rows"]
+    cg, op = gb.train.gears
+    assert f[row] * op.base_radius == pytest.approx(t_c2 * 25 / 50, rel=STATIC_RTOL)
+    for entry, t_s, st in zip(m.info["stages"], (t_sun1, t_c1), gb.stages, strict=True):
+        for r in entry["rows"]:
+            assert f[r] == pytest.approx(
+                t_s / (st.stage.planets * st.stage.sun.base_radius), rel=STATIC_RTOL)
+
+
+# --- bad input: one line naming the parameter, exit 2, before any work -------------------
+
+SECOND = 'fixed = "ring"\ninput = "sun"\nshaft_stiffness = "3e6 N*m/rad"'
+
+
+@pytest.mark.parametrize(("edit", "parameter"), [
+    ((SECOND, SECOND.replace('fixed = "ring"', 'fixed = "moon"')), "stages[2].fixed"),
+    ((SECOND, SECOND.replace('input = "sun"', 'input = "planet"')), "stages[2].input"),
+    ((SECOND, SECOND.replace('input = "sun"', 'input = "ring"')), "stages[2].input"),
+    (('"3e6 N*m/rad"', '"0 N*m/rad"'), "stages[2].shaft_stiffness"),
+    (('"3e6 N*m/rad"', '"-3e6 N*m/rad"'), "stages[2].shaft_stiffness"),
+    (('"3e6 N*m/rad"', '"1e300 N*m/rad"'), "stages[2].shaft_stiffness"),
+    (('"3e6 N*m/rad"', '"3e6 mm"'), "stages[2].shaft_stiffness"),
+    ((SECOND, SECOND + '\nmembers = {moon_mass = "3 kg"}'), "stages[2].members.moon_mass"),
+    ((SECOND, SECOND + '\nmembers = {sun_mass = "-3 kg"}'), "stages[2].members.sun_mass"),
+    ((SECOND, SECOND + '\nspeed = "3 rpm"'), "stages[2].speed"),
+    (("sun_teeth = 20", "sun_teeth = 21"), "stages[2].ring_teeth"),
+    (("[[stages]]\nsun_teeth = 24", '[[stages]]\nshaft_stiffness = "3e6 N*m/rad"\n'
+      "sun_teeth = 24"), "stages[1].shaft_stiffness"),
+    (("[operating]", "[stage]\nsun_teeth = 30\n[operating]"), "stages"),
+])
+def test_bad_second_stage_is_one_line(tmp_path, capsys, edit, parameter):
+    assert edit[0] in TOML
+    path = tmp_path / "box.toml"
+    path.write_text(TOML.replace(*edit, 1))
+    out = tmp_path / "never.nc"
+    code = cli_run(["simulate", str(path), "--out", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and err[0].startswith(
+        f"gearsim: error: {parameter} = "), err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(("first", "second"), [
+    (("ring", "carrier"), ("ring", "carrier")),  # a wind turbine's: both model frames mirrored
+    (("ring", "sun"), ("carrier", "sun")),  # the second a star stage: its ring turns back
+    (("sun", "carrier"), ("carrier", "ring")),
+    (("ring", "carrier"), ("sun", "ring")),
+])
+def test_any_held_and_driven_members_balance(first, second):
+    """Each stage's sun-planet force T_s / (N r_b,s), the shaft the first stage's output
+    torque, and no spring deflected by the nominal motion, whichever members are held
+    and driven (the senses of rotation of the shaft's ends in each stage's frame)."""
+    text = TOML.replace('[operating]\nfixed = "ring"\ninput = "sun"',
+                        '[operating]\nfixed = "{}"\ninput = "{}"'.format(*first))
+    text = text.replace(SECOND, SECOND.replace('fixed = "ring"\ninput = "sun"',
+                                               'fixed = "{}"\ninput = "{}"'.format(*second)))
+    gb = loads(text.replace('"3000 rpm"', '"30 rpm"'))
+    s1, s2 = gb.stages
+    out = next(k for k in ("sun", "ring", "carrier") if k not in first)
+    assert (s2.operating.fixed, s2.operating.input) == second
+    for model in ("lta", "torsional"):
+        m = _model(gb, model)
+        f = m.mean_stiffness() * (m.V @ m.q_static)
+        e1, e2 = m.info["stages"]
+        assert f[e2["shaft_row"]] == pytest.approx(abs(s1.torques[out]), rel=STATIC_RTOL)
+        for entry, st in ((e1, s1), (e2, s2)):
+            for r in entry["rows"]:
+                assert f[r] == pytest.approx(st.sun_torque / (
+                    st.stage.planets * st.stage.sun.base_radius), rel=STATIC_RTOL)
+        w = m.info["nominal_velocity"]
+        assert np.abs(m.V @ w).max() <= 1e-12 * np.abs(w).max()
+
+
+def test_stiffness_and_layout_print_every_stage(tmp_path, capsys):
+    path = tmp_path / "two.toml"
+    path.write_text(TOML)
+    assert cli_run(["stiffness", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "stage2 (two planetary stages in series, stage 2): f_m 208.333 Hz" in out
+    assert "mesh stage2-ring-planet-4: k mean" in out
+    assert cli_run(["layout", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "stage 2 20/40/100 x 4: sun in, ring held; f_m 208.333 Hz" in out

@@ -143,7 +143,8 @@ def reproduce(out: str | Path, *, progress: Callable[[str], None] | None = None,
 
 
 def sweep(study: str | Path, out: str | Path, *, workers: int = 2,
-          scheduler: str | None = None, progress: bool = False) -> SweepResult:
+          scheduler: str | None = None, progress: bool = False,
+          batch: int | None = None) -> SweepResult:
     """Run a parameter study (TOML file, ``"diagnostic"`` or ``"faults"``) on Dask into a
     NetCDF store.
 
@@ -159,6 +160,11 @@ def sweep(study: str | Path, out: str | Path, *, workers: int = 2,
         Address of a running Dask scheduler.
     progress : bool, optional
         Show a progress bar.
+    batch : int, optional
+        Simulation groups per Dask task (default: about ten tasks per worker, at most
+        32 groups a task; :func:`gearsim.studies.sweep_run.plan_batch`). The store is the
+        same whatever the batch; a size that cannot work (< 1, not an integer) is
+        refused with :class:`gearsim.errors.InputError`, as ``gearsim sweep --batch``.
 
     Returns
     -------
@@ -167,4 +173,4 @@ def sweep(study: str | Path, out: str | Path, *, workers: int = 2,
         store with :func:`xarray.open_dataset`.
     """
     return run_study(load_study(study), out, workers=workers, scheduler=scheduler,
-                     progress=progress)
+                     progress=progress, batch=batch)

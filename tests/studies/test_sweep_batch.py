@@ -110,6 +110,18 @@ def test_run_study_refuses_a_bad_batch_before_any_work(study, tmp_path, value):
     assert not any(tmp_path.iterdir())  # no store, no parts, no lock
 
 
+def test_api_sweep_takes_the_batch(tmp_path):
+    # gearsim.api.sweep hands its batch to run_study: a bad one is refused there, before
+    # any work, as from the CLI
+    import gearsim.api as gs
+
+    path = tmp_path / "study.toml"
+    path.write_text(STUDY)
+    with pytest.raises(InputError, match="--batch = 0: must be an integer >= 1"):
+        gs.sweep(path, tmp_path / "A.nc", workers=1, batch=0)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]
+
+
 @pytest.mark.parametrize("value,expected", [
     ("0", "--batch = 0: must be an integer >= 1 (simulation groups per Dask task)"),
     ("-2", "--batch = -2: must be an integer >= 1 (simulation groups per Dask task)"),

@@ -22,6 +22,11 @@ and of each to the serial loops are printed. ``--no-one-worker`` skips the 1-wor
 (a larger study: ``--cases 300 --no-one-worker``), ``--no-serial`` the serial loops (the
 2000-case study: ``--cases 2000 --no-one-worker --no-serial``).
 
+The issue's reference, measured in the same run (:func:`physics_floor`, one thread, up
+to 16 cases): the bare kernel-plus-analysis time of two cores, n (t_kernel +
+t_analysis) / 2, and the same with each case's mesh-stiffness tables (a new crack depth
+each case); the 2-worker study's time over each is printed.
+
 Run: ``.venv/bin/python benchmarks/bench_sweep.py [--cases 8] [--batch N] [--repeat R]``
 """
 
@@ -153,6 +158,18 @@ def main() -> None:
     for i, p in enumerate(pairs):
         print(f"pair {i + 1}: 2 workers batch={args.batch or auto} / batch=1 throughput: "
               f"{p[1] / p[args.batch]:6.3f}, CPU a case {cpus[args.batch][i] / cpus[1][i]:6.3f}")
+    # the issue's reference: the bare kernel-plus-analysis time of two cores
+    fl = physics_floor(study, min(args.cases, 16))
+    study_s = min(p[args.batch] for p in pairs)
+    bare = args.cases * (fl["kernel"] + fl["analysis"]) / 2
+    with_tables = args.cases * (fl["kernel"] + fl["analysis"] + fl["tables"]) / 2
+    print(f"a case, 1 thread, on {min(args.cases, 16)} cases: kernel {fl['kernel']:6.4f} s, "
+          f"analysis {fl['analysis']:6.4f} s, mesh tables {fl['tables']:6.4f} s (a new crack "
+          f"depth each), whole run_group {fl['case']:6.4f} s")
+    print(f"2-worker study / bare kernel+analysis of two cores ({bare:7.2f} s): "
+          f"{study_s / bare:5.2f} (target <= 1.3)")
+    print(f"2-worker study / kernel+analysis+tables of two cores ({with_tables:7.2f} s): "
+          f"{study_s / with_tables:5.2f}")
     if not serial:
         return
     import numba
@@ -177,6 +194,49 @@ def main() -> None:
           "no file; ideal 2)")
     print(f"2 workers / serial loop writing the store: {rate[2] / serial['store']:6.2f} "
           "(target >= 1 for a small study: the cluster only when it pays)")
+
+
+def physics_floor(study, sample: int) -> dict[str, float]:
+    """Seconds a case of the physics alone, one numba thread, on the first ``sample``
+    simulation groups (fresh caches, as a worker): the compiled RK4 kernel
+    (``dynamics.simulate.run_kernel``), the analysis of the record
+    (``signals.analyze``) and the mesh-stiffness tables (``dynamics.tables.mesh_tables``:
+    every case of this study cracks the input gear to its own depth, so its table is
+    new). Measured by timing those three functions inside ``run_group``."""
+    import importlib
+
+    import numba
+
+    ds = importlib.import_module("gearsim.dynamics.simulate")  # the module, not the function
+    sc = importlib.import_module("gearsim.studies.sweep_case")
+
+    spent = {"kernel": 0.0, "analysis": 0.0, "tables": 0.0}
+
+    def timed(fn, key):
+        def wrapper(*a, **k):
+            t0 = time.perf_counter()
+            try:
+                return fn(*a, **k)
+            finally:
+                spent[key] += time.perf_counter() - t0
+        return wrapper
+
+    saved = ds.run_kernel, sc.analyze, ds.mesh_tables
+    ds.run_kernel, sc.analyze = timed(ds.run_kernel, "kernel"), timed(sc.analyze, "analysis")
+    ds.mesh_tables = timed(ds.mesh_tables, "tables")
+    numba.set_num_threads(1)
+    forget_tables()
+    n = 0
+    try:
+        t0 = time.perf_counter()
+        for cases in list(groups(study).values())[:sample]:
+            run_group(study, cases)
+            n += len(cases)
+        spent["case"] = time.perf_counter() - t0
+    finally:
+        ds.run_kernel, sc.analyze, ds.mesh_tables = saved
+        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+    return {k: v / n for k, v in spent.items()}
 
 
 def _serial_runs(study, n_cases: int, tmp: Path, cpus: dict) -> dict:

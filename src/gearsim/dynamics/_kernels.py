@@ -441,9 +441,10 @@ def fir_decimate(h, x, down, first, n_out):
 
     y[c, o] = sum_i h[i] x[c, (first + o) down - i], i = 0 .. len(h) - 1: the full
     convolution of row c with h, sampled at (first + o) down (the polyphase decimation of
-    ``scipy.signal.upfirdn(h, x, down=down)[:, first:first + n_out]``, sums in the same
-    order). The caller guarantees first down >= len(h) - 1 and (first + n_out - 1) down
-    < x.shape[1] (no sample outside the record).
+    ``scipy.signal.upfirdn(h, x, down=down)[:, first:first + n_out]``, summed in its
+    order, from the oldest sample: the same numbers to the bit, tested). The caller
+    guarantees first down >= len(h) - 1 and (first + n_out - 1) down < x.shape[1] (no
+    sample outside the record).
 
     Parameters
     ----------
@@ -470,7 +471,7 @@ def fir_decimate(h, x, down, first, n_out):
         for o in range(n_out):
             j = (first + o) * down
             s = 0.0
-            for i in range(taps):
-                s += h[i] * row[j - i]
+            for i in range(taps - 1, -1, -1):
+                s += row[j - i] * h[i]
             y[c, o] = s
     return y

@@ -20,7 +20,9 @@ rows before: ``cal_path`` the calibrated table on the path of contact only
 (``corner_contact = False``: the tables before the tip-corner contacts under load),
 and for the cracked cases ``cal_pe_crack`` the model before the crack correction (the
 PE section reduction), ``cal_before`` before both (path of contact only, PE section
-reduction), ``cal_q_both`` the correction on both crack sides. ``--extra`` adds the
+reduction), ``cal_q_both`` the correction on both crack sides, ``cal_healthy_x`` the
+crack correction with the healthy body's coupling beside the cracked tooth (the model
+before the cracked body's coupling factors G). ``--extra`` adds the
 17/60 pair with x1 = +0.3 and the 25/25 pair at 25 deg; ``--healthy`` runs the healthy
 case only.
 
@@ -44,12 +46,14 @@ from gearsim.studies.fe_pair_check import PE_POSITIONS, fe_pair_check
 from gearsim.system.train import body_coupling, tooth_compliance
 
 #: The calibrated curves of the accuracy rows: (tip-corner contacts, crack sides of the
-#: correction or None for the model's, cracked cases only): the model, on the path of
-#: contact only, before the crack correction (PE section reduction), before both, with
-#: the correction on both crack sides.
-CALIBRATED = {"calibrated": (True, None, False), "cal_path": (False, None, False),
-              "cal_pe_crack": (True, (), True), "cal_before": (False, (), True),
-              "cal_q_both": (True, (1, -1), True)}
+#: correction or None for the model's, cracked cases only, the cracked body's coupling):
+#: the model, on the path of contact only, before the crack correction (PE section
+#: reduction), before both, with the correction on both crack sides, with the crack
+#: correction but the healthy body's coupling (the model before the crack's coupling).
+CALIBRATED = {"calibrated": (True, None, False, True), "cal_path": (False, None, False, True),
+              "cal_pe_crack": (True, (), True, True), "cal_before": (False, (), True, True),
+              "cal_q_both": (True, (1, -1), True, True),
+              "cal_healthy_x": (True, None, True, False)}
 #: Curves of the accuracy rows: the calibrated ones, the FE tooth, the PE tooth with line
 #: contact and coupling, the seed model.
 CURVES = (*CALIBRATED, "fe_tooth", "pe_line", "pe")
@@ -125,8 +129,8 @@ def cost() -> None:
               "cache)")
     for name, (t, cpu) in crack_once.items():
         print(f"crack correction, gear {name:8s}   {t:8.3f} s   {t / t_seed:5.1f} x "
-              f"(CPU {cpu:.1f} s; FE tooth at {len(calibration.CRACK_GRID)} crack depths, "
-              "once per gear and crack family)")
+              f"(CPU {cpu:.1f} s; FE tooth and its neighbours at "
+              f"{len(calibration.CRACK_GRID)} crack depths, once per gear and crack family)")
     print(f"load average during the run: {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
 
 
@@ -155,18 +159,24 @@ def _zones(pair, torque: float, u: np.ndarray, npc: int) -> tuple[np.ndarray, np
 
 
 def calibrated_curve(train, mesh: int, crack: str, depth: float | None, u: np.ndarray,
-                     corner: bool = True, corrected_sides: tuple[int, ...] | None = None
-                     ) -> np.ndarray:
+                     corner: bool = True, corrected_sides: tuple[int, ...] | None = None,
+                     crack_coupling: bool = True) -> np.ndarray:
     """The calibrated section TVMS at the FE-pair positions ``u`` [N/m].
 
     ``corner``: with the tip-corner contacts under load (the default), else the path of
     contact only (the tables before issue 25 item 2). ``corrected_sides``: the crack
     sides the measured crack correction applies to (default the model's,
     :data:`gearsim.fem.calibration.CORRECTED_SIDES`; ``()``: the PE section reduction
-    alone, the model before the correction).
+    alone, the model before the correction). ``crack_coupling``: the cracked body's
+    factors on the coupling beside the cracked tooth (the model's); False: the healthy
+    body's coupling there (the model before them).
     """
     from gearsim.fem.calibration import CORRECTED_SIDES, CalibratedCompliance
     from gearsim.studies.fe_pair_check import SECTION
+
+    class HealthyCoupling(CalibratedCompliance):
+        def cross_factor(self, *args, **kwargs):  # the healthy body's coupling
+            return None
 
     if crack == "none":
         tr = train.with_cracks(())
@@ -181,8 +191,9 @@ def calibrated_curve(train, mesh: int, crack: str, depth: float | None, u: np.nd
                              corner_contact=corner, slices=1,
                              positions_per_cycle=PE_POSITIONS)
     # studies.fe_pair_check.section_tvms with the calibrated model of these sides
-    model = CalibratedCompliance(corrected_sides=CORRECTED_SIDES if corrected_sides is None
-                                 else corrected_sides)
+    kind = CalibratedCompliance if crack_coupling else HealthyCoupling
+    model = kind(corrected_sides=CORRECTED_SIDES if corrected_sides is None
+                 else corrected_sides)
     thin = dataclasses.replace(pair, driver=dataclasses.replace(
         pair.driver, face_width=pair.driver.face_width * SECTION), driven=dataclasses.replace(
         pair.driven, face_width=pair.driven.face_width * SECTION))
@@ -202,10 +213,11 @@ def accuracy_case(name: str, train, torque: float, depth: float | None,
     for crack in cracks:
         t0 = time.perf_counter()
         chk = fe_pair_check(tr, 0, crack=crack, depth=depth)
-        for c, (corner, sides, cracked) in CALIBRATED.items():
+        for c, (corner, sides, cracked, cross) in CALIBRATED.items():
             if cracked and crack == "none":
                 continue
-            chk.curves[c] = calibrated_curve(tr, 0, crack, depth, chk.cycles, corner, sides)
+            chk.curves[c] = calibrated_curve(tr, 0, crack, depth, chk.cycles, corner, sides,
+                                             cross)
         if inside is None:  # the same positions in every case
             inside, double = _zones(tr.pairs[0], tr.torque(0), chk.cycles, 20)
         row = {"case": name, "torque": torque, "crack": crack,

@@ -33,6 +33,24 @@ tooth takes no crack past the centre line) Q keeps its value there. The closed c
 the unloaded flank stays the PE section reduction (within 3 % of the FE pair without Q;
 docs/stiffness.md 4c).
 
+The same FE solves read the cracked tooth's two neighbours: a crack that Q corrects also
+changes the body coupling of the pairs beside the cracked tooth (:meth:`CalibratedCompliance.
+cross_factor`; with the loaded-flank crack of the Table-1 input gear, 6 mm, the coupling
+to the neighbour behind the cracked tooth grows to 1.16-1.34 times the healthy one, the
+crack faces open under both teeth's loads; across the crack, to the neighbour its loaded
+flank faces, 0.64-0.81 times with the faces open but 0.96-1.10 when that neighbour's
+load closes them, so only the pair away from the crack takes a factor; docs/stiffness.md
+4c). The body coupling of the mesh (:class:`gearsim.fem.coupling.FiniteElementCoupling`)
+is multiplied there by
+
+    G_load(r_i, r_j, q) = X_crack(tooth -1 at r_i; load on the cracked tooth at r_j)
+                          / X_healthy(same),
+    G_read(r_i, r_j, q) = X_crack(tooth +1 at r_j; load on the cracked tooth at r_i)
+                          / X_healthy(same)   (Maxwell: the cracked tooth read at r_i
+                                               under the load on tooth +1 at r_j),
+
+interpolated as F_FE (spline in depth through G(0) = 1, bicubic spline in roll length).
+
 Cache: ``calibration_dir()``, ``$GEARSIM_CACHE/fe/calibration/`` (or
 ``~/.cache/gearsim/fe/calibration/``), one ``.npz`` per key, the SHA-256 of the gear
 geometry and material, plane, FE level, Gauss points of the PE integration, the FE table
@@ -92,6 +110,7 @@ from scipy.interpolate import CubicSpline, RectBivariateSpline
 
 from gearsim._version import __version__
 from gearsim.errors import InputError, ModelRangeWarning, SimulationError, require
+from gearsim.fem.coupling import fe_neighbour_coupling
 from gearsim.fem.geometry import SectorOptions, element_size
 from gearsim.fem.ring import (
     RIM_THICKNESS,
@@ -103,11 +122,13 @@ from gearsim.fem.tables import (
     CACHE_VERSION,
     DEFAULT_LEVEL,
     NODES,
+    _level_for,
     _write_npz,
     cache_dir,
     fe_compliance,
 )
 from gearsim.fem.tables import fe_nodes as _fe_nodes
+from gearsim.fem.tooth import check_crack_resolved, fe_tooth_compliance
 from gearsim.geometry.gear import Gear, Material
 from gearsim.geometry.planetary import RingGear
 from gearsim.geometry.profile import ToothProfile
@@ -119,11 +140,11 @@ from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCrack
 from gearsim.stiffness.tooth import ToothModel
 
 __all__ = ["CALIBRATION_VERSION", "CORRECTED_SIDES", "CRACK_CORRECTION_VERSION",
-           "CRACK_FACTOR_BOUNDS", "CRACK_GRID", "RATIO_BOUNDS", "RING_CALIBRATION_VERSION",
-           "RING_RATIO_BOUNDS", "CalibratedCompliance", "CalibratedRingTooth",
-           "calibration_dir", "calibration_key", "calibration_ratio", "crack_correction_key",
-           "crack_depths", "crack_factor_table", "ring_calibration", "ring_calibration_key",
-           "ring_nodes"]
+           "CRACK_FACTOR_BOUNDS", "CRACK_GRID", "CROSS_FACTOR_BOUNDS", "RATIO_BOUNDS",
+           "RING_CALIBRATION_VERSION", "RING_RATIO_BOUNDS", "CalibratedCompliance",
+           "CalibratedRingTooth", "calibration_dir", "calibration_key", "calibration_ratio",
+           "crack_correction_key", "crack_cross_table", "crack_depths", "crack_factor_table",
+           "ring_calibration", "ring_calibration_key", "ring_nodes"]
 
 #: Bump when the calibration changes so that old cache files are not reused.
 CALIBRATION_VERSION = 1
@@ -142,7 +163,9 @@ RING_RATIO_BOUNDS = (0.5, 20.0)
 RING_SEGMENT_TEETH = 5
 
 #: Bump when the crack correction changes so that old cache files are not reused.
-CRACK_CORRECTION_VERSION = 1
+#: 2: the entry also holds the crack's body-coupling factors (``cross_load``,
+#: ``cross_read``).
+CRACK_CORRECTION_VERSION = 2
 #: Depths of the measured crack correction as fractions of q_c, the depth at which the
 #: crack tip reaches the tooth centre line (:func:`crack_depths`; 0.99: the FE tooth
 #: refuses a tip on the line); with F_FE(0) = 1 a not-a-knot cubic spline in depth
@@ -157,11 +180,17 @@ CRACK_GRID = (0.1, 0.3, 0.6, 0.99)
 CRACK_FACTOR_BOUNDS = (0.5, 20.0)
 #: Sides of a crack the correction applies to (+1 loaded flank, -1 the other).
 CORRECTED_SIDES = (1,)
+#: Plausible range of the crack's body-coupling factor G = X_crack / X_healthy [-]:
+#: measured 0.64-1.34 (Table-1 input gear, 6 mm loaded-flank crack, 0.65 q_c); a cached
+#: factor outside (0.05, 20) is treated as corrupt.
+CROSS_FACTOR_BOUNDS = (0.05, 20.0)
 
 #: Interpolants already read in this process, by cache key (the disk is read once).
 _MEMO: dict[str, tuple[CubicSpline, float, float]] = {}
 #: Crack-factor interpolants already read in this process, by cache key.
 _CRACK_MEMO: dict[str, tuple[CubicSpline, np.ndarray, float] | None] = {}
+#: Interpolants in depth of the crack's body-coupling factors, by cache key.
+_CROSS_MEMO: dict[str, tuple[CubicSpline, CubicSpline, np.ndarray, float]] = {}
 #: Ring calibrations already read in this process, by cache key.
 _RING_MEMO: dict[str, tuple] = {}
 
@@ -369,19 +398,88 @@ def crack_correction_key(gear: Gear, crack: Crack, side: int, *, closure: str = 
 
 
 def _read_crack(path: Path, doc: str, nodes: np.ndarray, depths: np.ndarray
-                ) -> np.ndarray | None:
-    """The cached FE crack factors, or None when the file is missing, corrupt or stale."""
-    got = _entry(path, doc, nodes, ("depths", "factor"))
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """The cached FE crack factors and body-coupling factors, or None when the file is
+    missing, corrupt or stale."""
+    got = _entry(path, doc, nodes, ("depths", "factor", "cross_load", "cross_read"))
     if got is None:
         return None
-    d, factor = got
+    d, factor, load, read = got
     if (d.shape != depths.shape or not np.allclose(d, depths, rtol=1e-12, atol=0.0)
             or factor.shape != (depths.size, nodes.size)):
         return None
     lo, hi = CRACK_FACTOR_BOUNDS
     if not np.all(np.isfinite(factor)) or np.any(factor <= lo) or np.any(factor >= hi):
         return None
-    return factor
+    lo, hi = CROSS_FACTOR_BOUNDS
+    for g in (load, read):
+        if (g.shape != (depths.size, nodes.size, nodes.size) or not np.all(np.isfinite(g))
+                or np.any(g <= lo) or np.any(g >= hi)):
+            return None
+    return factor, load, read
+
+
+def _crack_solve(gear: Gear, nodes: np.ndarray, crack: Crack, depth: float, side: int,
+                 closure: str, plane: str, level: int) -> tuple[np.ndarray, np.ndarray]:
+    """The cracked FE tooth at ``nodes`` and its neighbours under the same loads.
+
+    :func:`gearsim.fem.tooth.fe_tooth_compliance` with ``neighbours=True`` at level
+    ``level`` or finer where the crack needs it (as :func:`gearsim.fem.tables.
+    fe_compliance`), solved afresh.
+
+    Returns
+    -------
+    compliance : ndarray, shape (n,)
+        The cracked tooth [m/N for a face width of 1 m].
+    neighbours : ndarray, shape (2, n, n)
+        Teeth -1 and +1 read under the loads (``FEToothResult.neighbours``).
+    """
+    check_crack_resolved(gear, depth, crack_depth=crack.depth)
+    res = fe_tooth_compliance(gear, nodes, crack=crack, depth=depth, side=side,
+                              closure=closure, plane=plane,
+                              options=SectorOptions(level=_level_for(gear, depth, level)),
+                              neighbours=True)
+    return res.compliance, res.neighbours
+
+
+def _crack_tables(gear: Gear, crack: Crack, side: int, *, closure: str, plane: str,
+                  level: int, use_cache: bool
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Radii, depths, F_FE, G_load and G_read of a crack family (cached together)."""
+    require(side in (1, -1), "side", side, "must be +1 or -1")
+    key, doc = crack_correction_key(gear, crack, side, closure=closure, plane=plane,
+                                    level=level)
+    nodes = _fe_nodes(gear)
+    depths = crack_depths(gear, crack, level)
+    path = calibration_dir() / f"crack-{key}.npz"
+    got = _read_crack(path, doc, nodes, depths) if use_cache else None
+    if got is not None:
+        return (nodes, depths, *got)
+    with exclusive(path.with_suffix(".lock")) if use_cache else contextlib.nullcontext():
+        got = _read_crack(path, doc, nodes, depths) if use_cache else None
+        if got is None:
+            # the healthy FE tooth of the gear's calibration entry, c_FE = R c_PE (16 Gauss
+            # points: any rule, R is taken against the PE tooth of the same rule)
+            _, ratio = calibration_ratio(gear, plane=plane, level=level, gauss_points=16,
+                                         use_cache=use_cache)
+            healthy = ratio * ToothModel(gear, plane=plane, gauss_points=16).compliance(
+                nodes).sum(axis=1)
+            # the healthy body's neighbours under loads on tooth 0 (the coupling's solve)
+            _, minus_h, plus_h = fe_neighbour_coupling(gear, plane=plane, level=level,
+                                                       use_cache=use_cache)
+            factor, load, read = [], [], []
+            for q in depths:
+                comp, cross = _crack_solve(gear, nodes, crack, float(q), side, closure, plane,
+                                           level)
+                factor.append(comp / healthy)
+                load.append(cross[0] / minus_h)
+                read.append((cross[1] / plus_h).T)  # Maxwell: read <-> load
+            factor, load, read = np.stack(factor), np.stack(load), np.stack(read)
+            if use_cache:
+                _write_npz(path, key=np.array(doc), radii=nodes, depths=depths,
+                           factor=factor, cross_load=load, cross_read=read)
+            got = factor, load, read
+    return (nodes, depths, *got)
 
 
 def crack_factor_table(gear: Gear, crack: Crack, side: int, *, closure: str = "contact",
@@ -390,11 +488,13 @@ def crack_factor_table(gear: Gear, crack: Crack, side: int, *, closure: str = "c
                        ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """FE crack factors F_FE = c_FE,crack / c_FE,healthy on a grid of depths.
 
-    One FE tooth solve (:func:`gearsim.fem.tables.fe_compliance`, solved afresh, level
-    ``level`` or finer where the crack needs it) per depth of :func:`crack_depths`, loads
+    One FE tooth solve (:func:`gearsim.fem.tooth.fe_tooth_compliance`, solved afresh,
+    level ``level`` or finer where the crack needs it, as
+    :func:`gearsim.fem.tables.fe_compliance`) per depth of :func:`crack_depths`, loads
     at the :func:`~gearsim.fem.tables.fe_nodes` radii; the healthy FE tooth is that of
     :func:`calibration_ratio`'s entry (solved afresh once per gear), read back as
-    R c_PE,healthy.
+    R c_PE,healthy. The same solves give the crack's body-coupling factors
+    (:func:`crack_cross_table`), cached in the same entry.
 
     Parameters
     ----------
@@ -418,33 +518,44 @@ def crack_factor_table(gear: Gear, crack: Crack, side: int, *, closure: str = "c
     radii, depths, factor : ndarray
         The FE-table radii [m], the depths [m] and F_FE[i, j] at depth i, radius j [-].
     """
-    require(side in (1, -1), "side", side, "must be +1 or -1")
-    key, doc = crack_correction_key(gear, crack, side, closure=closure, plane=plane,
-                                    level=level)
-    nodes = _fe_nodes(gear)
-    depths = crack_depths(gear, crack, level)
-    path = calibration_dir() / f"crack-{key}.npz"
-    factor = _read_crack(path, doc, nodes, depths) if use_cache else None
-    if factor is not None:
-        return nodes, depths, factor
-    with exclusive(path.with_suffix(".lock")) if use_cache else contextlib.nullcontext():
-        factor = _read_crack(path, doc, nodes, depths) if use_cache else None
-        if factor is None:
-            st = StiffnessSettings(plane=plane, closure=closure)
-            # the healthy FE tooth of the gear's calibration entry, c_FE = R c_PE (16 Gauss
-            # points: any rule, R is taken against the PE tooth of the same rule)
-            _, ratio = calibration_ratio(gear, plane=plane, level=level, gauss_points=16,
-                                         use_cache=use_cache)
-            healthy = ratio * ToothModel(gear, plane=plane, gauss_points=16).compliance(
-                nodes).sum(axis=1)
-            factor = np.stack([
-                fe_compliance(gear, nodes, crack=crack, depth=float(q), side=side,
-                              settings=st, options=SectorOptions(level=level),
-                              use_cache=False)[:, 0] / healthy for q in depths])
-            if use_cache:
-                _write_npz(path, key=np.array(doc), radii=nodes, depths=depths,
-                           factor=factor)
+    nodes, depths, factor, _, _ = _crack_tables(gear, crack, side, closure=closure,
+                                                plane=plane, level=level,
+                                                use_cache=use_cache)
     return nodes, depths, factor
+
+
+def crack_cross_table(gear: Gear, crack: Crack, side: int, *, closure: str = "contact",
+                      plane: str = "stress", level: int = DEFAULT_LEVEL,
+                      use_cache: bool = True
+                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The crack's body-coupling factors G = X_crack / X_healthy on the depth grid.
+
+    From the solves of :func:`crack_factor_table` (the cracked whole gear, bore fixed,
+    unit loads on the cracked tooth 0 at the FE-table radii), the two neighbours read at
+    their points Q (:func:`gearsim.fem.tooth.neighbour_cross`), over the healthy gear's
+    same readings (:func:`gearsim.fem.coupling.fe_neighbour_coupling`).
+
+    Parameters
+    ----------
+    gear, crack, side, closure, plane, level, use_cache
+        As :func:`crack_factor_table`.
+
+    Returns
+    -------
+    radii, depths : ndarray
+        The FE-table radii [m] and the depths [m].
+    load : ndarray, shape (depths, n, n)
+        G_load[d, i, j]: the tooth behind the cracked one (whose ``+x`` neighbour it is)
+        read at r_i, the cracked tooth loaded at r_j [-].
+    read : ndarray, shape (depths, n, n)
+        G_read[d, i, j]: the cracked tooth read at r_i, its ``+x`` neighbour (the one
+        its loaded flank faces) loaded at r_j; by Maxwell's reciprocity the deflection
+        of that neighbour at r_j under the load on the cracked tooth at r_i [-].
+    """
+    nodes, depths, _, load, read = _crack_tables(gear, crack, side, closure=closure,
+                                                 plane=plane, level=level,
+                                                 use_cache=use_cache)
+    return nodes, depths, load, read
 
 
 class CalibratedCompliance:
@@ -539,8 +650,7 @@ class CalibratedCompliance:
         # an open crack (faces free) is corrected on either flank: the reason the closed
         # crack on the unloaded flank is left without Q (measured worse with it) is its
         # face contact, which an open crack does not have
-        if crack is not None and (crack.side in self.corrected_sides
-                                  or (settings.closure == "open" and self.corrected_sides)):
+        if crack is not None and self._corrected(crack, settings):
             ratio = ratio * self.crack_factor(gear, r, crack, zfrac, settings, pe=c)
         return c * ratio[..., None]
 
@@ -611,6 +721,97 @@ class CalibratedCompliance:
         out = np.empty(r.shape)
         for k in range(ns):
             out[..., k] = CubicSpline(roll_nodes, rows[k])(roll[..., k])
+        return out
+
+    def _corrected(self, crack: ToothCrack, settings: StiffnessSettings) -> bool:
+        """Whether the crack takes the measured correction (Q and the coupling)."""
+        return crack.side in self.corrected_sides or (settings.closure == "open"
+                                                       and bool(self.corrected_sides))
+
+    def cross_factor(self, gear: Gear, r_read: np.ndarray, r_load: np.ndarray,
+                     crack: ToothCrack, reads_crack: bool, zfrac: np.ndarray,
+                     settings: StiffnessSettings) -> np.ndarray | None:
+        """The crack's factor G on the body coupling of a pair beside the cracked tooth.
+
+        The mesh's coupling X(r_read, r_load) of a tooth and its loaded ``+x`` neighbour
+        (:class:`gearsim.fem.coupling.FiniteElementCoupling`) is measured on the healthy
+        gear; a crack that takes the measured correction Q (:meth:`compliance`) also
+        changes it, and G = X_crack / X_healthy of :func:`crack_cross_table` (the same FE
+        solves as Q) corrects it for the pair of the cracked tooth and its neighbour on
+        the side away from the crack: ``reads_crack`` False, the cracked tooth is the
+        loaded ``+x`` neighbour of the tooth read (G_load; a crack on the loaded flank,
+        ``+x``, is on the far side of the cracked tooth); True, the cracked tooth is read
+        and its ``+x`` neighbour is loaded (G_read; for a crack on the ``-x`` flank).
+        Across the crack (the other pair) the coupling stays the healthy body's: the
+        neighbour's load closes the crack faces there (Table-1 input gear, 6 mm loaded-
+        flank crack: closed over their whole length under the neighbour's load alone,
+        open under the cracked tooth's), so the factor depends on the two loads' ratio
+        (0.64-0.81 with the faces open, 0.96-1.10 closed, measured) and a linear factor
+        does not hold; with the open-face value the mesh came out up to 0.15 % *stiffer*
+        with a deeper crack where the cracked tooth's tip corner closes beside its loaded
+        neighbour (19/48 pinion; a crack cannot stiffen the mesh). Away from the crack
+        the faces stay open under both loads (measured) and G_load = 1.16-1.34 > 1.
+        A not-a-knot cubic spline in depth through G(0) = 1 and the grid depths, each
+        slice at its local depth clipped to the deepest grid depth (as
+        :meth:`fe_crack_factor`), then a bicubic spline in the roll lengths of the
+        FE-table radii.
+
+        Parameters
+        ----------
+        gear : Gear
+            The cracked gear.
+        r_read, r_load : ndarray, shape (..., ns)
+            Contact radii of the tooth read and of its loaded ``+x`` neighbour [m]
+            (values off the involute are clipped to it).
+        crack : ToothCrack
+            The crack as seen by the mesh.
+        reads_crack : bool
+            True: the cracked tooth is the one read; False: the loaded one.
+        zfrac : ndarray, shape (ns,)
+            Axial position of each slice centre / face width [-].
+        settings : StiffnessSettings
+            ``closure`` and ``plane`` of the FE tooth.
+
+        Returns
+        -------
+        ndarray or None
+            G [-], the shape of ``r_read``; None when the pair is across the crack
+            (above) or the crack takes no correction (a side not corrected, no depth in
+            any slice, or a crack family the FE tooth refuses, :meth:`_crack_spline`).
+        """
+        r_a = np.asarray(r_read, dtype=float)
+        r_b = np.asarray(r_load, dtype=float)
+        if not self._corrected(crack, settings) or reads_crack != (crack.side < 0):
+            return None
+        ns = r_a.shape[-1]
+        depths = crack.crack.depth_at(zfrac) if ns > 1 else np.array([crack.crack.depth])
+        if not np.any(depths > 0.0) or self._crack_spline(gear, crack, settings) is None:
+            return None
+        key, _ = crack_correction_key(gear, crack.crack, crack.side, closure=settings.closure,
+                                      plane=settings.plane, level=self.level)
+        if key not in _CROSS_MEMO:
+            nodes, grid, load, read = crack_cross_table(
+                gear, crack.crack, crack.side, closure=settings.closure, plane=settings.plane,
+                level=self.level)
+            q = np.concatenate([[0.0], grid])
+            one = np.ones((1, nodes.size, nodes.size))
+            _CROSS_MEMO[key] = (CubicSpline(q, np.concatenate([one, load]), axis=0),
+                                CubicSpline(q, np.concatenate([one, read]), axis=0),
+                                np.sqrt(nodes**2 - gear.base_radius**2), float(grid[-1]))
+        load_s, read_s, roll_nodes, q_top = _CROSS_MEMO[key]
+        spline = read_s if reads_crack else load_s
+        rb = gear.base_radius
+        a = np.clip(np.sqrt(np.maximum(r_a**2 - rb**2, 0.0)), roll_nodes[0], roll_nodes[-1])
+        b = np.clip(np.sqrt(np.maximum(r_b**2 - rb**2, 0.0)), roll_nodes[0], roll_nodes[-1])
+        out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+        a, b = np.broadcast_to(a, out.shape), np.broadcast_to(b, out.shape)
+        q = np.minimum(np.broadcast_to(depths, (ns,)), q_top)
+        for qk in np.unique(q):  # the slices of one depth share a surface
+            on = q == qk
+            surface = RectBivariateSpline(roll_nodes, roll_nodes, spline(float(qk)), kx=3,
+                                          ky=3)
+            out[..., on] = surface.ev(a[..., on].ravel(), b[..., on].ravel()).reshape(
+                out[..., on].shape)
         return out
 
     def crack_factor(self, gear: Gear, radii: np.ndarray, crack: ToothCrack,

@@ -19,7 +19,10 @@ the point where the single-tooth FE model reads its deflection
 :func:`~gearsim.fem.tables.fe_nodes` radii and reading tooth -1 (whose ``+x`` neighbour
 tooth 0 is), one factorisation for all loads, and kept on disk next to the FE tooth
 tables (:func:`gearsim.fem.tables.cache_dir`). By Maxwell's reciprocity the coupling
-to the neighbour on the other side is X(r_load, r_read).
+to the neighbour on the other side is X(r_load, r_read). The same solve reads tooth +1
+too (:func:`fe_neighbour_coupling`): the healthy reference of the cracked body's coupling
+(:meth:`gearsim.fem.calibration.CalibratedCompliance.cross_factor`), whose loads are on
+the cracked tooth.
 
 :class:`FiniteElementCoupling` implements the ``coupling`` protocol that
 :func:`gearsim.stiffness.mesh.mesh_stiffness` uses when ``stiffness.coupling = "fe"``.
@@ -38,21 +41,20 @@ from __future__ import annotations
 
 import hashlib
 import json
-import math
 
 import numpy as np
 
 from gearsim.errors import require
 from gearsim.fem.geometry import SectorOptions, mesh_sector
 from gearsim.fem.tables import DEFAULT_LEVEL, _write_npz, cache_dir, fe_nodes
-from gearsim.fem.tooth import flank_loads, load_geometry
+from gearsim.fem.tooth import flank_loads, neighbour_cross
 from gearsim.geometry.gear import Gear
-from gearsim.geometry.profile import ToothProfile
 
-__all__ = ["COUPLING_VERSION", "FiniteElementCoupling", "fe_coupling"]
+__all__ = ["COUPLING_VERSION", "FiniteElementCoupling", "fe_coupling", "fe_neighbour_coupling"]
 
 #: Bump when the coupling model changes so that old cache files are not reused.
-COUPLING_VERSION = 1
+#: 2: the file also holds the reading of tooth +1 (``plus``).
+COUPLING_VERSION = 2
 
 
 def _key(gear: Gear, plane: str, level: int) -> str:
@@ -67,6 +69,54 @@ def _key(gear: Gear, plane: str, level: int) -> str:
     }
     text = json.dumps(doc, sort_keys=True, default=repr)
     return hashlib.sha256(text.encode()).hexdigest()[:32]
+
+
+def fe_neighbour_coupling(gear: Gear, *, plane: str = "stress", level: int = DEFAULT_LEVEL,
+                          use_cache: bool = True
+                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Both neighbours' deflections under loads on tooth 0 of the healthy gear [m/(N/m)].
+
+    One factorisation of the whole gear (bore fixed, as the FE tooth tables), unit loads
+    per metre of face width on tooth 0 at the :func:`~gearsim.fem.tables.fe_nodes` radii,
+    read on teeth -1 and +1 (:func:`gearsim.fem.tooth.neighbour_cross`); cached.
+
+    Parameters
+    ----------
+    gear
+        The gear.
+    plane
+        ``"stress"`` or ``"strain"``.
+    level
+        FE mesh level (:class:`gearsim.fem.geometry.SectorOptions`).
+    use_cache
+        Read and write the disk cache.
+
+    Returns
+    -------
+    radii, minus, plus
+        The radii [m]; ``minus[i, j]`` = X[i, j] of :func:`fe_coupling` (tooth -1 at
+        Q(r_i) under the load at r_j), ``plus[i, j]`` the deflection of tooth +1 at
+        Q(r_i) under the load at r_j [m/(N/m)].
+    """
+    require(plane in ("stress", "strain"), "stiffness.plane", plane,
+            'must be "stress" or "strain"')
+    nodes = fe_nodes(gear)
+    path = cache_dir() / f"{_key(gear, plane, level)}.npz"
+    if use_cache and path.exists():
+        try:
+            with np.load(path) as data:
+                if np.allclose(data["radii"], nodes, rtol=1e-12, atol=0.0):
+                    return nodes, np.array(data["coupling"]), np.array(data["plus"])
+        except (OSError, ValueError, KeyError):
+            pass  # unreadable cache file: recompute and overwrite
+    opt = SectorOptions(level=level)
+    sector = mesh_sector(gear, options=opt)
+    model, fixed, loads, _, _ = flank_loads(gear, sector, nodes, plane, opt)
+    u = model.solve(loads, fixed)
+    minus, plus = neighbour_cross(model, gear, u, nodes)
+    if use_cache:
+        _write_npz(path, radii=nodes, coupling=minus, plus=plus, level=np.array(level))
+    return nodes, minus, plus
 
 
 def fe_coupling(gear: Gear, *, plane: str = "stress", level: int = DEFAULT_LEVEL,
@@ -89,40 +139,12 @@ def fe_coupling(gear: Gear, *, plane: str = "stress", level: int = DEFAULT_LEVEL
     radii, x
         The :func:`~gearsim.fem.tables.fe_nodes` radii [m] and X[i, j], the deflection of
         tooth 0 at Q(r_i) along its load direction under a unit load (per metre of face
-        width) on tooth +1 at r_j [m/(N/m)] (module docstring).
+        width) on tooth +1 at r_j [m/(N/m)] (module docstring), read as tooth -1 under
+        the load on tooth 0 (:func:`fe_neighbour_coupling`).
     """
-    require(plane in ("stress", "strain"), "stiffness.plane", plane,
-            'must be "stress" or "strain"')
-    nodes = fe_nodes(gear)
-    path = cache_dir() / f"{_key(gear, plane, level)}.npz"
-    if use_cache and path.exists():
-        try:
-            with np.load(path) as data:
-                if np.allclose(data["radii"], nodes, rtol=1e-12, atol=0.0):
-                    return nodes, np.array(data["coupling"])
-        except (OSError, ValueError, KeyError):
-            pass  # unreadable cache file: recompute and overwrite
-    opt = SectorOptions(level=level)
-    sector = mesh_sector(gear, options=opt)
-    model, fixed, loads, _, _ = flank_loads(gear, sector, nodes, plane, opt)
-    u = model.solve(loads, fixed)
-    # read on tooth -1 (rotated by +pitch): tooth 0 is its +x neighbour
-    prof = ToothProfile(gear)
-    pitch = 2.0 * math.pi / gear.teeth
-    c, s = math.cos(pitch), math.sin(pitch)
-    rot = np.array([[c, -s], [s, c]])
-    dirs, qs = [], []
-    for r in nodes:
-        _, d, q = load_geometry(prof, float(r))
-        dirs.append(rot @ d)
-        qs.append(rot @ q)
-    dirs = np.array(dirs)
-    vals = model.probe(np.array(qs).T) @ u  # (2 n, n): rows x then y of each Q
-    n = nodes.size
-    x = dirs[:, :1] * vals[:n] + dirs[:, 1:] * vals[n:]
-    if use_cache:
-        _write_npz(path, radii=nodes, coupling=x, level=np.array(level))
-    return nodes, x
+    nodes, minus, _ = fe_neighbour_coupling(gear, plane=plane, level=level,
+                                            use_cache=use_cache)
+    return nodes, minus
 
 
 class FiniteElementCoupling:

@@ -51,7 +51,7 @@ from gearsim.geometry.profile import ToothProfile
 
 __all__ = ["FINEST_LEVEL", "PATCH_HALF_LENGTH", "FEToothResult", "bell_loads",
            "check_crack_resolved",
-           "fe_tooth_compliance", "load_geometry"]
+           "fe_tooth_compliance", "load_geometry", "neighbour_cross"]
 
 #: Finest mesh refinement level (:class:`gearsim.fem.geometry.SectorOptions`).
 FINEST_LEVEL = 6
@@ -88,6 +88,10 @@ class FEToothResult:
         Active-set iterations per radius (contact closure).
     closed_fraction
         Share of the crack face length in contact per radius [-].
+    neighbours
+        Only with ``fe_tooth_compliance(..., neighbours=True)``: shape (2, n, n), the
+        deflections of the two neighbouring teeth under the same loads
+        (:func:`neighbour_cross`) [m/N for a face width of 1 m]; else shape (0,).
     seconds
         Wall time [s].
     """
@@ -104,6 +108,7 @@ class FEToothResult:
     crack: CrackLine | None = None
     contact_iterations: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     closed_fraction: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    neighbours: np.ndarray = field(default_factory=lambda: np.zeros(0))
     seconds: float = 0.0
 
 
@@ -342,9 +347,55 @@ def deflection_along_load(model, u: np.ndarray, dirs: np.ndarray, qs: np.ndarray
     return np.array([dirs[k, 0] * vals[k, k] + dirs[k, 1] * vals[n + k, k] for k in range(n)])
 
 
+def neighbour_cross(model, gear: Gear, u: np.ndarray, radii: np.ndarray) -> np.ndarray:
+    """Deflections of the loaded tooth's two neighbours, read as the tooth's own.
+
+    Tooth 0 carries load j (solution ``u[:, j]``, a unit load at ``radii[j]``); the
+    neighbours are read at their own points Q(r_i) along their own load directions
+    (:func:`load_geometry` turned by one pitch): tooth -1 (turned by +2 pi / z, the
+    neighbour whose ``+x`` neighbour the loaded tooth is) and tooth +1 (turned by
+    -2 pi / z, the neighbour the loaded flank faces). These are the body cross
+    compliances of :mod:`gearsim.fem.coupling` (per unit face width).
+
+    Parameters
+    ----------
+    model : ElasticModel
+        The solved model.
+    gear : Gear
+        The gear.
+    u : ndarray, shape (ndofs, n)
+        Displacements, column j under the load at ``radii[j]``.
+    radii : ndarray, shape (n,)
+        Contact radii of the loads and of the read points [m].
+
+    Returns
+    -------
+    ndarray, shape (2, n, n)
+        ``[0, i, j]``: deflection of tooth -1 at Q(r_i) under the load at r_j;
+        ``[1, i, j]``: of tooth +1 [m/N for a face width of 1 m].
+    """
+    prof = ToothProfile(gear)
+    pitch = 2.0 * math.pi / gear.teeth
+    out = np.empty((2, radii.size, radii.size))
+    for k, ang in enumerate((pitch, -pitch)):
+        c, s = math.cos(ang), math.sin(ang)
+        rot = np.array([[c, -s], [s, c]])
+        dirs, qs = [], []
+        for r in radii:
+            _, d, q = load_geometry(prof, float(r))
+            dirs.append(rot @ d)
+            qs.append(rot @ q)
+        dirs = np.array(dirs)
+        vals = model.probe(np.array(qs).T) @ u  # (2 n, n): rows x then y of each Q
+        n = radii.size
+        out[k] = dirs[:, :1] * vals[:n] + dirs[:, 1:] * vals[n:]
+    return out
+
+
 def fe_tooth_compliance(gear: Gear, radii, *, crack=None, depth: float | None = None,
                         side: int = 0, closure: str = "contact", plane: str = "stress",
-                        options: SectorOptions | None = None) -> FEToothResult:
+                        options: SectorOptions | None = None,
+                        neighbours: bool = False) -> FEToothResult:
     """Finite-element tooth compliance at contact radii (module docstring).
 
     Parameters
@@ -366,6 +417,10 @@ def fe_tooth_compliance(gear: Gear, radii, *, crack=None, depth: float | None = 
         ``"stress"`` or ``"strain"``.
     options
         Mesh options (:class:`SectorOptions`).
+    neighbours
+        Also read the two neighbouring teeth under the same loads
+        (:func:`neighbour_cross`, ``FEToothResult.neighbours``; two more probes of the
+        same solutions, no more solves).
 
     Returns
     -------
@@ -403,8 +458,9 @@ def fe_tooth_compliance(gear: Gear, radii, *, crack=None, depth: float | None = 
     else:
         u = model.solve(loads, fixed)
     comp = deflection_along_load(model, u, dirs, qs)
+    cross = neighbour_cross(model, gear, u, r) if neighbours else np.zeros(0)
     return FEToothResult(radii=r, compliance=comp, level=opt.level, h=sector.h,
                          nodes=int(model.mesh.p.shape[1]), elements=int(model.mesh.t.shape[1]),
                          dofs=model.ndofs, closure=closure, plane=plane, crack=cl,
-                         contact_iterations=iters, closed_fraction=closed,
+                         contact_iterations=iters, closed_fraction=closed, neighbours=cross,
                          seconds=time.perf_counter() - t0)

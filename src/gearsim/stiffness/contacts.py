@@ -60,6 +60,7 @@ from gearsim.stiffness.mesh import (
     _tridiagonal_solve,
     centre_line_depth,
     corner_closing,
+    crack_cross_factors,
     in_path_fraction,
     pair_law,
 )
@@ -316,12 +317,14 @@ def corner_separation(pair: GearPair, l: np.ndarray) -> np.ndarray:
 
 
 def _corner_cross(g1, g2, coupling, inside: np.ndarray, corner: np.ndarray, r1: np.ndarray,
-                  r2: np.ndarray) -> np.ndarray:
+                  r2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Body cross compliance of adjacent pairs, path or tip-corner contacts [m^2/N].
 
     As :func:`gearsim.stiffness.mesh.pair_law` (the older pair is the driver tooth's +x
     neighbour and the driven tooth's -x neighbour; Maxwell symmetry), with the corner
-    contacts at their path end's radii.
+    contacts at their path end's radii; the driver's and the driven gear's parts (their
+    sum is the cross compliance; a cracked body's factors,
+    :func:`gearsim.stiffness.mesh.crack_cross_factors`, multiply each).
     """
     on = inside | corner
     both = on[:, :-1] & on[:, 1:]
@@ -329,7 +332,7 @@ def _corner_cross(g1, g2, coupling, inside: np.ndarray, corner: np.ndarray, r1: 
                                        np.where(both, r1[:, 1:], g1.tip_radius)), 0.0)
     x2 = np.where(both, coupling.cross(g2, np.where(both, r2[:, 1:], g2.tip_radius),
                                        np.where(both, r2[:, :-1], g2.tip_radius)), 0.0)
-    return x1 + x2
+    return x1, x2
 
 
 def _condensed_corners(kpath: np.ndarray, cpath: np.ndarray, width: np.ndarray,
@@ -516,8 +519,12 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     ch = 1.0 / hertz_stiffness(g1.material, g2.material, 1.0)
     width = frac * dz
     law = None
+    factors = None
     if settings.contact != "yang-lin" or settings.coupling != "none":
         law = pair_law(pair, settings, lmid, width, r1, r2, force=force, coupling=coupling)
+        # a cracked body's coupling beside the cracked tooth, as the tables'
+        factors = crack_cross_factors(pair, model, cracks, settings, r1, r2, inside, zfrac)
+    corner_factors = None
     # corner contacts: outside the path, at the whole slice width, with the stiffness
     # of the pair at the nearer end of the path
     corner_mask = np.zeros(frac.shape, dtype=bool)
@@ -553,8 +560,11 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
             c_corner = cl + cc1 + cc2  # normal compliance per unit width [m^2/N]
             cross = None
             if settings.coupling != "none":
-                cross = _corner_cross(g1, g2, coupling, inside, corner_mask,
-                                      np.where(inside, r1, rc1), np.where(inside, r2, rc2))
+                rr1, rr2 = np.where(inside, r1, rc1), np.where(inside, r2, rc2)
+                x1c, x2c = _corner_cross(g1, g2, coupling, inside, corner_mask, rr1, rr2)
+                cross = x1c + x2c
+                corner_factors = crack_cross_factors(pair, model, cracks, settings, rr1, rr2,
+                                                     inside | corner_mask, zfrac)
         else:
             kc_unit = np.where(corner_mask, 1.0 / (ch + cc1 + cc2), 0.0)
     roll1 = np.where(corner_mask, np.clip(centre, la, le), lmid)
@@ -607,11 +617,14 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
                 kunit = np.where(inside, 1.0 / (ch + comp), 0.0)
             kfull = kunit * width
         else:
-            kfull, chs = law(comp)
+            f = factors(i1, i2) if factors is not None else None
+            kfull, chs = law(comp) if f is None else law(comp, f)
         if corner and settings.contact == "line":
+            fc = corner_factors(i1, i2) if corner_factors is not None else None
             kc, sc = _condensed_corners(kfull, np.where(inside, chs + comp, 1.0), width,
                                         inside, corner_mask, c_corner, rate, s_corner, dz,
-                                        centre <= la, cross)
+                                        centre <= la,
+                                        cross if fc is None else x1c * fc[0] + x2c * fc[1])
             kfull = np.where(corner_mask, kc, kfull)
             sep = np.where(corner_mask, sep - s_corner + sc, sep)
         elif corner:

@@ -54,7 +54,8 @@ from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance,
 from gearsim.stiffness.tooth import hertz_stiffness, line_contact_compliance
 
 __all__ = ["COMPONENTS", "DEFAULT_SLICES", "MeshStiffness", "StiffnessSettings", "ToothCrack",
-           "assemble_revolution", "centre_line_depth", "corner_closing", "extended_grid",
+           "assemble_revolution", "centre_line_depth", "corner_closing", "crack_cross_factors",
+           "extended_grid",
            "extended_law", "in_path_fraction", "mesh_stiffness", "pair_law", "slice_grid",
            "slice_law"]
 
@@ -383,7 +384,10 @@ def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
     callable
         ``law(teeth) -> (ks, chs)``: from the summed tooth compliances of both gears per
         unit width [m^2/N], shape (npc, n_age, ns), the stiffness of each slice contact
-        [N/m] and the contact compliance per unit width used [m^2/N].
+        [N/m] and the contact compliance per unit width used [m^2/N]. With coupling,
+        ``law(teeth, factors)`` multiplies the body cross compliance of each gear by
+        ``factors = (f1, f2)``, shape (npc, n_age - 1, ns) each (a cracked body's
+        coupling, :func:`crack_cross_factors`).
 
     Raises
     ------
@@ -428,8 +432,20 @@ def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
     if corner is not None:
         require(line, "stiffness.contact", settings.contact,
                 'contact outside the path needs the line contact (stiffness.contact = "line")')
-        return extended_law(width, corner, separation, rate, ch, cross, contact, force)
-    return slice_law(width, ch, cross, contact, force)
+        inner = extended_law(width, corner, separation, rate, ch, cross, contact, force)
+    else:
+        inner = slice_law(width, ch, cross, contact, force)
+    if cross is None:
+        return inner
+
+    def law(teeth: np.ndarray, factors: tuple[np.ndarray, np.ndarray] | None = None
+            ) -> tuple[np.ndarray, np.ndarray]:
+        # factors: a cracked body's coupling, per gear (crack_cross_factors)
+        if factors is None:
+            return inner(teeth)
+        return inner(teeth, x1 * factors[0] + x2 * factors[1])
+
+    return law
 
 
 def slice_law(width: np.ndarray, ch: float, cross: np.ndarray | None,
@@ -457,14 +473,17 @@ def slice_law(width: np.ndarray, ch: float, cross: np.ndarray | None,
     callable
         ``law(teeth) -> (ks, chs)`` as :func:`pair_law`'s; with ``contact``,
         :data:`LINE_ITERATIONS` fixed-point passes on the load per unit width
-        q = F k_slice / (k_mesh w) of each contact.
+        q = F k_slice / (k_mesh w) of each contact. ``law(teeth, cross_now)`` takes the
+        cross compliance ``cross_now`` (same shape) in place of ``cross``.
     """
     inside = width > 0
     shape = width.shape
 
-    def law(teeth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def law(teeth: np.ndarray, cross_now: np.ndarray | None = None
+            ) -> tuple[np.ndarray, np.ndarray]:
+        cx = cross if cross_now is None else cross_now
         chs = np.full(shape, ch)
-        ks = _slice_stiffness(chs + teeth, width, cross)
+        ks = _slice_stiffness(chs + teeth, width, cx)
         if contact is not None:
             # fixed point on the load per unit width of each contact (ln dependence:
             # three passes change k by < 1e-6)
@@ -473,7 +492,7 @@ def slice_law(width: np.ndarray, ch: float, cross: np.ndarray | None,
                 with np.errstate(divide="ignore", invalid="ignore"):
                     q = np.where(width > 0, force * ks / (kt[:, None, None] * width), 1.0)
                 chs = np.where(inside, contact(q), ch)
-                ks = _slice_stiffness(chs + teeth, width, cross)
+                ks = _slice_stiffness(chs + teeth, width, cx)
         return ks, chs
 
     return law
@@ -666,7 +685,8 @@ def extended_law(width: np.ndarray, corner: np.ndarray, separation: np.ndarray,
     callable
         ``law(teeth) -> (ks, chs)``: the share of each slice contact in the secant mesh
         stiffness [N/m] (0 for an open corner) and the contact compliance per unit
-        width used [m^2/N], both (npc, n_age, ns).
+        width used [m^2/N], both (npc, n_age, ns). ``law(teeth, cross_now)`` takes the
+        cross compliance ``cross_now`` (same shape) in place of ``cross``.
     """
     exists = width > 0
     path = exists & ~corner
@@ -674,7 +694,8 @@ def extended_law(width: np.ndarray, corner: np.ndarray, separation: np.ndarray,
     s_pos = np.where(cand, separation, 0.0)
     rho = np.where(cand, rate, 1.0)
 
-    def solve(cdiag: np.ndarray, act: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def solve(cdiag: np.ndarray, act: np.ndarray, cross: np.ndarray | None
+              ) -> tuple[np.ndarray, np.ndarray]:
         if cross is None:
             with np.errstate(divide="ignore", invalid="ignore"):
                 a = np.where(act, rho / cdiag, 0.0)
@@ -687,7 +708,9 @@ def extended_law(width: np.ndarray, corner: np.ndarray, separation: np.ndarray,
                                                                          axis=(1, 2))
         return delta, np.where(act, delta[:, None, None] * a - b, 0.0)
 
-    def law(teeth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def law(teeth: np.ndarray, cross_now: np.ndarray | None = None
+            ) -> tuple[np.ndarray, np.ndarray]:
+        cx = cross if cross_now is None else cross_now
         chs = np.full(width.shape, ch)
         act = path.copy()
         q = np.zeros(width.shape)
@@ -696,11 +719,11 @@ def extended_law(width: np.ndarray, corner: np.ndarray, separation: np.ndarray,
                 chs = np.where(exists & (q > 0), contact(np.where(q > 0, q, 1.0)), chs)
             cdiag = chs + teeth
             for _ in range(CORNER_PASSES):
-                delta, q = solve(cdiag, act)
+                delta, q = solve(cdiag, act, cx)
                 approach = rho * (delta[:, None, None] - s_pos)
-                if cross is not None:  # the neighbours' loads deflect an open corner
-                    approach[:, 1:] -= np.where(cand[:, 1:], cross * q[:, :-1], 0.0)
-                    approach[:, :-1] -= np.where(cand[:, :-1], cross * q[:, 1:], 0.0)
+                if cx is not None:  # the neighbours' loads deflect an open corner
+                    approach[:, 1:] -= np.where(cand[:, 1:], cx * q[:, :-1], 0.0)
+                    approach[:, :-1] -= np.where(cand[:, :-1], cx * q[:, 1:], 0.0)
                 new = path | (cand & np.where(act, q > 0, approach > 0))
                 if np.array_equal(new, act):
                     break
@@ -751,10 +774,101 @@ def _tridiagonal_solve(diag: np.ndarray, off: np.ndarray, *rhs: np.ndarray
     return tuple(rp)
 
 
+def crack_cross_factors(pair: GearPair, model, cracks: tuple[ToothCrack, ...],
+                        settings: StiffnessSettings, r1: np.ndarray, r2: np.ndarray,
+                        inside: np.ndarray, zfrac: np.ndarray) -> Callable | None:
+    """Factors of a cracked gear body on the coupling of the pairs beside a cracked tooth.
+
+    The body coupling X of adjacent pairs (:func:`pair_law`) is measured on the healthy
+    gear; a crack in the fillet of a tooth changes how that tooth and its neighbours
+    deflect each other through the rim. A compliance model with a ``cross_factor``
+    method (:meth:`gearsim.fem.calibration.CalibratedCompliance.cross_factor`, measured
+    with the same FE solves as its crack correction) gives the factor G on X of the
+    pair between the cracked tooth and each neighbour: for the cracked tooth at age a
+    of the driver, column a - 1 (the younger neighbour read, the cracked tooth its
+    loaded ``+x`` neighbour) and column a (the cracked tooth read, its ``+x`` neighbour
+    of age a + 1 loaded); of the driven gear, whose older pair is the ``-x`` neighbour,
+    columns a and a - 1 the other way round (docs/stiffness.md 4c).
+
+    Parameters
+    ----------
+    pair : GearPair
+        The mesh.
+    model
+        The tooth-compliance model; without ``cross_factor`` there is no factor.
+    cracks : tuple of ToothCrack
+        The cracks of the mesh.
+    settings : StiffnessSettings
+        ``coupling`` (none: no factor), ``closure``, ``plane``.
+    r1, r2 : ndarray, shape (npc, n_age, ns)
+        Contact radii on driver and driven gear of each slice contact [m].
+    inside : ndarray of bool, shape (npc, n_age, ns)
+        The slice contacts that exist (elsewhere the radii are not used).
+    zfrac : ndarray, shape (ns,)
+        Axial position of each slice centre / face width [-].
+
+    Returns
+    -------
+    callable or None
+        ``factors(i1, i2)``: from the tooth index of each age column of both gears in a
+        mesh cycle, None (no cracked tooth with a factor) or ``(f1, f2)``, the factors
+        on the cross compliance of each gear, shape (npc, n_age - 1, ns) (products when
+        several cracked teeth meet, each measured alone). None when no crack of the
+        mesh takes a factor.
+    """
+    if settings.coupling == "none" or not hasattr(model, "cross_factor") or not cracks:
+        return None
+    g1, g2 = pair.driver, pair.driven
+    ra = (np.where(inside, r1, g1.tip_radius), np.where(inside, r2, g2.tip_radius))
+    n_col = inside.shape[1] - 1
+    memo: dict[tuple[int, int, int], np.ndarray | None] = {}
+
+    def columns(tc: ToothCrack, a: int) -> np.ndarray | None:
+        key = (tc.gear, tc.crack.tooth, a)
+        if key not in memo:
+            gear, rad = (g1, ra[0]) if tc.gear == 1 else (g2, ra[1])
+            # (column, age read, age loaded, the cracked tooth is the one read)
+            cols = (((a - 1, a - 1, a, False), (a, a, a + 1, True)) if tc.gear == 1 else
+                    ((a, a + 1, a, False), (a - 1, a, a - 1, True)))
+            f = None
+            for col, read, load, reads in cols:
+                if not 0 <= col < n_col:
+                    continue
+                g = model.cross_factor(gear, rad[:, read], rad[:, load], tc, reads, zfrac,
+                                       settings)
+                if g is None:
+                    continue
+                if f is None:
+                    f = np.ones(inside[:, :-1].shape)
+                f[:, col] = g
+            memo[key] = f
+        return memo[key]
+
+    if all(columns(tc, 0) is None and columns(tc, n_col) is None for tc in cracks):
+        return None
+
+    def factors(i1, i2) -> tuple[np.ndarray, np.ndarray] | None:
+        out = None
+        for tc in cracks:
+            for a, tooth in enumerate(i1 if tc.gear == 1 else i2):
+                if int(tooth) != tc.crack.tooth:
+                    continue
+                f = columns(tc, a)
+                if f is None:
+                    continue
+                if out is None:
+                    out = [np.ones(inside[:, :-1].shape), np.ones(inside[:, :-1].shape)]
+                out[tc.gear - 1] = out[tc.gear - 1] * f
+        return None if out is None else (out[0], out[1])
+
+    return factors
+
+
 def assemble_revolution(teeth: tuple[int, int], z_rev: int, npc: int,
                         healthy: tuple[np.ndarray, np.ndarray],
                         cracked: tuple[dict[int, np.ndarray], dict[int, np.ndarray]],
-                        width: np.ndarray, pairs: Callable, first: int = 0
+                        width: np.ndarray, pairs: Callable, first: int = 0,
+                        cross_factors: Callable | None = None
                         ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Mesh stiffness over ``z_rev`` mesh cycles from the tooth compliances of one cycle.
 
@@ -785,6 +899,10 @@ def assemble_revolution(teeth: tuple[int, int], z_rev: int, npc: int,
     first : int
         Age of the first column (-1 with the tip-corner contacts of
         :func:`extended_grid`: the pair before the path of contact).
+    cross_factors : callable, optional
+        ``cross_factors(i1, i2)`` of :func:`crack_cross_factors`: the cracked body's
+        factors on the coupling of a cycle, passed to ``pairs(teeth, factors)`` when not
+        None.
 
     Returns
     -------
@@ -821,7 +939,9 @@ def assemble_revolution(teeth: tuple[int, int], z_rev: int, npc: int,
         for m in range(n_age):
             c1[:, m] = cracked[0].get(i1[m], healthy[0])[:, m]
             c2[:, m] = cracked[1].get(i2[m], healthy[1])[:, m]
-        ks, chs = pairs(c1.sum(-1) + c2.sum(-1))
+        f = cross_factors(i1, i2) if cross_factors is not None else None
+        ks, chs = pairs(c1.sum(-1) + c2.sum(-1)) if f is None else pairs(
+            c1.sum(-1) + c2.sum(-1), f)
         kt = ks.sum(axis=(1, 2))
         k[sl] = kt
         pair_k[sl] = ks.sum(axis=2)
@@ -921,9 +1041,10 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
                      corner=corner, separation=sep, rate=rate)
 
     z_rev = g1.teeth if revolution_of == 1 else g2.teeth
+    factors = crack_cross_factors(pair, model, cracks, settings, r1, r2, width > 0, zfrac)
     k, comp, pair_k, t1, t2 = assemble_revolution(
         (g1.teeth, g2.teeth), z_rev, npc, (healthy1, healthy2), (cracked1, cracked2), width,
-        pairs, first)
+        pairs, first, factors)
     n_pos = z_rev * npc
     cycles = np.arange(n_pos) / npc
     return MeshStiffness(

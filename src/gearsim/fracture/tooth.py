@@ -88,8 +88,8 @@ class RimWeb:
     sides do not hold the bending rim. For the NASA test gear (z = 28) at backup ratio
     0.5 a crack low in the fillet breaks the tooth with 3 teeth and the rim with 5 to
     13 (coarse paths; docs/fracture.md, "Rim thickness"); the tests use 9. With 15
-    of 28 teeth (a sector of 193 deg) and the web, gmsh did not finish meshing (over
-    60 s, against 0.7 s with 13).
+    of 28 teeth (a sector of 193 deg), with or without the web, gmsh did not finish
+    meshing (over 60 s, against 0.7 s for a whole K solve with 13).
 
     Parameters
     ----------

@@ -83,6 +83,14 @@ class RimWeb:
     (2014), whose thin-rim gears have a web below the rim. The web dimensions of the
     test gears are not given here: ``hub_radius`` and ``thickness_ratio`` are inputs.
 
+    The sector's sides stay fixed, which a whole gear's rim is not: with a web, take
+    enough teeth (``n_teeth`` of :func:`sector_polygon` and the K functions) that the
+    sides do not hold the bending rim. For the NASA test gear (z = 28) at backup ratio
+    0.5 a crack low in the fillet breaks the tooth with 3 teeth and the rim with 5 to
+    13 (coarse paths; docs/fracture.md, "Rim thickness"); the tests use 9. With 15
+    of 28 teeth (a sector of 193 deg), with or without the web, gmsh did not finish
+    meshing (over 60 s, against 0.7 s for a whole K solve with 13).
+
     Parameters
     ----------
     hub_radius

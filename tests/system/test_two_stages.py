@@ -524,3 +524,19 @@ def test_analysis_kinematics_of_the_records_stage(box, signal, k):
     train = box.analysis_train(signal=signal)
     assert train == {"shaft_frequency": pytest.approx(f_c, rel=KIN_RTOL), "teeth": teeth}
     assert kinematics(**train).mesh_frequency == pytest.approx(f_m, rel=KIN_RTOL)
+
+
+def test_analyze_a_stage_two_record(box):
+    """gs.analyze of a record named as stage 2's: its carrier 12.5 / 6 Hz, f_m 208.33 Hz,
+    the sun and a planet relative to the carrier at f_s2 - f_c2 = 10.417 Hz and
+    (20 / 40) of it = 5.208 Hz, by hand (a noise record: only the kinematics matter)."""
+    import gearsim as gs
+
+    fs = 5000.0
+    x = np.random.default_rng(1).standard_normal(int(2.0 * fs))
+    train = gs.analyze(x, fs, gearbox=box, signal="mesh_force[stage2-sun-planet-1]"
+                       ).to_dict()["train"]
+    assert train["teeth"] == [100, 20, 40]
+    assert train["mesh_frequency_hz"] == pytest.approx(625 / 3, rel=KIN_RTOL)
+    assert list(train["shaft_frequencies_hz"].values()) == pytest.approx(
+        [F_C2, F_S2 - F_C2, (F_S2 - F_C2) * 20 / 40], rel=KIN_RTOL)

@@ -32,7 +32,7 @@ def _gearbox(model: Gearbox | str | Path) -> Gearbox:
 
 
 def analyze(x: Any, fs: float, *, gearbox: Gearbox | str | Path | None = None,
-            **options: Any) -> Analysis:
+            signal: str | None = None, **options: Any) -> Analysis:
     """Analyse a record (:func:`gearsim.signals.analysis.analyze`), optionally of a gearbox.
 
     Parameters
@@ -48,6 +48,10 @@ def analyze(x: Any, fs: float, *, gearbox: Gearbox | str | Path | None = None,
         analysis_stages` for a compound train, every stage's mesh analysed; else the
         tooth counts of :meth:`~gearsim.model.Gearbox.reference`, as for a simple
         train or a planetary stage) and the ``[analysis]`` settings.
+    signal : str, optional
+        Which record of ``gearbox`` ``x`` is (a name of :meth:`~gearsim.model.Gearbox.
+        signals`, e.g. ``"mesh_force[stage2-sun-planet-1]"``): its part's kinematics
+        (a stage in series, the gears beside a stage); default the gearbox's input part.
     **options
         Keywords of :func:`gearsim.signals.analysis.analyze`: ``teeth`` or ``stages``,
         ``shaft_frequency`` or ``tacho``, ``baseline``, ``settings``, analysis options.
@@ -74,7 +78,7 @@ def analyze(x: Any, fs: float, *, gearbox: Gearbox | str | Path | None = None,
     values = getattr(x, "values", x)
     if gearbox is not None:
         gb = _gearbox(gearbox)
-        train = gb.analysis_train()
+        train = gb.analysis_train(signal=signal)
         f_ref = train.pop("shaft_frequency")
         if "teeth" not in options and "stages" not in options:
             options |= train

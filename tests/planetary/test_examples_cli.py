@@ -157,7 +157,7 @@ def test_crack_on_missing_planet_refused(capsys, tmp_path) -> None:
     path.write_text(text)
     code, out, err = _run(capsys, "stiffness", path)
     assert code == 2
-    assert err.strip() == ("gearsim: error: crack.gear = planet-5: no such planet: the stage "
+    assert err.strip() == ("gearsim: error: cracks[0].gear = planet-5: no such planet: the stage "
                            "has 3 planets (planet-1 .. planet-3)")
 
 

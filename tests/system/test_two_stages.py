@@ -211,6 +211,7 @@ def test_simulate_prints_every_stage(box, tmp_path, capsys):
     assert "stage1: f_m 900 Hz, sun torque 200 N m, carrier torque -800 N m" in out
     assert ("stage2: f_m 208.333 Hz, sun torque 800 N m, carrier torque -4800 N m; shaft "
             "shaft-stage1-carrier-stage2-sun: torque mean") in out
+    assert "natural frequencies of the whole mean-stiffness lta model [Hz]: " in out
 
 
 def test_result_records_and_summary(box):
@@ -231,6 +232,7 @@ def test_result_records_and_summary(box):
         assert box.select(ds, spec).shape == (ds.sizes["time"],), spec
     assert "stage_shaft_torque[shaft-stage1-carrier-stage2-sun]" in box.signals()
     assert "stage2-carrier" in list(ds["shaft"].values)  # its tacho
+    assert box.reference(signal="mesh_force[stage2-sun-planet-1]")[0] == "stage2-carrier"
 
 
 # --- with gears on both sides: gears, two planetary stages, gears ------------------------
@@ -361,3 +363,180 @@ def test_stiffness_and_layout_print_every_stage(tmp_path, capsys):
     assert cli_run(["layout", str(path)]) == 0
     out = capsys.readouterr().out
     assert "stage 2 20/40/100 x 4: sun in, ring held; f_m 208.333 Hz" in out
+
+
+# --- a crack on the second stage ([[stages.cracks]]) --------------------------------------
+
+#: a 2 mm crack at the root of tooth 3 of stage 2's sun (20 teeth)
+STAGE2_CRACK = '[[stages.cracks]]\ngear = "sun"\ntooth = 3\ndepth = "2 mm"\n'
+#: by hand: stage 2's sun turns at stage 1's carrier speed, f_s2 = 50 / 4 = 12.5 Hz, its
+#: carrier at f_c2 = 12.5 / 6 Hz; the cracked sun tooth meets planet 1 once per sun
+#: revolution relative to the carrier, 1 / (f_s2 - f_c2) = 0.096 s, and one of the four
+#: planets every 0.024 s (a stage-1 reading would give z_s2 / f_m1 = 20 / 900 s)
+F_S2, F_C2 = 3000 / 60 / RATIO_1, 3000 / 60 / RATIO_1 / RATIO_2
+PERIOD_2 = 1.0 / (F_S2 - F_C2)
+
+
+@pytest.fixture(scope="module")
+def cracked():
+    return loads(TOML.replace("[operating]", STAGE2_CRACK + "[operating]"))
+
+
+def _lag(x: np.ndarray, dt: float, lo: float, hi: float) -> float:
+    """Lag [s] in (lo, hi) of the largest (unbiased) autocorrelation of ``x``."""
+    x = x - x.mean()
+    r = np.correlate(x, x, "full")[x.size - 1:] / (x.size - np.arange(x.size))
+    k = np.arange(x.size)
+    band = (k * dt > lo) & (k * dt < hi)
+    return float(k[band][np.argmax(r[band])] * dt)
+
+
+def test_stage_two_crack_changes_only_its_sun_tables(box, cracked):
+    s1, s2 = cracked.stages
+    assert not s1.cracks and [(c.gear, c.tooth, c.depth) for c in s2.cracks] == [
+        ("sun", 3, 2e-3)]
+    healthy, model = _model(box), _model(cracked)
+    e1, e2 = model.info["stages"]
+    sun2 = set(e2["rows"][0::2])  # stage 2's sun-planet meshes
+    for r in range(model.n_mesh):
+        same = np.array_equal(healthy.tables[r].k, model.tables[r].k)
+        assert same == (r not in sun2), model.info["row_names"][r]
+    # stage 1's arrays are the healthy model's (stage 2's held ring spring and its mesh
+    # damping follow its mean sun-mesh stiffness, which the crack lowers)
+    dofs, rows = slice(*e1["dofs"]), slice(0, e2["rows"][0])
+    for f, part in (("mass", dofs), ("kb", dofs), ("cb", dofs), ("cm", rows),
+                    ("phase", rows), ("V", slice(None)), ("rate", slice(None)),
+                    ("static_force", slice(None))):
+        assert np.array_equal(getattr(healthy, f)[part], getattr(model, f)[part]), f
+    # the cracked table spans a sun revolution relative to the carrier: z_s2 mesh cycles,
+    # read at stage 2's f_m (rate f_m2 / f_m1): 20 / 208.33 Hz = 0.096 s
+    for r in sun2:
+        assert model.tables[r].period == 20
+        assert model.tables[r].period / (model.rate[r] * model.mesh_frequency) == (
+            pytest.approx(PERIOD_2, rel=KIN_RTOL))
+    assert cracked.healthy().next_stages[0].train.cracks == ()
+    moved = cracked.with_crack("non-working", depth=1e-3).stages[1].cracks
+    assert [(c.flank, c.depth) for c in moved] == [("non-working", 1e-3)]
+
+
+def test_stage_two_crack_period_in_the_simulated_mesh_force(box, cracked):
+    """The crack's force change (cracked - healthy run) recurs at stage 2's kinematics."""
+    dh, dc = box.simulate(duration=0.3), cracked.simulate(duration=0.3)
+    assert dc.attrs["cracks"] == "stage2-sun:3:working:0.002"
+    dt = 1.0 / dc.attrs["fs"]
+    sun2 = [f"stage2-sun-planet-{j}" for j in range(1, 5)]
+    d = (dc["mesh_force"] - dh["mesh_force"]).sel(mesh=sun2).values
+    assert _lag(d[:, 0], dt, 0.03, 0.2) == pytest.approx(PERIOD_2, abs=dt)
+    assert _lag(d.sum(axis=1), dt, 0.01, 0.05) == pytest.approx(PERIOD_2 / 4, abs=dt)
+
+
+SPALL = ('[[stages.faults]]\nkind = "spall"\ngear = "{}"\nradius = "41 mm"\n'
+         'length = "1 mm"\nwidth = "5 mm"\ndepth = "0.01 mm"\n')
+
+
+def test_stage_two_fault_is_its_own():
+    gb = loads(TOML.replace("[operating]", SPALL.format("planet-2") + "[operating]"))
+    s1, s2 = gb.stages
+    assert not s1.faults and [f.gear for f in s2.faults] == ["planet-2"]
+    assert not any(st.faults for st in gb.healthy().stages)
+
+
+@pytest.mark.parametrize(("edit", "parameter"), [
+    (STAGE2_CRACK.replace('"sun"', '"planet-9"'), "stages[2].cracks[0].gear"),
+    (STAGE2_CRACK.replace('"sun"', '"moon"'), "stages[2].cracks[0].gear"),
+    (STAGE2_CRACK.replace("tooth = 3", "tooth = 20"), "stages[2].cracks[0].tooth"),
+    (STAGE2_CRACK.replace('"2 mm"', '"30 mm"'), "stages[2].cracks[0].depth"),
+    (STAGE2_CRACK + STAGE2_CRACK.replace("tooth = 3", "tooth = 4"), "stages[2].cracks[1].gear"),
+    (STAGE2_CRACK + STAGE2_CRACK.replace('"sun"', '"planet-1"'), "stages[2].cracks"),
+    (STAGE2_CRACK.replace("depth", "deep"), "stages[2].cracks[0].deep"),
+    (SPALL.format("ring"), "stages[2].faults[0].gear"),
+    (SPALL.format("planet-5"), "stages[2].faults[0].gear"),
+    (STAGE2_CRACK.replace("[[stages.", "[[") .replace('"sun"', '"planet-4"'),
+     "cracks[0].gear"),  # the first stage's: three planets
+])
+def test_bad_stage_damage_is_one_line(tmp_path, capsys, edit, parameter):
+    path = tmp_path / "box.toml"
+    path.write_text(TOML.replace("[operating]", edit + "[operating]"))
+    out = tmp_path / "never.nc"
+    code = cli_run(["simulate", str(path), "--out", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and err[0].startswith(
+        f"gearsim: error: {parameter} = "), err
+    assert not out.exists()
+
+
+def test_first_stage_damage_is_top_level(tmp_path, capsys):
+    text = TOML.replace("ring_addendum_coefficient = 0.8\n[[stages]]",
+                        "ring_addendum_coefficient = 0.8\n" + STAGE2_CRACK + "[[stages]]", 1)
+    path = tmp_path / "box.toml"
+    path.write_text(text)
+    assert cli_run(["simulate", str(path), "--out", str(tmp_path / "x.nc")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("gearsim: error: stages[1].cracks = ...") and "[[cracks]]" in err
+
+
+def test_lta_modes_are_the_whole_assembly(box):
+    """The LTA result's natural frequencies are those of the assembled model: each stage's
+    Lin & Parker mass and mean stiffness matrices (``LinParkerModel.mass_matrix``,
+    ``stiffness_matrix``) on the diagonal, and the shaft k_t (u_c1 / r_c1 - u_s2 / r_s2)
+    between them; not stage 1's alone."""
+    dyns = (box.members, box.next_stages[0].members)
+    lps = [build_stage_model(st, d, box.dynamics).info["lin_parker"]
+           for st, d in zip(box.stages, dyns, strict=True)]
+    M = scipy.linalg.block_diag(*(lp.mass_matrix() for lp in lps))
+    K = scipy.linalg.block_diag(*(lp.stiffness_matrix() for lp in lps))
+    b = np.zeros(M.shape[0])
+    b[lps[0].dof_index("carrier").start + 2] = 1.0 / model_radii(box.stages[0].stage)[
+        "carrier"]
+    b[lps[0].n_dof + lps[1].dof_index("sun").start + 2] = -1.0 / model_radii(
+        box.stages[1].stage)["sun"]
+    K += K_SHAFT * np.outer(b, b)
+    w2 = scipy.linalg.eigh(K, M, eigvals_only=True)
+    expected = np.sqrt(w2[w2 > 1e-12 * w2.max()]) / (2 * math.pi)
+    ds = box.simulate(duration=0.02)
+    got = ds["mode_frequency"].values
+    assert got.size == expected.size == 3 * (3 + 3) + 3 * (3 + 4) - 1  # less the rotation
+    np.testing.assert_allclose(got, expected, rtol=MODES_RTOL)
+    alone = lps[0].modes().frequencies
+    assert not np.isin(np.round(alone, 6), np.round(got, 6)).all()  # not stage 1's modes
+    assert set(ds["mode_kind"].values) == {"coupled"}
+    s = box.summary(ds)
+    assert s["modes_of"] == "natural frequencies of the whole mean-stiffness lta model"
+
+
+@pytest.mark.parametrize(("signal", "k"), [
+    ("mesh_force[stage2-sun-planet-1]", 2), ("mesh_force[stage2-ring-planet-4]", 2),
+    ("stage_shaft_torque[shaft-stage1-carrier-stage2-sun]", 2),
+    ("mesh_force[stage1-ring-planet-2]", 1), ("sensor", 1), ("ring_acceleration[x]", 1),
+    (None, 1),
+])
+def test_analysis_kinematics_of_the_records_stage(box, signal, k):
+    """A record of stage k is analysed with stage k's carrier and teeth: by hand, ring
+    held, the carrier at f_c1 = 50 / 4 = 12.5 Hz and f_c2 = 12.5 / 6 = 2.0833 Hz, and
+    f_m = z_r f_c: 72 x 12.5 = 900 Hz, 100 x 12.5 / 6 = 208.33 Hz."""
+    from gearsim.signals.analysis import kinematics
+
+    f_c, teeth, f_m = {1: (3000 / 60 / RATIO_1, [72, 24, 24], 900.0),
+                       2: (F_C2, [100, 20, 40], 625 / 3)}[k]
+    member, freq, z = box.reference(signal=signal)
+    assert (member, z) == (f"stage{k}-carrier", teeth)
+    assert freq == pytest.approx(f_c, rel=KIN_RTOL)
+    train = box.analysis_train(signal=signal)
+    assert train == {"shaft_frequency": pytest.approx(f_c, rel=KIN_RTOL), "teeth": teeth}
+    assert kinematics(**train).mesh_frequency == pytest.approx(f_m, rel=KIN_RTOL)
+
+
+def test_analyze_a_stage_two_record(box):
+    """gs.analyze of a record named as stage 2's: its carrier 12.5 / 6 Hz, f_m 208.33 Hz,
+    the sun and a planet relative to the carrier at f_s2 - f_c2 = 10.417 Hz and
+    (20 / 40) of it = 5.208 Hz, by hand (a noise record: only the kinematics matter)."""
+    import gearsim as gs
+
+    fs = 5000.0
+    x = np.random.default_rng(1).standard_normal(int(2.0 * fs))
+    train = gs.analyze(x, fs, gearbox=box, signal="mesh_force[stage2-sun-planet-1]"
+                       ).to_dict()["train"]
+    assert train["teeth"] == [100, 20, 40]
+    assert train["mesh_frequency_hz"] == pytest.approx(625 / 3, rel=KIN_RTOL)
+    assert list(train["shaft_frequencies_hz"].values()) == pytest.approx(
+        [F_C2, F_S2 - F_C2, (F_S2 - F_C2) * 20 / 40], rel=KIN_RTOL)

@@ -78,12 +78,16 @@ def simulate(
                    f"{s['mesh_frequency']:.6g} Hz")
     if s.get("modes"):
         top = max(m["frequency"] for m in s["modes"])
+        groups = "Lin & Parker" in s.get("modes_of", "Lin & Parker")  # classified groups
         modes = ", ".join("0 (rigid body)" if m["frequency"] < 1e-6 * top else
-                          f"{m['frequency']:.5g} ({m['kind'][0]}{m['multiplicity']})"
+                          f"{m['frequency']:.5g}" + (f" ({m['kind'][0]}{m['multiplicity']})"
+                                                     if groups else "")
                           for m in s["modes"])
-        typer.echo(f"natural frequencies of the stage's mean-stiffness Lin & Parker model "
-                   f"[Hz] (r rotational, t translational, p planet, m mixed; multiplicity): "
-                   f"{modes}")
+        legend = (" (r rotational, t translational, p planet, m mixed; multiplicity)"
+                  if groups else "")
+        what = ("the stage's mean-stiffness Lin & Parker model" if groups
+                else s["modes_of"])
+        typer.echo(f"natural frequencies of {what} [Hz]{legend}: {modes}")
     for st in s.get("stages", []):  # stages in series: each stage's torques
         shaft = (f"; shaft {st['shaft']}: torque mean {st['shaft_torque_mean']:.6g} N m "
                  f"(static {st['static_shaft_torque']:.6g}), RMS "

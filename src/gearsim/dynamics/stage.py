@@ -591,12 +591,15 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     dyn_f = ring_f - ring_f.mean(axis=0)
     w = sensor_window(theta_c[:, None] + psi[None, :] - dyn.sensor_angle, dyn.sensor_width)
     sensor = np.sum(w * dyn_f, axis=1)
-    if model.axes:
+    if model.axes and model.kind == "planetary":  # a stage alone: Lin & Parker's groups
         groups = model.info["lin_parker"].modes().groups
-    else:  # the torsional model's own modes (of the whole assembly)
+        modes_of = "the mean-stiffness Lin & Parker model"
+    else:  # the whole model's own modes: torsional, or stages and chains joined
         md = modes(model)
-        groups = [PlanetaryMode(frequency=float(f), multiplicity=1, kind="torsional",
+        kind = "coupled" if model.axes else "torsional"
+        groups = [PlanetaryMode(frequency=float(f), multiplicity=1, kind=kind,
                                 shapes=md.shapes[:, [i]]) for i, f in enumerate(md.frequencies)]
+        modes_of = f"the whole mean-stiffness {settings.model} model"
     extra: dict = {}
     extra_coords: dict = {}
     extra_attrs: dict = {}
@@ -665,8 +668,9 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
                                           for e in between]}
     # once-per-revolution tacho of every turning shaft (the stages' members, then the
     # chains' shafts), each in its own sense, following a speed profile
+    parts = series or ({"train": train, "prefix": ""},)  # the stages, named
     shafts = [(e["prefix"] + m, abs(e["train"].speeds[m]))
-              for e in (series or ({"train": train, "prefix": ""},))
+              for e in parts
               for m in ("carrier", "sun", "ring") if e["train"].speeds[m] != 0.0]
     for e in chains:
         ch = e["chain"]
@@ -684,8 +688,7 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
                                      "the transfer-path window of the fixed sensor"}),
          "carrier_angle": ("time", theta_c, {"units": "rad"}),
          "mode_frequency": ("mode", [g.frequency for g in groups],
-                            {"units": "Hz", "long_name": "natural frequencies of the "
-                             "mean-stiffness Lin & Parker model"}),
+                            {"units": "Hz", "long_name": f"natural frequencies of {modes_of}"}),
          "mode_multiplicity": ("mode", [g.multiplicity for g in groups]),
          "mode_kind": ("mode", [g.kind for g in groups]), **extra},
         coords={"time": ("time", t, {"units": "s"}), "mesh": names,
@@ -700,8 +703,8 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
                "ring_teeth": train.stage.ring_teeth, "planets": train.stage.planets,
                "static_mesh_force": float(model.static_force[rows[0]]),
                "sensor_angle": dyn.sensor_angle, "sensor_width": dyn.sensor_width,
-               "cracks": ", ".join(f"{c.gear}:{c.tooth}:{c.flank}:{c.depth:g}"
-                                   for c in train.cracks) or "none",
+               "cracks": ", ".join(f"{e['prefix']}{c.gear}:{c.tooth}:{c.flank}:{c.depth:g}"
+                                   for e in parts for c in e["train"].cracks) or "none",
                "constant_meshes": int(constant), **extra_attrs})
     return ds
 
@@ -719,7 +722,9 @@ def stage_summary(ds) -> dict:
     dict
         ``meshes`` (name, mean, rms, peak, static force), ``sensor_rms``,
         ``mesh_frequency``, ``modes`` (frequency [Hz], multiplicity, kind of each group of
-        the mean-stiffness Lin & Parker model), ``constant_meshes`` (no mesh table
+        the mean-stiffness Lin & Parker model of a stage alone; each mode of the whole
+        model, kind ``"torsional"`` or ``"coupled"``, of the torsional model or of stages
+        and chains joined), ``modes_of`` (which model), ``constant_meshes`` (no mesh table
         varies: no parametric excitation, the response stays at the static load); with
         stages in series ``stages`` (per stage ``mesh_frequency`` [Hz], ``sun_torque``,
         ``carrier_torque`` [N m], and the shaft driving it: ``shaft_torque_mean``,
@@ -743,6 +748,7 @@ def stage_summary(ds) -> dict:
                       for f, m, k in zip(ds["mode_frequency"].values,
                                          ds["mode_multiplicity"].values,
                                          ds["mode_kind"].values, strict=True)],
+            "modes_of": str(ds["mode_frequency"].attrs.get("long_name", "")),
             "constant_meshes": bool(ds.attrs.get("constant_meshes", 0)),
             **_stages_summary(ds), **_chain_summary(ds)}
 

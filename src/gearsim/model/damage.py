@@ -63,13 +63,15 @@ def array_of_tables(raw: Any, name: str) -> list:
     return raw
 
 
-def parse_faults(raw: Any) -> tuple:
+def parse_faults(raw: Any, table: str = "faults") -> tuple:
     """Parse the ``[[faults]]`` tables into fault objects (:mod:`gearsim.stiffness.faults`).
 
     Parameters
     ----------
     raw : list of dict
         The TOML array of tables; each names its ``kind``.
+    table : str, optional
+        Its name in messages (``"stages[2].faults"`` for a later stage's).
 
     Returns
     -------
@@ -78,38 +80,40 @@ def parse_faults(raw: Any) -> tuple:
     Raises
     ------
     InputError
-        Naming ``faults[i].<key>``: unknown kind or key, a key the kind does not take,
+        Naming ``<table>[i].<key>``: unknown kind or key, a key the kind does not take,
         a bad value.
     """
     out = []
-    for i, table in enumerate(array_of_tables(raw, "faults")):
-        name = f"faults[{i}]"
-        kw = convert(table, FAULT_KEYS, name, list_keys=("radii", "depths"))
+    for i, tab in enumerate(array_of_tables(raw, table)):
+        name = f"{table}[{i}]"
+        kw = convert(tab, FAULT_KEYS, name, list_keys=("radii", "depths"))
         kind = kw.pop("kind", None)
         if kind not in FAULT_FIELDS:
             raise InputError(f"{name}.kind", kind if kind is not None else "missing",
                              "must be one of " + ", ".join(FAULT_KINDS))
         for key in kw:
             if key not in FAULT_FIELDS[kind]:
-                raise InputError(f"{name}.{key}", table[key], f"is not a key of a {kind}; "
+                raise InputError(f"{name}.{key}", tab[key], f"is not a key of a {kind}; "
                                  f"allowed: kind, {', '.join(FAULT_FIELDS[kind])}")
         if "gear" not in kw:
             raise InputError(f"{name}.gear", "missing", "name the damaged gear")
         for key in ("radii", "depths"):
             if key in kw and not isinstance(kw[key], tuple):
                 kw[key] = (kw[key],)
-        with as_written(table, kind, FAULT_KEYS, sources=[(name, table)], default=name):
+        with as_written(tab, kind, FAULT_KEYS, sources=[(name, tab)], default=name):
             out.append(fault_from_kind(kind, **kw))
     return tuple(out)
 
 
-def parse_cracks(raw: Any) -> tuple[Crack, ...]:
+def parse_cracks(raw: Any, table: str = "cracks") -> tuple[Crack, ...]:
     """Parse the ``[[cracks]]`` tables into :class:`~gearsim.stiffness.crack.Crack`.
 
     Parameters
     ----------
     raw : list of dict
         The TOML array of tables; each names its ``gear``.
+    table : str, optional
+        Its name in messages (``"stages[2].cracks"`` for a later stage's).
 
     Returns
     -------
@@ -118,14 +122,14 @@ def parse_cracks(raw: Any) -> tuple[Crack, ...]:
     Raises
     ------
     InputError
-        Naming ``cracks[i].<key>``: a missing gear, an unknown key, a bad value.
+        Naming ``<table>[i].<key>``: a missing gear, an unknown key, a bad value.
     """
     out = []
-    for i, table in enumerate(array_of_tables(raw, "cracks")):
-        kw = convert(table, CRACK_KEYS, f"cracks[{i}]")
+    for i, tab in enumerate(array_of_tables(raw, table)):
+        name = f"{table}[{i}]"
+        kw = convert(tab, CRACK_KEYS, name)
         if "gear" not in kw:
-            raise InputError(f"cracks[{i}].gear", "missing", "name the cracked gear")
-        with as_written(table, "crack", CRACK_KEYS, sources=[(f"cracks[{i}]", table)],
-                        default=f"cracks[{i}]"):
+            raise InputError(f"{name}.gear", "missing", "name the cracked gear")
+        with as_written(tab, "crack", CRACK_KEYS, sources=[(name, tab)], default=name):
             out.append(Crack(**kw))
     return tuple(out)

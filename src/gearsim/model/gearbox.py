@@ -196,8 +196,8 @@ class Gearbox:
         ----------
         flank : {"none", "working", "non-working"} or None
             No crack, the cracks (or the default crack) on that flank, or as configured.
-            With a stage, its configured cracks are moved (a stage without a crack
-            refuses a flank: its member and tooth are not known); ``"none"`` removes every
+            With stages, their configured cracks are moved (stages without a crack
+            refuse a flank: the member and tooth are not known); ``"none"`` removes every
             crack of the gearbox.
         depth : float, optional
             Crack depth [m] of every crack.
@@ -210,49 +210,44 @@ class Gearbox:
         -------
         Gearbox
         """
-        stage, train = self.stage, self.train
-        if stage is not None:
+        gb, train = self, self.train
+        if self.stage is not None:
             require(source is None, "source", source, "a planetary stage's tooth compliance "
                     "is set in its [stiffness] section")
-            cracks = stage.cracks
             if flank not in (None, "none"):
-                require(bool(cracks), "crack", flank, "the planetary stage has no crack to "
-                        "vary: give the cracked member, tooth and flank in [[cracks]]")
-                constant = (stage.sun_mesh_stiffness is not None
-                            and (stage.ring_mesh_stiffness is not None
-                                 or not any(c.gear.startswith("planet-") for c in cracks)))
-                require(not constant, "crack", flank, "changes nothing: the meshes of the "
-                        "cracked member have constant stiffnesses (stage.sun_mesh_stiffness, "
-                        "stage.ring_mesh_stiffness); leave them out to compute the tables")
-                cracks = tuple(dataclasses.replace(c, flank=flank) for c in cracks)
-            if depth is not None and flank != "none":
-                cracks = tuple(dataclasses.replace(c, depth=depth) for c in cracks)
-            settings = stage.settings if closure is None else dataclasses.replace(
-                stage.settings, closure=closure)
-            stage = dataclasses.replace(stage, settings=settings,
-                                        cracks=() if flank == "none" else cracks)
+                require(any(st.cracks for st in self.stages), "crack", flank, "the planetary "
+                        "stage has no crack to vary: give the cracked member, tooth and flank "
+                        "in [[cracks]]")
+            gb = self._with_stages(tuple(_stage_crack(st, flank, depth, closure)
+                                         for st in self.stages))
             if flank not in (None, "none") or depth is not None:
-                return self._parts(stage, train, self.input_train)  # the stage's crack
+                return gb  # the stages' cracks
         inp = self.input_train
         if train is not None:
             train = train.with_crack(flank, depth=depth, closure=closure, source=source)
         if inp is not None:  # gears ahead of a stage: their own cracks, options alike
             inp = inp.with_crack(flank, closure=closure, source=source)
-        return self._parts(stage, train, inp)
+        return gb._parts(gb.stage, train, inp)
+
+    def _with_stages(self, stages: tuple[PlanetaryTrain, ...]) -> Gearbox:
+        """The gearbox with its stages (the first, then those in series) replaced."""
+        return dataclasses.replace(self, stage=stages[0], next_stages=tuple(
+            dataclasses.replace(s, train=t)
+            for s, t in zip(self.next_stages, stages[1:], strict=True)))
 
     def healthy(self) -> Gearbox:
-        """The gearbox without cracks and faults.
+        """The gearbox without cracks and faults (on every stage and chain).
 
         Returns
         -------
         Gearbox
         """
-        stage = (None if self.stage is None
-                 else dataclasses.replace(self.stage, cracks=(), faults=()))
+        gb = self if self.stage is None else self._with_stages(tuple(
+            dataclasses.replace(st, cracks=(), faults=()) for st in self.stages))
         train = None if self.train is None else self.train.with_crack("none").with_faults(())
         inp = (None if self.input_train is None
                else self.input_train.with_crack("none").with_faults(()))
-        return self._parts(stage, train, inp)
+        return gb._parts(gb.stage, train, inp)
 
     def replace(self, *, dynamics: dict[str, Any] | None = None,
                 analysis: dict[str, Any] | None = None,
@@ -777,8 +772,12 @@ class Gearbox:
         stage: ring or sun held, the carrier with ``Z_1 = z_r`` (ring held) or ``z_s``
         (sun held); carrier held, the ring with ``Z_1 = z_r``; then the other two tooth
         counts, so that ``f_m / Z_j`` are the member rotations relative to the carrier.
-        A record of the gears beside a stage (``chain_...``, ``shaft_torque``): the gears'
-        first shaft and teeth.
+        Of stages in series, the stage the record belongs to (a mesh of stage k,
+        ``mesh_force[stage<k>-...]``, and the shaft driving it, ``stage_shaft_torque``:
+        stage k's member, named ``stage<k>-carrier`` as its tacho, teeth and speeds; the
+        sensor and the ring's acceleration: the first stage's). A record of the gears
+        beside a stage (``chain_...``, ``shaft_torque``): the gears' first shaft and
+        teeth.
 
         Parameters
         ----------
@@ -807,14 +806,29 @@ class Gearbox:
             teeth = [g.teeth for g in tr.gears]
             member, freq = tr.flow.shafts[0].name, tr.shaft_frequency(0)
         else:
-            tr, st = self.stage, self.stage.stage
+            k = self._stage_record(signal)
+            tr = self.stages[k]
+            st = tr.stage
             zs, zp, zr = st.sun_teeth, st.planet_teeth, st.ring_teeth
             fixed = tr.operating.fixed
             member, teeth = (("ring", [zr, zs, zp]) if fixed == "carrier" else
                              ("carrier", [zs, zr, zp]) if fixed == "sun" else
                              ("carrier", [zr, zs, zp]))
             freq = abs(tr.speeds[member]) / (2.0 * math.pi)
+            member = stage_prefix(k, len(self.stages)) + member  # as the tacho names it
         return member, freq, teeth[:1] if shafts == "reference" else teeth
+
+    def _stage_record(self, signal: str | None) -> int:
+        """Index (from 0) of the stage ``signal`` is a record of: stage k for a mesh of
+        stage k (``mesh_force[stage<k>-...]``) and the shaft driving it
+        (``stage_shaft_torque[shaft-stage<k-1>-...-stage<k>-...]``), else the first."""
+        m = None if signal is None else _SIGNAL.fullmatch(signal)
+        if m is not None and m.group(1) in ("mesh_force", "stage_shaft_torque") \
+                and m.group(2) and len(self.stages) > 1:
+            k = re.findall(r"stage(\d+)-", m.group(2))
+            if k and 1 <= int(k[-1]) <= len(self.stages):
+                return int(k[-1]) - 1
+        return 0
 
     def _gears_record(self, signal: str | None) -> GearTrain | None:
         """The gears beside a stage that ``signal`` is a record of, else None: the chain
@@ -946,3 +960,24 @@ class Gearbox:
         if train is not None:  # the gears run at the last stage output's speed and torque
             train = dataclasses.replace(train, operating=chain_operating(last))
         return dataclasses.replace(self._parts(stage, train, inp), next_stages=tuple(nexts))
+
+
+def _stage_crack(stage: PlanetaryTrain, flank: str | None, depth: float | None,
+                 closure: str | None) -> PlanetaryTrain:
+    """``stage`` with its cracks moved to ``flank`` (``"none"``: removed) and ``depth``
+    [m], its crack-face model ``closure`` (:meth:`Gearbox.with_crack`)."""
+    cracks = stage.cracks
+    if flank not in (None, "none") and cracks:
+        constant = (stage.sun_mesh_stiffness is not None
+                    and (stage.ring_mesh_stiffness is not None
+                         or not any(c.gear.startswith("planet-") for c in cracks)))
+        require(not constant, "crack", flank, "changes nothing: the meshes of the "
+                "cracked member have constant stiffnesses (stage.sun_mesh_stiffness, "
+                "stage.ring_mesh_stiffness); leave them out to compute the tables")
+        cracks = tuple(dataclasses.replace(c, flank=flank) for c in cracks)
+    if depth is not None and flank != "none":
+        cracks = tuple(dataclasses.replace(c, depth=depth) for c in cracks)
+    settings = stage.settings if closure is None else dataclasses.replace(
+        stage.settings, closure=closure)
+    return dataclasses.replace(stage, settings=settings,
+                               cracks=() if flank == "none" else cracks)

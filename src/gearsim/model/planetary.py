@@ -41,9 +41,11 @@ of tables in power-flow order, each with the keys of ``[stage]``. The first is t
 ``[[cracks]]`` and ``[[faults]]`` are its); each later one is driven by the previous
 stage's output member through a shaft and may add ``fixed`` and ``input`` (its held and
 driven members, default ``"ring"`` and ``"sun"``), ``shaft_stiffness`` (default:
-:class:`gearsim.dynamics.compose.NextStage`), ``name`` and a ``members`` table. A bad
-value of entry k is named ``stages[k].<key>`` (k from 1). ``[input_chain]`` drives the
-first stage, ``[chain]`` is driven by the last.
+:class:`gearsim.dynamics.compose.NextStage`), ``name``, a ``members`` table and its own
+``[[stages.cracks]]`` and ``[[stages.faults]]`` (as ``[[cracks]]`` and ``[[faults]]``, on
+its gears). A bad value of entry k is named ``stages[k].<key>`` (k from 1), a refused
+crack ``stages[k].cracks[i].<key>`` (i from 0, as ``cracks[i]``). ``[input_chain]``
+drives the first stage, ``[chain]`` is driven by the last.
 
 Assembly (coaxiality, (z_s + z_r)/N, planet spacing, tip interference of the internal
 pair) and the cracks (a planet the stage does not have) are checked where the stage is
@@ -62,7 +64,7 @@ from gearsim.dynamics.stage import StageDynamics
 from gearsim.errors import InputError
 from gearsim.geometry.gear import Material
 from gearsim.geometry.planetary import PlanetaryStage
-from gearsim.model.damage import parse_cracks, parse_faults
+from gearsim.model.damage import CRACK_KEYS, FAULT_KEYS, parse_cracks, parse_faults
 from gearsim.model.gearbox import Gearbox
 from gearsim.sections import as_written, convert
 from gearsim.signals.settings import parse_analysis
@@ -92,7 +94,7 @@ PLANETARY_TOP_KEYS = ("name", "material", "stage", "stages", "operating", "membe
                       "sensor", "stiffness", "cracks", "faults", "dynamics", "analysis",
                       "chain", "input_chain")
 #: Keys of a ``[[stages]]`` entry after the first besides those of ``[stage]``.
-NEXT_STAGE_KEYS = ("name", "fixed", "input", "shaft_stiffness", "members")
+NEXT_STAGE_KEYS = ("name", "fixed", "input", "shaft_stiffness", "members", "cracks", "faults")
 #: Keys of ``[chain]``: the shaft and a gear train's sections (no operating point).
 CHAIN_KEYS = ("name", "shaft_stiffness", "common", "shafts", "gears", "meshes", "stiffness",
               "cracks", "faults", "modifications")
@@ -146,13 +148,11 @@ def parse_planetary(doc: dict[str, Any], material: Material,
         "coupling": "str", "model": "str"}, "stiffness")
     # both meshes of a stage take the gear trains' default model (docs/planetary.md 4.4)
     stiffness = StiffnessSettings(**model_options(stiffness_kw, "stiffness"))
-    cracks = parse_cracks(doc.get("cracks", []))
     name = doc.get("name", "planetary stage")
     if not isinstance(name, str):
         raise InputError("name", name, "must be a string")
-    faults = parse_faults(doc.get("faults", []))
-    train = PlanetaryTrain(stage=stage, operating=operating, settings=stiffness,
-                           cracks=tuple(cracks), name=name, faults=faults, **consts)
+    train = _stage_train(doc, "", stage=stage, operating=operating, settings=stiffness,
+                         name=name, **consts)
     sen = convert(doc.get("sensor", {}), SENSOR_KEYS, "sensor")
     members = _members(doc.get("members", {}), "members", sensor_angle=sen.get("angle", 0.0),
                        sensor_width=sen.get("width", math.pi))
@@ -185,8 +185,8 @@ def _stage_tables(doc: dict[str, Any]) -> tuple[dict[str, Any], list[Any]]:
             isinstance(t, dict) for t in tables):
         raise InputError("stages", "...", "must be one or more [[stages]] tables")
     where = {"fixed": "[operating]", "input": "[operating]", "members": "[members]",
-             "name": "the top-level name", "shaft_stiffness": "no shaft: its input is "
-             "[operating]'s"}
+             "name": "the top-level name", "cracks": "[[cracks]]", "faults": "[[faults]]",
+             "shaft_stiffness": "no shaft: its input is [operating]'s"}
     for key in tables[0]:
         if key in where:
             raise InputError(f"stages[1].{key}", "...", f"the first stage's is {where[key]}"
@@ -239,11 +239,37 @@ def _next_stage(raw: dict[str, Any], section: str, material: Material,
     if not isinstance(own, str):
         raise InputError(f"{section}.name", own, "must be a string")
     with as_written(raw, "stage", sources=[(section, raw)]):
-        train = PlanetaryTrain(stage=stage, operating=operating, settings=stiffness,
-                               name=own, **consts)
+        train = _stage_train(raw, f"{section}.", stage=stage, operating=operating,
+                             settings=stiffness, name=own, **consts)
     return NextStage(train=train, members=_members(raw.get("members", {}),
                                                    f"{section}.members"),
                      shaft_stiffness=_shaft(raw, section))
+
+
+def _stage_train(raw: dict[str, Any], where: str, **kw: Any) -> PlanetaryTrain:
+    """The stage of keywords ``kw`` with the ``cracks`` and ``faults`` tables of ``raw``
+    (``[[cracks]]`` of the first stage, ``where = ""``; ``[[stages.cracks]]`` of entry k,
+    ``where = "stages[k]."``). The damage is added one element at a time, so that a
+    refused crack or fault (a gear the stage does not have, a tooth too many) is named
+    as written, ``<where>cracks[i].<key>``, one line."""
+    cracks = parse_cracks(raw.get("cracks", []), f"{where}cracks")
+    faults = parse_faults(raw.get("faults", []), f"{where}faults")
+    train = PlanetaryTrain(**kw)  # the healthy stage: its own refusals first
+    steps = ([("crack", CRACK_KEYS, "cracks", i) for i in range(len(cracks))]
+             + [("fault", FAULT_KEYS, "faults", i) for i in range(len(faults))])
+    for prefix, spec, key, i in steps:
+        table = f"{where}{key}[{i}]"
+        tab = raw[key][i]
+        part = {"cracks": cracks[:i + 1] if key == "cracks" else cracks,
+                "faults": faults[:i + 1] if key == "faults" else ()}
+        try:
+            with as_written(tab, prefix, spec, sources=[(table, tab)], default=table):
+                train = PlanetaryTrain(**kw, **part)
+        except InputError as exc:  # two damaged members: the stage's list as a whole
+            if exc.parameter not in ("cracks", "faults"):
+                raise
+            raise InputError(f"{where}{exc.parameter}", exc.value, exc.limit) from None
+    return train
 
 
 def _shaft(raw: dict[str, Any], table: str) -> float | None:

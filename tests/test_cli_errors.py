@@ -191,8 +191,11 @@ def test_usage_error_in_a_real_process():
 
 def test_sigint_during_simulate_exit_130_no_output(tmp_path):
     """Ctrl-C (SIGINT to the process group) while simulating: one line, 130, no x.nc."""
-    proc = subprocess.Popen([*GEARSIM, "simulate", "idler-table1", "--duration", "3", "--out",
-                             "x.nc"], cwd=tmp_path, start_new_session=True,
+    # 60 s simulated at 10 kHz: 6e6 steps, a few seconds of kernel after a start-up of
+    # 1-2 s, so that the interrupt lands in the run (3 s at 50 kHz, as before, now ends
+    # before 2 s, and a signal at the interpreter's exit is Python's, not the CLI's)
+    proc = subprocess.Popen([*GEARSIM, "simulate", "idler-table1", "--duration", "60", "--fs",
+                             "10000", "--out", "x.nc"], cwd=tmp_path, start_new_session=True,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         time.sleep(2.0)

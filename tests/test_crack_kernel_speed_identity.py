@@ -5,8 +5,9 @@ closure state changes. The cut is defined by a bisection of N_BISECT steps on th
 discrete state (``_bisect_change``); ``_locate_change`` finds the same double with a
 superlinear search on the closure stresses and replays the bisection only where
 round-off can flip the state. These tests hold it to that definition bit for bit (the
-finite-difference Jacobian of the Gauss rule turns a cut moved by one double into a
-1e-10 change of the compliance), check the batch's shared scan store against single
+results then do not depend on the search; with the former finite-difference Jacobian
+of the Gauss rule a cut moved by one double changed the compliance by 1e-10, with the
+analytic one by round-off), check the batch's shared scan store against single
 evaluations, the compliance against the independent quad oracle, and its continuity in
 the contact radius across closure boundaries.
 """

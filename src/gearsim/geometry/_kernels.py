@@ -54,22 +54,79 @@ def fillet_point(g, prof):
     References
     ----------
     Litvin & Fuentes (2004), ch. 10: the generating point's normal passes through the
-    pitch point.
+    pitch point (equations in :func:`fillet_point_d`, which computes it).
+    """
+    x, y, _, _ = fillet_point_d(g, prof)
+    return x, y
+
+
+@njit(cache=True)
+def fillet_point_d(g, prof):
+    """Point of the generated fillet and its derivatives with respect to ``g``.
+
+    :func:`fillet_point` returns its first two values (the expressions of the point
+    are those it had before the derivatives were added, bit for bit); the analytic
+    derivatives share the point's trigonometric calls. With r the reference radius,
+    cos(beta) = ``prof[P_CB]``, rho the tip-round radius and (u_c, v_c) its centre in
+    the normal section of the rack (``P_UC``, ``P_VC``):
+
+    * generating point on the rack, transverse section (u from the space centre, v
+      from the rolling line):
+      q_u = (u_c - rho cos g) / cos(beta),  q_v = v_c - rho sin g [m];
+    * rolling distance r phi (the point's normal passes through the pitch point):
+      r phi = q_v cos(beta) cot g - q_u [m];
+    * in the tooth frame, with X = q_u + r phi, Y = r + q_v [m]:
+      x = X cos phi - Y sin phi,  y = X sin phi + Y cos phi.
+
+    Differentiating (' = d/dg):
+
+    * q_u' = rho sin g / cos(beta),  q_v' = -rho cos g [m/rad];
+    * X' = cos(beta) (q_v' cos g - q_v / sin g) / sin g [m/rad], as
+      X = q_v cos(beta) cot g (the q_u terms cancel), (r phi)' = X' - q_u',
+      phi' = (r phi)' / r [1];
+    * Y' = q_v';
+    * x' = X' cos phi - Y' sin phi - y phi',  y' = X' sin phi + Y' cos phi + x phi'
+      [m/rad] (the rotation by phi differentiated: d(cos phi) = -sin phi phi',
+      d(sin phi) = cos phi phi').
+
+    Parameters
+    ----------
+    g
+        Angle of the rack tip round's normal, alpha_n <= g <= pi/2 [rad].
+    prof
+        Packed profile array (``P_*`` layout).
+
+    Returns
+    -------
+    tuple of float
+        (x, y) [m] and (dx/dg, dy/dg) [m/rad] in the tooth frame.
+
+    References
+    ----------
+    Litvin & Fuentes (2004), ch. 10: the generated surface (the generating point's
+    normal passes through the pitch point); the derivatives follow from the
+    parametrisation above by the chain rule.
     """
     r = prof[P_R]
     cb = prof[P_CB]
     rho = prof[P_RHO]
-    qu = (prof[P_UC] - rho * math.cos(g)) / cb
-    qv = prof[P_VC] - rho * math.sin(g)
-    # the normal of the (elliptical, in the transverse plane) round passes through the
-    # pitch point: u-intercept of the normal line on the rolling line is -r phi
-    rphi = -(qu - qv * math.cos(g) * cb / math.sin(g))
+    cg = math.cos(g)
+    sg = math.sin(g)
+    qu = (prof[P_UC] - rho * cg) / cb
+    qv = prof[P_VC] - rho * sg
+    rphi = -(qu - qv * cg * cb / sg)
     phi = rphi / r
     X = qu + rphi
     Y = r + qv
     c = math.cos(phi)
     s = math.sin(phi)
-    return X * c - Y * s, X * s + Y * c
+    x = X * c - Y * s
+    y = X * s + Y * c
+    dqu = rho * sg / cb
+    dqv = -rho * cg
+    dX = cb * (dqv * cg - qv / sg) / sg
+    dphi = (dX - dqu) / r
+    return x, y, dX * c - dqv * s - y * dphi, dX * s + dqv * c + x * dphi
 
 
 @njit(cache=True)
@@ -86,15 +143,59 @@ def involute_point(rad, prof):
     Returns
     -------
     tuple of float
-        (x, y) = r (sin psi, cos psi), psi = psi_b - inv(alpha_r) [m].
+        (x, y) = r (sin psi, cos psi), psi = psi_b - inv(alpha_r) [m]
+        (computed by :func:`involute_point_d`).
+    """
+    x, y, _, _ = involute_point_d(rad, prof)
+    return x, y
+
+
+@njit(cache=True)
+def involute_point_d(rad, prof):
+    """Point of the involute flank and its derivatives with respect to the radius.
+
+    :func:`involute_point` returns its first two values (the expressions of the point
+    are those it had before the derivatives were added, bit for bit); the analytic
+    derivatives share the point's trigonometric calls. With
+    alpha = arccos(r_b / rad) and psi = psi_b - inv(alpha), inv(alpha) = tan(alpha) -
+    alpha:
+
+    * x = rad sin psi,  y = rad cos psi [m];
+    * d alpha / d rad = 1 / (rad tan alpha) (from cos alpha = r_b / rad), hence
+      d inv(alpha) / d rad = tan^2(alpha) d alpha / d rad = tan(alpha) / rad and
+      d psi / d rad = -tan(alpha) / rad [rad/m];
+    * dx/drad = sin psi - tan(alpha) cos psi,  dy/drad = cos psi + tan(alpha) sin psi
+      [-].
+
+    Below the base circle (clipped to it, as :func:`involute_point`) alpha = 0 and the
+    derivatives are those of the clipped function, (sin psi_b, cos psi_b).
+
+    Parameters
+    ----------
+    rad
+        Radius, >= r_b (clipped to the base circle below it) [m].
+    prof
+        Packed profile array (``P_*`` layout).
+
+    Returns
+    -------
+    tuple of float
+        (x, y) [m] and (dx/drad, dy/drad) [-].
+
+    References
+    ----------
+    Litvin & Fuentes (2004), ch. 10 (involute function; ISO 21771:2007).
     """
     rb = prof[P_RB]
     ca = rb / rad
     if ca > 1.0:
         ca = 1.0
     a = math.acos(ca)
-    psi = prof[P_PSIB] - (math.tan(a) - a)
-    return rad * math.sin(psi), rad * math.cos(psi)
+    t = math.tan(a)
+    psi = prof[P_PSIB] - (t - a)
+    sp = math.sin(psi)
+    cp = math.cos(psi)
+    return rad * sp, rad * cp, sp - t * cp, cp + t * sp
 
 
 @njit(cache=True)
@@ -121,8 +222,39 @@ def profile_point(seg, p, prof):
 
 
 @njit(cache=True)
+def profile_point_d(seg, p, prof):
+    """Outline point of one segment and its derivatives with respect to the parameter.
+
+    :func:`fillet_point_d` or :func:`involute_point_d`: about the cost of one
+    :func:`profile_point` (the Jacobian of the compliance integrals).
+
+    Parameters
+    ----------
+    seg
+        0 fillet (``p`` the rack-round angle [rad]), 1 involute (``p`` the radius [m]).
+    p
+        Segment parameter.
+    prof
+        Packed profile array (``P_*`` layout).
+
+    Returns
+    -------
+    tuple of float
+        (x, y) [m], (dx/dp, dy/dp) [m/rad on the fillet, - on the involute].
+    """
+    if seg == 0:
+        return fillet_point_d(p, prof)
+    return involute_point_d(p, prof)
+
+
+@njit(cache=True)
 def profile_dy(seg, p, prof):
     """Derivatives (dx/dp, dy/dp) of the outline by central differences.
+
+    Kept for :meth:`gearsim.geometry.profile.ToothProfile.tangent_point` (the 30 degree
+    tangent that places a crack's default start), whose result it defines; the
+    compliance integrals take the analytic derivatives of :func:`profile_point_d`. Its
+    round-off is ~eps |(x, y)| / h: up to ~3e-7 of |(dx, dy)| near the root.
 
     Parameters
     ----------

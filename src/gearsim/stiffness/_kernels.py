@@ -3,7 +3,8 @@
 Per unit face width (L = 1 m) and unit contact force, for a contact point at radius
 ``rc`` on the involute, the kernel integrates over the tooth from the root circle to
 the height of the contact point, with fixed Gauss-Legendre rules in the outline's own
-parameters (fillet angle, involute radius):
+parameters (fillet angle, involute radius), the Jacobian dy/dp at each node analytic
+(:func:`gearsim.geometry._kernels.profile_point_d`, computed with the point):
 
     1/k_b = int (F_b (y_c - y) - F_a x_c)^2 / (E I_y) dy       (bending, seed eq. 4)
     1/k_s = int 1.2 F_b^2 / (G A_y) dy                           (shear, seed eq. 6)
@@ -38,9 +39,10 @@ cut the tooth off is refused there):
 Under the contact model the integrand has a kink where the state changes (closed /
 partly closed / open); each cracked piece is cut there so that the fixed rule stays
 exact. The state is sampled at N_SCAN + 1 points of the piece, and each change is cut
-where a bisection of N_BISECT steps on the state puts it (to the double). The cut must
-be that double: the Jacobian is a central difference (step 1e-7), so moving a node by one
-double changes the compliance by up to ~1e-10. :func:`_locate_change` finds the same
+where a bisection of N_BISECT steps on the state puts it (to the double). The cut is
+that double, so the result does not depend on how it is found (with the former
+central-difference Jacobian a node moved by one double changed the compliance by up to
+~1e-10; with the analytic one, by round-off). :func:`_locate_change` finds the same
 double with a secant search on the closure stresses and a replay of the bisection where
 round-off can flip the state (about 5 x fewer outline evaluations), and a batch keeps
 the scan samples of the pieces whose ends come from the crack record (the same for all
@@ -61,8 +63,8 @@ from gearsim.geometry._kernels import (
     P_THF,
     P_YROOT,
     involute_point,
-    profile_dy,
     profile_point,
+    profile_point_d,
 )
 
 # crack record layout (one per slice of the cracked tooth)
@@ -135,8 +137,7 @@ def _integrate_piece(seg, pa, pb, cracked, cr, model, prof, fb, fa, xc, yc, e_mo
     mid = 0.5 * (pb + pa)
     for k in range(nodes.shape[0]):
         p = mid + half * nodes[k]
-        x, y = profile_point(seg, p, prof)
-        dxdp, dydp = profile_dy(seg, p, prof)
+        x, y, _, dydp = profile_point_d(seg, p, prof)
         jac = abs(dydp * half) * weights[k]
         eb, es, ea = _section_energy(x, y, cracked, cr, model, fb, fa, xc, yc, e_mod, g_mod)
         acc[0] += eb * jac

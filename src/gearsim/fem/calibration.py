@@ -715,12 +715,13 @@ class CalibratedCompliance:
         spline, roll_nodes, q_top = got
         ns = r.shape[-1]
         depths = crack.crack.depth_at(zfrac) if ns > 1 else np.array([crack.crack.depth])
-        rows = spline(np.minimum(depths, q_top))  # (ns, NODES)
+        q = np.minimum(np.broadcast_to(depths, (ns,)), q_top)
         roll = np.clip(np.sqrt(np.maximum(r**2 - gear.base_radius**2, 0.0)),
                        roll_nodes[0], roll_nodes[-1])
         out = np.empty(r.shape)
-        for k in range(ns):
-            out[..., k] = CubicSpline(roll_nodes, rows[k])(roll[..., k])
+        for qk in np.unique(q):  # the slices of one depth share a factor curve
+            on = q == qk
+            out[..., on] = CubicSpline(roll_nodes, spline(float(qk)))(roll[..., on])
         return out
 
     def _corrected(self, crack: ToothCrack, settings: StiffnessSettings) -> bool:

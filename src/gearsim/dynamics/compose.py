@@ -75,7 +75,7 @@ from gearsim.system.train import Operating
 
 __all__ = ["SHAFT_FACTOR", "SIDES", "STAGE_ONLY", "NextStage", "build_stage_chain_model",
            "chain_operating", "next_operating", "output_member", "simulate_stage_chain",
-           "stage_operating", "stage_prefix", "stage_settings"]
+           "stage_operating", "stage_prefix", "stage_settings", "stage_shaft_name"]
 
 #: Where the chain sits: driven by the stage's output ("output") or driving its input.
 SIDES = ("output", "input")
@@ -305,6 +305,26 @@ def stage_prefix(k: int, n: int) -> str:
     return "" if n == 1 else f"stage{k + 1}-"
 
 
+def stage_shaft_name(prev_prefix: str, prev: PlanetaryTrain, prefix: str,
+                     train: PlanetaryTrain) -> str:
+    """Name of the shaft from the stage ``prev``'s output member to ``train``'s input.
+
+    Parameters
+    ----------
+    prev_prefix, prefix : str
+        The two stages' name prefixes (:func:`stage_prefix`).
+    prev, train : PlanetaryTrain
+        The driving and the driven stage.
+
+    Returns
+    -------
+    str
+        ``shaft-<prev_prefix><output member>-<prefix><input member>``:
+        ``shaft-stage1-carrier-stage2-sun``.
+    """
+    return f"shaft-{prev_prefix}{output_member(prev)}-{prefix}{train.operating.input}"
+
+
 def next_operating(prev: PlanetaryTrain, fixed: str, driven: str) -> StageOperating:
     """Operating point of a stage driven by the output member of the stage ``prev``.
 
@@ -438,7 +458,7 @@ def _join_stage(base: DynamicModel, prev: PlanetaryTrain, prev_prefix: str, nxt:
     info = {"stages": (*base.info["stages"], entry),
             "mesh_rows": base.info["mesh_rows"] + rows,
             "row_names": (base.info["row_names"] + part.info["row_names"]
-                          + (f"shaft-{prev_prefix}{out}-{prefix}{op.input}",)),
+                          + (stage_shaft_name(prev_prefix, prev, prefix, nxt.train),)),
             "output_member": output_member(nxt.train)}
     return _join(base, part, _member(base, prev_prefix, prev, out, "output"),
                  _member(part, prefix, nxt.train, op.input, "input"), kt,

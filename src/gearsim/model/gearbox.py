@@ -30,8 +30,8 @@ from gearsim.dynamics.compose import (
     NextStage,
     chain_operating,
     next_operating,
-    output_member,
     stage_prefix,
+    stage_shaft_name,
 )
 from gearsim.dynamics.lta import AXES as LTA_AXES
 from gearsim.dynamics.lta import dof_map
@@ -659,9 +659,9 @@ class Gearbox:
                             for m in ("sun", "ring")]
             out += [f"ring_acceleration[{a}]" for a in ("x", "y")]
             if n > 1:
-                out += [f"stage_shaft_torque[shaft-{stage_prefix(k - 1, n)}"
-                        f"{output_member(self.stages[k - 1])}-{stage_prefix(k, n)}"
-                        f"{self.stages[k].operating.input}]" for k in range(1, n)]
+                out += ["stage_shaft_torque[" + stage_shaft_name(
+                    stage_prefix(k - 1, n), self.stages[k - 1], stage_prefix(k, n),
+                    self.stages[k]) + "]" for k in range(1, n)]
             if self.chains:  # the gears the stage drives and those that drive it
                 out += [f"chain_mesh_force[{name}]" for name in self._chain_mesh_names()]
                 out.append("shaft_torque")

@@ -211,7 +211,7 @@ def test_simulate_prints_every_stage(box, tmp_path, capsys):
     assert "stage1: f_m 900 Hz, sun torque 200 N m, carrier torque -800 N m" in out
     assert ("stage2: f_m 208.333 Hz, sun torque 800 N m, carrier torque -4800 N m; shaft "
             "shaft-stage1-carrier-stage2-sun: torque mean") in out
-    assert "natural frequencies of the whole mean-stiffness lta model [Hz]: " in out
+    assert "\nnatural frequencies of the whole mean-stiffness lta model [Hz]: " in out
 
 
 def test_result_records_and_summary(box):
@@ -547,3 +547,72 @@ def test_analyze_a_stage_two_record(box):
     assert train["mesh_frequency_hz"] == pytest.approx(625 / 3, rel=KIN_RTOL)
     assert list(train["shaft_frequencies_hz"].values()) == pytest.approx(
         [F_C2, F_S2 - F_C2, (F_S2 - F_C2) * 20 / 40], rel=KIN_RTOL)
+
+
+# --- the analysis of a result file: each record with its own part's kinematics ----------
+
+#: By hand for TOML_CHAINS: input 1500 rpm = 25 Hz through 20/60 to stage 1's sun, each
+#: stage's carrier at its sun / (1 + z_r / z_s), the output gears on stage 2's carrier.
+F_IN = 1500 / 60
+F_C1_CH = F_IN * 20 / 60 / RATIO_1
+F_C2_CH = F_C1_CH / RATIO_2
+
+
+@pytest.fixture(scope="module")
+def chains_result(tmp_path_factory):
+    from gearsim.io.results import write_results
+
+    path = tmp_path_factory.mktemp("chains") / "chains.nc"
+    write_results(loads(TOML_CHAINS).simulate(duration=0.05, fs=5000.0), path)
+    return path
+
+
+@pytest.mark.parametrize(("channel", "signal", "speed", "teeth", "planetary"), [
+    ("mesh_force[mesh=stage2-sun-planet-1]", "mesh_force[stage2-sun-planet-1]", F_C2_CH,
+     [100, 20, 40], 2),
+    ("mesh_force[mesh=stage1-ring-planet-3]", "mesh_force[stage1-ring-planet-3]", F_C1_CH,
+     [72, 24, 24], 1),
+    ("stage_shaft_torque[stage_shaft=shaft-stage1-carrier-stage2-sun]",
+     "stage_shaft_torque[shaft-stage1-carrier-stage2-sun]", F_C2_CH, [100, 20, 40], 2),
+    ("sensor", "sensor", F_C1_CH, [72, 24, 24], 1),
+    ("chain_mesh_force[chain_mesh=I]", "chain_mesh_force[I]", F_IN, [20, 60], None),
+    ("chain_mesh_force[chain_mesh=II]", "chain_mesh_force[II]", F_C2_CH, [50, 25], None),
+    ("shaft_torque", "shaft_torque", F_C2_CH, [50, 25], None),
+    ("input_shaft_torque", "input_shaft_torque", F_IN, [20, 60], None),
+])
+def test_analyze_a_result_file_per_part(chains_result, channel, signal, speed, teeth,
+                                        planetary):
+    """``gearsim analyze RESULT.nc`` analyses each record with the speed and teeth of the
+    part it belongs to (by hand above), the same as ``gs.analyze(..., signal=)`` takes
+    from the gearbox; a stage's record adds that stage's planetary tier (f_c, and
+    f_m = z_r f_c: 100 f_c2 for stage 2), a gear chain's record none."""
+    from gearsim.studies.batch import analyze_file
+
+    out, problems = analyze_file(str(chains_result), channels=[channel])
+    assert problems == []
+    rec = out[0]["record"]
+    assert rec["speed_hz"] == pytest.approx(speed, rel=KIN_RTOL)
+    assert rec["teeth"] == teeth and rec["speed_provenance"] == "file"
+    api = loads(TOML_CHAINS).analysis_train(signal=signal)
+    assert api == {"shaft_frequency": pytest.approx(rec["speed_hz"], rel=KIN_RTOL),
+                   "teeth": rec["teeth"]}
+    tier = rec["tiers"].get("planetary")
+    if planetary is None:
+        assert tier is None
+    else:
+        f_c, z_r = {1: (F_C1_CH, 72), 2: (F_C2_CH, 100)}[planetary]
+        assert tier["frequencies"]["carrier"] == pytest.approx(f_c, rel=KIN_RTOL)
+        assert tier["frequencies"]["mesh"] == pytest.approx(z_r * f_c, rel=KIN_RTOL)
+
+
+def test_cli_analyze_of_a_stage_two_record(chains_result, capsys):
+    code = cli_run(["analyze", str(chains_result), "--channel",
+                    "mesh_force[mesh=stage2-sun-planet-1]", "--json"])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    import json
+
+    rec = json.loads(out)["records"][0]
+    assert rec["teeth"] == [100, 20, 40]
+    assert rec["tiers"]["planetary"]["frequencies"]["mesh"] == pytest.approx(
+        100 * F_C2_CH, rel=KIN_RTOL)

@@ -85,9 +85,9 @@ def simulate(
                           for m in s["modes"])
         legend = (" (r rotational, t translational, p planet, m mixed; multiplicity)"
                   if groups else "")
-        what = ("the stage's mean-stiffness Lin & Parker model" if groups
-                else s["modes_of"])
-        typer.echo(f"natural frequencies of {what} [Hz]{legend}: {modes}")
+        what = ("natural frequencies of the stage's mean-stiffness Lin & Parker model"
+                if groups else s["modes_of"])  # the result's long name, "natural ... of"
+        typer.echo(f"{what} [Hz]{legend}: {modes}")
     for st in s.get("stages", []):  # stages in series: each stage's torques
         shaft = (f"; shaft {st['shaft']}: torque mean {st['shaft_torque_mean']:.6g} N m "
                  f"(static {st['static_shaft_torque']:.6g}), RMS "

@@ -57,6 +57,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
@@ -74,8 +75,9 @@ from gearsim.system.planetary import MEMBERS, PlanetaryTrain, StageOperating
 from gearsim.system.train import Operating
 
 __all__ = ["SHAFT_FACTOR", "SIDES", "STAGE_ONLY", "NextStage", "build_stage_chain_model",
-           "chain_operating", "next_operating", "output_member", "simulate_stage_chain",
-           "stage_operating", "stage_prefix", "stage_settings", "stage_shaft_name"]
+           "chain_of_record", "chain_operating", "next_operating", "output_member", "simulate_stage_chain",
+           "stage_of_label", "stage_operating", "stage_prefix", "stage_settings",
+           "stage_shaft_name"]
 
 #: Where the chain sits: driven by the stage's output ("output") or driving its input.
 SIDES = ("output", "input")
@@ -303,6 +305,77 @@ def stage_prefix(k: int, n: int) -> str:
         chains are numbered through).
     """
     return "" if n == 1 else f"stage{k + 1}-"
+
+
+def stage_of_label(label: str, n: int) -> int:
+    """Index (from 0) of the stage of ``n`` in series that a record labelled ``label``
+    belongs to: the last ``stage<k>-`` the label names (a mesh ``stage2-sun-planet-1``,
+    a coordinate ``stage2-carrier.x``, the shaft driving stage 2
+    ``shaft-stage1-carrier-stage2-sun``); else the first stage (its ring's sensor and
+    acceleration, a stage alone).
+
+    Parameters
+    ----------
+    label : str
+        A record's label, or a result channel's (``mesh=stage2-sun-planet-1``).
+    n : int
+        Number of stages.
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> stage_of_label("shaft-stage1-carrier-stage2-sun", 2)
+    1
+    >>> stage_of_label("sun-planet-1", 1)
+    0
+    """
+    k = re.findall(r"stage(\d+)-", label) if n > 1 else []
+    return int(k[-1]) - 1 if k and 1 <= int(k[-1]) <= n else 0
+
+
+def chain_of_record(variable: str, label: str | None, shafts: list[list[str]],
+                    meshes: list[list[str]]) -> int | None:
+    """Index of the gear chain beside the stages that a record of a stage result belongs
+    to, or None for a record of the stages.
+
+    ``input_shaft_torque`` is the first chain's (the gears driving the stages),
+    ``shaft_torque`` the last one's (the shaft between the stages and the gears they
+    drive, or those driving them when there is no other); ``chain_acceleration`` the
+    chain holding its shaft, ``chain_mesh_force`` the chain holding its mesh.
+
+    Parameters
+    ----------
+    variable : str
+        The record's variable (``chain_mesh_force``).
+    label : str or None
+        Its label (a mesh ``II`` or a shaft name).
+    shafts, meshes : list of list of str
+        Each chain's shaft and mesh names, in power-flow order.
+
+    Returns
+    -------
+    int or None
+
+    Examples
+    --------
+    >>> chain_of_record("chain_mesh_force", "II", [["a", "b"], ["c", "d"]], [["I"], ["II"]])
+    1
+    >>> chain_of_record("mesh_force", "sun-planet-1", [["a", "b"]], [["I"]]) is None
+    True
+    """
+    if not shafts:
+        return None
+    if variable == "input_shaft_torque":
+        return 0
+    if variable == "shaft_torque":
+        return len(shafts) - 1
+    held = {"chain_acceleration": shafts, "chain_mesh_force": meshes}.get(variable)
+    if held is None:
+        return None
+    return next((k for k, names in enumerate(held) if label in names), None)
 
 
 def stage_shaft_name(prev_prefix: str, prev: PlanetaryTrain, prefix: str,

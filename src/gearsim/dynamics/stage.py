@@ -59,8 +59,8 @@ from gearsim.errors import InputError, require
 from gearsim.system import graph as bounds
 from gearsim.system.planetary import PlanetaryTrain, planet_name
 
-__all__ = ["StageDynamics", "build_stage_model", "chain_mesh_names", "lin_parker_of",
-           "model_radii",
+__all__ = ["StageDynamics", "analysis_parts", "build_stage_model", "chain_mesh_names",
+           "lin_parker_of", "model_radii",
            "nominal_velocity", "sensor_window", "check_stage_settings", "simulate_stage",
            "stage_summary"]
 
@@ -647,8 +647,7 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
         ch = chains[0]["chain"]
         extra_attrs["shaft_frequency"] = [float(ch.shaft_frequency(j))
                                           for j in range(len(ch.gears))]
-        extra_attrs["analysis_teeth"] = [int(g.teeth) for g in (
-            ch.gears if ch.is_chain else (ch.pairs[0].driver, ch.pairs[0].driven))]
+        extra_attrs["analysis_teeth"] = _analysis_teeth(ch)
         if (stages := ch.compound_stages()) is not None:
             extra_attrs["analysis_stages"] = ",".join(f"{d}/{n}" for d, n in stages)
     if len(series) > 1:  # each stage's torques, the shafts between the stages
@@ -669,6 +668,9 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     # once-per-revolution tacho of every turning shaft (the stages' members, then the
     # chains' shafts), each in its own sense, following a speed profile
     parts = series or ({"train": train, "prefix": ""},)  # the stages, named
+    extra_attrs["analysis_parts"] = analysis_parts(
+        [(e["prefix"], e["train"]) for e in parts], [e["chain"] for e in chains],
+        float(tau[0]))
     shafts = [(e["prefix"] + m, abs(e["train"].speeds[m]))
               for e in parts
               for m in ("carrier", "sun", "ring") if e["train"].speeds[m] != 0.0]
@@ -707,6 +709,67 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
                                    for e in parts for c in e["train"].cracks) or "none",
                "constant_meshes": int(constant), **extra_attrs})
     return ds
+
+
+def _analysis_teeth(chain) -> list[int]:
+    """Tooth counts a chain's records are analysed with: every gear of a chain of
+    idlers, else the first mesh's driver and driven gear."""
+    return [int(g.teeth) for g in (chain.gears if chain.is_chain else
+                                   (chain.pairs[0].driver, chain.pairs[0].driven))]
+
+
+def analysis_parts(stages, chains, tau0: float) -> str:
+    """What the analysis of a stage result's records needs, part by part, as JSON (the
+    result's ``analysis_parts`` attribute).
+
+    A record belongs to stage k (:func:`gearsim.dynamics.compose.stage_of_label`) or to
+    one of the gear chains beside the stages
+    (:func:`gearsim.dynamics.compose.chain_of_record`), and is analysed with that part's
+    reference shaft, speed and teeth, as :meth:`gearsim.model.Gearbox.reference` chooses.
+
+    Parameters
+    ----------
+    stages : sequence of (str, PlanetaryTrain)
+        Each stage's name prefix and train, in power-flow order.
+    chains : sequence of GearTrain
+        The chains beside the stages, in power-flow order.
+    tau0 : float
+        Nominal time of the first sample [s] (the carrier's angle there is
+        omega_c tau0).
+
+    Returns
+    -------
+    str
+        ``{"stages": [...], "chains": [...]}``: per stage its tooth counts, planets,
+        carrier and ring frequencies [Hz], the carrier's angle at the first sample [rad]
+        and ``member``, ``frequency`` [Hz], ``teeth`` of
+        :meth:`~gearsim.system.planetary.PlanetaryTrain.analysis_reference`; per chain
+        its shafts and meshes (the result's names), the first shaft's frequency [Hz], the
+        tooth counts and, for a compound train, its stages.
+    """
+    import json
+
+    out_stages = []
+    for prefix, tr in stages:
+        member, freq, teeth = tr.analysis_reference()
+        st, w = tr.stage, tr.speeds
+        out_stages.append({
+            "z_sun": int(st.sun_teeth), "z_planet": int(st.planet_teeth),
+            "z_ring": int(st.ring_teeth), "planets": int(st.planets),
+            "carrier_frequency": w["carrier"] / (2 * math.pi),
+            "ring_frequency": w["ring"] / (2 * math.pi),
+            "carrier_phase": float(w["carrier"] * tau0), "member": prefix + member,
+            "frequency": freq, "teeth": [int(z) for z in teeth]})
+    names, k, out_chains = chain_mesh_names(chains), 0, []
+    for ch in chains:
+        stg = ch.compound_stages()
+        out_chains.append({"shafts": [sh.name for sh in ch.flow.shafts],
+                           "meshes": list(names[k:k + len(ch.pairs)]),
+                           "frequency": float(ch.shaft_frequency(0)),
+                           "teeth": _analysis_teeth(ch),
+                           "stages": None if stg is None else [list(p) for p in stg]})
+        k += len(ch.pairs)
+    return json.dumps({"stages": out_stages, "chains": out_chains})
 
 
 def stage_summary(ds) -> dict:

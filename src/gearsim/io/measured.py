@@ -76,7 +76,7 @@ import math
 import re
 import tempfile
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -580,8 +580,12 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
             meta["stages"] = stages
         elif isinstance(ds.attrs.get("config"), str):  # a result written before the stages
             meta["config"] = ds.attrs["config"]
-    if ds.attrs.get("kind") == "planetary" and "carrier_angle" in ds:
-        # a gearsim stage result: the stage and its carrier angle for the planetary tier
+    if ds.attrs.get("kind") == "planetary" and (parts := _parts_attr(ds.attrs)) is not None:
+        # a gearsim stage result: each stage in series (one alone) and each gear chain
+        # beside them; the reader of the channels picks the part a record belongs to
+        meta["parts"] = parts
+    elif ds.attrs.get("kind") == "planetary" and "carrier_angle" in ds:
+        # a result written before the stages' attributes: the first stage, its carrier
         try:
             meta["planetary"] = {
                 "z_sun": int(ds.attrs["sun_teeth"]), "z_planet": int(ds.attrs["planet_teeth"]),
@@ -593,6 +597,27 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
         except (KeyError, TypeError, ValueError, IndexError):
             pass  # an incomplete stage result is analysed as a plain record
     return _Raw(channels=channels, fs=fs, units=units, metadata=meta, fs_per_channel=fs_per)
+
+
+def _parts_attr(a: Mapping) -> dict | None:
+    """The parts of a gearsim stage result (its ``analysis_parts`` attribute, JSON: each
+    stage's and each gear chain's kinematics for the analysis of its records; the
+    sensor's angle [rad] added to each stage); None when absent or not of that form
+    (the record is then analysed as a plain one)."""
+    import json
+
+    try:
+        parts = json.loads(a["analysis_parts"])
+        for st in parts["stages"]:
+            st["sensor_angle"] = float(a["sensor_angle"])
+            _ = (st["z_sun"], st["z_planet"], st["z_ring"], st["planets"],
+                 st["carrier_frequency"], st["ring_frequency"], st["carrier_phase"],
+                 st["frequency"], st["teeth"])
+        for ch in parts["chains"]:
+            _ = (ch["shafts"], ch["meshes"], ch["frequency"], ch["teeth"], ch["stages"])
+    except (KeyError, TypeError, ValueError):
+        return None
+    return parts if parts["stages"] else None
 
 
 def _stages_attr(text: object) -> tuple[tuple[int, int], ...] | None:

@@ -28,8 +28,10 @@ import numpy as np
 
 from gearsim.dynamics.compose import (
     NextStage,
+    chain_of_record,
     chain_operating,
     next_operating,
+    stage_of_label,
     stage_prefix,
     stage_shaft_name,
 )
@@ -807,14 +809,7 @@ class Gearbox:
             member, freq = tr.flow.shafts[0].name, tr.shaft_frequency(0)
         else:
             k = self._stage_record(signal)
-            tr = self.stages[k]
-            st = tr.stage
-            zs, zp, zr = st.sun_teeth, st.planet_teeth, st.ring_teeth
-            fixed = tr.operating.fixed
-            member, teeth = (("ring", [zr, zs, zp]) if fixed == "carrier" else
-                             ("carrier", [zs, zr, zp]) if fixed == "sun" else
-                             ("carrier", [zr, zs, zp]))
-            freq = abs(tr.speeds[member]) / (2.0 * math.pi)
+            member, freq, teeth = self.stages[k].analysis_reference()
             member = stage_prefix(k, len(self.stages)) + member  # as the tacho names it
         return member, freq, teeth[:1] if shafts == "reference" else teeth
 
@@ -823,12 +818,9 @@ class Gearbox:
         stage k (``mesh_force[stage<k>-...]``) and the shaft driving it
         (``stage_shaft_torque[shaft-stage<k-1>-...-stage<k>-...]``), else the first."""
         m = None if signal is None else _SIGNAL.fullmatch(signal)
-        if m is not None and m.group(1) in ("mesh_force", "stage_shaft_torque") \
-                and m.group(2) and len(self.stages) > 1:
-            k = re.findall(r"stage(\d+)-", m.group(2))
-            if k and 1 <= int(k[-1]) <= len(self.stages):
-                return int(k[-1]) - 1
-        return 0
+        if m is None or m.group(1) not in ("mesh_force", "stage_shaft_torque"):
+            return 0
+        return stage_of_label(m.group(2) or "", len(self.stages))
 
     def _gears_record(self, signal: str | None) -> GearTrain | None:
         """The gears beside a stage that ``signal`` is a record of, else None: the chain
@@ -839,21 +831,13 @@ class Gearbox:
         m = _SIGNAL.fullmatch(signal)
         if m is None:
             return None
-        var, label = m.group(1), m.group(2)
-        if var == "input_shaft_torque":
-            return self.input_train
-        if var == "shaft_torque":
-            return self.chains[-1]
-        if var == "chain_acceleration":
-            return next((t for t in self.chains
-                         if label in [sh.name for sh in t.flow.shafts]), None)
-        if var == "chain_mesh_force":
-            names, k = self._chain_mesh_names(), 0
-            for t in self.chains:
-                if label in names[k:k + len(t.pairs)]:
-                    return t
-                k += len(t.pairs)
-        return None
+        names, k, meshes = self._chain_mesh_names(), 0, []
+        for t in self.chains:
+            meshes.append(list(names[k:k + len(t.pairs)]))
+            k += len(t.pairs)
+        j = chain_of_record(m.group(1), m.group(2),
+                            [[sh.name for sh in t.flow.shafts] for t in self.chains], meshes)
+        return None if j is None else self.chains[j]
 
     def analysis_stages(self, signal: str | None = None) -> tuple[tuple[int, int], ...] | None:
         """The stages of a compound gear train for the signal analysis, or None.

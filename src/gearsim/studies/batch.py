@@ -29,6 +29,7 @@ resumed batch writes the same table as an uninterrupted one. ``OUT.lock``
 from __future__ import annotations
 
 import csv
+import functools
 import glob
 import hashlib
 import io
@@ -211,14 +212,45 @@ def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho) -> list[
         raise InputError("tacho", tacho, "is also a channel to analyse: a tacho is not "
                          "analysed as vibration" if chosen else f"is the only channel of "
                          f"{name}: no vibration channel is left to analyse")
-    rpm = meta.get("rpm")
     return [{"channel": c, "data": data[c], "fs": rec.fs,
              "fs_source": {"file": "file", "user": "given"}.get(rec.fs_source),
-             "units": rec.units.get(c), "tacho": data.get(tacho), "planetary": meta.get("planetary"),
-             "rpm": float(rpm) if isinstance(rpm, (int, float)) and rpm > 0 else None,
-             "teeth": meta.get("teeth"), "stages": meta.get("stages"),
-             "config": meta.get("config"),
+             "units": rec.units.get(c), "tacho": data.get(tacho), **_part_of(c, meta),
              "dropped": str(rec.dropped[c]) if c in rec.dropped else None} for c in chosen]
+
+
+def _part_of(channel: str, meta: Mapping) -> dict:
+    """What a gearsim result says of the part of the gearbox ``channel`` is a record of:
+    ``{"planetary", "rpm", "teeth", "stages", "config"}``. Of a stage result (its
+    ``analysis_parts``), a record of stage k
+    (:func:`~gearsim.dynamics.compose.stage_of_label`) takes stage k's planetary
+    description and reference member's speed and teeth, a record of a gear chain beside
+    the stages (:func:`~gearsim.dynamics.compose.chain_of_record`) that chain's first
+    shaft, teeth and stages, as :meth:`gearsim.model.Gearbox.reference` chooses; any
+    record of another result the file's speed and teeth."""
+    parts = meta.get("parts")
+    if not parts:
+        rpm = meta.get("rpm")
+        return {"planetary": meta.get("planetary"),
+                "rpm": float(rpm) if isinstance(rpm, (int, float)) and rpm > 0 else None,
+                "teeth": meta.get("teeth"), "stages": meta.get("stages"),
+                "config": meta.get("config")}
+    from gearsim.dynamics.compose import chain_of_record, stage_of_label
+
+    var, _, label = channel.partition("[")
+    values = [v.partition("=")[2] for v in label.rstrip("]").split(",")] if label else []
+    chains = parts["chains"]
+    k = chain_of_record(var, values[0] if values else None,
+                        [c["shafts"] for c in chains], [c["meshes"] for c in chains])
+    if k is not None:
+        part, planetary = chains[k], None
+        stages = tuple(map(tuple, part["stages"])) if part["stages"] else None
+    else:
+        part = parts["stages"][stage_of_label(values[0] if values else "",
+                                              len(parts["stages"]))]
+        planetary, stages = part, None
+    f = float(part["frequency"])
+    return {"planetary": planetary, "rpm": 60.0 * f if f > 0 else None,
+            "teeth": list(part["teeth"]), "stages": stages, "config": None}
 
 
 def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float | None = None,
@@ -285,12 +317,13 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
         return [], [_problem(path, exc)]
     out, problems = [], []
     # a gearsim result brings its tooth counts, and a compound train's its stages
+    # (of the part of the gearbox each channel is a record of: _part_of)
     own = teeth is None and stages is None and any(ch.get("teeth") for ch in chans)
-    own_stages = _file_stages(chans[0]) if own else None
     for ch in chans:
         file_rpm = ch.get("rpm") if speed is None and tacho is None and speed_search is None \
             else None
         file_teeth = ch.get("teeth") if own else None
+        own_stages = _file_stages(ch) if file_teeth else None
         if file_teeth:
             train = {"stages": own_stages} if own_stages else {"teeth": file_teeth}
         else:
@@ -324,12 +357,17 @@ def _file_stages(ch: dict) -> tuple[tuple[int, int], ...] | None:
     configuration (:meth:`gearsim.model.Gearbox.analysis_stages`)."""
     if ch.get("stages"):
         return tuple(ch["stages"])
-    if not isinstance(ch.get("config"), str):
-        return None
+    return _config_stages(ch["config"]) if isinstance(ch.get("config"), str) else None
+
+
+@functools.lru_cache(maxsize=8)
+def _config_stages(text: str) -> tuple[tuple[int, int], ...] | None:
+    """:meth:`gearsim.model.Gearbox.analysis_stages` of a stored configuration (read once
+    for every channel of its file), None when this version cannot read it."""
     from gearsim.model import loads
 
     try:
-        return loads(ch["config"]).analysis_stages()
+        return loads(text).analysis_stages()
     except Exception:  # a configuration this version cannot read: the teeth as they are
         return None
 

@@ -418,6 +418,30 @@ class PlanetaryTrain:
         return self.stage.sun_teeth * abs(self.speeds["sun"] - self.speeds["carrier"]) / (
             2.0 * math.pi)
 
+    def analysis_reference(self) -> tuple[str, float, list[int]]:
+        """Reference member of the analysis of this stage's records, its speed and teeth.
+
+        Ring or sun held: the carrier, with ``Z_1 = z_r`` (ring held) or ``z_s`` (sun
+        held); carrier held: the ring with ``Z_1 = z_r``; then the other two tooth counts,
+        so that ``f_m / Z_j`` are the member rotations relative to the carrier
+        (``f_m = Z_1 |f_ref - f_c|``, f_c = 0 for the held carrier).
+
+        Returns
+        -------
+        member : str
+            ``"carrier"`` or ``"ring"``.
+        frequency : float
+            Its speed [Hz] (absolute value).
+        teeth : list of int
+            ``Z_1`` first, then the other two.
+        """
+        st, fixed = self.stage, self.operating.fixed
+        zs, zp, zr = st.sun_teeth, st.planet_teeth, st.ring_teeth
+        member, teeth = (("ring", [zr, zs, zp]) if fixed == "carrier" else
+                         ("carrier", [zs, zr, zp]) if fixed == "sun" else
+                         ("carrier", [zr, zs, zp]))
+        return member, abs(self.speeds[member]) / (2.0 * math.pi), teeth
+
     @property
     def mirrored(self) -> bool:
         """True when the model frame is the mirror image (physical sun torque < 0)."""

@@ -83,7 +83,7 @@ def test_every_stage_mesh_line_is_in_the_spectrum(box, run):
 
 def test_cracked_intermediate_pinion_sidebands_at_the_intermediate_shaft(box, run):
     cracked = loads(example_text("wind-turbine-grc") + """
-[[chain.cracks]]
+[[cracks]]
 gear = "intermediate-pinion"
 depth = "4 mm"
 """)

@@ -43,6 +43,7 @@ from gearsim.geometry.gear import Gear, Material
 from gearsim.geometry.pair import require_same_rack
 from gearsim.model.damage import CRACK_KEYS, array_of_tables, parse_cracks, parse_faults
 from gearsim.model.gearbox import Gearbox
+from gearsim.model.graph_form import is_graph_with_stages, parse_graph_stages
 from gearsim.model.planetary import parse_planetary
 from gearsim.sections import as_written, convert
 from gearsim.signals.settings import parse_analysis
@@ -131,6 +132,8 @@ def parse(doc: dict[str, Any]) -> Gearbox:
     InputError
         The first problem found, naming the parameter, its value and the limit.
     """
+    if is_graph_with_stages(doc):  # shafts, gears and stages (gearsim.model.graph_form)
+        return parse_graph_stages(doc, _material(doc.get("material", {}), "material"), parse)
     if "stage" in doc or "stages" in doc:  # planetary stages (gearsim.model.planetary)
         return parse_planetary(doc, _material(doc.get("material", {}), "material"), parse)
     for key in doc:

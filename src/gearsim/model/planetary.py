@@ -189,7 +189,8 @@ def _stage_tables(doc: dict[str, Any]) -> tuple[dict[str, Any], list[Any]]:
              "shaft_stiffness": "no shaft: its input is [operating]'s"}
     for key in tables[0]:
         if key in where:
-            raise InputError(f"stages[1].{key}", "...", f"the first stage's is {where[key]}"
+            raise InputError(f"stages[1].{key}", tables[0][key] if isinstance(
+                tables[0][key], (str, int, float)) else "...", f"the first stage's is {where[key]}"
                              if key != "shaft_stiffness" else f"the first stage has "
                              f"{where[key]}")
     return tables[0], tables[1:]
@@ -206,8 +207,18 @@ def _stage_geometry(raw: Any, section: str, material: Material
                                      "ring_foundation") if k in kw}
     if "planet_angles" in kw and not isinstance(kw["planet_angles"], tuple):
         kw["planet_angles"] = (kw["planet_angles"],)
-    with as_written(raw, "stage", sources=[(section, raw)]):
-        return PlanetaryStage(material=material, **kw), consts
+    try:
+        with as_written(raw, "stage", sources=[(section, raw)]):
+            return PlanetaryStage(material=material, **kw), consts
+    except InputError as exc:  # a member gear's own check: the stage's key as written
+        member, _, key = exc.parameter.partition(".")
+        if member not in ("sun", "planet", "ring") or not key:
+            raise
+        key = {"teeth": f"{member}_teeth", "profile_shift": f"{member}_shift"}.get(key, key)
+        if key not in STAGE_KEYS:
+            raise
+        raise InputError(f"{section}.{key}", raw.get(key, exc.value),
+                         f"{exc.limit} (the {member})") from None
 
 
 def _members(raw: Any, section: str, **sensor: float) -> StageDynamics:

@@ -83,7 +83,15 @@ from gearsim.stiffness.ring import RingToothModel
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.stiffness.source import ToothCrack
 from gearsim.system.faults import mesh_flanks
-from gearsim.system.train import GearTrain, body_coupling, tooth_compliance
+from gearsim.system.train import (  # the operating point's bounds are the gear trains'
+    MAX_SPEED,
+    MAX_TORQUE,
+    MIN_SPEED,
+    MIN_TORQUE,
+    GearTrain,
+    body_coupling,
+    tooth_compliance,
+)
 
 __all__ = ["MEMBERS", "PhasedTable", "PlanetaryTrain", "StageOperating", "planet_name",
            "stage_stiffness"]
@@ -92,9 +100,6 @@ __all__ = ["MEMBERS", "PhasedTable", "PlanetaryTrain", "StageOperating", "planet
 MEMBERS = ("sun", "ring", "carrier")
 #: Fault classes a stage takes.
 FAULT_TYPES = (Spall, Pitting, ChippedTip, BrokenTooth, Wear)
-#: Ceilings of the operating point (the same as the gear trains').
-MAX_SPEED = 1e5
-MAX_TORQUE = 1e9
 
 
 def planet_name(n: int) -> str:
@@ -146,11 +151,12 @@ class StageOperating:
                 'must be "sun", "ring" or "carrier"')
         require(self.input != self.fixed, "operating.input", self.input,
                 f"must differ from the held member (operating.fixed = {self.fixed!r})")
-        for name, v, top, unit in (("speed", self.speed, MAX_SPEED, "rad/s"),
-                                   ("torque", self.torque, MAX_TORQUE, "N*m")):
+        for name, v, low, top, unit in (("speed", self.speed, MIN_SPEED, MAX_SPEED, "rad/s"),
+                                        ("torque", self.torque, MIN_TORQUE, MAX_TORQUE,
+                                         "N*m")):
             require(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
-                    and 0.0 < v <= top, f"operating.{name}", v,
-                    f"must be a finite number in (0, {top:g}] {unit}")
+                    and low <= v <= top, f"operating.{name}", v,
+                    f"must be a finite number in [{low:g}, {top:g}] {unit}")
 
 
 @dataclass(frozen=True)

@@ -115,6 +115,11 @@ def body_coupling(settings: StiffnessSettings):
 #: carry ~1e7 N m); beyond them the value is a unit mistake.
 MAX_SPEED = 1e5  # rad/s
 MAX_TORQUE = 1e9  # N m
+#: Floors: 1e-3 rad/s is one revolution in 1.7 h (slower than any gearbox's input, a
+#: wind turbine's rotor turns at ~0.5-2 rad/s), 1e-6 N m a thousandth of a micro gear
+#: motor's; below them the value is a unit mistake.
+MIN_SPEED = 1e-3  # rad/s
+MIN_TORQUE = 1e-6  # N m
 
 
 @dataclass(frozen=True)
@@ -141,12 +146,13 @@ class Operating:
     def __post_init__(self) -> None:
         require(_positive(self.speed), "operating.speed", self.speed,
                 "must be a finite number > 0 rad/s")
-        require(self.speed <= MAX_SPEED, "operating.speed", self.speed,
-                f"must be <= {MAX_SPEED:g} rad/s ({MAX_SPEED * 30 / math.pi:.0f} rpm)")
+        require(MIN_SPEED <= self.speed <= MAX_SPEED, "operating.speed", self.speed,
+                f"must be in [{MIN_SPEED:g}, {MAX_SPEED:g}] rad/s "
+                f"([{MIN_SPEED * 30 / math.pi:.3g}, {MAX_SPEED * 30 / math.pi:.0f}] rpm)")
         require(_positive(self.torque), "operating.torque", self.torque,
                 "must be a finite number > 0 N*m")
-        require(self.torque <= MAX_TORQUE, "operating.torque", self.torque,
-                f"must be <= {MAX_TORQUE:g} N*m")
+        require(MIN_TORQUE <= self.torque <= MAX_TORQUE, "operating.torque", self.torque,
+                f"must be in [{MIN_TORQUE:g}, {MAX_TORQUE:g}] N*m")
 
 
 def _positive(v: object) -> bool:

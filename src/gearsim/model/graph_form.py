@@ -1,0 +1,331 @@
+"""One TOML form for every gearbox: shafts, gears, meshes and planetary stages.
+
+A gearbox with planetary stages is written as a gear train's graph is (``[[shafts]]``,
+``[[gears]]`` with ``shaft = ...``, ``[[meshes]]``), with ``[[stages]]`` whose members
+sit on the shafts::
+
+    [[shafts]]
+    name = "rotor"                 # the first shaft is the input
+    [[shafts]]
+    name = "low-speed"
+    torsional_stiffness = "2e7 N*m/rad"   # between what it carries (a member, a gear)
+    [[stages]]
+    carrier = "rotor"              # each member names its shaft; the held one "housing"
+    sun = "low-speed"
+    ring = "housing"
+    sun_teeth = 21                 # and the keys of [stage] (docs/planetary.md)
+    [[stages.cracks]]              # its own damage and [stages.members]
+    [[gears]]
+    name = "low-speed-gear"
+    shaft = "low-speed"
+    [[meshes]]
+    [operating]                    # speed and torque of the first shaft
+    [[cracks]]                     # damage of the gears, by gear name
+
+The power flow is read from the graph: from the input shaft through gears (meshes) or a
+stage (the member on the shaft is its input, the other turning member its output) to the
+next shaft, until nothing is left. A stage's held, input and output members follow from
+where its members sit; a shaft's ``torsional_stiffness`` is the shaft between what it
+carries (between two stages' members, or a member and a gear; default as
+:mod:`gearsim.dynamics.compose`). The gears before the first stage, the stages in series
+and the gears after the last stage are then built as the ``[input_chain]``,
+``[[stages]]`` and ``[chain]`` of :mod:`gearsim.model.planetary` (the same
+:class:`~gearsim.model.Gearbox`, the same numbers); a refusal names the element as it is
+written here (``gears[3].shaft``, ``stages[2].sun``, ``shafts[1].torsional_stiffness``).
+
+Not read (one line naming the element): a shaft driving two parts (branching power),
+gears between two stages, an element off the power path, a stage without exactly one
+member on the housing.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+from typing import Any
+
+from gearsim.errors import InputError
+from gearsim.geometry.gear import Material
+from gearsim.model.damage import array_of_tables
+from gearsim.model.gearbox import Gearbox
+from gearsim.model.planetary import parse_planetary
+
+__all__ = ["GRAPH_TOP_KEYS", "HOUSING", "is_graph_with_stages", "parse_graph_stages"]
+
+#: The held member's place.
+HOUSING = "housing"
+MEMBERS = ("sun", "ring", "carrier")
+GRAPH_TOP_KEYS = ("name", "material", "common", "shafts", "gears", "meshes", "stages",
+                  "operating", "stiffness", "cracks", "faults", "modifications", "sensor",
+                  "dynamics", "analysis")
+#: Sections a stage-form file has and this one does not (where they go here).
+MOVED = {"stage": "[[stages]] with each member's shaft", "members": "[stages.members]",
+         "chain": "[[gears]] and [[meshes]]", "input_chain": "[[gears]] and [[meshes]]"}
+
+
+def is_graph_with_stages(doc: dict[str, Any]) -> bool:
+    """True for a document of shafts with planetary stages (this module's form).
+
+    Parameters
+    ----------
+    doc : dict
+        A parsed TOML document.
+
+    Returns
+    -------
+    bool
+    """
+    return "shafts" in doc and "stages" in doc
+
+
+def parse_graph_stages(doc: dict[str, Any], material: Material,
+                       parse_train: Callable[[dict[str, Any]], Any]) -> Gearbox:
+    """Build the :class:`~gearsim.model.Gearbox` of a document of shafts, gears, meshes
+    and planetary stages.
+
+    Parameters
+    ----------
+    doc : dict
+        The document (:func:`is_graph_with_stages`).
+    material : Material
+        The parsed ``[material]``.
+    parse_train : callable
+        The gear-train parser (:func:`gearsim.model.config.parse`).
+
+    Returns
+    -------
+    Gearbox
+
+    Raises
+    ------
+    InputError
+        The first problem, named as written in ``doc``.
+    """
+    staged, rename = _translate(doc)
+    try:
+        return parse_planetary(staged, material, parse_train)
+    except InputError as exc:
+        raise InputError(rename(exc.parameter), exc.value, exc.limit) from None
+
+
+def _tables(doc: dict[str, Any], key: str) -> list[dict[str, Any]]:
+    return array_of_tables(doc.get(key, []), key) if key in doc else []
+
+
+def _translate(doc: dict[str, Any]) -> tuple[dict[str, Any], Callable[[str], str]]:
+    """The stage form of ``doc`` and the renaming of its parameters back to ``doc``'s."""
+    for key in doc:
+        if key not in GRAPH_TOP_KEYS:
+            hint = f" (here: {MOVED[key]})" if key in MOVED else ""
+            raise InputError(key, "...", "unknown section for a gearbox of shafts and "
+                             f"stages{hint}; allowed: " + ", ".join(GRAPH_TOP_KEYS))
+    shafts = _tables(doc, "shafts")
+    gears, meshes, stages = _tables(doc, "gears"), _tables(doc, "meshes"), _tables(doc, "stages")
+    names = [t.get("name", f"shaft{i + 1}") for i, t in enumerate(shafts)]
+    index = {n: i for i, n in enumerate(names)}
+    gear_names = [t.get("name", f"gear{i + 1}") for i, t in enumerate(gears)]
+    on: dict[str, list[int]] = {n: [] for n in names}  # the gears on each shaft
+    for i, t in enumerate(gears):
+        if t.get("shaft") not in index:
+            raise InputError(f"gears[{i}].shaft", t.get("shaft", "missing"),
+                             "no such shaft; shafts: " + ", ".join(names))
+        on[t["shaft"]].append(i)
+    # shafts joined by meshes: the gear graph's parts (each with its meshes)
+    part_of = {n: n for n in names}
+
+    def root(n: str) -> str:
+        while part_of[n] != n:
+            n = part_of[n]
+        return n
+
+    mesh_shafts = []
+    for j, t in enumerate(meshes):
+        pair = t.get("gears")
+        if not (isinstance(pair, list) and len(pair) == 2 and all(g in gear_names
+                                                                   for g in pair)):
+            raise InputError(f"meshes[{j}].gears", pair if pair is not None else "missing",
+                             "must name two gears; gears: " + ", ".join(gear_names))
+        a, b = (gears[gear_names.index(g)]["shaft"] for g in pair)
+        mesh_shafts.append((a, b))
+        part_of[root(a)] = root(b)
+    # where each stage's members sit
+    members: dict[str, list[tuple[int, str]]] = {n: [] for n in names}
+    held = []
+    for k, st in enumerate(stages, 1):
+        for key in ("fixed", "input", "shaft_stiffness"):
+            if key in st:
+                raise InputError(f"stages[{k}].{key}", st[key], "follows from the shafts "
+                                 "the members sit on (here: sun, ring, carrier = a shaft or "
+                                 f"\"{HOUSING}\"; a shaft's torsional_stiffness)")
+        for m in MEMBERS:
+            v = st.get(m, "missing")
+            if v != HOUSING and v not in index:
+                raise InputError(f"stages[{k}].{m}", v, "no such shaft; shafts: "
+                                 + ", ".join(names) + f" (or \"{HOUSING}\": held)")
+        fixed = [m for m in MEMBERS if st[m] == HOUSING]
+        if len(fixed) != 1:
+            raise InputError(f"stages[{k}]", ", ".join(f"{m} = {st[m]}" for m in MEMBERS),
+                             f"exactly one member must be on the \"{HOUSING}\" (held)")
+        turning = [m for m in MEMBERS if m != fixed[0]]
+        if st[turning[0]] == st[turning[1]]:
+            raise InputError(f"stages[{k}].{turning[1]}", st[turning[1]], f"is also the "
+                             f"{turning[0]}'s shaft: the two turning members need two shafts")
+        held.append(fixed[0])
+        for m in turning:
+            members[st[m]].append((k, m))
+    for i, n in enumerate(names):
+        if not on[n] and not members[n]:
+            raise InputError(f"shafts[{i}]", n, "carries no gear and no stage member")
+    # the power path from the input shaft
+    path: list[tuple] = []
+    used_parts, used_stages = set(), set()
+    cur = names[0]
+    while True:
+        ahead = ([("gears", root(cur))] if on[cur] and root(cur) not in used_parts else [])
+        ahead += [("stage", k, m) for k, m in members[cur] if k not in used_stages]
+        if not ahead:
+            break
+        if len(ahead) > 1:
+            raise InputError(f"shafts[{index[cur]}]", cur, "drives two parts ("
+                             + " and ".join("gears" if a[0] == "gears" else f"stages[{a[1]}]"
+                                            for a in ahead)
+                             + "): branching power is not read")
+        step = ahead[0]
+        if step[0] == "stage":
+            _, k, m = step
+            out = next(x for x in MEMBERS if x not in (m, held[k - 1]))
+            path.append(("stage", k, m, cur))
+            used_stages.add(k)
+            cur = stages[k - 1][out]
+            continue
+        used_parts.add(step[1])
+        part = [n for n in names if root(n) == step[1]]
+        exits = [(n, k, m) for n in part if n != cur for k, m in members[n]
+                 if k not in used_stages]
+        if len(exits) > 1:
+            raise InputError("gears", ", ".join(f"stages[{k}].{m} = {n}" for n, k, m in exits),
+                             "the gears drive two stages: branching power is not read")
+        path.append(("gears", step[1], cur, exits[0][0] if exits else None))
+        if not exits:
+            break
+        cur = exits[0][0]
+    for k in range(1, len(stages) + 1):
+        if k not in used_stages:
+            raise InputError(f"stages[{k}]", "...", f"is not on the power path from the "
+                             f"input shaft {names[0]!r}")
+    for i, t in enumerate(gears):
+        if root(t["shaft"]) not in used_parts:
+            raise InputError(f"gears[{i}]", gear_names[i], f"is not on the power path from "
+                             f"the input shaft {names[0]!r}")
+    for key in ("cracks", "faults", "modifications"):  # the gears' damage, by name
+        for i, t in enumerate(_tables(doc, key)):
+            if t.get("gear") not in gear_names:
+                raise InputError(f"{key}[{i}].gear", t.get("gear", "missing"), "no such "
+                                 "gear; gears: " + ", ".join(gear_names) + " (a stage's is "
+                                 f"[[stages.{key}]])")
+    kinds = [p[0] for p in path]
+    if "gears" in kinds[1:-1]:
+        raise InputError("gears", "between two stages", "gears between two planetary "
+                         "stages are not read yet (gears before the first stage, after the "
+                         "last, or both)")
+    return _stage_form(doc, path, names, index, on, gears, gear_names, meshes, mesh_shafts,
+                       stages, held)
+
+
+def _stage_form(doc, path, names, index, on, gears, gear_names, meshes, mesh_shafts,
+                stages, held) -> tuple[dict[str, Any], Callable[[str], str]]:
+    """The ``[input_chain]``, ``[[stages]]`` and ``[chain]`` document of the power path,
+    and the renaming of its parameters."""
+    out: dict[str, Any] = {k: doc[k] for k in ("name", "material", "sensor", "dynamics",
+                                                "analysis", "stiffness") if k in doc}
+    back: dict[str, str] = {}  # prefix in the stage form -> as written here
+    stage_tabs = []
+    for n, step in enumerate(p for p in path if p[0] == "stage"):
+        _, k, m, shaft = step
+        raw = {key: v for key, v in stages[k - 1].items() if key not in MEMBERS}
+        where = f"stages[{len(stage_tabs) + 1}]"
+        back[where] = f"stages[{k}]"
+        if n == 0:  # the first stage's own tables are the document's
+            for key in ("fixed", "input"):
+                if key in doc.get("operating", {}):
+                    raise InputError(f"operating.{key}", doc["operating"][key], "follows "
+                                     "from the shafts the stages' members sit on")
+            for key in ("members", "cracks", "faults"):
+                if key in raw:
+                    out[key] = raw.pop(key)
+                    back[key] = f"stages[{k}].{key}"
+            out["operating"] = {**doc.get("operating", {}), "fixed": held[k - 1], "input": m}
+            back["operating.fixed"] = f"stages[{k}].{held[k - 1]}"
+            back["operating.input"] = f"stages[{k}].{m}"
+        else:
+            raw |= {"fixed": held[k - 1], "input": m}
+            t = _shaft_table(doc, index[shaft])
+            if "torsional_stiffness" in t:
+                raw["shaft_stiffness"] = t["torsional_stiffness"]
+                back[f"{where}.shaft_stiffness"] = f"shafts[{index[shaft]}].torsional_stiffness"
+        stage_tabs.append(raw)
+    out["stages"] = stage_tabs
+    for _, part, entry, leave in (x for x in path if x[0] == "gears"):
+        table = "input_chain" if path[0][0] == "gears" and entry == names[0] else "chain"
+        join = leave if table == "input_chain" else entry  # the shaft with a member
+        chain, ren = _chain(doc, part, entry, names, index, on, gears, gear_names, meshes,
+                            mesh_shafts)
+        chain["name"] = "input gears" if table == "input_chain" else "output gears"
+        t = _shaft_table(doc, index[join])
+        if "torsional_stiffness" in t:  # the shaft from the member to the gears on it
+            chain["shaft_stiffness"] = t["torsional_stiffness"]
+            ren["shaft_stiffness"] = f"shafts[{index[join]}].torsional_stiffness"
+            chain["shafts"] = [{k: v for k, v in sh.items() if k != "torsional_stiffness"}
+                               if sh is t else sh for sh in chain["shafts"]]
+        out[table] = chain
+        back |= {f"{table}.{a}": b for a, b in ren.items()}
+        if table == "input_chain":
+            for key in ("speed", "torque"):
+                back[f"input_chain.operating.{key}"] = f"operating.{key}"
+    rx = re.compile("|".join(re.escape(a) for a in sorted(back, key=len, reverse=True)))
+
+    def rename(parameter: str) -> str:
+        m = rx.match(parameter) if back else None
+        return parameter if m is None else back[m.group(0)] + parameter[m.end():]
+
+    return out, rename
+
+
+def _shaft_table(doc: dict[str, Any], i: int) -> dict[str, Any]:
+    return _tables(doc, "shafts")[i]
+
+
+def _chain(doc, part, entry, names, index, on, gears, gear_names, meshes, mesh_shafts
+           ) -> tuple[dict[str, Any], dict[str, str]]:
+    """The ``[chain]`` table of the gears of one part of the graph, its shafts in the
+    order of the power flow from ``entry`` (gear 1 on it), and the renaming of its
+    elements' indices (``gears[0]`` of the chain -> ``gears[i]`` as written)."""
+    shafts = _tables(doc, "shafts")
+    order, queue = [], [entry]
+    while queue:  # breadth first from the shaft the power enters by
+        n = queue.pop(0)
+        if n in order:
+            continue
+        order.append(n)
+        queue += [b if a == n else a for a, b in mesh_shafts if n in (a, b)]
+    gear_ids = [i for n in order for i in on[n]]
+    members = {gear_names[i] for i in gear_ids}
+    mesh_ids = [j for j, (a, _) in enumerate(mesh_shafts) if a in order]
+    ren = {"gears": "gears"}
+    chain: dict[str, Any] = {"shafts": [shafts[index[n]] for n in order],
+                             "gears": [gears[i] for i in gear_ids],
+                             "meshes": [meshes[j] for j in mesh_ids]}
+    for key, ids in (("shafts", [index[n] for n in order]), ("gears", gear_ids),
+                     ("meshes", mesh_ids)):
+        ren |= {f"{key}[{a}]": f"{key}[{b}]" for a, b in enumerate(ids)}
+    for key in ("cracks", "faults", "modifications"):
+        tabs = _tables(doc, key)
+        ids = [i for i, t in enumerate(tabs) if t.get("gear") in members]
+        if ids:
+            chain[key] = [tabs[i] for i in ids]
+            ren |= {f"{key}[{a}]": f"{key}[{b}]" for a, b in enumerate(ids)}
+    for key in ("common", "stiffness"):
+        if key in doc:
+            chain[key] = doc[key]
+            ren[key] = key
+    return chain, ren

@@ -1,0 +1,383 @@
+"""One TOML form for every gearbox: shafts, gears, meshes and planetary stages (issue 23).
+
+A gearbox with stages written as a graph (``[[shafts]]``, ``[[gears]]``, ``[[meshes]]``,
+``[[stages]]`` whose members name their shafts, ``gearsim.model.graph_form``) is the same
+gearbox as its ``[stage]`` / ``[[stages]]`` + ``[chain]`` / ``[input_chain]`` form: the
+same elements (dataclass equality) and the same simulated numbers (numpy.array_equal);
+a refusal names the element as written in the graph.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+import gearsim as gs
+from gearsim.cli import run as cli_run
+from gearsim.model import loads
+
+#: The wind-turbine-grc example as it was written before the graph form (a [stage]
+#: driving a [chain] of two parallel stages).
+WIND_TURBINE_STAGE_FORM = """name = "NREL GRC 750 kW gearbox: planetary + two parallel stages"
+
+[material]
+youngs_modulus = "206 GPa"
+poisson_ratio = 0.3
+density = "7850 kg/m^3"
+
+[stage]
+sun_teeth = 21
+planet_teeth = 39
+ring_teeth = 99
+planets = 3
+normal_module = "10 mm"
+normal_pressure_angle = "20 deg"
+helix_angle = "7.5 deg"
+face_width = "227.5 mm"
+ring_addendum_coefficient = 0.8
+
+[operating]
+fixed = "ring"
+input = "carrier"
+speed = "22.1 rpm"
+torque = "324 kN*m"
+
+[stiffness]
+positions_per_cycle = 20
+slices = 10
+
+
+[sensor]
+angle = "0 deg"
+width = "90 deg"
+
+[dynamics]
+duration = 3.0
+fs = 6000  # > 2 x 4 x 660 Hz: the fourth harmonic of the high-speed mesh that `gearsim simulate` analyses
+
+[chain]
+name = "parallel stages"
+
+[chain.common]
+normal_pressure_angle = "20 deg"
+helix_angle = "14 deg"
+
+[[chain.shafts]]
+name = "low-speed"          # the sun shaft, driven by the planetary stage
+
+[[chain.shafts]]
+name = "intermediate"
+
+[[chain.shafts]]
+name = "high-speed"         # to the generator
+
+[[chain.gears]]
+name = "low-speed-gear"
+shaft = "low-speed"
+teeth = 82
+normal_module = "8.25 mm"
+face_width = "180 mm"
+
+[[chain.gears]]
+name = "intermediate-pinion"
+shaft = "intermediate"
+teeth = 23
+normal_module = "8.25 mm"
+face_width = "180 mm"
+
+[[chain.gears]]
+name = "intermediate-gear"
+shaft = "intermediate"
+teeth = 88
+normal_module = "5 mm"
+face_width = "110 mm"
+
+[[chain.gears]]
+name = "high-speed-pinion"
+shaft = "high-speed"
+teeth = 22
+normal_module = "5 mm"
+face_width = "110 mm"
+
+[[chain.meshes]]
+gears = ["low-speed-gear", "intermediate-pinion"]
+
+[[chain.meshes]]
+gears = ["intermediate-gear", "high-speed-pinion"]
+angle = "180 deg"
+
+[chain.stiffness]
+positions_per_cycle = 20
+slices = 10
+"""
+
+#: Gears (20/60), two planetary stages (24/24/72 x 3, 20/40/100 x 4) and gears (50/25)
+#: in the stage form (tests/system/test_two_stages.py) ...
+CHAINS_STAGE_FORM = """
+name = "two planetary stages in series"
+[material]
+youngs_modulus = "206 GPa"
+poisson_ratio = 0.3
+density = "7850 kg/m^3"
+[[stages]]
+sun_teeth = 24
+planet_teeth = 24
+ring_teeth = 72
+planets = 3
+normal_module = "3 mm"
+normal_pressure_angle = "20 deg"
+face_width = "30 mm"
+ring_addendum_coefficient = 0.8
+[[stages]]
+fixed = "ring"
+input = "sun"
+shaft_stiffness = "3e6 N*m/rad"
+sun_teeth = 20
+planet_teeth = 40
+ring_teeth = 100
+planets = 4
+normal_module = "4 mm"
+normal_pressure_angle = "20 deg"
+face_width = "40 mm"
+ring_addendum_coefficient = 0.8
+[operating]
+fixed = "ring"
+input = "sun"
+speed = "1500 rpm"
+torque = "200 N*m"
+[dynamics]
+duration = 0.2
+fs = 20000
+
+[input_chain]
+shaft_stiffness = "2e6 N*m/rad"
+[input_chain.common]
+normal_module = "3 mm"
+normal_pressure_angle = "20 deg"
+face_width = "30 mm"
+[[input_chain.gears]]
+name = "input-pinion"
+teeth = 20
+[[input_chain.gears]]
+name = "sun-drive-gear"
+teeth = 60
+[chain]
+shaft_stiffness = "5e7 N*m/rad"
+[chain.common]
+normal_module = "5 mm"
+normal_pressure_angle = "20 deg"
+face_width = "60 mm"
+[[chain.gears]]
+name = "carrier-gear"
+teeth = 50
+[[chain.gears]]
+name = "output-pinion"
+teeth = 25
+"""
+
+#: ... and as a graph: the shafts between the parts carry the torsional stiffnesses.
+CHAINS_GRAPH = """name = "two planetary stages in series"
+[material]
+youngs_modulus = "206 GPa"
+poisson_ratio = 0.3
+density = "7850 kg/m^3"
+[[shafts]]
+name = "in"
+[[shafts]]
+name = "sun-shaft"
+torsional_stiffness = "2e6 N*m/rad"
+[[shafts]]
+name = "between"
+torsional_stiffness = "3e6 N*m/rad"
+[[shafts]]
+name = "out"
+torsional_stiffness = "5e7 N*m/rad"
+[[shafts]]
+name = "output"
+[[gears]]
+name = "input-pinion"
+shaft = "in"
+teeth = 20
+normal_module = "3 mm"
+normal_pressure_angle = "20 deg"
+face_width = "30 mm"
+[[gears]]
+name = "sun-drive-gear"
+shaft = "sun-shaft"
+teeth = 60
+normal_module = "3 mm"
+normal_pressure_angle = "20 deg"
+face_width = "30 mm"
+[[gears]]
+name = "carrier-gear"
+shaft = "out"
+teeth = 50
+normal_module = "5 mm"
+normal_pressure_angle = "20 deg"
+face_width = "60 mm"
+[[gears]]
+name = "output-pinion"
+shaft = "output"
+teeth = 25
+normal_module = "5 mm"
+normal_pressure_angle = "20 deg"
+face_width = "60 mm"
+[[meshes]]
+gears = ["input-pinion", "sun-drive-gear"]
+[[meshes]]
+gears = ["carrier-gear", "output-pinion"]
+[[stages]]
+sun = "sun-shaft"
+carrier = "between"
+ring = "housing"
+sun_teeth = 24
+planet_teeth = 24
+ring_teeth = 72
+planets = 3
+normal_module = "3 mm"
+normal_pressure_angle = "20 deg"
+face_width = "30 mm"
+ring_addendum_coefficient = 0.8
+[[stages]]
+sun = "between"
+carrier = "out"
+ring = "housing"
+sun_teeth = 20
+planet_teeth = 40
+ring_teeth = 100
+planets = 4
+normal_module = "4 mm"
+normal_pressure_angle = "20 deg"
+face_width = "40 mm"
+ring_addendum_coefficient = 0.8
+[operating]
+speed = "1500 rpm"
+torque = "200 N*m"
+[dynamics]
+duration = 0.2
+fs = 20000
+"""
+
+
+def _same_but_chain_names(a, b) -> bool:
+    """Gearbox equality but for the names the forms give their gear chains."""
+    parts = {k: dataclasses.replace(getattr(a, k), name=getattr(b, k).name)
+             for k in ("train", "input_train") if getattr(a, k) is not None}
+    return dataclasses.replace(a, **parts) == b
+
+
+def test_wind_turbine_example_is_its_stage_form():
+    graph = gs.example("wind-turbine-grc")
+    assert _same_but_chain_names(graph, loads(WIND_TURBINE_STAGE_FORM))
+    assert [sh.name for sh in graph.train.flow.shafts] == ["low-speed", "intermediate",
+                                                           "high-speed"]
+
+
+@pytest.mark.parametrize("model", ["lta", "torsional"])
+def test_gears_stages_gears_graph_gives_the_same_numbers(model):
+    graph, staged = loads(CHAINS_GRAPH), loads(CHAINS_STAGE_FORM)
+    assert graph.stage == staged.stage and graph.next_stages == staged.next_stages
+    assert (graph.shaft_stiffness, graph.input_shaft_stiffness) == (5e7, 2e6)
+    assert graph.next_stages[0].shaft_stiffness == 3e6
+    a = graph.simulate(duration=0.02, fs=5000.0, model=model)
+    b = staged.simulate(duration=0.02, fs=5000.0, model=model)
+    assert list(a.data_vars) == list(b.data_vars)
+    for v in b.data_vars:
+        assert np.array_equal(a[v].values, b[v].values), v
+    # the graph's shaft names label the gears' records
+    assert list(a["chain_shaft"].values) == ["in", "sun-shaft", "out", "output"]
+
+
+def test_a_crack_on_a_named_gear_reaches_its_chain():
+    crack = '\n[[cracks]]\ngear = "output-pinion"\ntooth = 3\nflank = "working"\n' \
+            'depth = "1 mm"\n'
+    graph = loads(CHAINS_GRAPH + crack)
+    staged = loads(CHAINS_STAGE_FORM + crack.replace("[[cracks]]", "[[chain.cracks]]"))
+    assert graph.train.cracks == staged.train.cracks and len(graph.train.cracks) == 1
+    assert graph.input_train.cracks == () and graph.stage.cracks == ()
+
+
+PTO = """
+[[shafts]]
+name = "pto"
+[[gears]]
+name = "pto-gear"
+shaft = "{on}"
+teeth = 30
+normal_module = "3 mm"
+[[gears]]
+name = "pto-pinion"
+shaft = "pto"
+teeth = 20
+normal_module = "3 mm"
+[[meshes]]
+gears = ["pto-gear", "pto-pinion"]
+"""
+STAGE1_END = 'ring_addendum_coefficient = 0.8\n[[stages]]'
+
+
+@pytest.mark.parametrize(("edit", "parameter", "value"), [
+    (lambda t: t.replace('sun = "between"', 'sun = "nowhere"'), "stages[2].sun", "nowhere"),
+    (lambda t: t.replace('carrier = "out"', 'carrier = "housing"'), "stages[2]", None),
+    (lambda t: t.replace('sun = "between"', 'sun = "between"\nfixed = "ring"'),
+     "stages[2].fixed", "ring"),
+    (lambda t: t.replace('torque = "200 N*m"', 'torque = "200 N*m"\ninput = "sun"'),
+     "operating.input", "sun"),
+    (lambda t: t + '[[shafts]]\nname = "spare"\n', "shafts[5]", "spare"),
+    (lambda t: t.replace('shaft = "output"', 'shaft = "outputt"'), "gears[3].shaft",
+     "outputt"),
+    (lambda t: t + '[[cracks]]\ngear = "sun"\ntooth = 0\nflank = "working"\n'
+     'depth = "1 mm"\n', "cracks[0].gear", "sun"),
+    (lambda t: t.replace("teeth = 25", "teeth = -5"), "gears[3].teeth", "-5"),
+    (lambda t: t.replace('"3e6 N*m/rad"', '"0 N*m/rad"'), "shafts[2].torsional_stiffness",
+     "0 N*m/rad"),
+    (lambda t: t.replace('"5e7 N*m/rad"', '"-5 N*m/rad"'), "shafts[3].torsional_stiffness",
+     "-5 N*m/rad"),
+    (lambda t: t.replace('"2e6 N*m/rad"', '"1e300 N*m/rad"'),
+     "shafts[1].torsional_stiffness", "1e300 N*m/rad"),
+    (lambda t: t.replace("sun_teeth = 20", "sun_teeth = 0"), "stages[2].sun_teeth", "0"),
+    (lambda t: t.replace('face_width = "40 mm"', 'face_width = "nan mm"'),
+     "stages[2].face_width", "nan mm"),
+    (lambda t: t.replace(STAGE1_END, 'ring_addendum_coefficient = 0.8\n[[stages.cracks]]\n'
+                         'gear = "planet-9"\ntooth = 0\nflank = "working"\ndepth = "1 mm"\n'
+                         '[[stages]]', 1), "stages[1].cracks[0].gear", "planet-9"),
+    (lambda t: t.replace("[operating]", '[[stages.cracks]]\ngear = "sun"\ntooth = 0\n'
+                         'flank = "working"\ndepth = "inf mm"\n[operating]'),
+     "stages[2].cracks[0].depth", "inf mm"),
+    (lambda t: t.replace(STAGE1_END, 'ring_addendum_coefficient = 0.8\n[stages.members]\n'
+                         'sun_mass = "-1 kg"\n[[stages]]', 1), "stages[1].members.sun_mass",
+     "-1 kg"),
+    (lambda t: t + PTO.format(on="between"), "shafts[2]", "between"),  # branching power
+    (lambda t: t + '[[shafts]]\nname = "x"\n' + PTO.format(on="x"), "gears[4]", "pto-gear"),
+    (lambda t: t + '[members]\nsun_mass = "1 kg"\n', "members", None),
+    (lambda t: t.replace('speed = "1500 rpm"', 'speed = "1e-300 rpm"'), "operating.speed",
+     "1e-300 rpm"),
+])
+def test_bad_graph_is_one_line_naming_the_element(tmp_path, capsys, edit, parameter, value):
+    path, out = tmp_path / "box.toml", tmp_path / "never.nc"
+    path.write_text(edit(CHAINS_GRAPH))
+    code = cli_run(["simulate", str(path), "--out", str(out)])
+    err = [ln for ln in capsys.readouterr().err.splitlines() if "warning" not in ln]
+    assert code == 2 and len(err) == 1, err
+    assert err[0].startswith(f"gearsim: error: {parameter} = "), err
+    if value is not None:
+        assert err[0].startswith(f"gearsim: error: {parameter} = {value}:"), err
+    assert "Traceback" not in err[0] and not out.exists()
+
+
+def test_gears_between_two_stages_are_refused_in_one_line():
+    """Stage 1's carrier drives gears (30/20) whose shaft drives stage 2's sun."""
+    text = CHAINS_GRAPH.replace('sun = "between"', 'sun = "mid"') + PTO.format(
+        on="between").replace('"pto"', '"mid"')
+    with pytest.raises(gs.InputError, match="gears between two planetary stages") as err:
+        loads(text)
+    assert err.value.parameter == "gears"
+
+
+def test_stage_form_geometry_refusal_names_the_key_as_written():
+    staged = CHAINS_STAGE_FORM.replace('normal_module = "4 mm"', 'normal_module = "-4 mm"')
+    with pytest.raises(gs.InputError) as err:
+        loads(staged)
+    assert (err.value.parameter, err.value.value) == ("stages[2].normal_module", "-4 mm")

@@ -13,6 +13,7 @@ import dataclasses
 
 import numpy as np
 import pytest
+from two_stage_boxes import TOML_CHAINS as CHAINS_STAGE_FORM
 
 import gearsim as gs
 from gearsim.cli import run as cli_run
@@ -113,69 +114,6 @@ positions_per_cycle = 20
 slices = 10
 """
 
-#: Gears (20/60), two planetary stages (24/24/72 x 3, 20/40/100 x 4) and gears (50/25)
-#: in the stage form (tests/system/test_two_stages.py) ...
-CHAINS_STAGE_FORM = """
-name = "two planetary stages in series"
-[material]
-youngs_modulus = "206 GPa"
-poisson_ratio = 0.3
-density = "7850 kg/m^3"
-[[stages]]
-sun_teeth = 24
-planet_teeth = 24
-ring_teeth = 72
-planets = 3
-normal_module = "3 mm"
-normal_pressure_angle = "20 deg"
-face_width = "30 mm"
-ring_addendum_coefficient = 0.8
-[[stages]]
-fixed = "ring"
-input = "sun"
-shaft_stiffness = "3e6 N*m/rad"
-sun_teeth = 20
-planet_teeth = 40
-ring_teeth = 100
-planets = 4
-normal_module = "4 mm"
-normal_pressure_angle = "20 deg"
-face_width = "40 mm"
-ring_addendum_coefficient = 0.8
-[operating]
-fixed = "ring"
-input = "sun"
-speed = "1500 rpm"
-torque = "200 N*m"
-[dynamics]
-duration = 0.2
-fs = 20000
-
-[input_chain]
-shaft_stiffness = "2e6 N*m/rad"
-[input_chain.common]
-normal_module = "3 mm"
-normal_pressure_angle = "20 deg"
-face_width = "30 mm"
-[[input_chain.gears]]
-name = "input-pinion"
-teeth = 20
-[[input_chain.gears]]
-name = "sun-drive-gear"
-teeth = 60
-[chain]
-shaft_stiffness = "5e7 N*m/rad"
-[chain.common]
-normal_module = "5 mm"
-normal_pressure_angle = "20 deg"
-face_width = "60 mm"
-[[chain.gears]]
-name = "carrier-gear"
-teeth = 50
-[[chain.gears]]
-name = "output-pinion"
-teeth = 25
-"""
 
 #: ... and as a graph: the shafts between the parts carry the torsional stiffnesses.
 CHAINS_GRAPH = """name = "two planetary stages in series"

@@ -14,6 +14,7 @@ import math
 import numpy as np
 import pytest
 import scipy.linalg
+from two_stage_boxes import TOML, TOML_CHAINS
 
 from gearsim.cli import run as cli_run
 from gearsim.dynamics.compose import build_stage_chain_model
@@ -32,42 +33,6 @@ KIN_RTOL = 1e-12
 #: averages out over the record to this).
 MEAN_RTOL = 1e-4
 
-TOML = """
-name = "two planetary stages in series"
-[material]
-youngs_modulus = "206 GPa"
-poisson_ratio = 0.3
-density = "7850 kg/m^3"
-[[stages]]
-sun_teeth = 24
-planet_teeth = 24
-ring_teeth = 72
-planets = 3
-normal_module = "3 mm"
-normal_pressure_angle = "20 deg"
-face_width = "30 mm"
-ring_addendum_coefficient = 0.8
-[[stages]]
-fixed = "ring"
-input = "sun"
-shaft_stiffness = "3e6 N*m/rad"
-sun_teeth = 20
-planet_teeth = 40
-ring_teeth = 100
-planets = 4
-normal_module = "4 mm"
-normal_pressure_angle = "20 deg"
-face_width = "40 mm"
-ring_addendum_coefficient = 0.8
-[operating]
-fixed = "ring"
-input = "sun"
-speed = "3000 rpm"
-torque = "200 N*m"
-[dynamics]
-duration = 0.2
-fs = 20000
-"""
 
 W_IN, T_IN = 3000 * 2 * math.pi / 60, 200.0
 RATIO_1, RATIO_2 = 1 + 72 / 24, 1 + 100 / 20  # ring held, sun in, carrier out: 4 and 6
@@ -237,32 +202,6 @@ def test_result_records_and_summary(box):
 
 # --- with gears on both sides: gears, two planetary stages, gears ------------------------
 
-TOML_CHAINS = TOML.replace('speed = "3000 rpm"', 'speed = "1500 rpm"') + """
-[input_chain]
-shaft_stiffness = "2e6 N*m/rad"
-[input_chain.common]
-normal_module = "3 mm"
-normal_pressure_angle = "20 deg"
-face_width = "30 mm"
-[[input_chain.gears]]
-name = "input-pinion"
-teeth = 20
-[[input_chain.gears]]
-name = "sun-drive-gear"
-teeth = 60
-[chain]
-shaft_stiffness = "5e7 N*m/rad"
-[chain.common]
-normal_module = "5 mm"
-normal_pressure_angle = "20 deg"
-face_width = "60 mm"
-[[chain.gears]]
-name = "carrier-gear"
-teeth = 50
-[[chain.gears]]
-name = "output-pinion"
-teeth = 25
-"""
 
 
 @pytest.mark.parametrize("model", ["lta", "torsional"])

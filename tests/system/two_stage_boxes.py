@@ -1,0 +1,71 @@
+"""Gearboxes of two planetary stages in series shared by tests/system (not a test module).
+
+TOML: 24/24/72 x 3, ring held, sun in at 3000 rpm and 200 N m, its carrier driving the
+sun of 20/40/100 x 4 through 3e6 N m/rad. TOML_CHAINS: the same stages between gears,
+20/60 driving stage 1's sun (2e6 N m/rad) and 50/25 on stage 2's carrier (5e7 N m/rad),
+at 1500 rpm.
+"""
+
+TOML = """
+name = "two planetary stages in series"
+[material]
+youngs_modulus = "206 GPa"
+poisson_ratio = 0.3
+density = "7850 kg/m^3"
+[[stages]]
+sun_teeth = 24
+planet_teeth = 24
+ring_teeth = 72
+planets = 3
+normal_module = "3 mm"
+normal_pressure_angle = "20 deg"
+face_width = "30 mm"
+ring_addendum_coefficient = 0.8
+[[stages]]
+fixed = "ring"
+input = "sun"
+shaft_stiffness = "3e6 N*m/rad"
+sun_teeth = 20
+planet_teeth = 40
+ring_teeth = 100
+planets = 4
+normal_module = "4 mm"
+normal_pressure_angle = "20 deg"
+face_width = "40 mm"
+ring_addendum_coefficient = 0.8
+[operating]
+fixed = "ring"
+input = "sun"
+speed = "3000 rpm"
+torque = "200 N*m"
+[dynamics]
+duration = 0.2
+fs = 20000
+"""
+
+TOML_CHAINS = TOML.replace('speed = "3000 rpm"', 'speed = "1500 rpm"') + """
+[input_chain]
+shaft_stiffness = "2e6 N*m/rad"
+[input_chain.common]
+normal_module = "3 mm"
+normal_pressure_angle = "20 deg"
+face_width = "30 mm"
+[[input_chain.gears]]
+name = "input-pinion"
+teeth = 20
+[[input_chain.gears]]
+name = "sun-drive-gear"
+teeth = 60
+[chain]
+shaft_stiffness = "5e7 N*m/rad"
+[chain.common]
+normal_module = "5 mm"
+normal_pressure_angle = "20 deg"
+face_width = "60 mm"
+[[chain.gears]]
+name = "carrier-gear"
+teeth = 50
+[[chain.gears]]
+name = "output-pinion"
+teeth = 25
+"""

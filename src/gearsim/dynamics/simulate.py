@@ -826,8 +826,14 @@ def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient)
     import xarray as xr
 
 
-    acc = (model.fext[None, :] - model.kb * q - model.cb * v - f @ model.V) / model.mass
-    dte = q @ model.V.T + model.dte_offset
+    # ((F - k_b q) - c_b q') - f V) / m, the operations of the one expression in its
+    # order, into one array (no temporaries of the records' size)
+    acc = model.fext[None, :] - model.kb * q
+    acc -= model.cb * v
+    acc -= f @ model.V
+    acc /= model.mass
+    dte = q @ model.V.T
+    dte += model.dte_offset
     ste = model.ste(t)
     data = {}
     for i in range(len(train.pairs)):
@@ -849,8 +855,9 @@ def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient)
         data["shaft_torque"] = (("time", "spring"), f[:, list(springs)], {
             "units": "N m", "long_name": "torque in each shaft spring between two gears"})
     bd = model.bearing_dofs
-    data["bearing_force"] = (("time", "shaft", "axis"), model.kb[bd] * q[:, bd]
-                             + model.cb[bd] * v[:, bd],
+    bearing = model.kb[bd] * q[:, bd]
+    bearing += model.cb[bd] * v[:, bd]
+    data["bearing_force"] = (("time", "shaft", "axis"), bearing,
                              {"units": "N", "long_name": "force of each shaft on its bearings"})
     data["acceleration"] = (("time", "shaft", "axis"), acc[:, bd],
                             {"units": "m/s^2", "long_name": "acceleration of the shaft centre"})

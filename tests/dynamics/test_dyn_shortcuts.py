@@ -84,3 +84,20 @@ def test_constant_speed_nominal_time_is_the_segment(model, ti, load):
     # a scalar time keeps the general path and its types
     for got, ref in zip(m.nominal(0.3), _nominal(m, 0.3), strict=True):
         assert type(got) is type(ref) and got == ref
+
+
+def test_tacho_pulses_are_those_of_the_remainder():
+    from gearsim.dynamics.simulate import TACHO_VOLTS, TACHO_WIDTH, tacho_variable
+
+    rng = np.random.default_rng(3)
+    turns = np.arange(-2000, 2000) * (2 * np.pi)
+    edges = np.concatenate([turns, turns + TACHO_WIDTH, [1e15, 7e15, 1e16, 2.0 ** 60]])
+    a = np.concatenate([
+        rng.uniform(-1e3, 1e3, 200_000), rng.uniform(0.0, 400.0, 200_000),
+        edges, np.nextafter(edges, np.inf), np.nextafter(edges, -np.inf),
+        [0.0, -0.0, 5e-324, -5e-324, 1e300, -1e300, np.inf, -np.inf, np.nan]])
+    with np.errstate(invalid="ignore"):
+        ref = np.where(np.mod(a, 2 * np.pi) < TACHO_WIDTH, TACHO_VOLTS, 0.0)
+        dims, got, attrs = tacho_variable(a.reshape(-1, 1))
+    assert dims == ("time", "shaft") and attrs["units"] == "V"
+    assert _same(got[:, 0], ref)

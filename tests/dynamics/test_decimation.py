@@ -50,6 +50,20 @@ def test_decimation_is_upfirdn(r: int) -> None:
     assert (k0 + n_out - 1) * r == x.shape[1] - 1
 
 
+@pytest.mark.parametrize("down", [1, 2, 3, 4])
+@pytest.mark.parametrize("taps", [1, 2, 3, 6, 49])
+def test_decimation_is_upfirdn_across_blocks(down: int, taps: int) -> None:
+    # several blocks of outputs (the last one partial) and every remainder of the taps
+    # taken four at a time: still upfirdn's numbers to the bit
+    rng = np.random.default_rng(taps + 10 * down)
+    n_out = 2 * _kernels.FIR_BLOCK + 37
+    k0 = -(-(taps - 1) // down)  # the first output whose taps are all inside the record
+    x = 1e3 * rng.standard_normal((3, (k0 + n_out - 1) * down + 1))
+    h = rng.standard_normal(taps)
+    ref = upfirdn(h, x, up=1, down=down, axis=-1)[:, k0:k0 + n_out]
+    assert np.array_equal(_kernels.fir_decimate(h, x, down, k0, n_out), ref)
+
+
 def test_decimated_sine_keeps_its_amplitude_and_phase() -> None:
     # a 1 kHz sine recorded at 100 kHz and decimated to 50 kHz: in the pass band the
     # linear-phase filter passes it whole (Kaiser beta 8: ripple ~1e-4), centred on the

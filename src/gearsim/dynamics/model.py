@@ -169,12 +169,18 @@ class DynamicModel:
             Same shape as ``t``.
         """
         t = np.asarray(t, dtype=float)
+        lam = (np.ones_like(t) if self.load is None
+               else np.interp(t, self.load[:, 0], self.load[:, 1]))
+        if self.profile is None and t.ndim > 0 and np.isfinite(t).all():
+            # the constant-speed segment (0, 0, 1, 0) below, without its arithmetic: with
+            # d = t - 0 = t finite, tau = (0 + 1 d) + ((0.5 0) d) d = t + 0 (the last
+            # term is +0, and 0 + -0 is +0), tau' = 1 + 0 d = 1, tau'' = 0 + 0 t = +0:
+            # the same numbers, bit for bit (a record of a simulated second: 0.7 ms less)
+            return t + 0.0, np.ones(t.shape), np.zeros(t.shape), lam
         prof = np.array([[0.0, 0.0, 1.0, 0.0]]) if self.profile is None else self.profile
         k = np.clip(np.searchsorted(prof[:, 0], t, side="right") - 1, 0, None)
         d = t - prof[k, 0]
         tau = prof[k, 1] + prof[k, 2] * d + 0.5 * prof[k, 3] * d * d
-        lam = (np.ones_like(t) if self.load is None
-               else np.interp(t, self.load[:, 0], self.load[:, 1]))
         return tau, prof[k, 2] + prof[k, 3] * d, prof[k, 3] + 0.0 * t, lam
 
     @property
@@ -217,6 +223,17 @@ class DynamicModel:
             e_i at each time [m].
         """
         t = np.atleast_1d(np.asarray(t, dtype=float))
+        if (not np.any(self.h_amp) and not np.any(np.signbit(self.e0))
+                and np.isfinite(t).all() and np.isfinite(self.h_omega).all()
+                and np.isfinite(self.h_phase).all()
+                and np.abs(t).max(initial=0.0) * np.abs(self.h_omega).max(initial=0.0)
+                + np.abs(self.h_phase).max(initial=0.0) < 1e300):
+            # no harmonic (the default): each term is 0 sin(finite arg) = +-0, their sum
+            # +-0, and e0 + +-0 = e0 for every e0 but -0 (excluded): e0 itself, without
+            # the sines of every time, mesh and harmonic (6 ms for a simulated second)
+            out = np.empty((t.shape[0], self.e0.size))
+            out[:] = self.e0
+            return out
         arg = t[:, None, None] * self.h_omega[None] + self.h_phase[None]
         return self.e0[None, :] + np.sum(self.h_amp[None] * np.sin(arg), axis=-1)
 

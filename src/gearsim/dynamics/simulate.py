@@ -183,6 +183,10 @@ class Raw:
         Mesh forces f_i (kernel units, before ``to_transverse``) [N].
     q_end, v_end : ndarray, shape (n_dof,)
         State after the last step.
+    channels : ndarray, shape (n_q + n_v + n_f, n_rec), optional
+        The same records one channel per row, as the kernel writes them (the recorded
+        columns of q, then of q', then of f): ``q``, ``v`` and ``f`` are transposed views
+        of its row blocks (the anti-aliasing filter reads the rows, without a copy).
     """
 
     t: np.ndarray
@@ -191,6 +195,7 @@ class Raw:
     f: np.ndarray
     q_end: np.ndarray
     v_end: np.ndarray
+    channels: np.ndarray | None = None
 
 
 def _kernel_args(model: DynamicModel):
@@ -306,13 +311,16 @@ def run_kernel(model: DynamicModel, *, dt: float, n_steps: int, rec_start: int =
                  (False, True): _kernels.integrate_rk4_profile,
                  (True, True): _kernels.integrate_rk4_contacts_profile}[contacts, profiled]
     # records allocated by numpy (huge pages for large arrays: fewer page faults than the
-    # kernel's own allocation, _kernels.integrate_rk4)
+    # kernel's own allocation, _kernels.integrate_rk4), one channel per row: the row
+    # blocks of q, q' and f of one array (C-contiguous), which the filter reads as is
     n_rec = int(n_rec)
     if channels is None:
         channels = (np.arange(model.n_dof), np.arange(model.n_dof), np.arange(model.n_mesh))
     cols = tuple(np.ascontiguousarray(c, dtype=np.int64) for c in channels)
-    rec = tuple(np.zeros((n_rec, c.size)) for c in cols)
-    status, step, rq, rv, rf, q, v = integrate(
+    nq, nv = cols[0].size, cols[1].size
+    x = np.zeros((nq + nv + cols[2].size, n_rec))
+    rec = (x[:nq], x[nq:nq + nv], x[nq + nv:])
+    status, step, _, _, _, q, v = integrate(
         q0, v0, float(t0), float(dt), int(n_steps), int(rec_start), int(rec_every), *rec,
         *cols, Q_LIMIT, *_kernel_args(model))
     if status != 0:
@@ -321,7 +329,7 @@ def run_kernel(model: DynamicModel, *, dt: float, n_steps: int, rec_start: int =
             f"{step} of {n_steps}, dt = {dt:.4g} s): a coordinate left [-{Q_LIMIT}, "
             f"{Q_LIMIT}] or became NaN; reduce dynamics.step or check the inputs")
     t = t0 + (rec_start + rec_every * np.arange(n_rec)) * dt
-    return Raw(t=t, q=rq, v=rv, f=rf, q_end=q, v_end=v)
+    return Raw(t=t, q=rec[0].T, v=rec[1].T, f=rec[2].T, q_end=q, v_end=v, channels=x)
 
 
 def anti_alias_taps(r: int, fs: float) -> np.ndarray:
@@ -771,20 +779,20 @@ def record(model: DynamicModel, settings: DynamicsSettings, *, dt: float, m: int
     # with oversampling, the kernel records only the channels to decimate
     raw = run_kernel(model, dt=dt, n_steps=n_steps, rec_start=rec_start, rec_every=m,
                      n_rec=n_rec, channels=channels if r > 1 else None)
-    rq, rv, rf = raw.q, raw.v, raw.f
+    n, nv = raw.q.shape[1], raw.v.shape[1]
     if r > 1:
-        # one channel per row (q, v, f): the filter runs along contiguous rows
-        n, nv = rq.shape[1], rv.shape[1]
-        x = np.empty((n + nv + rf.shape[1], n_rec))
-        x[:n], x[n:n + nv], x[n + nv:] = rq.T, rv.T, rf.T
-        # full-convolution index j = kk r holds the output centred on j - half; the first
-        # output sample is centred on internal index half, i.e. kk = 2 half / r (so
-        # j - i >= 0 for every tap, and the last j = (n_out - 1) r + 2 half = n_rec - 1)
+        # the kernel's records, one channel per row (q, v, f), are filtered along their
+        # contiguous rows; full-convolution index j = kk r holds the output centred on
+        # j - half; the first output sample is centred on internal index half, i.e. kk =
+        # 2 half / r (so j - i >= 0 for every tap, and the last j = (n_out - 1) r + 2 half
+        # = n_rec - 1)
         k0 = 2 * half // r
-        y = _kernels.fir_decimate(anti_alias_taps(r, fs), x, r, k0, n_out).T
+        y = _kernels.fir_decimate(anti_alias_taps(r, fs), raw.channels, r, k0, n_out).T
         q, v, f = y[:, :n], y[:, n:n + nv], y[:, n + nv:]
     else:
-        q, v, f = rq, rv, rf
+        # unfiltered: the records themselves, one row per sample (C order, the layout
+        # the dataset's products were always given)
+        q, v, f = (np.ascontiguousarray(a) for a in (raw.q, raw.v, raw.f))
     return transient + np.arange(n_out) / fs, q, v, f, transient
 
 
@@ -807,9 +815,34 @@ def tacho_variable(angles: np.ndarray) -> tuple:
     tuple
         ``(("time", "shaft"), pulses [V], attrs)``: :data:`TACHO_VOLTS` while the angle is
         within :data:`TACHO_WIDTH` after a whole revolution, else 0 (one pulse per rev).
+
+    Notes
+    -----
+    The pulse is on where ``numpy.mod(angle, 2 pi) < TACHO_WIDTH``. That remainder costs
+    10 ns an angle; the angle less its whole turns by floor, ``a - floor(a / 2pi) 2pi``, a
+    tenth of it, and is within (|a| + 3 (2 pi)) 2^-53 of the remainder (one rounding of
+    the quotient, product, difference; the remainder of a negative angle is rounded
+    once) unless the floor is one turn off, which happens only where the remainder is
+    within |a| 2^-53 of 0 or 2 pi. So an angle whose cheap remainder lies more than
+    tol = (|a| + 2 (2 pi)) 2^-50 inside [0, width) or [width, 2 pi) has the pulse that
+    decides; the others (near an edge, non-finite, beyond 2^50 turns: none or a few per
+    record) take ``numpy.mod`` itself. The pulses are those of ``numpy.mod``, bit for
+    bit (tested on edge values).
     """
-    return (("time", "shaft"), np.where(np.mod(angles, 2 * np.pi) < TACHO_WIDTH,
-                                        TACHO_VOLTS, 0.0),
+    a = np.asarray(angles, dtype=float)
+    turn = 2 * np.pi
+    with np.errstate(invalid="ignore", over="ignore"):
+        r = a - np.floor(a / turn) * turn
+        tol = np.abs(a)
+        tol += 2 * turn
+        tol *= 2.0 ** -50
+        on = (r >= tol) & (r < TACHO_WIDTH - tol)
+        sure = on | ((r >= TACHO_WIDTH + tol) & (r < turn - tol))
+    pulses = np.where(on, TACHO_VOLTS, 0.0)
+    near = ~sure
+    if near.any():
+        pulses[near] = np.where(np.mod(a[near], turn) < TACHO_WIDTH, TACHO_VOLTS, 0.0)
+    return (("time", "shaft"), pulses,
             {"units": "V", "long_name": "once-per-revolution tacho pulse of each shaft",
              "pulses_per_rev": 1})
 
@@ -818,8 +851,14 @@ def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient)
     import xarray as xr
 
 
-    acc = (model.fext[None, :] - model.kb * q - model.cb * v - f @ model.V) / model.mass
-    dte = q @ model.V.T + model.dte_offset
+    # ((F - k_b q) - c_b q') - f V) / m, the operations of the one expression in its
+    # order, into one array (no temporaries of the records' size)
+    acc = model.fext[None, :] - model.kb * q
+    acc -= model.cb * v
+    acc -= f @ model.V
+    acc /= model.mass
+    dte = q @ model.V.T
+    dte += model.dte_offset
     ste = model.ste(t)
     data = {}
     for i in range(len(train.pairs)):
@@ -841,8 +880,9 @@ def _dataset(train, settings, model: DynamicModel, t, q, v, f, *, dt, transient)
         data["shaft_torque"] = (("time", "spring"), f[:, list(springs)], {
             "units": "N m", "long_name": "torque in each shaft spring between two gears"})
     bd = model.bearing_dofs
-    data["bearing_force"] = (("time", "shaft", "axis"), model.kb[bd] * q[:, bd]
-                             + model.cb[bd] * v[:, bd],
+    bearing = model.kb[bd] * q[:, bd]
+    bearing += model.cb[bd] * v[:, bd]
+    data["bearing_force"] = (("time", "shaft", "axis"), bearing,
                              {"units": "N", "long_name": "force of each shaft on its bearings"})
     data["acceleration"] = (("time", "shaft", "axis"), acc[:, bd],
                             {"units": "m/s^2", "long_name": "acceleration of the shaft centre"})

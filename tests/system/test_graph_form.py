@@ -14,6 +14,7 @@ import dataclasses
 import numpy as np
 import pytest
 from two_stage_boxes import TOML_CHAINS as CHAINS_STAGE_FORM
+from two_stage_boxes import TOML_CHAINS_GRAPH as CHAINS_GRAPH
 
 import gearsim as gs
 from gearsim.cli import run as cli_run
@@ -115,88 +116,6 @@ slices = 10
 """
 
 
-#: ... and as a graph: the shafts between the parts carry the torsional stiffnesses.
-CHAINS_GRAPH = """name = "two planetary stages in series"
-[material]
-youngs_modulus = "206 GPa"
-poisson_ratio = 0.3
-density = "7850 kg/m^3"
-[[shafts]]
-name = "in"
-[[shafts]]
-name = "sun-shaft"
-torsional_stiffness = "2e6 N*m/rad"
-[[shafts]]
-name = "between"
-torsional_stiffness = "3e6 N*m/rad"
-[[shafts]]
-name = "out"
-torsional_stiffness = "5e7 N*m/rad"
-[[shafts]]
-name = "output"
-[[gears]]
-name = "input-pinion"
-shaft = "in"
-teeth = 20
-normal_module = "3 mm"
-normal_pressure_angle = "20 deg"
-face_width = "30 mm"
-[[gears]]
-name = "sun-drive-gear"
-shaft = "sun-shaft"
-teeth = 60
-normal_module = "3 mm"
-normal_pressure_angle = "20 deg"
-face_width = "30 mm"
-[[gears]]
-name = "carrier-gear"
-shaft = "out"
-teeth = 50
-normal_module = "5 mm"
-normal_pressure_angle = "20 deg"
-face_width = "60 mm"
-[[gears]]
-name = "output-pinion"
-shaft = "output"
-teeth = 25
-normal_module = "5 mm"
-normal_pressure_angle = "20 deg"
-face_width = "60 mm"
-[[meshes]]
-gears = ["input-pinion", "sun-drive-gear"]
-[[meshes]]
-gears = ["carrier-gear", "output-pinion"]
-[[stages]]
-sun = "sun-shaft"
-carrier = "between"
-ring = "housing"
-sun_teeth = 24
-planet_teeth = 24
-ring_teeth = 72
-planets = 3
-normal_module = "3 mm"
-normal_pressure_angle = "20 deg"
-face_width = "30 mm"
-ring_addendum_coefficient = 0.8
-[[stages]]
-sun = "between"
-carrier = "out"
-ring = "housing"
-sun_teeth = 20
-planet_teeth = 40
-ring_teeth = 100
-planets = 4
-normal_module = "4 mm"
-normal_pressure_angle = "20 deg"
-face_width = "40 mm"
-ring_addendum_coefficient = 0.8
-[operating]
-speed = "1500 rpm"
-torque = "200 N*m"
-[dynamics]
-duration = 0.2
-fs = 20000
-"""
 
 
 def _same_but_chain_names(a, b) -> bool:

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from gearsim.errors import InputError, require
 
 __all__ = ["MAX_DENSITY", "MAX_YOUNGS_MODULUS", "MIN_DENSITY", "MIN_YOUNGS_MODULUS", "Material", "Gear",
-           "inv", "inv_inverse"]
+           "check_teeth", "inv", "inv_inverse"]
 
 #: Bounds of Young's modulus [Pa]: 10 TPa, ten times the stiffest solids (diamond,
 #: graphene ~1 TPa); 0.1 GPa, below the softest gear plastic (polyethylene, 0.2-1 GPa);
@@ -161,6 +161,26 @@ class Material:
         return self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
 
 
+def check_teeth(teeth: object, parameter: str) -> None:
+    """Refuse a tooth count that is not an integer in [7, :data:`MAX_TEETH`].
+
+    Parameters
+    ----------
+    teeth : object
+        The tooth count as given.
+    parameter : str
+        Its name in the refusal (``gears[3].teeth``).
+
+    Raises
+    ------
+    InputError
+        Not an integer (a bool is not), or outside [7, MAX_TEETH].
+    """
+    require(isinstance(teeth, int) and not isinstance(teeth, bool)
+            and 7 <= teeth <= MAX_TEETH, parameter, teeth,
+            f"must be an integer in [7, {MAX_TEETH}]")
+
+
 @dataclass(frozen=True)
 class Gear:
     """An external involute spur (``helix_angle = 0``) or helical gear.
@@ -235,9 +255,7 @@ class Gear:
 
     def __post_init__(self) -> None:
         p = self.name
-        require(isinstance(self.teeth, int) and not isinstance(self.teeth, bool)
-                and 7 <= self.teeth <= MAX_TEETH, f"{p}.teeth", self.teeth,
-                f"must be an integer in [7, {MAX_TEETH}]")
+        check_teeth(self.teeth, f"{p}.teeth")
         require(self.normal_module > 0, f"{p}.normal_module", self.normal_module, "must be > 0 m")
         require(self.normal_module < MAX_MODULE, f"{p}.normal_module", self.normal_module,
                 f"must be a finite number < {MAX_MODULE:g} m (is the unit right? plain numbers "

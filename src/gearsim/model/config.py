@@ -39,7 +39,7 @@ from typing import Any
 from gearsim.data import EXAMPLES, example_text
 from gearsim.dynamics.settings import parse_dynamics
 from gearsim.errors import InputError
-from gearsim.geometry.gear import Gear, Material
+from gearsim.geometry.gear import Gear, Material, check_teeth
 from gearsim.geometry.pair import require_same_rack
 from gearsim.model.damage import CRACK_KEYS, array_of_tables, parse_cracks, parse_faults
 from gearsim.model.gearbox import Gearbox
@@ -153,6 +153,7 @@ def parse(doc: dict[str, Any]) -> Gearbox:
         kw.setdefault("name", f"gear{i + 1}")
         if "teeth" not in kw:
             raise InputError(f"gears[{i}].teeth", "missing", "every gear needs a tooth count")
+        check_teeth(kw["teeth"], f"gears[{i}].teeth")  # before the power flow divides by it
         if "normal_module" not in kw:
             raise InputError(f"gears[{i}].normal_module", "missing",
                              "give it in [common] or in the gear")

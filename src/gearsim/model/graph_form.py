@@ -108,6 +108,21 @@ def parse_graph_stages(doc: dict[str, Any], material: Material,
         raise InputError(rename(exc.parameter), exc.value, exc.limit) from None
 
 
+def _names(tables: list[dict[str, Any]], key: str, kind: str) -> list[str]:
+    """The names of the elements of ``[[key]]`` (default ``<kind><i + 1>``), each a string
+    and unique."""
+    names: list[str] = []
+    for i, t in enumerate(tables):
+        n = t.get("name", f"{kind}{i + 1}")
+        if not isinstance(n, str) or not n:
+            raise InputError(f"{key}[{i}].name", n, "must be a non-empty string")
+        if n in names:
+            raise InputError(f"{key}[{i}].name", n, f"is already the name of "
+                             f"{key}[{names.index(n)}]: names must be unique")
+        names.append(n)
+    return names
+
+
 def _tables(doc: dict[str, Any], key: str) -> list[dict[str, Any]]:
     return array_of_tables(doc.get(key, []), key) if key in doc else []
 
@@ -121,12 +136,12 @@ def _translate(doc: dict[str, Any]) -> tuple[dict[str, Any], Callable[[str], str
                              f"stages{hint}; allowed: " + ", ".join(GRAPH_TOP_KEYS))
     shafts = _tables(doc, "shafts")
     gears, meshes, stages = _tables(doc, "gears"), _tables(doc, "meshes"), _tables(doc, "stages")
-    names = [t.get("name", f"shaft{i + 1}") for i, t in enumerate(shafts)]
+    names = _names(shafts, "shafts", "shaft")
     index = {n: i for i, n in enumerate(names)}
-    gear_names = [t.get("name", f"gear{i + 1}") for i, t in enumerate(gears)]
+    gear_names = _names(gears, "gears", "gear")
     on: dict[str, list[int]] = {n: [] for n in names}  # the gears on each shaft
     for i, t in enumerate(gears):
-        if t.get("shaft") not in index:
+        if not isinstance(t.get("shaft"), str) or t["shaft"] not in index:
             raise InputError(f"gears[{i}].shaft", t.get("shaft", "missing"),
                              "no such shaft; shafts: " + ", ".join(names))
         on[t["shaft"]].append(i)
@@ -141,8 +156,8 @@ def _translate(doc: dict[str, Any]) -> tuple[dict[str, Any], Callable[[str], str
     mesh_shafts = []
     for j, t in enumerate(meshes):
         pair = t.get("gears")
-        if not (isinstance(pair, list) and len(pair) == 2 and all(g in gear_names
-                                                                   for g in pair)):
+        if not (isinstance(pair, list) and len(pair) == 2
+                and all(isinstance(g, str) and g in gear_names for g in pair)):
             raise InputError(f"meshes[{j}].gears", pair if pair is not None else "missing",
                              "must name two gears; gears: " + ", ".join(gear_names))
         a, b = (gears[gear_names.index(g)]["shaft"] for g in pair)
@@ -159,7 +174,7 @@ def _translate(doc: dict[str, Any]) -> tuple[dict[str, Any], Callable[[str], str
                                  f"\"{HOUSING}\"; a shaft's torsional_stiffness)")
         for m in MEMBERS:
             v = st.get(m, "missing")
-            if v != HOUSING and v not in index:
+            if not isinstance(v, str) or (v != HOUSING and v not in index):
                 raise InputError(f"stages[{k}].{m}", v, "no such shaft; shafts: "
                                  + ", ".join(names) + f" (or \"{HOUSING}\": held)")
         fixed = [m for m in MEMBERS if st[m] == HOUSING]

@@ -129,9 +129,9 @@ class StageOperating:
     input
         Driven member (not the held one): ``"sun"`` (default), ``"ring"`` or ``"carrier"``.
     speed
-        Speed of the input member [rad/s], finite, in (0, 1e5].
+        Speed of the input member [rad/s], finite, in [1e-3, 1e5].
     torque
-        Torque on the input member [N m], finite, in (0, 1e9].
+        Torque on the input member [N m], finite, in [1e-6, 1e9].
 
     Raises
     ------

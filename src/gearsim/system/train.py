@@ -129,10 +129,10 @@ class Operating:
     Parameters
     ----------
     speed
-        Input speed [rad/s] (finite, in (0, 1e5]). In a config file a speed needs a
+        Input speed [rad/s] (finite, in [1e-3, 1e5]). In a config file a speed needs a
         unit (``"1900 rpm"``): a bare number would be ambiguous.
     torque
-        Input torque [N m] (finite, in (0, 1e9]).
+        Input torque [N m] (finite, in [1e-6, 1e9]).
 
     Raises
     ------

@@ -88,3 +88,38 @@ def test_bad_gear_is_refused_naming_it(folder, edit, where):
     with pytest.raises(InputError) as e:
         check_study(loads_study(STUDY.replace(*edit), base_dir=folder))
     assert e.value.parameter == where, str(e.value)
+
+
+STAGE_STUDY = """
+[study]
+name = "where is the spall, beside a planetary stage"
+config = "wind-turbine-grc"
+signal = "chain_acceleration[intermediate,y]"
+shafts = "reference"
+[study.dynamics]
+duration = "2.8 s"
+[parameters]
+fault = ["none", "spall", "working"]
+gear = ["intermediate-pinion", "high-speed-pinion"]
+"""
+
+
+def test_a_stage_gearbox_takes_the_classes_on_its_parallel_gears():
+    """wind-turbine-grc: each class sits on the named gear of the parallel stages, the
+    planetary stage keeps no crack or fault; a stage member or the eccentricity class is
+    refused in one line naming the study's parameter."""
+    study = loads_study(STAGE_STUDY)
+    cases = expand(study)
+    for c in cases:
+        gb = build_case(study, c)
+        where = [f.gear for f in gb.train.faults] + [k.gear for k in gb.train.cracks]
+        assert where == ([] if c.fault == "none" else [c.gear]), (c, where)
+        assert gb.stage.cracks == () and gb.stage.faults == ()
+    with pytest.raises(InputError) as err:
+        loads_study(STAGE_STUDY.replace('"high-speed-pinion"]', '"sun"]'))
+    assert err.value.parameter == "parameters.gear[1]"
+    with pytest.raises(InputError) as err:
+        loads_study(STAGE_STUDY.replace('"working"]', '"eccentricity"]'))
+    assert "not among its fault classes" in str(err.value)
+    ds = run_group(study, [c for c in cases if c.fault == "spall"][:1], None)
+    assert list(ds["status"].values) == ["ok"]

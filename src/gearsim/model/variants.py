@@ -74,7 +74,14 @@ def fault_variant(gearbox: Gearbox, kind: str, severity: float = 1.0, *,
     gear : str, optional
         Name of the faulty gear (any gear of the train, e.g. ``"intermediate-pinion"``
         of the two-stage reducer); its own module, face width, flank and tolerance set
-        the sizes. Default: the input gear.
+        the sizes. Default: the input gear. A gearbox with planetary stages takes the
+        classes on a gear of its parallel stages, named (``"intermediate-pinion"`` of
+        wind-turbine-grc): the stages and the gears keep no other crack or fault, and
+        the stages' own members are varied through their cracks; ``eccentricity`` is
+        not among its classes there. Its dynamics settings stay its own (a stage's
+        dynamics takes no mesh of contacts): the faulty mesh runs as its mesh of
+        contacts, as every mesh with a fault does, the others on their tables (the two
+        within 0.4-2 % of each other, docs/stiffness.md 4c).
 
     Returns
     -------
@@ -84,7 +91,8 @@ def fault_variant(gearbox: Gearbox, kind: str, severity: float = 1.0, *,
     Raises
     ------
     InputError
-        For an unknown class or gear, or a severity outside (0, 1].
+        For an unknown class or gear, or a severity outside (0, 1]; on a gearbox with
+        planetary stages, no gear or a stage member, or ``eccentricity``.
 
     Examples
     --------
@@ -102,15 +110,49 @@ def fault_variant(gearbox: Gearbox, kind: str, severity: float = 1.0, *,
     require(isinstance(severity, (int, float)) and not isinstance(severity, bool)
             and math.isfinite(severity) and 0 < severity <= 1, "severity", severity,
             "must be a number in (0, 1]")
-    require(gearbox.stage is None, "fault", kind, "the fault classes are variants of "
-            "external gear meshes; vary a planetary stage through its cracks (flank, "
-            "crack_depth)")
+    if gearbox.stage is not None:  # a gear of the parallel stages beside the planetary ones
+        return _beside_stages(gearbox, kind, float(severity), gear, gearbox.dynamics)
+    dyn = dataclasses.replace(gearbox.dynamics, runout=(0.0,), contact_mesh=True)
     s = float(severity)
     base = gearbox.train.with_crack("none").with_faults(())
-    dyn = dataclasses.replace(gearbox.dynamics, runout=(0.0,), contact_mesh=True)
     names = [x.name for x in base.gears]
     require(gear is None or gear in names, "gear", gear,
             "is not a gear of the train; its gears: " + ", ".join(names))
+    train, dyn = _with_fault(base, kind, s, gear, dyn)
+    return dataclasses.replace(gearbox, train=train, dynamics=dyn)
+
+
+def _beside_stages(gearbox: Gearbox, kind: str, s: float, gear: str | None,
+                   dyn) -> Gearbox:
+    """:func:`fault_variant` of a gearbox with planetary stages: every stage and chain
+    without cracks and faults, the fault on ``gear`` of the gear chain holding it (the
+    stages' own faults are varied through their cracks)."""
+    names = [g.name for t in gearbox.chains for g in t.gears]
+    require(gear in names or (kind == "none" and gear is None), "gear", gear,
+            "a gearbox with planetary stages takes the fault classes on a gear of its "
+            "parallel stages (" + (", ".join(names) or "it has none")
+            + "); vary a planetary stage through its cracks (flank, crack_depth)")
+    require(kind != "eccentricity", "fault", kind, "the runout of a gear beside a "
+            "planetary stage is not among its fault classes")
+    clean = {"stage": dataclasses.replace(gearbox.stage, cracks=(), faults=()),
+             "next_stages": tuple(dataclasses.replace(n, train=dataclasses.replace(
+                 n.train, cracks=(), faults=())) for n in gearbox.next_stages)}
+    for key in ("input_train", "train"):
+        t = getattr(gearbox, key)
+        if t is None:
+            continue
+        t = t.with_crack("none").with_faults(())
+        if gear in [g.name for g in t.gears]:
+            t, dyn = _with_fault(t, kind, s, gear, dyn)
+        clean[key] = t
+    return dataclasses.replace(gearbox, dynamics=dyn, **clean)
+
+
+def _with_fault(base, kind: str, s: float, gear: str | None, dyn):
+    """The train ``base`` (no crack, no fault) with one fault of class ``kind`` at
+    severity ``s`` on tooth 0 of ``gear`` (its first gear if None), and the dynamics
+    settings (the eccentricity's runout)."""
+    names = [x.name for x in base.gears]
     g = base.gears[0] if gear is None else base.gear(gear)
     m, b, rb = g.normal_module, g.face_width, g.base_radius
     lo, hi = active_roll_range(base, g.name, "working")
@@ -151,4 +193,4 @@ def fault_variant(gearbox: Gearbox, kind: str, severity: float = 1.0, *,
         ro = [0.0] * len(base.gears)
         ro[names.index(g.name)] = s * 4 * fpt
         dyn = dataclasses.replace(dyn, runout=tuple(ro))
-    return dataclasses.replace(gearbox, train=train, dynamics=dyn)
+    return train, dyn

@@ -720,7 +720,7 @@ def _check_faults(study: Study, gb: Gearbox) -> None:
     severities = (_points(study, "severity") if "severity" in study.parameters
                   else [("parameters.fault", None, 1.0)])
     if "gear" in study.parameters:
-        names = [g.name for g in gb.train.gears] if gb.stage is None else []
+        names = [g.name for t in gb.chains for g in t.gears]  # beside stages too
         for where, raw, name in _points(study, "gear"):
             require(name in names, where, raw, "is not a gear of the train; its gears: "
                     + (", ".join(names) or "none (a planetary stage: vary its cracks)"))

@@ -127,8 +127,11 @@ def parse_planetary(doc: dict[str, Any], material: Material,
     """
     for key in doc:
         if key not in PLANETARY_TOP_KEYS:
-            raise InputError(key, "...", "unknown section for a planetary stage; allowed: "
-                             + ", ".join(PLANETARY_TOP_KEYS))
+            graph = (" (a gearbox of [[shafts]] writes its stages as [[stages]] naming "
+                     "each member's shaft: docs/gearbox.md)"
+                     if key in ("shafts", "gears", "meshes") else "")
+            raise InputError(key, "...", f"unknown section for a planetary stage{graph}; "
+                             "allowed: " + ", ".join(PLANETARY_TOP_KEYS))
     raw, more = _stage_tables(doc)
     stage, consts = _stage_geometry(raw, "stages[1]" if more or "stages" in doc else "stage",
                                     material)

@@ -121,11 +121,12 @@ def test_run_up_of_the_wind_turbine_box():
                                           1.8 + 2 * (tt - 1.3)))
     np.testing.assert_allclose(ds["carrier_angle"].values,
                                gb.stage.speeds["carrier"] * tau, rtol=1e-12)
-    # a tacho pulse per revolution of every turning shaft: the stage's carrier and sun,
-    # then the parallel stages' shafts at their speeds (kinematics of the example)
-    speeds = {"carrier": gb.stage.speeds["carrier"], "sun": gb.stage.speeds["sun"]}
+    # a tacho pulse per revolution of every turning shaft: the stage's carrier (on the
+    # rotor) and sun (on the low-speed shaft, which carries the first parallel gear),
+    # then the other parallel stages' shafts at their speeds (kinematics of the example)
+    speeds = {"rotor": gb.stage.speeds["carrier"], "low-speed": gb.stage.speeds["sun"]}
     speeds |= {sh.name: gb.train.speed(gb.train.gear_index(sh.gears[0]))
-               for sh in gb.train.flow.shafts}
+               for sh in gb.train.flow.shafts if sh.name not in speeds}
     assert list(ds.shaft.values) == list(speeds)
     for shaft, w in speeds.items():
         pulse = ds["tacho"].sel(shaft=shaft).values > 0

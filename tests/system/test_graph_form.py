@@ -119,10 +119,11 @@ slices = 10
 
 
 def _same_but_chain_names(a, b) -> bool:
-    """Gearbox equality but for the names the forms give their gear chains."""
+    """Gearbox equality but for the names the forms give their gear chains and the
+    members' shafts (which only the graph names)."""
     parts = {k: dataclasses.replace(getattr(a, k), name=getattr(b, k).name)
              for k in ("train", "input_train") if getattr(a, k) is not None}
-    return dataclasses.replace(a, **parts) == b
+    return dataclasses.replace(a, member_shafts=(), **parts) == b
 
 
 def test_wind_turbine_example_is_its_stage_form():
@@ -130,6 +131,7 @@ def test_wind_turbine_example_is_its_stage_form():
     assert _same_but_chain_names(graph, loads(WIND_TURBINE_STAGE_FORM))
     assert [sh.name for sh in graph.train.flow.shafts] == ["low-speed", "intermediate",
                                                            "high-speed"]
+    assert dict(graph.member_shafts) == {"carrier": "rotor", "sun": "low-speed"}
 
 
 @pytest.mark.parametrize("model", ["lta", "torsional"])
@@ -142,9 +144,19 @@ def test_gears_stages_gears_graph_gives_the_same_numbers(model):
     b = staged.simulate(duration=0.02, fs=5000.0, model=model)
     assert list(a.data_vars) == list(b.data_vars)
     for v in b.data_vars:
-        assert np.array_equal(a[v].values, b[v].values), v
-    # the graph's shaft names label the gears' records
+        if v != "tacho":
+            assert np.array_equal(a[v].values, b[v].values), v
+    # the graph's shaft names label the gears' records and the tachos, one a shaft: the
+    # stage form's tacho of the first member (or gear) on each
     assert list(a["chain_shaft"].values) == ["in", "sun-shaft", "out", "output"]
+    first = {"between": "stage1-carrier", "sun-shaft": "stage1-sun",
+             "out": "stage2-carrier", "in": "input-pinion", "output": "output-pinion"}
+    assert sorted(a["shaft"].values) == sorted(first)
+    for shaft, member in first.items():
+        assert np.array_equal(a["tacho"].sel(shaft=shaft).values,
+                              b["tacho"].sel(shaft=member).values), shaft
+    assert graph.reference(signal="mesh_force[stage2-sun-planet-1]")[0] == "out"
+    assert graph.slowest_shaft()[0] in ("out", "output")
 
 
 def test_a_crack_on_a_named_gear_reaches_its_chain():

@@ -103,6 +103,11 @@ class Gearbox:
         Planetary stages in series after ``stage`` (``[[stages]]``), each driven by the
         previous one's output member through its shaft; ``train`` is then driven by the
         last.
+    member_shafts : tuple of (str, str), optional
+        The named shaft each turning stage member sits on, ``(member, shaft)`` with the
+        member as the results name it (``"carrier"``, ``"stage2-sun"``): a gearbox
+        written as a graph (:mod:`gearsim.model.graph_form`). Its tachos and reference
+        shafts then take the shaft's name (one tacho a shaft).
 
     Examples
     --------
@@ -126,6 +131,7 @@ class Gearbox:
     input_train: GearTrain | None = None
     input_shaft_stiffness: float | None = None
     next_stages: tuple[NextStage, ...] = ()
+    member_shafts: tuple[tuple[str, str], ...] = ()
 
     def __post_init__(self) -> None:
         require(self.train is not None or self.stage is not None, "gearbox", "empty",
@@ -363,11 +369,43 @@ class Gearbox:
             return simulate_stage(self.stage, self.members, settings)
         from gearsim.dynamics.compose import simulate_stage_chain
 
-        return simulate_stage_chain(self.stage, self.train, self.members, settings,
-                                    shaft_stiffness=self.shaft_stiffness,
-                                    input_chain=self.input_train,
-                                    input_shaft_stiffness=self.input_shaft_stiffness,
-                                    stages=self.next_stages)
+        return self._named_shafts(simulate_stage_chain(
+            self.stage, self.train, self.members, settings,
+            shaft_stiffness=self.shaft_stiffness, input_chain=self.input_train,
+            input_shaft_stiffness=self.input_shaft_stiffness, stages=self.next_stages))
+
+    def shaft_label(self, member: str) -> str:
+        """The name of the shaft a stage member sits on (:attr:`member_shafts`), else the
+        member's own name.
+
+        Parameters
+        ----------
+        member : str
+            As the results name it (``"carrier"``, ``"stage2-sun"``).
+
+        Returns
+        -------
+        str
+        """
+        return dict(self.member_shafts).get(member, member)
+
+    def _named_shafts(self, ds):
+        """``ds`` with its tachos (and the analysis parts' reference members) under the
+        names of the shafts the members sit on; of two tachos of one shaft (a member and
+        the gear on its shaft, two stages' members), the first."""
+        if not self.member_shafts or "tacho" not in ds:
+            return ds
+        import json
+
+        labels = [self.shaft_label(str(n)) for n in ds["shaft"].values]
+        keep = [i for i, n in enumerate(labels) if n not in labels[:i]]
+        ds = ds.isel(shaft=keep).assign_coords(shaft=[labels[i] for i in keep])
+        if "analysis_parts" in ds.attrs:
+            parts = json.loads(ds.attrs["analysis_parts"])
+            for st in parts["stages"]:
+                st["member"] = self.shaft_label(st["member"])
+            ds.attrs["analysis_parts"] = json.dumps(parts)
+        return ds
 
     def record(self, spec: str, *, harmonics: int = 1, force: bool | None = None,
                **dynamics: Any) -> np.ndarray:
@@ -591,8 +629,8 @@ class Gearbox:
         """
         f: dict[str, float] = {}
         for k, st in enumerate(self.stages):
-            f.update({stage_prefix(k, len(self.stages)) + m: abs(v) / (2.0 * math.pi)
-                      for m, v in st.speeds.items()
+            f.update({self.shaft_label(stage_prefix(k, len(self.stages)) + m):
+                      abs(v) / (2.0 * math.pi) for m, v in st.speeds.items()
                       if m in ("sun", "carrier", "ring") and v != 0.0})
         for tr in self.chains:
             f.update({sh.name: abs(tr.shaft_frequency(tr.gear_index(sh.gears[0])))
@@ -810,7 +848,7 @@ class Gearbox:
         else:
             k = self._stage_record(signal)
             member, freq, teeth = self.stages[k].analysis_reference()
-            member = stage_prefix(k, len(self.stages)) + member  # as the tacho names it
+            member = self.shaft_label(stage_prefix(k, len(self.stages)) + member)  # the tacho's
         return member, freq, teeth[:1] if shafts == "reference" else teeth
 
     def _stage_record(self, signal: str | None) -> int:

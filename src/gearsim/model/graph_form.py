@@ -40,10 +40,12 @@ member on the housing.
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from collections.abc import Callable
 from typing import Any
 
+from gearsim.dynamics.compose import stage_prefix
 from gearsim.errors import InputError
 from gearsim.geometry.gear import Material
 from gearsim.model.damage import array_of_tables
@@ -101,11 +103,12 @@ def parse_graph_stages(doc: dict[str, Any], material: Material,
     InputError
         The first problem, named as written in ``doc``.
     """
-    staged, rename = _translate(doc)
+    staged, rename, placed = _translate(doc)
     try:
-        return parse_planetary(staged, material, parse_train)
+        gb = parse_planetary(staged, material, parse_train)
     except InputError as exc:
         raise InputError(rename(exc.parameter), exc.value, exc.limit) from None
+    return dataclasses.replace(gb, member_shafts=placed)
 
 
 def _names(tables: list[dict[str, Any]], key: str, kind: str) -> list[str]:
@@ -127,8 +130,11 @@ def _tables(doc: dict[str, Any], key: str) -> list[dict[str, Any]]:
     return array_of_tables(doc.get(key, []), key) if key in doc else []
 
 
-def _translate(doc: dict[str, Any]) -> tuple[dict[str, Any], Callable[[str], str]]:
-    """The stage form of ``doc`` and the renaming of its parameters back to ``doc``'s."""
+def _translate(doc: dict[str, Any]
+               ) -> tuple[dict[str, Any], Callable[[str], str], tuple[tuple[str, str], ...]]:
+    """The stage form of ``doc``, the renaming of its parameters back to ``doc``'s, and
+    the shaft of each turning stage member (``(member as the results name it, shaft)``,
+    :attr:`gearsim.model.Gearbox.member_shafts`)."""
     for key in doc:
         if key not in GRAPH_TOP_KEYS:
             hint = f" (here: {MOVED[key]})" if key in MOVED else ""
@@ -243,8 +249,12 @@ def _translate(doc: dict[str, Any]) -> tuple[dict[str, Any], Callable[[str], str
         raise InputError("gears", "between two stages", "gears between two planetary "
                          "stages are not read yet (gears before the first stage, after the "
                          "last, or both)")
-    return _stage_form(doc, path, names, index, on, gears, gear_names, meshes, mesh_shafts,
-                       stages, held)
+    order = [p[1] for p in path if p[0] == "stage"]
+    placed = tuple((stage_prefix(n, len(order)) + m, stages[k - 1][m])
+                   for n, k in enumerate(order) for m in MEMBERS
+                   if stages[k - 1][m] != HOUSING)
+    return (*_stage_form(doc, path, names, index, on, gears, gear_names, meshes,
+                         mesh_shafts, stages, held), placed)
 
 
 def _stage_form(doc, path, names, index, on, gears, gear_names, meshes, mesh_shafts,

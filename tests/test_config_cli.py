@@ -41,7 +41,7 @@ def test_units_are_converted_to_si():
     (MINIMAL.format(module="6 mm") + "[stiffness]\nslicez = 3\n",
      r"stiffness.slicez = 3: unknown key"),
     (MINIMAL.format(module="6 mm") + "[extra]\na = 1\n", r"extra = \.\.\.: unknown section"),
-    (MINIMAL.format(module="-6 mm"), r"common.normal_module = -6 mm: must be > 0"),
+    (MINIMAL.format(module="-6 mm"), r"common.normal_module = -6 mm: must be >= 1e-05 m"),
     (MINIMAL.format(module="6 mm") + '[[cracks]]\ngear = "p"\ndepth = "30 mm"\n',
      r"cracks\[0\].depth = 30 mm: crack is deeper than the tooth"),
     (MINIMAL.format(module="6 mm") + '[[cracks]]\ngear = "q"\n', r"cracks\[0\].gear = q"),

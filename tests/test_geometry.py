@@ -107,8 +107,10 @@ def test_pointed_tooth_refused():
 
 
 def test_bad_sizes_refused():
-    with pytest.raises(InputError, match=r"normal_module = -0.001: must be > 0"):
+    with pytest.raises(InputError, match=r"normal_module = -0.001: must be >= 1e-05 m"):
         Gear(teeth=20, normal_module=-1e-3)
+    with pytest.raises(InputError, match=r"normal_module = 1e-300: must be >= 1e-05 m"):
+        Gear(teeth=20, normal_module=1e-300)  # 1e-300 mm: a unit mistake, not a gear
     with pytest.raises(InputError, match="face_width"):
         Gear(teeth=20, normal_module=1e-3, face_width=0.0)
     with pytest.raises(InputError, match="teeth"):

@@ -40,6 +40,9 @@ FILLET_RANGE = (0.0, 1.0)
 PROFILE_SHIFT_RANGE = (-2.0, 2.0)
 #: Ceilings of the module and the face width [m] (beyond: a unit mistake).
 MAX_MODULE = 0.2
+#: Floor of the module [m]: the finest gears made (watch and micro gears, 0.05-0.1 mm)
+#: are five to ten times it; below, a unit mistake.
+MIN_MODULE = 1e-5
 MAX_FACE_WIDTH = 2.0
 #: Largest tooth count (the largest ring gears have a few hundred teeth).
 MAX_TEETH = 1000
@@ -256,7 +259,8 @@ class Gear:
     def __post_init__(self) -> None:
         p = self.name
         check_teeth(self.teeth, f"{p}.teeth")
-        require(self.normal_module > 0, f"{p}.normal_module", self.normal_module, "must be > 0 m")
+        require(self.normal_module >= MIN_MODULE, f"{p}.normal_module", self.normal_module,
+                f"must be >= {MIN_MODULE:g} m")
         require(self.normal_module < MAX_MODULE, f"{p}.normal_module", self.normal_module,
                 f"must be a finite number < {MAX_MODULE:g} m (is the unit right? plain numbers "
                 "are metres)")

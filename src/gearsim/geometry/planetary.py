@@ -260,8 +260,9 @@ class PlanetaryStage:
         eps_b = self.overlap_ratio
         for mesh, eps in (("sun-planet", self.sun_planet_contact_ratio),
                           ("ring-planet", self.ring_planet_contact_ratio)):
-            require(eps > 0.0 and eps + eps_b >= 1.0, f"stage: {mesh} contact ratio", round(eps, 4),
-                    "total contact ratio eps_alpha + eps_beta must be >= 1")
+            require(eps > 0.0 and eps + eps_b >= 1.0, "stage",
+                    f"{mesh} contact ratio {round(eps, 4):g}",
+                    "the total contact ratio eps_alpha + eps_beta must be >= 1")
 
     # ------------------------------------------------------------------ members
     def _gear(self, teeth: int, shift: float, name: str) -> Gear:

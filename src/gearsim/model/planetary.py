@@ -222,6 +222,8 @@ def _stage_geometry(raw: Any, section: str, material: Material
         with as_written(raw, "stage", sources=[(section, raw)]):
             return PlanetaryStage(material=material, **kw), consts
     except InputError as exc:  # a member gear's own check: the stage's key as written
+        if exc.parameter == "stage":  # the stage as a whole (its contact ratios)
+            raise InputError(section, exc.value, exc.limit) from None
         member, _, key = exc.parameter.partition(".")
         if member not in ("sun", "planet", "ring") or not key:
             raise

@@ -212,6 +212,10 @@ def to_si(value: Any, kind: str, parameter: str) -> float:
     if not any(c.isdigit() for c in value) and q.dimensionality == target.dimensionality:
         raise InputError(parameter, value, f'is a unit without a number; write e.g. '
                          f'"{EXAMPLES[kind]}"')
+    if kind == "dimensionless" and "radian" in q.to_base_units().units._units:
+        # pint counts angles as dimensionless ("90 deg" would read 1.5708)
+        raise InputError(parameter, value, "is an angle; give a plain number (or a "
+                         'percentage, "80 %")')
     if kind == "speed" and q.dimensionality == target.dimensionality \
             and "radian" not in q.to_base_units().units._units:
         # a frequency without an angle (Hz, kHz, 1/s, 1/min) is a shaft's rotation

@@ -31,7 +31,7 @@ from functools import cached_property
 import numpy as np
 
 from gearsim.errors import require
-from gearsim.geometry.gear import Gear, Material, inv, inv_inverse
+from gearsim.geometry.gear import PROFILE_SHIFT_RANGE, Gear, Material, inv, inv_inverse
 
 __all__ = ["COAXIAL_TOLERANCE", "PlanetaryStage", "RingGear"]
 
@@ -211,6 +211,12 @@ class PlanetaryStage:
         require(self.planets >= 1, "stage.planets", self.planets, "must be >= 1")
         require(self.ring_teeth > self.planet_teeth, "stage.ring_teeth", self.ring_teeth,
                 f"must be > planet_teeth = {self.planet_teeth} (internal mesh)")
+        for name in ("sun_shift", "planet_shift", "ring_shift"):  # before any geometry
+            x = getattr(self, name)
+            require(isinstance(x, (int, float)) and math.isfinite(x)
+                    and PROFILE_SHIFT_RANGE[0] <= x <= PROFILE_SHIFT_RANGE[1],
+                    f"stage.{name}", x, f"must be a finite number in "
+                    f"[{PROFILE_SHIFT_RANGE[0]:g}, {PROFILE_SHIFT_RANGE[1]:g}]")
         # the Gear constructors check module, angles, face width, undercut, pointed teeth
         _ = self.sun, self.planet
         ring = self.ring
@@ -226,11 +232,13 @@ class PlanetaryStage:
                                    ("ring-planet", self.ring_shift - self.planet_shift, zr - zp)):
             val = inv(self.sun.transverse_pressure_angle) + 2.0 * math.tan(
                 self.normal_pressure_angle) * x_sum / z_sum
-            require(val > 0.0, f"stage: {mesh} profile shifts", round(x_sum, 6),
-                    "give no real working pressure angle (inv(alpha_w) <= 0): shift less negatively")
+            require(val > 0.0, "stage", f"{mesh} profile shifts {round(x_sum, 6):g}",
+                    "give no real working pressure angle (inv(alpha_w) <= 0): shift less "
+                    "negatively")
         a_sp, a_rp = self.sun_planet_centre_distance, self.ring_planet_centre_distance
-        require(abs(a_sp - a_rp) <= COAXIAL_TOLERANCE * self.normal_module, "stage: centre distance",
-                f"sun-planet {a_sp * 1e3:.6g} mm vs ring-planet {a_rp * 1e3:.6g} mm",
+        require(abs(a_sp - a_rp) <= COAXIAL_TOLERANCE * self.normal_module, "stage",
+                f"centre distances sun-planet {a_sp * 1e3:.6g} mm vs ring-planet "
+                f"{a_rp * 1e3:.6g} mm",
                 f"must agree within {COAXIAL_TOLERANCE:g} m_n (coaxiality; adjust the profile shifts)")
         psi = self.planet_angles_value
         if self.planet_angles is None:

@@ -151,6 +151,8 @@ def parse(doc: dict[str, Any]) -> Gearbox:
     for i, table in enumerate(gear_tables):
         kw = {**common, **convert(table, GEAR_KEYS, f"gears[{i}]")}
         kw.setdefault("name", f"gear{i + 1}")
+        if not kw["name"]:
+            raise InputError(f"gears[{i}].name", kw["name"], "must be a non-empty string")
         if "teeth" not in kw:
             raise InputError(f"gears[{i}].teeth", "missing", "every gear needs a tooth count")
         check_teeth(kw["teeth"], f"gears[{i}].teeth")  # before the power flow divides by it

@@ -3,15 +3,17 @@ with an InputError that names a section of the file as written.
 
 Starting points: two gearboxes of shafts and planetary stages in the graph form
 (gears-stage-stage-gears, and wind-turbine-grc), the stage form they are translated into
-(the same gears-stage-stage-gears box, nrel-grc) and a gear-train graph
-(two-stage-reducer). Hypothesis picks one value of the file (any table, any key) and
+(the same gears-stage-stage-gears box, nrel-grc, lin-parker-1999), a gear-train graph
+(two-stage-reducer) and the chains of gears (idler-table1, spur-19-48): every example.
+Hypothesis picks one value of the file (any table, any key) and
 one bad value (non-finite, zero, negative, absurd, tiny, of the wrong type or unit, a
 name that does not exist). The loader (:func:`gearsim.loads`) may accept it (a value that
 happens to be valid) or refuse it; a refusal must be :class:`gearsim.InputError` (no other
 exception: no traceback), one line, whose parameter starts with a section of the file;
 of a graph of stages, never one of the stage form the graph is translated into
 (``chain.``, ``input_chain.``, ``stage.``, ``members.``, ``stages[k]`` beyond the file's
-stages). 1500 examples a file were run once (all held); the suite runs 300.
+stages). Every (value, bad value) pair of idler-table1, spur-19-48 and lin-parker-1999, and
+1500 examples of each other file, were run once (all held); the suite runs 300 a file.
 """
 
 from __future__ import annotations
@@ -35,7 +37,10 @@ BASES = {"gears-stages-gears": tomllib.loads(TOML_CHAINS_GRAPH),
          "wind-turbine-grc": tomllib.loads(example_text("wind-turbine-grc")),
          "stage-form": tomllib.loads(TOML_CHAINS),
          "nrel-grc": tomllib.loads(example_text("nrel-grc")),
-         "two-stage-reducer": tomllib.loads(example_text("two-stage-reducer"))}
+         "two-stage-reducer": tomllib.loads(example_text("two-stage-reducer")),
+         "idler-table1": tomllib.loads(example_text("idler-table1")),
+         "spur-19-48": tomllib.loads(example_text("spur-19-48")),
+         "lin-parker-1999": tomllib.loads(example_text("lin-parker-1999"))}
 BAD = ["nan mm", "inf N*m/rad", "-inf deg", 0, -1, -3.5, 1e300, "1e300 mm", "1e-300 rpm",
        "1e-300 N*m", "1e-300 mm", "12 kg", "x", "", [1, 2], True, "housing", "nowhere",
        "-5 mm", "0 deg", "90 deg"]

@@ -250,3 +250,10 @@ def test_stage_form_geometry_refusal_names_the_key_as_written():
     with pytest.raises(gs.InputError) as err:
         loads(staged)
     assert (err.value.parameter, err.value.value) == ("stages[2].normal_module", "-4 mm")
+
+
+def test_layout_names_the_shaft_of_each_member(capsys):
+    assert cli_run(["layout", "wind-turbine-grc"]) == 0
+    out = capsys.readouterr().out
+    assert "carrier in, ring held; f_m 36.465 Hz; sun on low-speed, carrier on rotor" in out
+    assert "member_shafts" not in gs.example("nrel-grc").layout()["stage"]

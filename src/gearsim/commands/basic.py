@@ -51,7 +51,9 @@ def layout(
         typer.echo(f"stage{f' {k + 1}' if 'next_stages' in out else ''} "
                    f"{s_['teeth'][0]}/{s_['teeth'][1]}/{s_['teeth'][2]} x "
                    f"{s_['planets']}: {s_['input']} in, {s_['fixed']} held; f_m "
-                   f"{s_['mesh_frequency_hz']:.6g} Hz")
+                   f"{s_['mesh_frequency_hz']:.6g} Hz"
+                   + ("; " + ", ".join(f"{m} on {sh}" for m, sh in s_["member_shafts"].items())
+                      if "member_shafts" in s_ else ""))
     for sh in out["shafts"]:
         typer.echo(f"shaft {sh['name']}: {', '.join(sh['gears'])}; {sh['speed_rpm']:.6g} rpm, "
                    f"{sh['torque_Nm']:.6g} N m")

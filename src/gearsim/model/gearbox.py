@@ -539,7 +539,8 @@ class Gearbox:
         -------
         dict
             ``name``; ``stage`` (teeth, planets, held and input member, mesh frequency
-            [Hz], member speeds [rpm]; with a stage); ``next_stages`` (the same of the
+            [Hz], member speeds [rpm], and of a graph ``member_shafts``, the shaft each
+            turning member sits on; with a stage); ``next_stages`` (the same of the
             stages after it, with member torques [N m]); ``shafts`` (name, gears, speed [rpm],
             torque [N m]); ``meshes`` (driver -> driven, mesh frequency [Hz], static force
             [N]); ``plan``: the positional arguments of :func:`gearsim.viz.layout.
@@ -557,6 +558,10 @@ class Gearbox:
                      "input": tr.operating.input, "mesh_frequency_hz": tr.mesh_frequency,
                      "speeds_rpm": {m: w * 30 / math.pi for m, w in tr.speeds.items()},
                      **({"torques_Nm": dict(tr.torques)} if len(self.stages) > 1 else {})}
+            if self.member_shafts:  # a graph: the shaft each turning member sits on
+                entry["member_shafts"] = {
+                    m: self.shaft_label(stage_prefix(k, len(self.stages)) + m)
+                    for m in ("sun", "ring", "carrier") if m != tr.operating.fixed}
             if k:
                 out.setdefault("next_stages", []).append(entry)
             else:

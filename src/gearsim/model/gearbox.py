@@ -225,7 +225,8 @@ class Gearbox:
             if flank not in (None, "none"):
                 require(any(st.cracks for st in self.stages), "crack", flank, "the planetary "
                         "stage has no crack to vary: give the cracked member, tooth and flank "
-                        "in [[cracks]]")
+                        "in its cracks ([[cracks]] of a [stage] file, [[stages.cracks]] of "
+                        "[[stages]])")
             gb = self._with_stages(tuple(_stage_crack(st, flank, depth, closure)
                                          for st in self.stages))
             if flank not in (None, "none") or depth is not None:

@@ -133,9 +133,9 @@ class StageDynamics:
         require(kt is None or (_positive(kt) and lo <= kt <= hi), "members.held_torsional", kt,
                 f"must be a finite number in [{lo:g}, {hi:g}] N*m/rad")
         require(isinstance(self.sensor_angle, (int, float)) and math.isfinite(self.sensor_angle),
-                "stage.sensor_angle", self.sensor_angle, "must be a finite angle")
+                "sensor.angle", self.sensor_angle, "must be a finite angle")
         require(_positive(self.sensor_width) and self.sensor_width <= math.pi + 1e-12,
-                "stage.sensor_width", self.sensor_width, "must be in (0, pi] rad")
+                "sensor.width", self.sensor_width, "must be in (0, pi] rad")
 
     def mass_inertia(self, train: PlanetaryTrain) -> dict[str, tuple[float, float]]:
         """(mass [kg], inertia [kg m^2]) of each member, given or estimated.
@@ -669,7 +669,7 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     # chains' shafts), each in its own sense, following a speed profile
     parts = series or ({"train": train, "prefix": ""},)  # the stages, named
     extra_attrs["analysis_parts"] = analysis_parts(
-        [(e["prefix"], e["train"]) for e in parts], [e["chain"] for e in chains],
+        [e["train"] for e in parts], [e["chain"] for e in chains],
         float(tau[0]))
     shafts = [(e["prefix"] + m, abs(e["train"].speeds[m]))
               for e in parts
@@ -729,8 +729,8 @@ def analysis_parts(stages, chains, tau0: float) -> str:
 
     Parameters
     ----------
-    stages : sequence of (str, PlanetaryTrain)
-        Each stage's name prefix and train, in power-flow order.
+    stages : sequence of PlanetaryTrain
+        The stages, in power-flow order.
     chains : sequence of GearTrain
         The chains beside the stages, in power-flow order.
     tau0 : float
@@ -742,7 +742,7 @@ def analysis_parts(stages, chains, tau0: float) -> str:
     str
         ``{"stages": [...], "chains": [...]}``: per stage its tooth counts, planets,
         carrier and ring frequencies [Hz], the carrier's angle at the first sample [rad]
-        and ``member``, ``frequency`` [Hz], ``teeth`` of
+        and the reference member's ``frequency`` [Hz] and ``teeth`` of
         :meth:`~gearsim.system.planetary.PlanetaryTrain.analysis_reference`; per chain
         its shafts and meshes (the result's names), the first shaft's frequency [Hz], the
         tooth counts and, for a compound train, its stages.
@@ -750,16 +750,15 @@ def analysis_parts(stages, chains, tau0: float) -> str:
     import json
 
     out_stages = []
-    for prefix, tr in stages:
-        member, freq, teeth = tr.analysis_reference()
+    for tr in stages:
+        _, freq, teeth = tr.analysis_reference()
         st, w = tr.stage, tr.speeds
         out_stages.append({
             "z_sun": int(st.sun_teeth), "z_planet": int(st.planet_teeth),
             "z_ring": int(st.ring_teeth), "planets": int(st.planets),
             "carrier_frequency": w["carrier"] / (2 * math.pi),
             "ring_frequency": w["ring"] / (2 * math.pi),
-            "carrier_phase": float(w["carrier"] * tau0), "member": prefix + member,
-            "frequency": freq, "teeth": [int(z) for z in teeth]})
+            "carrier_phase": float(w["carrier"] * tau0), "frequency": freq, "teeth": [int(z) for z in teeth]})
     names, k, out_chains = chain_mesh_names(chains), 0, []
     for ch in chains:
         stg = ch.compound_stages()

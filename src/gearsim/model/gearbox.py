@@ -391,11 +391,14 @@ class Gearbox:
         return dict(self.member_shafts).get(member, member)
 
     def _named_shafts(self, ds):
-        """``ds`` with its tachos (and the analysis parts' reference members) under the
-        names of the shafts the members sit on; of two tachos of one shaft (a member and
-        the gear on its shaft, two stages' members), the first."""
+        """``ds`` with its tachos under the names of the shafts the members sit on; of two
+        tachos of one shaft (a member and the gear on its shaft, two stages' members),
+        the first."""
         if not self.member_shafts or "tacho" not in ds:
             return ds
+        labels = [self.shaft_label(str(n)) for n in ds["shaft"].values]
+        keep = [i for i, n in enumerate(labels) if n not in labels[:i]]
+        return ds.isel(shaft=keep).assign_coords(shaft=[labels[i] for i in keep])
         import json
 
         labels = [self.shaft_label(str(n)) for n in ds["shaft"].values]

@@ -158,15 +158,10 @@ def parse_planetary(doc: dict[str, Any], material: Material,
                          name=name, **consts)
     sen_raw = doc.get("sensor", {})
     sen = convert(sen_raw, SENSOR_KEYS, "sensor")
-    try:
+    with as_written(sen_raw, "sensor", SENSOR_KEYS):  # its checks, as [sensor] holds them
         members = _members(doc.get("members", {}), "members",
                            sensor_angle=sen.get("angle", 0.0),
                            sensor_width=sen.get("width", math.pi))
-    except InputError as exc:  # the sensor's checks: its [sensor] key as written
-        key = {"stage.sensor_angle": "angle", "stage.sensor_width": "width"}.get(exc.parameter)
-        if key is None:
-            raise
-        raise InputError(f"sensor.{key}", sen_raw.get(key, exc.value), exc.limit) from None
     nexts: list[NextStage] = []
     for k, entry in enumerate(more, 2):  # each driven by the previous stage's output
         nexts.append(_next_stage(entry, f"stages[{k}]", material, nexts[-1].train

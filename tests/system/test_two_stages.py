@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 import scipy.linalg
-from two_stage_boxes import TOML, TOML_CHAINS
+from two_stage_boxes import TOML, TOML_CHAINS, refused_in_one_line
 
 from gearsim.cli import run as cli_run
 from gearsim.dynamics.compose import build_stage_chain_model
@@ -254,14 +254,7 @@ SECOND = 'fixed = "ring"\ninput = "sun"\nshaft_stiffness = "3e6 N*m/rad"'
 ])
 def test_bad_second_stage_is_one_line(tmp_path, capsys, edit, parameter):
     assert edit[0] in TOML
-    path = tmp_path / "box.toml"
-    path.write_text(TOML.replace(*edit, 1))
-    out = tmp_path / "never.nc"
-    code = cli_run(["simulate", str(path), "--out", str(out)])
-    err = capsys.readouterr().err.strip().splitlines()
-    assert code == 2 and len(err) == 1 and err[0].startswith(
-        f"gearsim: error: {parameter} = "), err
-    assert not out.exists()
+    refused_in_one_line(TOML.replace(*edit, 1), tmp_path, capsys, parameter)
 
 
 @pytest.mark.parametrize(("first", "second"), [
@@ -401,14 +394,8 @@ def test_stage_two_fault_is_its_own():
      "cracks[0].gear"),  # the first stage's: three planets
 ])
 def test_bad_stage_damage_is_one_line(tmp_path, capsys, edit, parameter):
-    path = tmp_path / "box.toml"
-    path.write_text(TOML.replace("[operating]", edit + "[operating]"))
-    out = tmp_path / "never.nc"
-    code = cli_run(["simulate", str(path), "--out", str(out)])
-    err = capsys.readouterr().err.strip().splitlines()
-    assert code == 2 and len(err) == 1 and err[0].startswith(
-        f"gearsim: error: {parameter} = "), err
-    assert not out.exists()
+    refused_in_one_line(TOML.replace("[operating]", edit + "[operating]"), tmp_path, capsys,
+                        parameter)
 
 
 def test_first_stage_damage_is_top_level(tmp_path, capsys):

@@ -3,8 +3,13 @@
 TOML: 24/24/72 x 3, ring held, sun in at 3000 rpm and 200 N m, its carrier driving the
 sun of 20/40/100 x 4 through 3e6 N m/rad. TOML_CHAINS: the same stages between gears,
 20/60 driving stage 1's sun (2e6 N m/rad) and 50/25 on stage 2's carrier (5e7 N m/rad),
-at 1500 rpm.
+at 1500 rpm. TOML_CHAINS_GRAPH: TOML_CHAINS as a graph. ``refused_in_one_line``: the
+check of a bad file (one line naming the parameter, exit 2, no result file).
 """
+
+from __future__ import annotations
+
+from gearsim.cli import run as cli_run
 
 TOML = """
 name = "two planetary stages in series"
@@ -153,3 +158,16 @@ torque = "200 N*m"
 duration = 0.2
 fs = 20000
 """
+
+
+def refused_in_one_line(text: str, tmp_path, capsys, parameter: str) -> str:
+    """``gearsim simulate`` of ``text``: exit 2, exactly one line on standard error,
+    ``gearsim: error: PARAMETER = ...``, and no result file; returns the line."""
+    path, out = tmp_path / "box.toml", tmp_path / "never.nc"
+    path.write_text(text)
+    code = cli_run(["simulate", str(path), "--out", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1, err
+    assert err[0].startswith(f"gearsim: error: {parameter} = "), err
+    assert not out.exists()
+    return err[0]

@@ -43,7 +43,7 @@ from __future__ import annotations
 import dataclasses
 import re
 from collections.abc import Callable
-from typing import Any
+from typing import Any, NamedTuple
 
 from gearsim.dynamics.compose import stage_prefix
 from gearsim.errors import InputError
@@ -253,14 +253,34 @@ def _translate(doc: dict[str, Any]
     placed = tuple((stage_prefix(n, len(order)) + m, stages[k - 1][m])
                    for n, k in enumerate(order) for m in MEMBERS
                    if stages[k - 1][m] != HOUSING)
-    return (*_stage_form(doc, path, names, index, on, gears, gear_names, meshes,
-                         mesh_shafts, stages, held), placed)
+    g = _Graph(doc, shafts, names, index, gears, gear_names, on, meshes, mesh_shafts,
+               stages, held)
+    return (*_stage_form(g, path), placed)
 
 
-def _stage_form(doc, path, names, index, on, gears, gear_names, meshes, mesh_shafts,
-                stages, held) -> tuple[dict[str, Any], Callable[[str], str]]:
+class _Graph(NamedTuple):
+    """A gearbox file of shafts and stages as read: its tables, the names of its shafts
+    and gears, the gears on each shaft, the shafts each mesh joins and the member each
+    stage holds."""
+
+    doc: dict[str, Any]
+    shafts: list[dict[str, Any]]
+    names: list[str]
+    index: dict[str, int]
+    gears: list[dict[str, Any]]
+    gear_names: list[str]
+    on: dict[str, list[int]]
+    meshes: list[dict[str, Any]]
+    mesh_shafts: list[tuple[str, str]]
+    stages: list[dict[str, Any]]
+    held: list[str]
+
+
+def _stage_form(g: _Graph, path: list[tuple]
+                ) -> tuple[dict[str, Any], Callable[[str], str]]:
     """The ``[input_chain]``, ``[[stages]]`` and ``[chain]`` document of the power path,
     and the renaming of its parameters."""
+    doc, index, stages, held = g.doc, g.index, g.stages, g.held
     out: dict[str, Any] = {k: doc[k] for k in ("name", "material", "sensor", "dynamics",
                                                 "analysis", "stiffness") if k in doc}
     back: dict[str, str] = {}  # prefix in the stage form -> as written here
@@ -284,19 +304,18 @@ def _stage_form(doc, path, names, index, on, gears, gear_names, meshes, mesh_sha
             back["operating.input"] = f"stages[{k}].{m}"
         else:
             raw |= {"fixed": held[k - 1], "input": m}
-            t = _shaft_table(doc, index[shaft])
+            t = g.shafts[index[shaft]]
             if "torsional_stiffness" in t:
                 raw["shaft_stiffness"] = t["torsional_stiffness"]
                 back[f"{where}.shaft_stiffness"] = f"shafts[{index[shaft]}].torsional_stiffness"
         stage_tabs.append(raw)
     out["stages"] = stage_tabs
-    for _, part, entry, leave in (x for x in path if x[0] == "gears"):
-        table = "input_chain" if path[0][0] == "gears" and entry == names[0] else "chain"
+    for _, _, entry, leave in (x for x in path if x[0] == "gears"):
+        table = "input_chain" if path[0][0] == "gears" and entry == g.names[0] else "chain"
         join = leave if table == "input_chain" else entry  # the shaft with a member
-        chain, ren = _chain(doc, part, entry, names, index, on, gears, gear_names, meshes,
-                            mesh_shafts)
+        chain, ren = _chain(g, entry)
         chain["name"] = "input gears" if table == "input_chain" else "output gears"
-        t = _shaft_table(doc, index[join])
+        t = g.shafts[index[join]]
         if "torsional_stiffness" in t:  # the shaft from the member to the gears on it
             chain["shaft_stiffness"] = t["torsional_stiffness"]
             ren["shaft_stiffness"] = f"shafts[{index[join]}].torsional_stiffness"
@@ -316,16 +335,12 @@ def _stage_form(doc, path, names, index, on, gears, gear_names, meshes, mesh_sha
     return out, rename
 
 
-def _shaft_table(doc: dict[str, Any], i: int) -> dict[str, Any]:
-    return _tables(doc, "shafts")[i]
-
-
-def _chain(doc, part, entry, names, index, on, gears, gear_names, meshes, mesh_shafts
-           ) -> tuple[dict[str, Any], dict[str, str]]:
-    """The ``[chain]`` table of the gears of one part of the graph, its shafts in the
-    order of the power flow from ``entry`` (gear 1 on it), and the renaming of its
-    elements' indices (``gears[0]`` of the chain -> ``gears[i]`` as written)."""
-    shafts = _tables(doc, "shafts")
+def _chain(g: _Graph, entry: str) -> tuple[dict[str, Any], dict[str, str]]:
+    """The ``[chain]`` table of the gears the power reaches from shaft ``entry`` (the
+    part of the graph holding it), its shafts in the order of the power flow (gear 1 on
+    ``entry``), and the renaming of its elements' indices (``gears[0]`` of the chain ->
+    ``gears[i]`` as written)."""
+    doc, index, on, mesh_shafts = g.doc, g.index, g.on, g.mesh_shafts
     order, queue = [], [entry]
     while queue:  # breadth first from the shaft the power enters by
         n = queue.pop(0)
@@ -334,12 +349,12 @@ def _chain(doc, part, entry, names, index, on, gears, gear_names, meshes, mesh_s
         order.append(n)
         queue += [b if a == n else a for a, b in mesh_shafts if n in (a, b)]
     gear_ids = [i for n in order for i in on[n]]
-    members = {gear_names[i] for i in gear_ids}
+    members = {g.gear_names[i] for i in gear_ids}
     mesh_ids = [j for j, (a, _) in enumerate(mesh_shafts) if a in order]
     ren = {"gears": "gears"}
-    chain: dict[str, Any] = {"shafts": [shafts[index[n]] for n in order],
-                             "gears": [gears[i] for i in gear_ids],
-                             "meshes": [meshes[j] for j in mesh_ids]}
+    chain: dict[str, Any] = {"shafts": [g.shafts[index[n]] for n in order],
+                             "gears": [g.gears[i] for i in gear_ids],
+                             "meshes": [g.meshes[j] for j in mesh_ids]}
     for key, ids in (("shafts", [index[n] for n in order]), ("gears", gear_ids),
                      ("meshes", mesh_ids)):
         ren |= {f"{key}[{a}]": f"{key}[{b}]" for a, b in enumerate(ids)}

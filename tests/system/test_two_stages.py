@@ -542,3 +542,25 @@ def test_cli_analyze_of_a_stage_two_record(chains_result, capsys):
     assert rec["teeth"] == [100, 20, 40]
     assert rec["tiers"]["planetary"]["frequencies"]["mesh"] == pytest.approx(
         100 * F_C2_CH, rel=KIN_RTOL)
+
+
+@pytest.mark.parametrize("parts", ["not json", '{"stages": [{"z_sun": 24}], "chains": []}',
+                                   '{"stages": [], "chains": []}'])
+def test_a_result_with_broken_parts_is_analysed_as_a_plain_record(chains_result, tmp_path,
+                                                                  parts):
+    """A result whose ``analysis_parts`` is not JSON, misses keys or names no stage is read
+    as a result written before that attribute: the first stage's attributes for every
+    record (stage 1's carrier and f_m = 72 f_c1, by hand), never a traceback."""
+    import xarray as xr
+
+    from gearsim.io.results import write_results
+    from gearsim.studies.batch import analyze_file
+
+    with xr.open_dataset(chains_result, engine="h5netcdf") as ds:
+        ds = ds.load()
+    ds.attrs["analysis_parts"] = parts
+    path = write_results(ds, tmp_path / "broken.nc")
+    out, problems = analyze_file(str(path), channels=["mesh_force[mesh=stage2-sun-planet-1]"])
+    assert problems == []
+    tier = out[0]["record"]["tiers"]["planetary"]
+    assert tier["frequencies"]["mesh"] == pytest.approx(72 * F_C1_CH, rel=KIN_RTOL)

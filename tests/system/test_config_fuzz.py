@@ -4,7 +4,8 @@ with an InputError that names a section of the file as written.
 Starting points: two gearboxes of shafts and planetary stages in the graph form
 (gears-stage-stage-gears, and wind-turbine-grc), the stage form they are translated into
 (the same gears-stage-stage-gears box, nrel-grc, lin-parker-1999), a gear-train graph
-(two-stage-reducer) and the chains of gears (idler-table1, spur-19-48): every example.
+(two-stage-reducer), two whose power branches (tests/system/test_branching.py) and the
+chains of gears (idler-table1, spur-19-48): every example.
 Hypothesis picks one value of the file (any table, any key) and
 one bad value (non-finite, zero, negative, absurd, tiny, of the wrong type or unit, a
 name that does not exist). The loader (:func:`gearsim.loads`) may accept it (a value that
@@ -24,6 +25,7 @@ import math
 import tomllib
 
 import pytest
+from branching_boxes import GEAR_SPLIT, SHAFT_SPLIT
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from two_stage_boxes import TOML_CHAINS, TOML_CHAINS_GRAPH
@@ -40,7 +42,8 @@ BASES = {"gears-stages-gears": tomllib.loads(TOML_CHAINS_GRAPH),
          "two-stage-reducer": tomllib.loads(example_text("two-stage-reducer")),
          "idler-table1": tomllib.loads(example_text("idler-table1")),
          "spur-19-48": tomllib.loads(example_text("spur-19-48")),
-         "lin-parker-1999": tomllib.loads(example_text("lin-parker-1999"))}
+         "lin-parker-1999": tomllib.loads(example_text("lin-parker-1999")),
+         "gear-split": tomllib.loads(GEAR_SPLIT), "shaft-split": tomllib.loads(SHAFT_SPLIT)}
 BAD = ["nan mm", "inf N*m/rad", "-inf deg", 0, -1, -3.5, 1e300, "1e300 mm", "1e-300 rpm",
        "1e-300 N*m", "1e-300 mm", "12 kg", "x", "", [1, 2], True, "housing", "nowhere",
        "-5 mm", "0 deg", "90 deg"]

@@ -189,7 +189,8 @@ def _edit(old: str, new: str) -> str:
            'normal_pressure_angle = "25 deg"'), r"g2\.normal_pressure_angle = 25 deg"),
     (_edit('[[meshes]]\ngears = ["p2", "g2"]', ""), r"gears\.p2 = meshes nothing"),
     (BASE + '[[shafts]]\nname = "d"\n[[gears]]\nname = "q"\nshaft = "d"\nteeth = 30\n'
-     '[[meshes]]\ngears = ["p1", "q"]\n', r"shafts\.a = drives p1-g1, p1-q: a shaft drives one"),
+     '[[meshes]]\ngears = ["p1", "q"]\nangle = "180 deg"\n',
+     r"shafts\.\w\.power_share = missing: the power branches: every output shaft names"),
     (_edit('[[shafts]]\nname = "c"', '[[shafts]]\nname = "c"\n[[shafts]]\nname = "d"\n'
            '[[gears]]\nname = "q"\nshaft = "d"\nteeth = 30\n[[gears]]\nname = "r"\n'
            'shaft = "d"\nteeth = 31\n[[meshes]]\ngears = ["q", "r"]'),

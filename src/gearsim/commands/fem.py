@@ -193,7 +193,7 @@ def fe_pair_command(
     train = with_torque(train, torque)
     pair = train.pairs[mesh]
     with as_options({"fem.level": "--level", "level": "--level", "torque": "--torque"}):
-        model = FEPairModel(pair, torque=train.torque(mesh), level=level,
+        model = FEPairModel(pair, torque=train.mesh_torque(mesh), level=level,
                             plane=train.stiffness.plane)
     results = [model.solve(v) for v in u]
     seed = dataclasses.replace(train.stiffness, **MODELS["seed"])
@@ -215,12 +215,12 @@ def fe_pair_command(
             "root_stress_driven_Pa": [float(v) for v in r.root_stress_driven],
             **{f"k_{c}_N_per_m": float(v[i]) for c, v in curves.items()}})
     if json_:
-        typer.echo(json.dumps({"mesh": pair.name, "torque_N_m": train.torque(mesh),
+        typer.echo(json.dumps({"mesh": pair.name, "torque_N_m": train.mesh_torque(mesh),
                                "level": model.level, "h_contact_m": model.h_contact,
                                "positions": rows}, indent=2))
         return
     typer.echo(f"mesh {pair.name} ({pair.driver.name} -> {pair.driven.name}), transverse "
-               f"section; driver torque {train.torque(mesh):.6g} N m; FE level {model.level} "
+               f"section; driver torque {train.mesh_torque(mesh):.6g} N m; FE level {model.level} "
                f"(contact elements {model.h_contact * 1e6:.3g} um)")
     typer.echo(f"{'u':>6} {'k_FE GN/m':>10} {'TE um':>8} {'shares':>14} {'b um':>12} "
                f"{'root MPa':>9} {'PE/FE':>6} {'FE+line/FE':>10} {'model/FE':>8}")

@@ -37,6 +37,16 @@ each mesh, and the tooth thickness between the two flanks). ``c_j = c_{j-1} + De
 only ``Delta_j mod 1`` matters for healthy gears, ``Delta_j mod z_j`` for a cracked idler
 (which revolution the cracked tooth enters the second mesh).
 
+Where the power branches at a gear (one gear driving meshes i and k, front flank in both,
+sense s), the contact of its tooth whose front-flank base point is at the own-sense angle
+psi_f lies r_b (psi_f - s phi + alpha_wt) from T1 of each mesh, so
+
+    Delta = c_k - c_i = z / (2 pi) (alpha_wt,k - alpha_wt,i - s (phi_k - phi_i))
+            - (l_A,k - l_A,i) / p_bt                                          [mesh cycles]
+
+(the same bookkeeping as the idler's, without the tooth thickness: both meshes load one
+flank; for a sun driving planets this is Parker & Lin's sun-planet phasing).
+
 References
 ----------
 .. [Kahraman1994] A. Kahraman, Dynamic analysis of a multi-mesh helical gear train,
@@ -77,9 +87,9 @@ class Layout:
         force on the driven gear [-].
     phase : ndarray, shape (n_meshes,)
         Offset of the cycle coordinate of each mesh [mesh cycles]: through an idler the
-        cumulative Delta_j of the module docstring; 0 for a mesh whose driver was not
-        driven in an earlier mesh (the first mesh of each shaft: tooth 0 of every gear
-        of a shaft enters contact at t = 0).
+        cumulative Delta_j of the module docstring, and from a gear's first mesh to the
+        other meshes it drives; 0 for the first mesh of a gear not driven in an earlier
+        mesh (tooth 0 of every gear of a shaft enters contact at t = 0).
     """
 
     centres: np.ndarray
@@ -90,7 +100,8 @@ class Layout:
 
 
 def idlers(train: GearTrain) -> list[str]:
-    """Names of the idlers: gears driven in one mesh and driving the next.
+    """Names of the idlers: gears alone on their shaft, driven in one mesh and driving
+    the next (the idler angle places the first mesh they drive).
 
     Parameters
     ----------
@@ -102,8 +113,24 @@ def idlers(train: GearTrain) -> list[str]:
     list of str
         In power-flow order (the order of ``dynamics.idler_angle``).
     """
-    return [g.name for g in train.gears if len(train.flow.meshes_of(g.name)) == 2
-            and len(train.flow.shafts[train.flow.shaft_of[g.name]].gears) == 1]
+    fl = train.flow
+    return [g.name for g in train.gears if len(fl.shafts[fl.shaft_of[g.name]].gears) == 1
+            and {role for _, role in fl.meshes_of(g.name)} == {1, 2}]
+
+
+def _written(train: GearTrain, mesh: int) -> str:
+    """``meshes[k]`` of the mesh ``mesh`` (power-flow order) as the file lists it."""
+    pair = set(train.flow.meshes[mesh])
+    return next(f"meshes[{k}]" for k, m in enumerate(train.meshes) if set(m.gears) == pair)
+
+
+def _apart(ga, gb, d_vec: np.ndarray, parameter: str, value: object) -> None:
+    """Refuse two gears of one plane, not in mesh, whose tip circles overlap."""
+    d = float(np.hypot(*d_vec))
+    lim = ga.tip_radius + gb.tip_radius
+    if d <= lim:
+        raise InputError(parameter, value, f"puts {ga.name} and {gb.name} {d:.6g} m apart, "
+                         f"closer than their tip radii sum {lim:.6g} m")
 
 
 def layout(train: GearTrain, idler_angles: tuple[float, ...]) -> Layout:
@@ -169,10 +196,16 @@ def layout(train: GearTrain, idler_angles: tuple[float, ...]) -> Layout:
     phase = np.zeros(nm)
     gamma_of = dict(zip(idlers(train), idler_angles, strict=False))
     into: dict[int, int] = {}  # shaft -> the mesh that drives it
+    drove: dict[str, int] = {}  # gear -> the first mesh it drives
     for i, pair in enumerate(pairs):
         a, b = fl.shaft_of[pair.driver.name], fl.shaft_of[pair.driven.name]
         prev = into.get(a)
-        idler = pair.driver.name in gamma_of
+        sibling = drove.setdefault(pair.driver.name, i)
+        idler = pair.driver.name in gamma_of and sibling == i
+        if sibling != i and fl.angles[i] is None:
+            raise InputError(f"{_written(train, i)}.angle", "missing",
+                             f"{pair.driver.name} drives a second mesh: give the angle of "
+                             "its centre line, or the driven gears would sit on one another")
         if fl.angles[i] is not None:
             phi[i] = fl.angles[i]
         elif prev is not None:
@@ -192,17 +225,27 @@ def layout(train: GearTrain, idler_angles: tuple[float, ...]) -> Layout:
             delta -= (pp.line_length - pp.start_of_contact) / pp.base_pitch
             delta -= pair.start_of_contact / pair.base_pitch
             phase[i] = phase[prev] + delta
+        elif sibling != i:
+            # a second mesh of the same driver, front flank as in the first (see the
+            # module docstring): c = z / (2 pi) (psi_f - s phi + alpha_wt) - l_A / p_bt
+            # in each, so the offset follows from the two centre lines
+            ps, g = pairs[sibling], pair.driver
+            phase[i] = phase[sibling] + g.teeth / (2 * math.pi) * (
+                -senses[a] * (phi[i] - phi[sibling]) + aw - ps.working_pressure_angle) \
+                - (pair.start_of_contact - ps.start_of_contact) / pair.base_pitch
         into[b] = i
+    for i, (drv, dvn) in enumerate(fl.meshes):  # two gears driven by one gear: one plane
+        for j in range(i):
+            if fl.meshes[j][0] == drv:
+                _apart(train.gear(dvn), train.gear(fl.meshes[j][1]),
+                       centres[fl.shaft_of[dvn]] - centres[fl.shaft_of[fl.meshes[j][1]]],
+                       f"{_written(train, i)}.angle", f"{math.degrees(phi[i]):.6g} deg")
     single = list(train.gears) if train.is_chain else []  # a chain lies in one plane
     meshed = set(fl.meshes)
     for j, ga in enumerate(single):
         for gb in single[j + 1:]:
             if (ga.name, gb.name) in meshed or (gb.name, ga.name) in meshed:
                 continue
-            d = float(np.hypot(*(centres[fl.shaft_of[gb.name]] - centres[fl.shaft_of[ga.name]])))
-            lim = ga.tip_radius + gb.tip_radius
-            if d <= lim:
-                raise InputError("dynamics.idler_angle", [math.degrees(g) for g in idler_angles],
-                                 f"puts {ga.name} and {gb.name} {d:.6g} m apart, "
-                                 f"closer than their tip radii sum {lim:.6g} m")
+            _apart(ga, gb, centres[fl.shaft_of[gb.name]] - centres[fl.shaft_of[ga.name]],
+                   "dynamics.idler_angle", [math.degrees(g) for g in idler_angles])
     return Layout(centres=centres, senses=senses, line_angle=phi, normal=normal, phase=phase)

@@ -20,9 +20,11 @@ the resisting torque -f_i r_b,i. The sign of the axial coordinate is a conventio
 same for every mesh of a chain of external gears because hands and senses of rotation
 alternate together); bearings are symmetric, so it does not change any result.
 
-External loads: the input torque T_1 on gear 0 and the load torque T_1 r_b,N / r_b,1
-on the last gear (constant). Bearings: stiffness and viscous damping on x, y (radial)
-and z (axial) of every gear; no torsional support.
+External loads: the input torque T_1 on gear 0 and, on the driven gear of each output
+shaft k, the load torque sigma_k T_1 r_b,k / r_b,1 times r_b,b / r_b,a of each compound
+shaft on its path (sigma_k its share of the power, 1 for a single output; eq. (2) of
+:mod:`gearsim.system.graph`), scaled by the load profile. Bearings: stiffness and
+viscous damping on x, y (radial) and z (axial) of every gear; no torsional support.
 
 Rigid-body rotation: every V_i is orthogonal to the rigid rotation of the chain
 (theta_j = c / r_b,j) and the external torques balance, so that mode is neither forced
@@ -307,6 +309,22 @@ def dof_map(train: GearTrain, model: str) -> tuple[list[str], dict, np.ndarray]:
     return labels, theta, np.array(bearings, dtype=np.int64).reshape(len(train.flow.shafts), -1)
 
 
+def _segment_torque(train: GearTrain, gear: str) -> float:
+    """Static torque of the shaft segment after ``gear`` (towards the next gear on its
+    shaft) [N m]: T_in omega_in / omega_shaft times the magnitude of the power shares
+    entering at the gears up to ``gear`` (the input, the meshes driving them) less those
+    leaving (the meshes they drive); eq. (2) of :mod:`gearsim.system.graph`."""
+    fl = train.flow
+    sh = fl.shafts[fl.shaft_of[gear]]
+    net = []
+    for g in sh.gears[:sh.gears.index(gear) + 1]:
+        net += [1.0] if g == train.gears[0].name else []
+        net += [w if b == g else -w for (a, b), w in zip(fl.meshes, fl.mesh_share, strict=True)
+                if g in (a, b)]
+    r = fl.ratio[fl.shaft_of[gear]]
+    return train.operating.torque * abs(math.fsum(net)) * r.denominator / r.numerator
+
+
 def build_lta(train: GearTrain, settings: DynamicsSettings | None = None, *,
               tables: tuple[MeshTable, ...] | None = None) -> DynamicModel:
     """Assemble the equations of motion of a gearbox from its shafts, gears and meshes.
@@ -387,13 +405,22 @@ def build_lta(train: GearTrain, settings: DynamicsSettings | None = None, *,
     fext = np.zeros(n)
     t_in = train.operating.torque
     fext[theta[gears[0].name]] = t_in
-    # T_out = T_in r_b,out / r_b,in times r_b,b / r_b,a of each compound shaft (gear b
-    # receives, gear a passes on; an idler passes the force unchanged)
-    t_out = t_in * gears[-1].base_radius / gears[0].base_radius
-    for (_, b), (a, _) in zip(fl.meshes, fl.meshes[1:], strict=False):
-        if a != b:
-            t_out *= train.gear(b).base_radius / train.gear(a).base_radius
-    fext[theta[gears[-1].name]] = -t_out
+    into = {fl.shaft_of[b]: i for i, (_, b) in enumerate(fl.meshes)}  # shaft -> its mesh in
+    for k in fl.outputs:
+        # T_out = sigma T_in r_b,out / r_b,in times r_b,b / r_b,a of each compound shaft on
+        # the path to the output (gear b receives, gear a passes on; an idler passes the
+        # force unchanged)
+        path = [into[k]]
+        while fl.shaft_of[fl.meshes[path[0]][0]] in into:
+            path.insert(0, into[fl.shaft_of[fl.meshes[path[0]][0]]])
+        last = fl.meshes[path[-1]][1]
+        t_out = t_in * fl.share[k] * train.gear(last).base_radius / train.gear(
+            fl.meshes[path[0]][0]).base_radius
+        for (_, b), (a, _) in zip((fl.meshes[i] for i in path),
+                                  (fl.meshes[i] for i in path[1:]), strict=False):
+            if a != b:
+                t_out *= train.gear(b).base_radius / train.gear(a).base_radius
+        fext[theta[last]] = -t_out
     kmean = np.array([t.mean for t in tables])
     meq = np.array([1.0 / (p.driver.base_radius ** 2 / p.driver.polar_inertia
                            + p.driven.base_radius ** 2 / p.driven.polar_inertia) for p in pairs])
@@ -439,7 +466,7 @@ def build_lta(train: GearTrain, settings: DynamicsSettings | None = None, *,
         h_amp=amp, h_omega=om, h_phase=ph, a_amp=a_amp, a_omega=a_om, a_phase=a_ph,
         to_transverse=np.ones(rows), dte_offset=np.zeros(rows),
         static_force=np.concatenate([[train.static_mesh_force(i) for i in range(nm)],
-                                     [train.torque(train.gear_index(a)) for a, *_ in springs]]),
+                                     [_segment_torque(train, a) for a, *_ in springs]]),
         bearing_dofs=bearing_dofs, axes=AXES if lateral else (), q_static=q_static,
         rate=None if np.all(rate == 1.0) else rate, profile=profile, load=load,
         inertial=inertial,

@@ -71,7 +71,7 @@ GEAR_KEYS = {
 }
 SHAFT_KEYS = {"name": "str", "mass": "mass", "inertia": "inertia",
               "torsional_stiffness": "torsional_stiffness", "bearing_stiffness": "stiffness",
-              "axial_stiffness": "stiffness"}
+              "axial_stiffness": "stiffness", "power_share": "dimensionless"}
 MESH_KEYS = {"gears": "str", "angle": "angle"}
 OPERATING_KEYS = {"speed": "speed", "torque": "torque"}
 STIFFNESS_KEYS = {"closure": "str", "slices": "int", "positions_per_cycle": "int",

@@ -33,7 +33,8 @@ and the gears after the last stage are then built as the ``[input_chain]``,
 :class:`~gearsim.model.Gearbox`, the same numbers); a refusal names the element as it is
 written here (``gears[3].shaft``, ``stages[2].sun``, ``shafts[1].torsional_stiffness``).
 
-Not read (one line naming the element): a shaft driving two parts (branching power),
+Not read (one line naming the element): a shaft driving two parts or two meshes
+(branching power beside a stage; a gearbox of parallel shafts alone may branch),
 gears between two stages, an element off the power path, a stage without exactly one
 member on the housing.
 """
@@ -249,6 +250,15 @@ def _translate(doc: dict[str, Any]
         raise InputError("gears", "between two stages", "gears between two planetary "
                          "stages are not read yet (gears before the first stage, after the "
                          "last, or both)")
+    near = {n: {b if a == n else a for a, b in mesh_shafts if n in (a, b)} for n in names}
+    for p in path:  # gears beside a stage pass the power on in one path
+        if p[0] == "gears":
+            for n in (n for n in names if root(n) == p[1]):
+                if len(near[n]) > (1 if n == p[2] else 2):
+                    raise InputError(f"shafts[{index[n]}]", n, "meshes with "
+                                     + ", ".join(sorted(near[n])) + ": branching power "
+                                     "beside a planetary stage is not read (a gearbox of "
+                                     "parallel shafts may branch)")
     order = [p[1] for p in path if p[0] == "stage"]
     placed = tuple((stage_prefix(n, len(order)) + m, stages[k - 1][m])
                    for n, k in enumerate(order) for m in MEMBERS

@@ -61,7 +61,7 @@ from typing import Any
 from gearsim.dynamics.compose import NextStage, chain_operating, next_operating, stage_operating
 from gearsim.dynamics.settings import parse_dynamics
 from gearsim.dynamics.stage import StageDynamics
-from gearsim.errors import InputError
+from gearsim.errors import InputError, require
 from gearsim.geometry.gear import Material
 from gearsim.geometry.planetary import PlanetaryStage
 from gearsim.model.damage import CRACK_KEYS, FAULT_KEYS, parse_cracks, parse_faults
@@ -343,4 +343,9 @@ def _parse_chain(raw: Any, material: Any, op: Operating, parse: Callable, table:
         box = parse(sub)
     except InputError as exc:  # name the table the value was written in
         raise InputError(f"{table}.{exc.parameter}", exc.value, exc.limit) from None
+    outputs = box.train.flow.outputs
+    require(len(outputs) == 1, f"{table}.shafts",
+            [box.train.flow.shafts[k].name for k in outputs],
+            "the gears beside a planetary stage pass the power in one path: branching power "
+            "is read in a gearbox of parallel shafts only")
     return dataclasses.replace(box.train, operating=op), shaft

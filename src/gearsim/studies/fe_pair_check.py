@@ -173,7 +173,7 @@ def fe_pair_check(train: GearTrain, mesh: int = 0, *, crack: str = "none",
         kw = {} if depth is None else {"depth": depth}
         tr = train.with_crack(crack, closure="contact", source="pe", **kw)
     pair = tr.pairs[mesh]
-    torque = tr.torque(mesh)
+    torque = tr.mesh_torque(mesh)
     cracks = tr.mesh_cracks(mesh)
     rev = cracks[0].gear if cracks else 1
     # the window starts one cycle before the (train's) cracked tooth enters, healthy too

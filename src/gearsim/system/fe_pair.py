@@ -74,7 +74,7 @@ def fe_pair_train_stiffness(train, mesh: int, *, revolution_of: int = 1,
     settings = settings or train.stiffness
     pair = train.pairs[mesh]
     cracks = train.mesh_cracks(mesh)
-    section = fe_pair_mesh_stiffness(pair, torque=train.torque(mesh), cracks=cracks,
+    section = fe_pair_mesh_stiffness(pair, torque=train.mesh_torque(mesh), cracks=cracks,
                                      positions_per_cycle=settings.fe_pair_positions,
                                      level=FE_PAIR_LEVEL, plane=settings.plane,
                                      revolution_of=revolution_of, closure=settings.closure)
@@ -94,5 +94,5 @@ def fe_pair_train_stiffness(train, mesh: int, *, revolution_of: int = 1,
     attrs = dict(section.attrs)
     attrs.update({"source": "fe-pair", "positions_per_cycle": npc, "slices": ns,
                   "fe_pair_positions": settings.fe_pair_positions,
-                  "torque": train.torque(mesh), "plane": settings.plane})
+                  "torque": train.mesh_torque(mesh), "plane": settings.plane})
     return MeshStiffness.whole_mesh(pair, revolution_of, npc, k, attrs)

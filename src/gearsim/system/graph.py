@@ -15,10 +15,18 @@ loads follows from the power flow: a driver is loaded on its front face, a drive
 its rear face; the *working* flank of a gear is the one loaded in its first mesh, so an
 idler's second mesh loads its other flank (reversed bending).
 
-The flow must be one path from the input shaft to the output shaft: a shaft driving two
-meshes would split the power in a ratio the statics of a graph does not give (refused),
-and a loop of meshes is refused (with disagreeing ratios it cannot turn; with agreeing
-ratios its torques are statically indeterminate).
+The flow is a tree from the input shaft: a shaft (or a gear) may drive several meshes,
+each branch ending at an output shaft that takes its load. How the power divides is not
+given by the statics of the graph: each output shaft of a branching box names its
+``power_share`` sigma_k (> 0, summing to 1; one output takes all), and a mesh carries
+the shares of the outputs beyond it,
+
+    P_mesh = P_in sum_{k beyond} sigma_k,   T_gear = P_gear / omega_gear,
+    F = T_in Sigma_mesh (omega_in / omega_driver) / r_b,driver,                  (2)
+
+(loss-free; Sigma_mesh the summed share). A loop of meshes is refused (with disagreeing
+ratios it cannot turn; with agreeing ratios its torques are statically indeterminate),
+and so is power merging (a gear or shaft driven twice).
 """
 
 from __future__ import annotations
@@ -31,7 +39,8 @@ from fractions import Fraction
 from gearsim.errors import InputError, require
 
 __all__ = ["MAX_BEARING_STIFFNESS", "MAX_INERTIA", "MAX_MASS", "MAX_SHAFT_STIFFNESS",
-           "MIN_BEARING_STIFFNESS", "MIN_INERTIA", "MIN_MASS", "MIN_SHAFT_STIFFNESS",
+           "MIN_BEARING_STIFFNESS", "MIN_INERTIA", "MIN_MASS", "MIN_POWER_SHARE",
+           "MIN_SHAFT_STIFFNESS", "SHARE_SUM_TOL",
            "MeshSpec", "PowerFlow", "Shaft", "power_flow"]
 
 #: Bounds of a shaft's own mass [kg] and polar inertia [kg m^2]: the rotor of a 10 MW
@@ -47,6 +56,12 @@ MIN_INERTIA = 1e-12
 #: the softest rolling bearing (~1e7); 1e15 is rigid for every gear train.
 MIN_BEARING_STIFFNESS = 1e5
 MAX_BEARING_STIFFNESS = 1e15
+#: Smallest share of the input power an output shaft may take [-] (one part in a
+#: million: a smaller take-off is a unit mistake, not a load).
+MIN_POWER_SHARE = 1e-6
+#: Tolerance of the sum of the outputs' power shares against 1 [-] (shares written to
+#: nine digits, 1/3 as 0.333333333, add up to within 1e-9).
+SHARE_SUM_TOL = 1e-8
 #: Bounds of a shaft's torsional stiffness between its gears [N m/rad]: a 1 mm steel wire
 #: 1 m long is ~1e-2 N m/rad, the stiffest multi-MW shafts ~1e9; outside, a unit mistake.
 MIN_SHAFT_STIFFNESS = 1e-3
@@ -79,6 +94,10 @@ class Shaft:
     bearing_stiffness, axial_stiffness : float or None
         Radial and axial stiffness of its bearings [N/m], in [1e5, 1e15] (an elastomer mount
         to a practically rigid support); ``None``: the ``[dynamics]`` defaults.
+    power_share : float or None
+        Share of the input power this output shaft takes as its load [-], in
+        [1e-6, 1]; required on every output of a box whose power branches, ``None``
+        otherwise (the one output takes it all).
 
     Raises
     ------
@@ -93,6 +112,7 @@ class Shaft:
     torsional_stiffness: float | None = None
     bearing_stiffness: float | None = None
     axial_stiffness: float | None = None
+    power_share: float | None = None
 
     def __post_init__(self) -> None:
         p = f"shafts.{self.name}"
@@ -113,6 +133,9 @@ class Shaft:
             require(v is None or (_number(v) and MIN_BEARING_STIFFNESS <= v <= MAX_BEARING_STIFFNESS),
                     f"{p}.{key}", v, f"must be in [{MIN_BEARING_STIFFNESS:g}, "
                     f"{MAX_BEARING_STIFFNESS:g}] N/m")
+        w = self.power_share
+        require(w is None or (_number(w) and MIN_POWER_SHARE <= w <= 1.0), f"{p}.power_share",
+                w, f"must be in [{MIN_POWER_SHARE:g}, 1] (a fraction of the input power)")
 
 
 @dataclass(frozen=True)
@@ -145,7 +168,7 @@ class PowerFlow:
     Parameters
     ----------
     shafts : tuple of Shaft
-        The shafts, input first, in power-flow order (output last).
+        The shafts, input first, in power-flow order (an output last).
     meshes : tuple of (str, str)
         (driver, driven) gear names of each mesh, in power-flow order.
     angles : tuple of float or None
@@ -157,6 +180,11 @@ class PowerFlow:
         the static torque ratio is its inverse).
     sense : tuple of int
         Sense of rotation of each shaft (+1 as the input) [-].
+    share : tuple of float
+        Share of the input power through each shaft [-] (equation (2): 1 without a
+        branch; an output's own ``power_share``).
+    mesh_share : tuple of float
+        Share of the input power through each mesh [-]: its driven shaft's.
     """
 
     shafts: tuple[Shaft, ...]
@@ -165,6 +193,37 @@ class PowerFlow:
     shaft_of: dict
     ratio: tuple[Fraction, ...]
     sense: tuple[int, ...]
+    share: tuple[float, ...] = ()
+    mesh_share: tuple[float, ...] = ()
+
+    @property
+    def outputs(self) -> tuple[int, ...]:
+        """Indices of the output shafts (those driving no mesh), in power-flow order."""
+        driving = {self.shaft_of[d] for d, _ in self.meshes}
+        return tuple(i for i in range(len(self.shafts)) if i not in driving)
+
+    def gear_share(self, gear: str) -> float:
+        """Share of the input power through ``gear`` [-] (equation (2)).
+
+        A gear that drives carries the meshes it drives; a gear that only receives, its
+        shaft's share (the power it brings in).
+
+        Parameters
+        ----------
+        gear : str
+            Gear name.
+
+        Returns
+        -------
+        float
+        """
+        drives = [i for i, (d, _) in enumerate(self.meshes) if d == gear]
+        if not drives:
+            return self.share[self.shaft_of[gear]]
+        total = 0.0
+        for i in drives:
+            total += self.mesh_share[i]
+        return total
 
     def meshes_of(self, gear: str) -> list[tuple[int, int]]:
         """(mesh index, 1 driver / 2 driven) of the meshes ``gear`` takes part in.
@@ -246,8 +305,9 @@ def power_flow(gears: dict, shafts: tuple[Shaft, ...], meshes: tuple[MeshSpec, .
     InputError
         A gear on no shaft or on two, a shaft naming an unknown gear, a mesh of an
         unknown gear or of two gears on one shaft, a gear meshing nothing, a shaft the
-        power does not reach, a shaft driving two meshes, a loop of meshes; the message
-        names the element (``gears[3].shaft``, ``meshes[1].gears``, ...).
+        power does not reach, a loop of meshes, the outputs' power shares missing, out of
+        range or not adding up to 1; the message names the element (``gears[3].shaft``,
+        ``meshes[1].gears``, ``shafts.out-b.power_share``, ...).
 
     Examples
     --------
@@ -296,10 +356,6 @@ def power_flow(gears: dict, shafts: tuple[Shaft, ...], meshes: tuple[MeshSpec, .
         k += 1
         out = [(m_i, m) for m_i, m in enumerate(meshes) if m_i not in done
                and any(shaft_of[g] == s_i for g in m.gears)]
-        if len(out) > 1 and len({shaft_of[g] for m_i, m in out for g in m.gears} - {s_i}) > 1:
-            raise InputError(f"shafts.{shafts[s_i].name}", "drives " + ", ".join(
-                "-".join(m.gears) for _, m in out), "a shaft drives one mesh only (a split of "
-                "the power between two outputs is not determined by the statics)")
         for m_i, m in out:
             done.add(m_i)
             drv, dvn = m.gears if shaft_of[m.gears[0]] == s_i else m.gears[::-1]
@@ -312,7 +368,46 @@ def power_flow(gears: dict, shafts: tuple[Shaft, ...], meshes: tuple[MeshSpec, .
     for s_i, s in enumerate(shafts):
         require(s_i in ratio, f"shafts.{s.name}", "not driven",
                 f"no path of meshes from the input shaft {shafts[0].name!r}")
+    share = _shares(shafts, order, [(shaft_of[a], shaft_of[b]) for a, b in oriented])
     return PowerFlow(shafts=tuple(shafts[i] for i in order), meshes=tuple(oriented),
                      angles=tuple(angles),
                      shaft_of={g: order.index(i) for g, i in shaft_of.items()},
-                     ratio=tuple(ratio[i] for i in order), sense=tuple(sense[i] for i in order))
+                     ratio=tuple(ratio[i] for i in order), sense=tuple(sense[i] for i in order),
+                     share=tuple(share[i] for i in order),
+                     mesh_share=tuple(share[shaft_of[b]] for _, b in oriented))
+
+
+def _shares(shafts: tuple[Shaft, ...], order: list[int], links: list[tuple[int, int]]
+            ) -> dict[int, float]:
+    """Share of the input power through each shaft (equation (2)), by shaft index.
+
+    The outputs (shafts driving no mesh) take their ``power_share`` (1 for a single
+    output); a shaft passes on the sum of the shafts it drives, summed from the outputs
+    back to the input in reverse power-flow order.
+    """
+    driven = {a: [b for a_, b in links if a_ == a] for a, _ in links}
+    outputs = [i for i in order if i not in driven]
+    for i in order:
+        if i in driven and shafts[i].power_share is not None:
+            raise InputError(f"shafts.{shafts[i].name}.power_share", shafts[i].power_share,
+                             "only an output shaft (one that drives no mesh) takes a share "
+                             "of the power: a take-off on a driving shaft is not read")
+    if len(outputs) == 1:
+        w = shafts[outputs[0]].power_share
+        require(w is None or w == 1.0, f"shafts.{shafts[outputs[0]].name}.power_share", w,
+                "the only output takes all the power: 1 or not given")
+        share = {outputs[0]: 1.0}
+    else:
+        for i in outputs:
+            require(shafts[i].power_share is not None, f"shafts.{shafts[i].name}.power_share",
+                    "missing", "the power branches: every output shaft names its share of "
+                    "the input power (" + ", ".join(shafts[j].name for j in outputs) + ")")
+        total = math.fsum(shafts[i].power_share for i in outputs)
+        require(abs(total - 1.0) <= SHARE_SUM_TOL, "shafts.power_share",
+                {shafts[i].name: shafts[i].power_share for i in outputs},
+                f"the outputs' shares add up to {total:.12g}, not 1 (within {SHARE_SUM_TOL:g})")
+        share = {i: shafts[i].power_share for i in outputs}
+    for i in reversed(order):
+        if i in driven:
+            share[i] = math.fsum(share[j] for j in driven[i])
+    return share

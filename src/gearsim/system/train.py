@@ -165,7 +165,8 @@ class GearTrain:
     """A gearbox of parallel shafts, its operating point, stiffness options and faults.
 
     Every check runs where the train is made: at least two gears with unique names, a
-    graph whose power flows in one path from the first shaft to the last
+    graph whose power flows as a tree from the first shaft to its outputs, each output's
+    share of the power given where it branches
     (:func:`gearsim.system.graph.power_flow`), every mesh valid (interference, contact
     ratio; :class:`GearPair`), every crack on an
     existing gear and tooth and fitting its tooth (:func:`crack_geometry`). Variants made
@@ -334,8 +335,9 @@ class GearTrain:
         return self.operating.speed * r.numerator / r.denominator
 
     def torque(self, i: int) -> float:
-        """Torque on gear ``i`` for loss-free transmission [N m]: its shaft's, T_in
-        omega_in / omega_shaft (eq. (1) of :mod:`gearsim.system.graph`; r_b is
+        """Torque on gear ``i`` for loss-free transmission [N m]: T_in Sigma omega_in /
+        omega_shaft, Sigma the share of the input power through the gear (eqs. (1), (2)
+        of :mod:`gearsim.system.graph`: 1 without a branch, the shaft's torque; r_b is
         proportional to z within a mesh).
 
         Parameters
@@ -347,8 +349,25 @@ class GearTrain:
         -------
         float
         """
-        r = self.flow.ratio[self.flow.shaft_of[self.gears[i].name]]
-        return self.operating.torque * r.denominator / r.numerator
+        name = self.gears[i].name
+        r = self.flow.ratio[self.flow.shaft_of[name]]
+        return self.operating.torque * self.flow.gear_share(name) * r.denominator / r.numerator
+
+    def mesh_torque(self, mesh: int) -> float:
+        """Torque the driver of mesh ``mesh`` passes through it [N m], T_in Sigma_mesh
+        omega_in / omega_driver (eq. (2) of :mod:`gearsim.system.graph`).
+
+        Parameters
+        ----------
+        mesh : int
+            Mesh index (0 = mesh I).
+
+        Returns
+        -------
+        float
+        """
+        r = self.flow.ratio[self.flow.shaft_of[self.pairs[mesh].driver.name]]
+        return self.operating.torque * self.flow.mesh_share[mesh] * r.denominator / r.numerator
 
     def shaft_frequency(self, i: int) -> float:
         """Shaft frequency f_r of gear ``i`` [Hz].
@@ -383,7 +402,8 @@ class GearTrain:
         return self.operating.torque * self.operating.speed
 
     def static_mesh_force(self, mesh: int) -> float:
-        """Static transverse force along the line of action of mesh ``mesh``, T_i / r_bi [N].
+        """Static transverse force along the line of action of mesh ``mesh`` [N]: the
+        torque passed through it over the driver's base radius (:meth:`mesh_torque`).
 
         Parameters
         ----------
@@ -394,8 +414,7 @@ class GearTrain:
         -------
         float
         """
-        drv = self.pairs[mesh].driver
-        return self.torque(self.gear_index(drv.name)) / drv.base_radius
+        return self.mesh_torque(mesh) / self.pairs[mesh].driver.base_radius
 
     # ------------------------------------------------------------------- flanks
     def crack_side(self, crack: Crack, mesh: int) -> int:

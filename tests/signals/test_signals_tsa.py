@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+import scipy.stats
 from numpy.testing import assert_allclose
 
 from gearsim.errors import InputError
@@ -69,6 +70,19 @@ def test_fm4_m6a_m8a_of_gaussian_noise():
     assert_allclose(ts.fm4(d), 3.0, atol=ATOL_FM4)
     assert_allclose(ts.m6a(d), 15.0, atol=ATOL_M6A)
     assert_allclose(ts.m8a(d), 105.0, atol=ATOL_M8A)
+
+
+def test_moment_ratios_of_a_tiny_signal_are_its_moments():
+    # a healthy simulated difference signal can be ~1e-40: m2**4 underflows to 0, and the
+    # ratio must still be the standardised moment (scipy.stats: kurtosis; for 6 and 8,
+    # the moment of the signal scaled to unit variance in double precision)
+    rng = np.random.default_rng(7)
+    d = rng.standard_normal(4096) ** 3
+    z = (d - d.mean()) / d.std()
+    for scale in (1.0, 1e-40, 1e20):
+        assert_allclose(ts.fm4(scale * d), scipy.stats.kurtosis(d, fisher=False), rtol=1e-12)
+        assert_allclose(ts.m6a(scale * d), np.mean(z**6), rtol=1e-12)
+        assert_allclose(ts.m8a(scale * d), np.mean(z**8), rtol=1e-12)
 
 
 def test_fm4_of_difference_signal_of_noisy_tsa_is_gaussian():

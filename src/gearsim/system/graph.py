@@ -220,10 +220,7 @@ class PowerFlow:
         drives = [i for i, (d, _) in enumerate(self.meshes) if d == gear]
         if not drives:
             return self.share[self.shaft_of[gear]]
-        total = 0.0
-        for i in drives:
-            total += self.mesh_share[i]
-        return total
+        return math.fsum(self.mesh_share[i] for i in drives)
 
     def meshes_of(self, gear: str) -> list[tuple[int, int]]:
         """(mesh index, 1 driver / 2 driven) of the meshes ``gear`` takes part in.

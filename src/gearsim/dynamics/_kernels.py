@@ -622,29 +622,76 @@ def _filter_phases(h, ph, down, nb, acc):
         d += 1
 
 
+@njit(cache=True, inline="always", error_model="numpy")
+def _signal_phases(x, s0, n, down, k0, k1, col, wt, u, ph):
+    """The polyphase components of one block of a signal (:func:`decimate_linear`, step
+    1): the n samples from s0 of sum_k wt[k] x[col[k]], k = k0 .. k1 - 1, in that order."""
+    if k1 - k0 == 1 and wt[k0] == 1.0:  # a channel alone: its samples
+        _split_phases(x[col[k0], s0:], n, down, ph)
+    elif down == 2 and k1 > k0:  # the terms added into the two phases (no pass over u)
+        src = x[col[k0], s0:]
+        w = wt[k0]
+        p0 = ph[0]
+        p1 = ph[1]
+        for k in range(n // 2):
+            p0[k] = w * src[2 * k]
+            p1[k] = w * src[2 * k + 1]
+        if n % 2:
+            p0[n // 2] = w * src[n - 1]
+        for kk in range(k0 + 1, k1):
+            src = x[col[kk], s0:]
+            w = wt[kk]
+            for k in range(n // 2):
+                p0[k] = p0[k] + w * src[2 * k]
+                p1[k] = p1[k] + w * src[2 * k + 1]
+            if n % 2:
+                p0[n // 2] = p0[n // 2] + w * src[n - 1]
+    else:
+        if k1 == k0:
+            for s in range(n):
+                u[s] = 0.0
+        else:
+            src = x[col[k0], s0:]
+            w = wt[k0]
+            for s in range(n):
+                u[s] = w * src[s]
+            for k in range(k0 + 1, k1):
+                src = x[col[k], s0:]
+                w = wt[k]
+                for s in range(n):
+                    u[s] = u[s] + w * src[s]
+        _split_phases(u, n, down, ph)
+
+
 @njit(cache=True, error_model="numpy")
 def decimate_linear(h, x, down, first, n_out, pre_ptr, pre_col, pre_w, extra, post_ptr,
                     post_col, post_w, post_b, post_d, z):
     """Linear records of the decimated channels: combine, filter, decimate, combine.
 
-    Three linear steps, one block of :data:`FIR_BLOCK` outputs at a time (the block's
-    signals stay in the cache between them):
+    Three linear steps:
 
     1. signals at the internal rate, u_m[s] = sum_k pre_w[k] x[pre_col[k], s] over
        k = pre_ptr[m] .. pre_ptr[m + 1] - 1, in that order (a single term of weight 1 is
        the channel itself, not multiplied);
     2. each signal filtered by the FIR ``h`` and kept every ``down``-th sample, as
        :func:`fir_decimate` (the same operations, the same numbers to the bit):
-       y_m[o] = sum_i h[i] u_m[(first + o) down - i]; then the rows of ``extra`` (values
-       at the output times, not filtered) appended as y_{n_sig + e};
+       y_m[o] = sum_i h[i] u_m[(first + o) down - i]; the rows of ``extra`` (values at
+       the output times, not filtered) follow as y_{n_sig + e};
     3. records z[j, o] = (post_b[j] + sum_k post_w[k] y_{post_col[k]}[o]) / post_d[j],
-       the terms k = post_ptr[j] .. post_ptr[j + 1] - 1 added in that order.
+       the terms k = post_ptr[j] .. post_ptr[j + 1] - 1 added in that order; a record
+       that is a signal itself (b = 0, one term of weight 1, d = 1) is the filter's
+       output, written in its row (0 + y is y but for the sign of a zero).
+
+    Signal by signal, in blocks of :data:`FIR_BLOCK` outputs (steps 1 and 2: a signal's
+    few channels are read in long runs, which the memory's prefetch follows), then record
+    by record, each over its whole length (step 3: a row in the cache while its terms
+    are added).
 
     The filter acts on each signal alone and the decimation is linear, so a record
     linear in the channels is the same, to round-off, whether it is formed before the
-    filter (step 1), after it (step 3) or, as :func:`fir_decimate`'s caller did, from
-    the decimated channels: what is combined where only decides how many signals are
-    filtered (the filter's 49 products a sample are most of the cost).
+    filter (step 1), after it (step 3) or from the decimated channels: what is combined
+    where only decides how many signals are filtered (the filter's products are most of
+    the cost).
 
     Parameters
     ----------
@@ -662,7 +709,7 @@ def decimate_linear(h, x, down, first, n_out, pre_ptr, pre_col, pre_w, extra, po
     pre_ptr, pre_col, pre_w : ndarray
         Step 1 in compressed rows: (n_sig + 1,) int, (n_pre,) int, (n_pre,) float.
     extra : ndarray, shape (n_extra, n_out)
-        Rows at the output times appended to the filtered signals.
+        Rows at the output times after the filtered signals.
     post_ptr, post_col, post_w, post_b, post_d : ndarray
         Step 3: (n_z + 1,) int, (n_post,) int (rows of the filtered signals, then of
         ``extra``), (n_post,), (n_z,), (n_z,) float.
@@ -675,87 +722,96 @@ def decimate_linear(h, x, down, first, n_out, pre_ptr, pre_col, pre_w, extra, po
         ``z``.
     """
     n_sig = pre_ptr.size - 1
-    n_x = extra.shape[0]
     n_z = post_b.size
     taps = h.size
+    # the record each signal is written to (a record that is the signal), else a row of y
+    home = np.full(n_sig, -1, dtype=np.int64)
+    done = np.zeros(n_z, dtype=np.bool_)
+    for j in range(n_z):
+        k = post_ptr[j]
+        if post_ptr[j + 1] - k == 1 and post_col[k] < n_sig and post_w[k] == 1.0 \
+                and post_b[j] == 0.0 and post_d[j] == 1.0 and home[post_col[k]] < 0:
+            home[post_col[k]] = j
+            done[j] = True
+    at = np.full(n_sig, -1, dtype=np.int64)
+    n_y = 0
+    for m in range(n_sig):
+        if home[m] < 0:
+            at[m] = n_y
+            n_y += 1
+    y = np.empty((n_y, n_out))
     span = (FIR_BLOCK - 1) * down + taps  # samples of a full block
     u = np.empty(span)
     ph = np.empty((down, (span + down - 1) // down))
-    y = np.empty((n_sig + n_x, FIR_BLOCK))
-    for ob in range(0, n_out, FIR_BLOCK):
-        nb = min(FIR_BLOCK, n_out - ob)
-        s0 = (first + ob) * down - (taps - 1)  # oldest sample of the block
-        n = (nb - 1) * down + taps
-        for m in range(n_sig):
-            k0 = pre_ptr[m]
-            k1 = pre_ptr[m + 1]
-            if k1 - k0 == 1 and pre_w[k0] == 1.0:
-                _split_phases(x[pre_col[k0], s0:], n, down, ph)
-            elif down == 2 and k1 > k0:
-                # the terms added into the two phases directly (no pass over u)
-                src = x[pre_col[k0], s0:]
-                w = pre_w[k0]
-                p0 = ph[0]
-                p1 = ph[1]
-                for k in range(n // 2):
-                    p0[k] = w * src[2 * k]
-                    p1[k] = w * src[2 * k + 1]
-                if n % 2:
-                    p0[n // 2] = w * src[n - 1]
-                for kk in range(k0 + 1, k1):
-                    src = x[pre_col[kk], s0:]
-                    w = pre_w[kk]
-                    for k in range(n // 2):
-                        p0[k] = p0[k] + w * src[2 * k]
-                        p1[k] = p1[k] + w * src[2 * k + 1]
-                    if n % 2:
-                        p0[n // 2] = p0[n // 2] + w * src[n - 1]
+    for m in range(n_sig):
+        out = z[home[m]] if home[m] >= 0 else y[at[m]]
+        for ob in range(0, n_out, FIR_BLOCK):
+            nb = min(FIR_BLOCK, n_out - ob)
+            s0 = (first + ob) * down - (taps - 1)  # oldest sample of the block
+            _signal_phases(x, s0, (nb - 1) * down + taps, down, pre_ptr[m], pre_ptr[m + 1],
+                           pre_col, pre_w, u, ph)
+            _filter_phases(h, ph, down, nb, out[ob:])
+    for j in range(n_z):
+        if done[j]:
+            continue
+        out = z[j]
+        b = post_b[j]
+        dj = post_d[j]
+        k0 = post_ptr[j]
+        k1 = post_ptr[j + 1]
+        # the first up to three terms and the division in one pass, the same operations
+        # in the same order as term by term: ((b + w0 s0) + w1 s1) + w2 s2, / d (not
+        # divided by d = 1: x / 1 = x)
+        s0 = _post_source(k0, k1, k0, post_col, n_sig, extra, home, at, z, y)
+        s1 = _post_source(k0, k1, k0 + 1, post_col, n_sig, extra, home, at, z, y)
+        s2 = _post_source(k0, k1, k0 + 2, post_col, n_sig, extra, home, at, z, y)
+        nt = min(k1 - k0, 3)
+        w0 = post_w[k0] if nt > 0 else 0.0
+        w1 = post_w[k0 + 1] if nt > 1 else 0.0
+        w2 = post_w[k0 + 2] if nt > 2 else 0.0
+        last = k1 - k0 <= 3 and dj != 1.0
+        if nt == 0:
+            for o in range(n_out):
+                out[o] = b
+        elif nt == 1:
+            for o in range(n_out):
+                out[o] = b + w0 * s0[o]
+        elif nt == 2:
+            if last:
+                for o in range(n_out):
+                    out[o] = ((b + w0 * s0[o]) + w1 * s1[o]) / dj
             else:
-                if k1 == k0:
-                    for s in range(n):
-                        u[s] = 0.0
-                else:
-                    src = x[pre_col[k0], s0:]
-                    w = pre_w[k0]
-                    for s in range(n):
-                        u[s] = w * src[s]
-                    for k in range(k0 + 1, k1):
-                        src = x[pre_col[k], s0:]
-                        w = pre_w[k]
-                        for s in range(n):
-                            u[s] = u[s] + w * src[s]
-                _split_phases(u, n, down, ph)
-            _filter_phases(h, ph, down, nb, y[m])
-        for e in range(n_x):
-            src = extra[e, ob:]
-            dst = y[n_sig + e]
-            for o in range(nb):
-                dst[o] = src[o]
-        for j in range(n_z):
-            # accumulated in the output itself: b + the first term, + the others, / d
-            # (not divided by d = 1: x / 1 = x)
-            out = z[j, ob:]
-            b = post_b[j]
-            k0 = post_ptr[j]
-            k1 = post_ptr[j + 1]
-            if k1 == k0:
-                for o in range(nb):
-                    out[o] = b
+                for o in range(n_out):
+                    out[o] = (b + w0 * s0[o]) + w1 * s1[o]
+        else:
+            if last:
+                for o in range(n_out):
+                    out[o] = (((b + w0 * s0[o]) + w1 * s1[o]) + w2 * s2[o]) / dj
             else:
-                src = y[post_col[k0]]
-                w = post_w[k0]
-                for o in range(nb):
-                    out[o] = b + w * src[o]
-                for k in range(k0 + 1, k1):
-                    src = y[post_col[k]]
-                    w = post_w[k]
-                    for o in range(nb):
-                        out[o] = out[o] + w * src[o]
-            dj = post_d[j]
-            if dj != 1.0:
-                for o in range(nb):
-                    out[o] = out[o] / dj
+                for o in range(n_out):
+                    out[o] = ((b + w0 * s0[o]) + w1 * s1[o]) + w2 * s2[o]
+        for k in range(k0 + 3, k1):
+            src = _post_source(k0, k1, k, post_col, n_sig, extra, home, at, z, y)
+            w = post_w[k]
+            for o in range(n_out):
+                out[o] = out[o] + w * src[o]
+        if dj != 1.0 and not (last and nt >= 2):
+            for o in range(n_out):
+                out[o] = out[o] / dj
     return z
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _post_source(k0, k1, k, post_col, n_sig, extra, home, at, z, y):
+    """The row that term k of a record reads (:func:`decimate_linear`, step 3): a row of
+    ``extra``, the record a signal was written to, or its row of ``y``; outside the
+    record's terms, any row (not read)."""
+    c = post_col[k] if k < k1 else post_col[k0] if k0 < k1 else n_sig
+    if c >= n_sig:
+        return extra[c - n_sig] if extra.shape[0] > 0 else z[0]
+    if home[c] >= 0:
+        return z[home[c]]
+    return y[at[c]]
 
 
 @njit(cache=True, error_model="numpy")

@@ -38,6 +38,7 @@ produced.
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import re
@@ -357,8 +358,15 @@ def anti_alias_taps(r: int, fs: float) -> np.ndarray:
     Returns
     -------
     ndarray, shape (2 FIR_HALF_PER_R r + 1,)
-        The taps [-], summing to 1.
+        The taps [-], summing to 1 (a new array; the design is made once per ``(r,
+        fs)``).
     """
+    return _taps(int(r), float(fs)).copy()
+
+
+@functools.lru_cache(maxsize=32)
+def _taps(r: int, fs: float) -> np.ndarray:
+    """:func:`anti_alias_taps`, computed once per (r, fs) (read-only)."""
     from scipy.special import i0
 
     taps = 2 * FIR_HALF_PER_R * r + 1
@@ -368,7 +376,9 @@ def anti_alias_taps(r: int, fs: float) -> np.ndarray:
     h = cutoff * np.sinc(cutoff * n)
     h *= i0(FIR_BETA * np.sqrt(1 - ((np.arange(0, taps, dtype=float) - half) / half) ** 2.0)
             ) / i0(np.float64(FIR_BETA))
-    return h / np.sum(h)
+    h = h / np.sum(h)
+    h.flags.writeable = False
+    return h
 
 
 @dataclass(frozen=True)
@@ -925,78 +935,64 @@ def linear_records(model: DynamicModel, train: GearTrain) -> LinearRecords:
         bearing records shaft by shaft, axes in ``model.axes`` order).
     """
     shafts = [sh.name for sh in train.flow.shafts]
-    sig: dict[tuple, int] = {}  # a signal's terms -> its index
-    pre_rows: list[list[tuple[tuple[str, int], float]]] = []
+    V = model.V.tolist()  # Python numbers: the map has tens of terms, no array work
+    kb, cb = model.kb.tolist(), model.cb.tolist()
+    labels = model.dof_labels
+    sig: dict[tuple, int] = {}  # a signal's terms ((kind, column), weight) -> its index
 
-    def signal(terms: list[tuple[tuple[str, int], float]]) -> int:
-        key = tuple(terms)
-        if key not in sig:
-            sig[key] = len(pre_rows)
-            pre_rows.append(terms)
-        return sig[key]
-
-    def force(i: int) -> int:
-        return signal([(("f", i), 1.0)])
+    def signal(*terms: tuple[tuple[str, int], float]) -> int:
+        # terms of weight 0 dropped (a bearing force without damping: x + 0 y = x)
+        return sig.setdefault(tuple(t for t in terms if t[1] != 0.0), len(sig))
 
     def bearing(j: int) -> int:
-        return signal([(("q", j), float(model.kb[j])), (("v", j), float(model.cb[j]))])
+        return signal((("q", j), kb[j]), (("v", j), cb[j]))
 
-    bd = model.bearing_dofs
-    rot = [j for j, lab in enumerate(model.dof_labels)
-           if lab.endswith(".theta") and model.kind != "seed"]
-    names: list[str] = []
-    post_rows: list[tuple[float, list[tuple[object, float]], float]] = []
-    for i in range(len(train.pairs)):
-        names.append(f"mesh_force_{i + 1}")
-        post_rows.append((0.0, [(force(i), float(model.to_transverse[i]))], 1.0))
-    for i in range(len(train.pairs)):
-        names.append(f"dte_{i + 1}")
-        vq = signal([(("q", int(j)), float(model.V[i, j])) for j in np.nonzero(model.V[i])[0]])
-        post_rows.append((float(model.dte_offset[i]), [(vq, 1.0)], 1.0))
-    for s, row in zip(model.info.get("shaft_springs", ()), model.info.get("shaft_rows", ()),
-                      strict=True):
-        names.append(f"shaft_torque[{s}]")
-        post_rows.append((0.0, [(force(int(row)), 1.0)], 1.0))
-    for g in range(bd.shape[0]):
-        for a in range(bd.shape[1]):
-            names.append(f"bearing_force[{shafts[g]},{model.axes[a]}]")
-            post_rows.append((0.0, [(bearing(int(bd[g, a])), 1.0)], 1.0))
-    with_bearing = set(bd.ravel().tolist()) | set(np.nonzero(model.kb)[0].tolist()) \
-        | set(np.nonzero(model.cb)[0].tolist())
+    bd = model.bearing_dofs.tolist()
+    axes = model.axes
+    each = [(shafts[g], axes[a], j) for g, row in enumerate(bd) for a, j in enumerate(row)]
+    rot = [j for j, lab in enumerate(labels) if lab.endswith(".theta") and model.kind != "seed"]
+    with_bearing = {j for _, _, j in each} | {j for j in range(model.n_dof) if kb[j] or cb[j]}
 
-    def acceleration(j: int) -> tuple[float, list[tuple[object, float]], float]:
-        terms: list[tuple[object, float]] = [(bearing(j), -1.0)] if j in with_bearing else []
-        terms += [(force(int(i)), -float(model.V[i, j])) for i in np.nonzero(model.V[:, j])[0]]
+    def acceleration(j: int) -> tuple[float, list, float]:
+        terms = [(bearing(j), -1.0)] if j in with_bearing else []
+        terms += [(signal((("f", i), 1.0)), -row[j]) for i, row in enumerate(V) if row[j]]
         return float(model.fext[j]), terms, float(model.mass[j])
 
-    for g in range(bd.shape[0]):
-        for a in range(bd.shape[1]):
-            names.append(f"acceleration[{shafts[g]},{model.axes[a]}]")
-            post_rows.append(acceleration(int(bd[g, a])))
-    for j in rot:
-        names.append(f"angular_acceleration[{model.dof_labels[j][:-6]}]")
-        post_rows.append(acceleration(j))
+    rows: list[tuple[str, tuple[float, list, float]]] = []  # name, (b, terms, d)
+    n_pair = len(train.pairs)
+    rows += [(f"mesh_force_{i + 1}", (0.0, [(signal((("f", i), 1.0)),
+                                             float(model.to_transverse[i]))], 1.0))
+             for i in range(n_pair)]
+    rows += [(f"dte_{i + 1}", (float(model.dte_offset[i]), [
+        (signal(*((("q", j), w) for j, w in enumerate(V[i]) if w)), 1.0)], 1.0))
+             for i in range(n_pair)]
+    rows += [(f"shaft_torque[{s}]", (0.0, [(signal((("f", int(i)), 1.0)), 1.0)], 1.0))
+             for s, i in zip(model.info.get("shaft_springs", ()),
+                             model.info.get("shaft_rows", ()), strict=True)]
+    rows += [(f"bearing_force[{sh},{a}]", (0.0, [(bearing(j), 1.0)], 1.0))
+             for sh, a, j in each]
+    rows += [(f"acceleration[{sh},{a}]", acceleration(j)) for sh, a, j in each]
+    rows += [(f"angular_acceleration[{labels[j][:-6]}]", acceleration(j)) for j in rot]
     for sh in train.flow.shafts:
+        terms = [("tau", train.speed(train.gear_index(sh.gears[0])))]
         own = [lab for lab in (f"{sh.name}.theta", f"{sh.gears[0]}.theta")
-               if lab in model.dof_labels and model.kind != "seed"]
-        terms: list[tuple[object, float]] = [("tau", train.speed(train.gear_index(sh.gears[0])))]
+               if lab in labels and model.kind != "seed"]
         if own:
-            terms.append((signal([(("q", model.dof_labels.index(own[0])), 1.0)]), 1.0))
-        names.append(f"shaft_angle[{sh.name}]")
-        post_rows.append((0.0, terms, 1.0))
-    # drop terms of weight 0 (a bearing force without damping, say): x + 0 y = x
-    pre_rows = [[(c, w) for c, w in r if w != 0.0] for r in pre_rows]
+            terms.append((signal((("q", labels.index(own[0])), 1.0)), 1.0))
+        rows.append((f"shaft_angle[{sh.name}]", (0.0, terms, 1.0)))
+    pre_rows = list(sig)  # in the order of their indices
     cols = {k: sorted({j for r in pre_rows for (kk, j), _ in r if kk == k}) for k in "qvf"}
-    channels = tuple(np.array(cols[k], dtype=np.int64) for k in "qvf")
-    offset = {"q": 0, "v": len(cols["q"]), "f": len(cols["q"]) + len(cols["v"])}
-    pre = _compressed([[(offset[k] + cols[k].index(j), w) for (k, j), w in r]
-                       for r in pre_rows])
-    n_sig = len(pre_rows)
-    post = _compressed([[(n_sig if c == "tau" else c, w) for c, w in terms if w != 0.0]
-                        for _, terms, _ in post_rows])
-    return LinearRecords(names=tuple(names), channels=channels, pre=pre, extra=("tau",),
-                         post=(*post, np.array([b for b, _, _ in post_rows], dtype=float),
-                               np.array([d for _, _, d in post_rows], dtype=float)))
+    at = {("q", j): i for i, j in enumerate(cols["q"])}
+    at |= {("v", j): len(cols["q"]) + i for i, j in enumerate(cols["v"])}
+    at |= {("f", j): len(cols["q"]) + len(cols["v"]) + i for i, j in enumerate(cols["f"])}
+    post = _compressed([[(len(sig) if c == "tau" else c, w) for c, w in terms if w != 0.0]
+                        for _, (_, terms, _) in rows])
+    return LinearRecords(
+        names=tuple(name for name, _ in rows),
+        channels=tuple(np.array(cols[k], dtype=np.int64) for k in "qvf"),
+        pre=_compressed([[(at[c], w) for c, w in r] for r in pre_rows]), extra=("tau",),
+        post=(*post, np.array([b for _, (b, _, _) in rows], dtype=float),
+              np.array([d for _, (_, _, d) in rows], dtype=float)))
 
 
 def _run_linear(model: DynamicModel, settings: DynamicsSettings, lin: LinearRecords, *,

@@ -680,7 +680,10 @@ def decimate_linear(h, x, down, first, n_out, pre_ptr, pre_col, pre_w, extra, po
     3. records z[j, o] = (post_b[j] + sum_k post_w[k] y_{post_col[k]}[o]) / post_d[j],
        the terms k = post_ptr[j] .. post_ptr[j + 1] - 1 added in that order; a record
        that is a signal itself (b = 0, one term of weight 1, d = 1) is the filter's
-       output, written in its row (0 + y is y but for the sign of a zero).
+       output, written in its row (0 + y is y but for the sign of a zero); a signal
+       without such a record is written in the row of a record that reads it (of at
+       most three terms), formed in place once the others are (each value read before
+       it is replaced): no memory beside the records.
 
     Signal by signal, in blocks of :data:`FIR_BLOCK` outputs (steps 1 and 2: a signal's
     few channels are read in long runs, which the memory's prefetch follows), then record
@@ -733,6 +736,28 @@ def decimate_linear(h, x, down, first, n_out, pre_ptr, pre_col, pre_w, extra, po
                 and post_b[j] == 0.0 and post_d[j] == 1.0 and home[post_col[k]] < 0:
             home[post_col[k]] = j
             done[j] = True
+    # a record of at most three terms (one pass) that reads a signal without a record
+    # of its own, and otherwise only such records and extra rows, holds that signal and
+    # is formed in place after every other record (the only ones that read the signal)
+    host = np.zeros(n_z, dtype=np.bool_)
+    for j in range(n_z):
+        k0 = post_ptr[j]
+        k1 = post_ptr[j + 1]
+        if done[j] or k1 - k0 > 3:
+            continue
+        free = -1
+        ok = True
+        for k in range(k0, k1):
+            c = post_col[k]
+            if c < n_sig and home[c] < 0:
+                if free >= 0 and c != free:
+                    ok = False
+                free = c
+            elif c < n_sig and not done[home[c]]:
+                ok = False  # a signal held by another record, changed in place
+        if ok and free >= 0:
+            home[free] = j
+            host[j] = True
     at = np.full(n_sig, -1, dtype=np.int64)
     n_y = 0
     for m in range(n_sig):
@@ -751,8 +776,9 @@ def decimate_linear(h, x, down, first, n_out, pre_ptr, pre_col, pre_w, extra, po
             _signal_phases(x, s0, (nb - 1) * down + taps, down, pre_ptr[m], pre_ptr[m + 1],
                            pre_col, pre_w, u, ph)
             _filter_phases(h, ph, down, nb, out[ob:])
-    for j in range(n_z):
-        if done[j]:
+    for jj in range(2 * n_z):  # the records that hold a signal last
+        j = jj % n_z
+        if done[j] or host[j] != (jj >= n_z):
             continue
         out = z[j]
         b = post_b[j]

@@ -8,8 +8,10 @@ kernel records instantaneous samples at the internal rate ``r fs`` (``r`` =
 internal sample interval, ``dt = 1 / (r fs m)`` with the smallest integer m that makes
 ``dt <= step``. The internal samples of the mesh forces and of the state are low-pass
 filtered with a linear-phase FIR filter (Kaiser window, beta 8, 24 r + 1 taps, cut-off
-0.45 fs) and taken every r-th sample (centred, so without delay). Everything reported is
-linear in (q, q', f), so filtering those and deriving the rest commutes. Content above
+0.45 fs) and taken every r-th sample (centred, so without delay). Everything reported
+but the STE and the tacho is linear in (q, q', f), so filtering and combining commute:
+:func:`linear_records` combines some channels before the filter (bearing forces, mesh
+deflections) and the rest after it, so that fewer signals are filtered. Content above
 r fs / 2 (e.g. images of the stiffness table at 40 f_m, about 1e-6 of the static force)
 could still fold into the output; it is negligible for the default settings.
 ``oversample = 1`` gives unfiltered instantaneous samples.

@@ -4,7 +4,9 @@ Default converged step (10 us), output at 50 kHz. Prints the compiled-kernel tim
 the arithmetic of a step counted from the kernel's loops and the rate achieved), the
 full ``simulate`` time (tables and model given: checks, modal analysis, kernel,
 decimation, dataset) and its ratio to the kernel (issue 26: <= 1.3), the anti-aliasing
-decimation alone and its share of ``simulate``, the rest by difference, and the time of
+decimation alone (``_kernels.decimate_linear`` with the maps of
+:func:`gearsim.dynamics.simulate.linear_records`: the signals filtered, the records
+formed) and its share of ``simulate``, the rest by difference, and the time of
 the same equations (numpy right-hand side, :func:`gearsim.dynamics.reference_rhs`) with
 ``scipy.integrate.solve_ivp`` (RK45, rtol 1e-6), measured in the same run on a shorter
 window and scaled linearly to one second (the solve_ivp cost per simulated second is
@@ -29,6 +31,7 @@ from gearsim.dynamics.simulate import (
     FIR_HALF_PER_R,
     anti_alias_taps,
     integration_step,
+    linear_records,
     run_kernel,
 )
 from gearsim.dynamics.tables import mesh_tables
@@ -67,14 +70,24 @@ def main() -> None:
     simulate(train, DynamicsSettings(model="lta", duration=0.11, fs=50_000.0, transient=0.0),
              tables=tables, model=model)  # first-call imports (xarray, scipy.special)
 
-    # the anti-aliasing decimation alone: q, q' and f (2 n + n_mesh rows) at r fs to fs
+    # the anti-aliasing decimation alone, as simulate() runs it: the channels the kernel
+    # records for the records (rows of ones), r fs to fs, the records formed
     r = settings.oversample
     half = FIR_HALF_PER_R * r
     n_out = int(round(settings.duration * settings.fs))
-    rows = 2 * model.n_dof + model.n_mesh
+    lin = linear_records(model, train)
+    rows = sum(c.size for c in lin.channels)
+    signals = lin.pre[0].size - 1
     x = np.ones((rows, (n_out - 1) * r + 1 + 2 * half))
     taps = anti_alias_taps(r, settings.fs)
-    _kernels.fir_decimate(taps, x[:, :4 * half + 1], r, 2 * half // r, 1)  # cache load
+    extra = np.ones((len(lin.extra), n_out))
+
+    def decimate(n: int) -> np.ndarray:
+        z = np.empty((len(lin.names), n))  # a new output, as in simulate()
+        return _kernels.decimate_linear(taps, x, r, 2 * half // r, n, *lin.pre, extra[:, :n],
+                                        *lin.post, z)
+
+    decimate(1)  # cache load
 
     t_kernel = t_sim = t_fir = math.inf
     for _ in range(args.repeat):  # best of --repeat, in turns
@@ -85,7 +98,7 @@ def main() -> None:
         simulate(train, settings, tables=tables, model=model)
         t_sim = min(t_sim, time.perf_counter() - t0)
         t0 = time.perf_counter()
-        _kernels.fir_decimate(taps, x, r, 2 * half // r, n_out)
+        decimate(n_out)
         t_fir = min(t_fir, time.perf_counter() - t0)
 
     fun = reference_rhs(model)
@@ -106,10 +119,11 @@ def main() -> None:
     print(f"numba RK4 kernel, 1 s simulated:          {t_kernel:8.4f} s  (target < 1 s)")
     print(f"simulate() incl. checks and decimation:   {t_sim:8.4f} s  = {t_sim / t_kernel:4.2f} x "
           "the kernel (issue 26 target <= 1.3)")
-    print(f"  of which FIR decimation of {rows} rows:     {t_fir:8.4f} s  = {t_fir / t_sim:4.0%} of "
-          f"simulate() ({rows} x {n_out} outputs x {taps.size} taps = "
-          f"{rows * n_out * taps.size / 1e6:.0f} M multiply-adds)")
-    print(f"  the rest (STE, accelerations, dataset, modes, checks; by difference): "
+    print(f"  of which the decimation, {signals} signals:  {t_fir:8.4f} s  = {t_fir / t_sim:4.0%} of "
+          f"simulate() ({signals} x {n_out} outputs x {taps.size} taps = "
+          f"{signals * n_out * taps.size / 1e6:.0f} M multiply-adds; from {rows} channels, "
+          f"{len(lin.names)} records)")
+    print(f"  the rest (STE, tacho, dataset, modes, checks; by difference): "
           f"{t_rest:6.4f} s  = {t_rest / t_sim:4.0%} of simulate()")
     print(f"  (best of {args.repeat} each, in turns; the 2-core machine may have been loaded)")
     print(f"solve_ivp RK45 rtol 1e-6, per simulated s: {t_ivp:8.2f} s  "

@@ -527,3 +527,360 @@ def fir_decimate(h, x, down, first, n_out):
             for o in range(nb):
                 out[o] = acc[o]
     return y
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _split_phases(src, n, down, ph):
+    """The ``n`` samples ``src[:n]`` into their ``down`` polyphase components:
+    ph[p, k] = src[p + k down] (a copy; the stride 2 of the default oversampling
+    written out, so that the compiler vectorises it)."""
+    if down == 2:
+        p0 = ph[0]
+        p1 = ph[1]
+        for k in range(n // 2):
+            p0[k] = src[2 * k]
+            p1[k] = src[2 * k + 1]
+        if n % 2:
+            p0[n // 2] = src[n - 1]
+    else:
+        for p in range(down):
+            php = ph[p]
+            for k in range((n - p + down - 1) // down):
+                php[k] = src[p + k * down]
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _filter_phases(h, ph, down, nb, acc):
+    """acc[o] = sum_i h[i] s[(taps - 1) + o down - i], o < nb, from the polyphase
+    components ``ph`` of the samples s (s[p + k down] = ph[p, k]): the tap passes of
+    :func:`fir_decimate`, in ``upfirdn``'s order (the same numbers to the bit), eight
+    taps a pass, the first pass from 0 (not from a cleared ``acc``)."""
+    taps = h.size
+    d = 0
+    if taps >= 8:
+        a0 = ph[0, 0:]
+        a1 = ph[1 % down, 1 // down:]
+        a2 = ph[2 % down, 2 // down:]
+        a3 = ph[3 % down, 3 // down:]
+        a4 = ph[4 % down, 4 // down:]
+        a5 = ph[5 % down, 5 // down:]
+        a6 = ph[6 % down, 6 // down:]
+        a7 = ph[7 % down, 7 // down:]
+        h0 = h[taps - 1]
+        h1 = h[taps - 2]
+        h2 = h[taps - 3]
+        h3 = h[taps - 4]
+        h4 = h[taps - 5]
+        h5 = h[taps - 6]
+        h6 = h[taps - 7]
+        h7 = h[taps - 8]
+        for o in range(nb):
+            acc[o] = (((((((0.0 + a0[o] * h0) + a1[o] * h1) + a2[o] * h2) + a3[o] * h3)
+                        + a4[o] * h4) + a5[o] * h5) + a6[o] * h6) + a7[o] * h7
+        d = 8
+    else:
+        for o in range(nb):
+            acc[o] = 0.0
+    while d + 8 <= taps:
+        a0 = ph[d % down, d // down:]
+        a1 = ph[(d + 1) % down, (d + 1) // down:]
+        a2 = ph[(d + 2) % down, (d + 2) // down:]
+        a3 = ph[(d + 3) % down, (d + 3) // down:]
+        a4 = ph[(d + 4) % down, (d + 4) // down:]
+        a5 = ph[(d + 5) % down, (d + 5) // down:]
+        a6 = ph[(d + 6) % down, (d + 6) // down:]
+        a7 = ph[(d + 7) % down, (d + 7) // down:]
+        h0 = h[taps - 1 - d]
+        h1 = h[taps - 2 - d]
+        h2 = h[taps - 3 - d]
+        h3 = h[taps - 4 - d]
+        h4 = h[taps - 5 - d]
+        h5 = h[taps - 6 - d]
+        h6 = h[taps - 7 - d]
+        h7 = h[taps - 8 - d]
+        for o in range(nb):
+            acc[o] = (((((((acc[o] + a0[o] * h0) + a1[o] * h1) + a2[o] * h2) + a3[o] * h3)
+                        + a4[o] * h4) + a5[o] * h5) + a6[o] * h6) + a7[o] * h7
+        d += 8
+    while d + 4 <= taps:
+        a0 = ph[d % down, d // down:]
+        a1 = ph[(d + 1) % down, (d + 1) // down:]
+        a2 = ph[(d + 2) % down, (d + 2) // down:]
+        a3 = ph[(d + 3) % down, (d + 3) // down:]
+        h0 = h[taps - 1 - d]
+        h1 = h[taps - 2 - d]
+        h2 = h[taps - 3 - d]
+        h3 = h[taps - 4 - d]
+        for o in range(nb):
+            acc[o] = (((acc[o] + a0[o] * h0) + a1[o] * h1) + a2[o] * h2) + a3[o] * h3
+        d += 4
+    while d < taps:
+        a0 = ph[d % down, d // down:]
+        h0 = h[taps - 1 - d]
+        for o in range(nb):
+            acc[o] = acc[o] + a0[o] * h0
+        d += 1
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _signal_phases(x, s0, n, down, k0, k1, col, wt, u, ph):
+    """The polyphase components of one block of a signal (:func:`decimate_linear`, step
+    1): the n samples from s0 of sum_k wt[k] x[col[k]], k = k0 .. k1 - 1, in that order."""
+    if k1 - k0 == 1 and wt[k0] == 1.0:  # a channel alone: its samples
+        _split_phases(x[col[k0], s0:], n, down, ph)
+    elif down == 2 and k1 > k0:  # the terms added into the two phases (no pass over u)
+        src = x[col[k0], s0:]
+        w = wt[k0]
+        p0 = ph[0]
+        p1 = ph[1]
+        for k in range(n // 2):
+            p0[k] = w * src[2 * k]
+            p1[k] = w * src[2 * k + 1]
+        if n % 2:
+            p0[n // 2] = w * src[n - 1]
+        for kk in range(k0 + 1, k1):
+            src = x[col[kk], s0:]
+            w = wt[kk]
+            for k in range(n // 2):
+                p0[k] = p0[k] + w * src[2 * k]
+                p1[k] = p1[k] + w * src[2 * k + 1]
+            if n % 2:
+                p0[n // 2] = p0[n // 2] + w * src[n - 1]
+    else:
+        if k1 == k0:
+            for s in range(n):
+                u[s] = 0.0
+        else:
+            src = x[col[k0], s0:]
+            w = wt[k0]
+            for s in range(n):
+                u[s] = w * src[s]
+            for k in range(k0 + 1, k1):
+                src = x[col[k], s0:]
+                w = wt[k]
+                for s in range(n):
+                    u[s] = u[s] + w * src[s]
+        _split_phases(u, n, down, ph)
+
+
+@njit(cache=True, error_model="numpy")
+def decimate_linear(h, x, down, first, n_out, pre_ptr, pre_col, pre_w, extra, post_ptr,
+                    post_col, post_w, post_b, post_d, z):
+    """Linear records of the decimated channels: combine, filter, decimate, combine.
+
+    Three linear steps:
+
+    1. signals at the internal rate, u_m[s] = sum_k pre_w[k] x[pre_col[k], s] over
+       k = pre_ptr[m] .. pre_ptr[m + 1] - 1, in that order (a single term of weight 1 is
+       the channel itself, not multiplied);
+    2. each signal filtered by the FIR ``h`` and kept every ``down``-th sample, as
+       :func:`fir_decimate` (the same operations, the same numbers to the bit):
+       y_m[o] = sum_i h[i] u_m[(first + o) down - i]; the rows of ``extra`` (values at
+       the output times, not filtered) follow as y_{n_sig + e};
+    3. records z[j, o] = (post_b[j] + sum_k post_w[k] y_{post_col[k]}[o]) / post_d[j],
+       the terms k = post_ptr[j] .. post_ptr[j + 1] - 1 added in that order; a record
+       that is a signal itself (b = 0, one term of weight 1, d = 1) is the filter's
+       output, written in its row (0 + y is y but for the sign of a zero); a signal
+       without such a record is written in the row of a record that reads it (of at
+       most three terms), formed in place once the others are (each value read before
+       it is replaced): no memory beside the records.
+
+    Signal by signal, in blocks of :data:`FIR_BLOCK` outputs (steps 1 and 2: a signal's
+    few channels are read in long runs, which the memory's prefetch follows), then record
+    by record, each over its whole length (step 3: a row in the cache while its terms
+    are added).
+
+    The filter acts on each signal alone and the decimation is linear, so a record
+    linear in the channels is the same, to round-off, whether it is formed before the
+    filter (step 1), after it (step 3) or from the decimated channels: what is combined
+    where only decides how many signals are filtered (the filter's products are most of
+    the cost).
+
+    Parameters
+    ----------
+    h : ndarray, shape (L,)
+        Filter taps.
+    x : ndarray, shape (n_channel, n)
+        Records, one channel per row (the caller guarantees first down >= L - 1 and
+        (first + n_out - 1) down < n, as for :func:`fir_decimate`).
+    down : int
+        Decimation factor.
+    first : int
+        Index of the first output sample in the full convolution's decimated grid.
+    n_out : int
+        Output samples.
+    pre_ptr, pre_col, pre_w : ndarray
+        Step 1 in compressed rows: (n_sig + 1,) int, (n_pre,) int, (n_pre,) float.
+    extra : ndarray, shape (n_extra, n_out)
+        Rows at the output times after the filtered signals.
+    post_ptr, post_col, post_w, post_b, post_d : ndarray
+        Step 3: (n_z + 1,) int, (n_post,) int (rows of the filtered signals, then of
+        ``extra``), (n_post,), (n_z,), (n_z,) float.
+    z : ndarray, shape (n_z, n_out)
+        Output, written and returned.
+
+    Returns
+    -------
+    ndarray, shape (n_z, n_out)
+        ``z``.
+    """
+    n_sig = pre_ptr.size - 1
+    n_z = post_b.size
+    taps = h.size
+    # the record each signal is written to (a record that is the signal), else a row of y
+    home = np.full(n_sig, -1, dtype=np.int64)
+    done = np.zeros(n_z, dtype=np.bool_)
+    for j in range(n_z):
+        k = post_ptr[j]
+        if post_ptr[j + 1] - k == 1 and post_col[k] < n_sig and post_w[k] == 1.0 \
+                and post_b[j] == 0.0 and post_d[j] == 1.0 and home[post_col[k]] < 0:
+            home[post_col[k]] = j
+            done[j] = True
+    # a record of at most three terms (one pass) that reads a signal without a record
+    # of its own, and otherwise only such records and extra rows, holds that signal and
+    # is formed in place after every other record (the only ones that read the signal)
+    host = np.zeros(n_z, dtype=np.bool_)
+    for j in range(n_z):
+        k0 = post_ptr[j]
+        k1 = post_ptr[j + 1]
+        if done[j] or k1 - k0 > 3:
+            continue
+        free = -1
+        ok = True
+        for k in range(k0, k1):
+            c = post_col[k]
+            if c < n_sig and home[c] < 0:
+                if free >= 0 and c != free:
+                    ok = False
+                free = c
+            elif c < n_sig and not done[home[c]]:
+                ok = False  # a signal held by another record, changed in place
+        if ok and free >= 0:
+            home[free] = j
+            host[j] = True
+    at = np.full(n_sig, -1, dtype=np.int64)
+    n_y = 0
+    for m in range(n_sig):
+        if home[m] < 0:
+            at[m] = n_y
+            n_y += 1
+    y = np.empty((n_y, n_out))
+    span = (FIR_BLOCK - 1) * down + taps  # samples of a full block
+    u = np.empty(span)
+    ph = np.empty((down, (span + down - 1) // down))
+    for m in range(n_sig):
+        out = z[home[m]] if home[m] >= 0 else y[at[m]]
+        for ob in range(0, n_out, FIR_BLOCK):
+            nb = min(FIR_BLOCK, n_out - ob)
+            s0 = (first + ob) * down - (taps - 1)  # oldest sample of the block
+            _signal_phases(x, s0, (nb - 1) * down + taps, down, pre_ptr[m], pre_ptr[m + 1],
+                           pre_col, pre_w, u, ph)
+            _filter_phases(h, ph, down, nb, out[ob:])
+    for jj in range(2 * n_z):  # the records that hold a signal last
+        j = jj % n_z
+        if done[j] or host[j] != (jj >= n_z):
+            continue
+        out = z[j]
+        b = post_b[j]
+        dj = post_d[j]
+        k0 = post_ptr[j]
+        k1 = post_ptr[j + 1]
+        # the first up to three terms and the division in one pass, the same operations
+        # in the same order as term by term: ((b + w0 s0) + w1 s1) + w2 s2, / d (not
+        # divided by d = 1: x / 1 = x)
+        s0 = _post_source(k0, k1, k0, post_col, n_sig, extra, home, at, z, y)
+        s1 = _post_source(k0, k1, k0 + 1, post_col, n_sig, extra, home, at, z, y)
+        s2 = _post_source(k0, k1, k0 + 2, post_col, n_sig, extra, home, at, z, y)
+        nt = min(k1 - k0, 3)
+        w0 = post_w[k0] if nt > 0 else 0.0
+        w1 = post_w[k0 + 1] if nt > 1 else 0.0
+        w2 = post_w[k0 + 2] if nt > 2 else 0.0
+        last = k1 - k0 <= 3 and dj != 1.0
+        if nt == 0:
+            for o in range(n_out):
+                out[o] = b
+        elif nt == 1:
+            for o in range(n_out):
+                out[o] = b + w0 * s0[o]
+        elif nt == 2:
+            if last:
+                for o in range(n_out):
+                    out[o] = ((b + w0 * s0[o]) + w1 * s1[o]) / dj
+            else:
+                for o in range(n_out):
+                    out[o] = (b + w0 * s0[o]) + w1 * s1[o]
+        else:
+            if last:
+                for o in range(n_out):
+                    out[o] = (((b + w0 * s0[o]) + w1 * s1[o]) + w2 * s2[o]) / dj
+            else:
+                for o in range(n_out):
+                    out[o] = ((b + w0 * s0[o]) + w1 * s1[o]) + w2 * s2[o]
+        for k in range(k0 + 3, k1):
+            src = _post_source(k0, k1, k, post_col, n_sig, extra, home, at, z, y)
+            w = post_w[k]
+            for o in range(n_out):
+                out[o] = out[o] + w * src[o]
+        if dj != 1.0 and not (last and nt >= 2):
+            for o in range(n_out):
+                out[o] = out[o] / dj
+    return z
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _post_source(k0, k1, k, post_col, n_sig, extra, home, at, z, y):
+    """The row that term k of a record reads (:func:`decimate_linear`, step 3): a row of
+    ``extra``, the record a signal was written to, or its row of ``y``; outside the
+    record's terms, any row (not read)."""
+    c = post_col[k] if k < k1 else post_col[k0] if k0 < k1 else n_sig
+    if c >= n_sig:
+        return extra[c - n_sig] if extra.shape[0] > 0 else z[0]
+    if home[c] >= 0:
+        return z[home[c]]
+    return y[at[c]]
+
+
+@njit(cache=True, error_model="numpy")
+def tacho_pulses(a, width, volts, out):
+    """``volts`` where ``numpy.mod(a, 2 pi) < width``, else 0, element by element.
+
+    The decision of :func:`gearsim.dynamics.simulate.tacho_variable` (its Notes): the
+    remainder by floor, a - floor(a / 2 pi) 2 pi, decides every angle whose remainder
+    lies more than (|a| + 2 (2 pi)) 2^-50 inside [0, width) or [width, 2 pi); the others
+    take the floating remainder ``a % (2 pi)``, numpy's and Python's (fmod, then the
+    divisor added where the signs differ). The same pulses as ``numpy.mod``, bit for bit.
+
+    Parameters
+    ----------
+    a : ndarray, shape (n,)
+        Angles [rad].
+    width : float
+        Pulse width [rad].
+    volts : float
+        Pulse level.
+    out : ndarray, shape (n,)
+        Written and returned.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        ``out``.
+    """
+    turn = 2.0 * np.pi
+    unsure = 0
+    for i in range(a.size):  # without branches (vectorised): the decided angles
+        x = a[i]
+        r = x - math.floor(x / turn) * turn
+        tol = (abs(x) + 2.0 * turn) * 2.0 ** -50
+        on = (r >= tol) & (r < width - tol)
+        off = (r >= width + tol) & (r < turn - tol)
+        out[i] = volts if on else 0.0
+        unsure += not (on | off)
+    if unsure:
+        for i in range(a.size):  # the others (none or a few): the remainder itself
+            x = a[i]
+            r = x - math.floor(x / turn) * turn
+            tol = (abs(x) + 2.0 * turn) * 2.0 ** -50
+            if not (((r >= tol) & (r < width - tol)) | ((r >= width + tol) & (r < turn - tol))):
+                out[i] = volts if x % turn < width else 0.0
+    return out

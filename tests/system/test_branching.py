@@ -295,3 +295,41 @@ def test_branching_box_round_trips_through_the_effective_configuration(split, sh
         again = loads(box.to_toml())
         assert again.train == box.train
         assert again.train.flow.share == box.train.flow.share
+
+
+def test_a_record_is_analysed_with_the_path_to_its_shaft(split, shaft_split):
+    # by hand: out-b is reached through mesh I (24/48) and mesh III (25/40), out-a through
+    # mesh I and mesh II (20/50); the input shaft and mid see mesh I alone
+    tr = shaft_split.train
+    expected = {"acceleration[out-b,y]": {"stages": ((24, 48), (25, 40))},
+                "acceleration[shaft=out-a,axis=x]": {"stages": ((24, 48), (20, 50))},
+                "mesh_force_3": {"stages": ((24, 48), (25, 40))},
+                "dte_2": {"stages": ((24, 48), (20, 50))},
+                "shaft_torque[spring=mid:p2-g1]": {"teeth": (24, 48)},
+                "angular_acceleration[rotation=p3]": {"teeth": (24, 48)},
+                "tacho[shaft=input]": {"teeth": (24, 48)}}
+    for signal, kin in expected.items():
+        assert tr.path_kinematics(tr.record_shaft(signal)) == kin, signal
+    assert tr.record_shaft("acceleration[nowhere,y]") is None
+    run = shaft_split.analysis_train(signal="acceleration[out-b,y]")
+    assert run == {"shaft_frequency": pytest.approx(25.0, rel=1e-12),
+                   "stages": ((24, 48), (25, 40))}
+    assert shaft_split.analysis_train("reference", "acceleration[out-b,y]")["teeth"] == [24]
+    # one pinion driving both: out-b's record sees mesh II alone (20/60)
+    assert split.analysis_train(signal="acceleration[out-b,y]") == {
+        "shaft_frequency": pytest.approx(25.0, rel=1e-12), "teeth": [20, 60]}
+
+
+def test_gearsim_analyze_of_a_branching_result_takes_the_records_path(tmp_path, capsys):
+    from gearsim.cli import run as cli_run
+
+    cfg, out = tmp_path / "box.toml", tmp_path / "run.nc"
+    cfg.write_text(SHAFT_SPLIT)
+    assert cli_run(["simulate", str(cfg), "--duration", "1", "--out", str(out)]) == 0
+    capsys.readouterr()
+    assert cli_run(["analyze", str(out), "--channel", "acceleration[shaft=out-b,axis=y]"]) == 0
+    text = capsys.readouterr().out
+    assert "stages 24/48, 25/40 (file)" in text
+    # stage 2 by hand: mid at 25 x 24 / 48 = 12.5 Hz, f_m = 25 x 12.5 = 312.5 Hz, out-b at
+    # 12.5 x 25 / 40 = 7.8125 Hz
+    assert "gear stage 2 (25/40): f_m 312.5 Hz, shafts shaft2 12.5 Hz, shaft3 7.8125 Hz" in text

@@ -826,7 +826,8 @@ class Gearbox:
         stage k's member, named ``stage<k>-carrier`` as its tacho, teeth and speeds; the
         sensor and the ring's acceleration: the first stage's). A record of the gears
         beside a stage (``chain_...``, ``shaft_torque``): the gears' first shaft and
-        teeth.
+        teeth. Of gears whose power branches, the teeth on the path from the input to
+        the record's shaft (:meth:`GearTrain.path_kinematics`).
 
         Parameters
         ----------
@@ -852,13 +853,24 @@ class Gearbox:
         """
         tr = self.train if self.stage is None else self._gears_record(signal)
         if tr is not None:
-            teeth = [g.teeth for g in tr.gears]
+            path = self._branch_path(signal)
+            teeth = ([g.teeth for g in tr.gears] if path is None else list(
+                path["teeth"] if "teeth" in path else [z for st in path["stages"] for z in st]))
             member, freq = tr.flow.shafts[0].name, tr.shaft_frequency(0)
         else:
             k = self._stage_record(signal)
             member, freq, teeth = self.stages[k].analysis_reference()
             member = self.shaft_label(stage_prefix(k, len(self.stages)) + member)  # the tacho's
         return member, freq, teeth[:1] if shafts == "reference" else teeth
+
+    def _branch_path(self, signal: str | None) -> dict[str, tuple] | None:
+        """Of a gear train whose power branches, the kinematics of the path to the shaft
+        ``signal`` is a record of (:meth:`GearTrain.path_kinematics`); else None."""
+        tr = self.train
+        if self.stage is not None or signal is None or len(tr.flow.outputs) < 2:
+            return None
+        k = tr.record_shaft(signal)
+        return None if k is None else tr.path_kinematics(k)
 
     def _stage_record(self, signal: str | None) -> int:
         """Index (from 0) of the stage ``signal`` is a record of: stage k for a mesh of
@@ -906,9 +918,9 @@ class Gearbox:
         -------
         tuple of (int, int) or None
             The stages; None when the simple-train analysis of :meth:`reference` applies
-            (a planetary stage, a chain of idlers sharing one mesh frequency) or when the
-            meshes do not form one serial path (a branched train: :meth:`reference`'s tooth
-            counts are then used as before).
+            (a planetary stage, a chain of idlers sharing one mesh frequency). Of a train
+            whose power branches, the stages of the path from the input to the shaft of
+            ``signal`` (:meth:`GearTrain.path_kinematics`; None without ``signal``).
 
         Examples
         --------
@@ -921,6 +933,9 @@ class Gearbox:
         tr = self.train if self.stage is None else self._gears_record(signal)
         if tr is None:
             return None
+        path = self._branch_path(signal)  # power that branches: the record's path
+        if path is not None:
+            return path.get("stages")
         return tr.compound_stages()  # the rule the results' attribute follows
 
     def analysis_train(self, shafts: str = "all", signal: str | None = None) -> dict[str, Any]:

@@ -324,7 +324,11 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
             else None
         file_teeth = ch.get("teeth") if own else None
         own_stages = _file_stages(ch) if file_teeth else None
-        if file_teeth:
+        route = _path_kinematics(ch["config"], ch["channel"]) if file_teeth and isinstance(
+            ch.get("config"), str) else None
+        if route is not None:  # gears whose power branches: the record's path
+            train = {k: list(v) for k, v in route.items()}
+        elif file_teeth:
             train = {"stages": own_stages} if own_stages else {"teeth": file_teeth}
         else:
             train = {"stages": stages} if stages is not None else {"teeth": teeth}
@@ -370,6 +374,24 @@ def _config_stages(text: str) -> tuple[tuple[int, int], ...] | None:
         return loads(text).analysis_stages()
     except Exception:  # a configuration this version cannot read: the teeth as they are
         return None
+
+
+@functools.lru_cache(maxsize=64)
+def _path_kinematics(text: str, channel: str) -> dict[str, tuple] | None:
+    """Of a stored gear train whose power branches, the stages or teeth of the path from
+    the input to the shaft of ``channel`` (:meth:`gearsim.system.GearTrain.
+    path_kinematics`); None for any other gearbox or a configuration this version cannot
+    read."""
+    from gearsim.model import loads
+
+    try:
+        gb = loads(text)
+    except Exception:  # a configuration this version cannot read: the file's teeth
+        return None
+    if gb.stage is not None or len(gb.train.flow.outputs) < 2:
+        return None
+    k = gb.train.record_shaft(channel)
+    return None if k is None else gb.train.path_kinematics(k)
 
 
 def _stage_spec(stage: Sequence[int] | None, ch: dict, speed: float | None):

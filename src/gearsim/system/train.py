@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import re
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 
@@ -160,6 +161,10 @@ def _positive(v: object) -> bool:
             and v > 0)
 
 
+#: A record's name: variable, a mesh number (mesh_force_2) or a bracketed label.
+_RECORD = re.compile(r"\s*(\w+?)(?:_(\d+))?\s*(?:\[([^\]]*)\])?\s*")
+
+
 @dataclass(frozen=True)
 class GearTrain:
     """A gearbox of parallel shafts, its operating point, stiffness options and faults.
@@ -281,6 +286,71 @@ class GearTrain:
         if all(nxt[0] == prev[1] for prev, nxt in links):
             return None  # idlers (or one mesh): the simple train
         return tuple((int(self.gear(a).teeth), int(self.gear(b).teeth)) for a, b in meshes)
+
+    def record_shaft(self, signal: str) -> int | None:
+        """Shaft (power-flow index) a record of this train's results belongs to, or None.
+
+        Records as :func:`gearsim.simulate` names them or as
+        :meth:`gearsim.model.Gearbox.signals` writes them: ``mesh_force_i``, ``dte_i``,
+        ``ste_i`` the driven shaft of mesh i; ``shaft_torque[spring=S:a-b]`` shaft S;
+        ``acceleration[shaft=S,axis=y]``, ``acceleration[S,y]``, ``bearing_force``,
+        ``shaft_angle``, ``tacho`` shaft S; ``angular_acceleration[rotation=R]`` the
+        shaft of gear R (or shaft R).
+
+        Parameters
+        ----------
+        signal : str
+            The record's name.
+
+        Returns
+        -------
+        int or None
+            None for a name that says no shaft of this train.
+        """
+        m = _RECORD.fullmatch(signal)
+        if m is None:
+            return None
+        fl = self.flow
+        if m.group(2) is not None:  # mesh_force_i, dte_i, ste_i
+            i = int(m.group(2)) - 1
+            return fl.shaft_of[fl.meshes[i][1]] if 0 <= i < len(fl.meshes) else None
+        label = (m.group(3) or "").split(",")[0].split("=")[-1].split(":")[0].strip()
+        names = [sh.name for sh in fl.shafts]
+        if label in names:
+            return names.index(label)
+        return fl.shaft_of.get(label)
+
+    def path_kinematics(self, shaft: int) -> dict[str, tuple]:
+        """Tooth counts of the power path from the input to ``shaft``, for the analysis.
+
+        A train whose power branches has no one list of stages: a record of shaft S
+        sees the meshes on the path to S. Along that path (meshes in power-flow order;
+        for the input shaft, mesh I): ``{"stages": ((z_d, z_n), ...)}`` when a shaft on
+        it carries two of its gears (:meth:`compound_stages`' rule), else
+        ``{"teeth": (z_1, z_2, ...)}``, the gears in mesh order (one mesh, or idlers).
+
+        Parameters
+        ----------
+        shaft : int
+            Shaft index in the power flow.
+
+        Returns
+        -------
+        dict
+            ``stages`` or ``teeth``, keywords of
+            :func:`gearsim.signals.analysis.kinematics`.
+        """
+        fl = self.flow
+        into = {fl.shaft_of[b]: i for i, (_, b) in enumerate(fl.meshes)}
+        path = [into.get(shaft, 0)]
+        while fl.shaft_of[fl.meshes[path[0]][0]] in into:
+            path.insert(0, into[fl.shaft_of[fl.meshes[path[0]][0]]])
+        meshes = [fl.meshes[i] for i in path]
+        if all(nxt[0] == prev[1] for prev, nxt in zip(meshes, meshes[1:], strict=False)):
+            return {"teeth": tuple(int(self.gear(g).teeth) for g in
+                                   [meshes[0][0], *(b for _, b in meshes)])}
+        return {"stages": tuple((int(self.gear(a).teeth), int(self.gear(b).teeth))
+                                for a, b in meshes)}
 
     def gear_index(self, name: str) -> int:
         """Position of the gear called ``name`` in the power flow (0 = input).

@@ -405,14 +405,11 @@ def build_lta(train: GearTrain, settings: DynamicsSettings | None = None, *,
     fext = np.zeros(n)
     t_in = train.operating.torque
     fext[theta[gears[0].name]] = t_in
-    into = {fl.shaft_of[b]: i for i, (_, b) in enumerate(fl.meshes)}  # shaft -> its mesh in
     for k in fl.outputs:
         # T_out = sigma T_in r_b,out / r_b,in times r_b,b / r_b,a of each compound shaft on
         # the path to the output (gear b receives, gear a passes on; an idler passes the
         # force unchanged)
-        path = [into[k]]
-        while fl.shaft_of[fl.meshes[path[0]][0]] in into:
-            path.insert(0, into[fl.shaft_of[fl.meshes[path[0]][0]]])
+        path = fl.path_to(k)
         last = fl.meshes[path[-1]][1]
         t_out = t_in * fl.share[k] * train.gear(last).base_radius / train.gear(
             fl.meshes[path[0]][0]).base_radius

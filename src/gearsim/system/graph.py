@@ -202,6 +202,26 @@ class PowerFlow:
         driving = {self.shaft_of[d] for d, _ in self.meshes}
         return tuple(i for i in range(len(self.shafts)) if i not in driving)
 
+    def path_to(self, shaft: int) -> list[int]:
+        """The meshes carrying the power from the input shaft to ``shaft``.
+
+        Parameters
+        ----------
+        shaft : int
+            Shaft index in power-flow order.
+
+        Returns
+        -------
+        list of int
+            Mesh indices in power-flow order (empty for the input shaft).
+        """
+        into = {self.shaft_of[b]: i for i, (_, b) in enumerate(self.meshes)}
+        path: list[int] = []
+        while shaft in into:
+            path.insert(0, into[shaft])
+            shaft = self.shaft_of[self.meshes[into[shaft]][0]]
+        return path
+
     def gear_share(self, gear: str) -> float:
         """Share of the input power through ``gear`` [-] (equation (2)).
 

@@ -276,16 +276,11 @@ class GearTrain:
             ``(driving teeth, driven teeth)`` of each mesh in power-flow order; None for
             a chain of idlers (one mesh frequency), a single mesh or a branched train.
         """
-        flow = self.flow
-        meshes = flow.meshes
-        if not meshes or flow.shaft_of[meshes[0][0]] != 0:
-            return None
-        links = list(zip(meshes, meshes[1:], strict=False))
-        if any(flow.shaft_of[nxt[0]] != flow.shaft_of[prev[1]] for prev, nxt in links):
-            return None  # not one serial path
-        if all(nxt[0] == prev[1] for prev, nxt in links):
-            return None  # idlers (or one mesh): the simple train
-        return tuple((int(self.gear(a).teeth), int(self.gear(b).teeth)) for a, b in meshes)
+        fl = self.flow
+        if not fl.meshes or len(fl.outputs) != 1:
+            return None  # no mesh, or power that branches: no one serial path
+        # one output: the path to it is every mesh (:meth:`path_kinematics`' rule)
+        return self.path_kinematics(fl.outputs[0]).get("stages")
 
     def record_shaft(self, signal: str) -> int | None:
         """Shaft (power-flow index) a record of this train's results belongs to, or None.
@@ -341,10 +336,7 @@ class GearTrain:
             :func:`gearsim.signals.analysis.kinematics`.
         """
         fl = self.flow
-        into = {fl.shaft_of[b]: i for i, (_, b) in enumerate(fl.meshes)}
-        path = [into.get(shaft, 0)]
-        while fl.shaft_of[fl.meshes[path[0]][0]] in into:
-            path.insert(0, into[fl.shaft_of[fl.meshes[path[0]][0]]])
+        path = fl.path_to(shaft) or [0]
         meshes = [fl.meshes[i] for i in path]
         if all(nxt[0] == prev[1] for prev, nxt in zip(meshes, meshes[1:], strict=False)):
             return {"teeth": tuple(int(self.gear(g).teeth) for g in

@@ -40,9 +40,12 @@ import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from gearsim.errors import InputError
+
+if TYPE_CHECKING:  # the model is imported where a stored configuration is read
+    from gearsim.model import Gearbox
 
 __all__ = [
     "problems_error",
@@ -365,30 +368,31 @@ def _file_stages(ch: dict) -> tuple[tuple[int, int], ...] | None:
 
 
 @functools.lru_cache(maxsize=8)
-def _config_stages(text: str) -> tuple[tuple[int, int], ...] | None:
-    """:meth:`gearsim.model.Gearbox.analysis_stages` of a stored configuration (read once
-    for every channel of its file), None when this version cannot read it."""
+def _config_gearbox(text: str) -> Gearbox | None:
+    """The :class:`gearsim.model.Gearbox` of a stored configuration, read once for every
+    channel of its file; None when this version cannot read it."""
     from gearsim.model import loads
 
     try:
-        return loads(text).analysis_stages()
+        return loads(text)
     except Exception:  # a configuration this version cannot read: the teeth as they are
         return None
 
 
-@functools.lru_cache(maxsize=64)
+def _config_stages(text: str) -> tuple[tuple[int, int], ...] | None:
+    """:meth:`gearsim.model.Gearbox.analysis_stages` of a stored configuration, None when
+    this version cannot read it."""
+    gb = _config_gearbox(text)
+    return None if gb is None else gb.analysis_stages()
+
+
 def _path_kinematics(text: str, channel: str) -> dict[str, tuple] | None:
     """Of a stored gear train whose power branches, the stages or teeth of the path from
     the input to the shaft of ``channel`` (:meth:`gearsim.system.GearTrain.
     path_kinematics`); None for any other gearbox or a configuration this version cannot
     read."""
-    from gearsim.model import loads
-
-    try:
-        gb = loads(text)
-    except Exception:  # a configuration this version cannot read: the file's teeth
-        return None
-    if gb.stage is not None or len(gb.train.flow.outputs) < 2:
+    gb = _config_gearbox(text)
+    if gb is None or gb.stage is not None or len(gb.train.flow.outputs) < 2:
         return None
     k = gb.train.record_shaft(channel)
     return None if k is None else gb.train.path_kinematics(k)

@@ -853,7 +853,7 @@ class Gearbox:
         """
         tr = self.train if self.stage is None else self._gears_record(signal)
         if tr is not None:
-            path = self._branch_path(signal)
+            path = self.record_path(signal)
             teeth = ([g.teeth for g in tr.gears] if path is None else list(
                 path["teeth"] if "teeth" in path else [z for st in path["stages"] for z in st]))
             member, freq = tr.flow.shafts[0].name, tr.shaft_frequency(0)
@@ -863,9 +863,21 @@ class Gearbox:
             member = self.shaft_label(stage_prefix(k, len(self.stages)) + member)  # the tacho's
         return member, freq, teeth[:1] if shafts == "reference" else teeth
 
-    def _branch_path(self, signal: str | None) -> dict[str, tuple] | None:
-        """Of a gear train whose power branches, the kinematics of the path to the shaft
-        ``signal`` is a record of (:meth:`GearTrain.path_kinematics`); else None."""
+    def record_path(self, signal: str | None) -> dict[str, tuple] | None:
+        """Of gears whose power branches, the kinematics of the path to the shaft
+        ``signal`` is a record of, else None.
+
+        Parameters
+        ----------
+        signal : str or None
+            A record's name (:meth:`gearsim.system.GearTrain.record_shaft`).
+
+        Returns
+        -------
+        dict or None
+            ``stages`` or ``teeth`` of :meth:`gearsim.system.GearTrain.path_kinematics`;
+            None for a gearbox whose power does not branch, or a name of no shaft.
+        """
         tr = self.train
         if self.stage is not None or signal is None or len(tr.flow.outputs) < 2:
             return None
@@ -933,7 +945,7 @@ class Gearbox:
         tr = self.train if self.stage is None else self._gears_record(signal)
         if tr is None:
             return None
-        path = self._branch_path(signal)  # power that branches: the record's path
+        path = self.record_path(signal)  # power that branches: the record's path
         if path is not None:
             return path.get("stages")
         return tr.compound_stages()  # the rule the results' attribute follows

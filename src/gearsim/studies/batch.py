@@ -392,10 +392,7 @@ def _path_kinematics(text: str, channel: str) -> dict[str, tuple] | None:
     path_kinematics`); None for any other gearbox or a configuration this version cannot
     read."""
     gb = _config_gearbox(text)
-    if gb is None or gb.stage is not None or len(gb.train.flow.outputs) < 2:
-        return None
-    k = gb.train.record_shaft(channel)
-    return None if k is None else gb.train.path_kinematics(k)
+    return None if gb is None else gb.record_path(channel)
 
 
 def _stage_spec(stage: Sequence[int] | None, ch: dict, speed: float | None):

@@ -212,6 +212,8 @@ def test_crack_on_a_branch_gear_modulates_at_its_own_shaft(split):
     (("power_share = 0.25", "power_share = -0.25"), "shafts[1].power_share"),
     (("power_share = 0.25", "power_share = nan"), "shafts[1].power_share"),
     (("power_share = 0.25", "power_share = 1e300"), "shafts[1].power_share"),
+    (("power_share = 0.25", "power_share = inf"), "shafts[1].power_share"),
+    (("power_share = 0.25", "power_share = 1e-300"), "shafts[1].power_share"),
     (("power_share = 0.25", 'power_share = "3 mm"'), "shafts[1].power_share"),
     (('name = "input"\n', 'name = "input"\npower_share = 0.5\n'), "shafts.input.power_share"),
     (('angle = "120 deg"\n', ""), "meshes[1].angle"),

@@ -11,6 +11,7 @@ import sys
 import time
 
 import click
+import numpy as np
 import pytest
 import typer
 
@@ -187,6 +188,49 @@ def test_usage_error_in_a_real_process():
                          capture_output=True, text=True, timeout=120)
     assert res.returncode == 2
     assert _one_line(res.stderr).startswith("gearsim: error: Invalid value for '--fs'")
+
+
+def _console(code: str, *args: str) -> subprocess.CompletedProcess:
+    """``gearsim ARGS`` through the installed script's entry point, after ``code``."""
+    prog = (f"import sys\n{code}\nsys.argv = ['gearsim', *{list(args)!r}]\n"
+            "from gearsim.cli import console\nconsole()\n")
+    return subprocess.run([sys.executable, "-c", prog], capture_output=True, text=True,
+                          timeout=120)
+
+
+@pytest.mark.parametrize("args,code", [(["example", "spur-19-48"], 0),
+                                       (["example", "nope"], 2)])
+def test_console_exit_runs_the_exit_handlers_and_keeps_the_status(args, code):
+    """The quick exit of the script (no module teardown) still runs ``atexit`` handlers,
+    flushes what was printed and ends with the run's status."""
+    res = _console("import atexit\natexit.register(print, 'handler ran', flush=False)", *args)
+    assert res.returncode == code, res.stderr
+    assert res.stdout.rstrip().endswith("handler ran")
+    if code == 0:
+        assert "[[gears]]" in res.stdout
+    else:
+        assert _one_line(res.stderr).startswith("gearsim: error:")
+
+
+def test_console_waits_for_a_running_thread():
+    """With another (non-daemon) thread running, the script exits the normal way, which
+    waits for it: its output is not cut off."""
+    res = _console("import threading, time\n"
+                   "threading.Thread(target=lambda: (time.sleep(0.5), print('thread done'))"
+                   ").start()", "example", "nope")
+    assert res.returncode == 2
+    assert "thread done" in res.stdout
+
+
+def test_console_result_file_is_complete(tmp_path):
+    """A results file written before the quick exit reads back whole."""
+    import xarray as xr
+
+    out = tmp_path / "r.nc"
+    res = _console("", "simulate", "spur-19-48", "--duration", "0.1", "--out", str(out))
+    assert res.returncode == 0, res.stderr
+    with xr.open_dataset(out) as ds:
+        assert ds.sizes["time"] > 0 and np.all(np.isfinite(ds["mesh_force_1"].values))
 
 
 def test_sigint_during_simulate_exit_130_no_output(tmp_path):

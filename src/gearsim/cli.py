@@ -29,6 +29,7 @@ class name along the exception's MRO, so those of either click package are caugh
 
 from __future__ import annotations
 
+import atexit
 import importlib
 import os
 import re
@@ -42,7 +43,7 @@ import typer
 
 from gearsim.errors import InputError, ModelRangeWarning, SimulationError
 
-__all__ = ["main", "run"]
+__all__ = ["console", "main", "run"]
 
 HELP = ("Mesh stiffness, tooth-root cracks, vibration and its analysis of gearboxes: gear "
         "trains, graphs of shafts and planetary stages.")
@@ -304,9 +305,41 @@ def run(argv: list[str] | None = None) -> int:
 
 
 def main() -> None:
-    """Entry point of the ``gearsim`` script: ``sys.exit(run())``."""
+    """Run the command line and exit with its status: ``sys.exit(run())``.
+
+    For callers in a Python process (tests, scripts); the ``gearsim`` script is
+    :func:`console`.
+    """
     sys.exit(run())
 
 
+def console() -> None:
+    """Entry point of the ``gearsim`` script: :func:`run`, then a quick exit.
+
+    The interpreter's own exit tears down every module it imported, about 0.4 s after
+    a run that loaded numba, xarray and pint (1,700 modules; measured 1.94 s against
+    1.45 s for ``gearsim simulate idler-table1 --duration 1``). Nothing of it is needed
+    once the run is over: every file gearsim writes is closed and renamed into place
+    before :func:`run` returns. So the exit handlers run (``atexit``: logging, temporary
+    folders, child processes), the standard streams are flushed and the process ends
+    with :func:`os._exit`. While other threads still run (a Dask cluster being shut
+    down) the interpreter's normal exit waits for them instead.
+    """
+    import threading
+
+    code = run()
+    if threading.active_count() > 1:
+        sys.exit(code)
+    try:
+        atexit._run_exitfuncs()
+    finally:
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):  # a closed pipe: nothing more can be said
+                pass
+        os._exit(code)
+
+
 if __name__ == "__main__":  # pragma: no cover
-    main()
+    console()

@@ -177,27 +177,6 @@ class ToothProfile:
         out[near + 1] = out[near]
         return out
 
-    def full_outline(self, n_fillet: int = 60, n_involute: int = 80) -> np.ndarray:
-        """Outline of one tooth, both flanks: ``+x`` root to tip, then ``-x`` tip to root.
-
-        Parameters
-        ----------
-        n_fillet
-            Points per fillet.
-        n_involute
-            Points per involute.
-
-        Returns
-        -------
-        ndarray, shape (2 (n_fillet + n_involute), 2)
-            (x, y) points [m].
-        """
-        half = self.outline(n_fillet, n_involute)
-        right = half  # +x flank, root to tip
-        left = half[::-1].copy()
-        left[:, 0] *= -1.0
-        return np.vstack([right, left])
-
     def half_width_at_height(self, y: float) -> float:
         """Half width of the tooth section at a height on the centre line.
 

@@ -399,17 +399,6 @@ class Gearbox:
         labels = [self.shaft_label(str(n)) for n in ds["shaft"].values]
         keep = [i for i, n in enumerate(labels) if n not in labels[:i]]
         return ds.isel(shaft=keep).assign_coords(shaft=[labels[i] for i in keep])
-        import json
-
-        labels = [self.shaft_label(str(n)) for n in ds["shaft"].values]
-        keep = [i for i, n in enumerate(labels) if n not in labels[:i]]
-        ds = ds.isel(shaft=keep).assign_coords(shaft=[labels[i] for i in keep])
-        if "analysis_parts" in ds.attrs:
-            parts = json.loads(ds.attrs["analysis_parts"])
-            for st in parts["stages"]:
-                st["member"] = self.shaft_label(st["member"])
-            ds.attrs["analysis_parts"] = json.dumps(parts)
-        return ds
 
     def record(self, spec: str, *, harmonics: int = 1, force: bool | None = None,
                **dynamics: Any) -> np.ndarray:

@@ -802,16 +802,6 @@ def _gear_tier(a, fs, f_r, teeth, pulses_tacho, settings, rests, skipped,
     return out, full
 
 
-def _call_dict(fn, *args, **kwargs) -> dict:
-    res = fn(*args, **kwargs)
-    if hasattr(res, "to_dict"):
-        res = res.to_dict()
-    if isinstance(res, dict):
-        return {k: (_f(v) if isinstance(v, (int, float, np.floating)) and not isinstance(v, bool)
-                    else v) for k, v in res.items()}
-    return {"value": _f(res)}
-
-
 def _gear_indicators(full, teeth, skipped) -> dict | None:
     try:
         ind = importlib.import_module("gearsim.signals.indicators")

@@ -498,24 +498,6 @@ class Wear:
         """True when the depth is grown by Archard's law."""
         return self.coefficient is not None
 
-    def depth_at_roll(self, roll: np.ndarray, base_radius: float) -> np.ndarray:
-        """Given depth profile at roll lengths ``roll`` [m] (0 outside the points).
-
-        Parameters
-        ----------
-        roll : ndarray
-            Roll length sqrt(r^2 - r_b^2) [m].
-        base_radius : float
-            Base radius [m].
-
-        Returns
-        -------
-        ndarray
-            Depth [m].
-        """
-        rr = np.sqrt(np.maximum(np.asarray(self.radii) ** 2 - base_radius ** 2, 0.0))
-        return np.interp(roll, rr, np.asarray(self.depths), left=0.0, right=0.0)
-
 
 Fault = Spall | Pitting | ChippedTip | BrokenTooth | Wear
 

@@ -27,7 +27,8 @@ to 16 cases): the bare kernel-plus-analysis time of two cores, n (t_kernel +
 t_analysis) / 2, and the same with each case's mesh-stiffness tables (a new crack depth
 each case); the 2-worker study's time over each is printed.
 
-Run: ``.venv/bin/python benchmarks/bench_sweep.py [--cases 8] [--batch N] [--repeat R]``
+Run: ``.venv/bin/python benchmarks/bench_sweep.py [--cases 8] [--batch N] [--repeat R]
+[--grid depths|factorial]``
 """
 
 from __future__ import annotations
@@ -53,6 +54,25 @@ fs = "50 kHz"
 [parameters]
 flank = ["working"]
 crack_depth = {{ min = "1 mm", max = "2.5 mm", num = {n} }}
+"""
+
+#: ``--grid factorial``: a labelled data set as users build them, crack depth x speed x
+#: torque (10 speeds x 10 torques per depth): every case is its own simulation, and the
+#: cases of one depth share its mesh-stiffness table (the seed model's contact law does
+#: not depend on the load).
+FACTORIAL = """
+[study]
+name = "bench-factorial"
+config = "idler-table1"
+signal = "acceleration[input,y]"
+[study.dynamics]
+duration = "1 s"
+fs = "50 kHz"
+[parameters]
+flank = ["working"]
+crack_depth = {{ min = "1 mm", max = "2.5 mm", num = {n} }}
+speed = {{ min = "1500 rpm", max = "1900 rpm", num = 10 }}
+torque = {{ min = "2000 N*m", max = "4876 N*m", num = 10 }}
 """
 
 WARM = """
@@ -125,8 +145,16 @@ def main() -> None:
                     help="skip the 1-worker run (in-process for a small study)")
     ap.add_argument("--no-serial", action="store_true",
                     help="skip the serial loops (a large study: the 2-worker pairs only)")
+    ap.add_argument("--grid", choices=("depths", "factorial"), default="depths",
+                    help="depths: a new crack depth each case (default); factorial: crack "
+                         "depth x 10 speeds x 10 torques (--cases a multiple of 100)")
     args = ap.parse_args()
-    study = loads_study(STUDY.format(n=args.cases))
+    if args.grid == "factorial":
+        if args.cases % 100:
+            ap.error(f"--cases = {args.cases}: must be a multiple of 100 with --grid factorial")
+        study = loads_study(FACTORIAL.format(n=args.cases // 100))
+    else:
+        study = loads_study(STUDY.format(n=args.cases))
     n_groups = len(groups(study))
     auto = plan_batch(n_groups - 1, 2, args.batch)  # the first group runs in-process
     rate = {}
@@ -159,13 +187,15 @@ def main() -> None:
         print(f"pair {i + 1}: 2 workers batch={args.batch or auto} / batch=1 throughput: "
               f"{p[1] / p[args.batch]:6.3f}, CPU a case {cpus[args.batch][i] / cpus[1][i]:6.3f}")
     # the issue's reference: the bare kernel-plus-analysis time of two cores
-    fl = physics_floor(study, min(args.cases, 16))
+    fl = physics_floor(study, min(args.cases, 16) if args.grid == "depths" else 100)
     study_s = min(p[args.batch] for p in pairs)
     bare = args.cases * (fl["kernel"] + fl["analysis"]) / 2
     with_tables = args.cases * (fl["kernel"] + fl["analysis"] + fl["tables"]) / 2
-    print(f"a case, 1 thread, on {min(args.cases, 16)} cases: kernel {fl['kernel']:6.4f} s, "
-          f"analysis {fl['analysis']:6.4f} s, mesh tables {fl['tables']:6.4f} s (a new crack "
-          f"depth each), whole run_group {fl['case']:6.4f} s")
+    shared = ("a new crack depth each" if args.grid == "depths"
+              else "a depth's table shared by its 100 cases")
+    print(f"a case, 1 thread, on {fl['cases']} cases: kernel {fl['kernel']:6.4f} s, "
+          f"analysis {fl['analysis']:6.4f} s, mesh tables {fl['tables']:6.4f} s ({shared}), "
+          f"whole run_group {fl['case']:6.4f} s")
     print(f"2-worker study / bare kernel+analysis of two cores ({bare:7.2f} s): "
           f"{study_s / bare:5.2f} (target <= 1.3)")
     print(f"2-worker study / kernel+analysis+tables of two cores ({with_tables:7.2f} s): "
@@ -236,7 +266,7 @@ def physics_floor(study, sample: int) -> dict[str, float]:
     finally:
         ds.run_kernel, sc.analyze, ds.mesh_tables = saved
         numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
-    return {k: v / n for k, v in spent.items()}
+    return {**{k: v / n for k, v in spent.items()}, "cases": n}
 
 
 def _serial_runs(study, n_cases: int, tmp: Path, cpus: dict) -> dict:

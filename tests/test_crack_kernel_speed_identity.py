@@ -149,6 +149,36 @@ def test_batch_store_equals_single_evaluations(closure):
     assert np.array_equal(again[::-1], batch)
 
 
+@pytest.mark.parametrize("chunks", [2, 3, 7])
+def test_threaded_batch_equals_the_serial_batch(chunks):
+    """The batch on numba's threads (runs of radii, each with its own scan store) is the
+    serial batch bit for bit, healthy and cracked rows mixed, and the model's
+    compliance on two threads is its compliance on one."""
+    import numba
+
+    tm = ToothModel(_table1_input(), closure="contact")
+    prof = tm.profile.packed
+    crack = Crack(gear="input", depth=2e-3)
+    radii = np.linspace(prof[P_RF] * 1.001, prof[P_RA] * 0.999, 301)
+    recs = np.array([crack_record(tm.profile, crack, 0.5e-3 + 1e-5 * i, 1 if i % 4 else -1)
+                     if i % 5 else np.zeros(K.C_SIZE) for i in range(radii.size)])
+    nodes, weights = gauss_rule(tm.gauss_points)
+    e, g = tm.beam_moduli
+    args = (tm.model_code, e, g, tm.gear.material.youngs_modulus, tm.sainsot, nodes, weights)
+    serial = K.tooth_compliance_batch(prof, radii, recs, *args, np.empty((radii.size, 4)))
+    threaded = K.tooth_compliance_batch_threads(prof, radii, recs, *args,
+                                                np.empty((radii.size, 4)), chunks)
+    assert np.array_equal(threaded, serial)
+    saved = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        one = tm.compliance(radii, recs)
+        numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
+        assert np.array_equal(tm.compliance(radii, recs), one)
+    finally:
+        numba.set_num_threads(saved)
+
+
 @pytest.mark.parametrize("make,depth,side", [
     (_table1_input, 2e-3, 1), (_table1_input, 8e-3, -1), (_table1_input, 11e-3, 1),
     (_spur_pinion, 2.5e-3, -1)])

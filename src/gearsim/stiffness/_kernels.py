@@ -758,30 +758,33 @@ def tooth_compliance_batch(prof, rcs, crs, model, e_mod, g_mod, e_found, sainsot
 
 
 @njit(cache=True, parallel=True)
-def tooth_compliance_batch_parallel(prof, rcs, crs, model, e_mod, g_mod, e_found, sainsot,
-                                    nodes, weights, out):
-    """Threaded variant of :func:`tooth_compliance_batch` (numba prange).
+def tooth_compliance_batch_threads(prof, rcs, crs, model, e_mod, g_mod, e_found, sainsot,
+                                   nodes, weights, out, chunks):
+    """:func:`tooth_compliance_batch` on ``chunks`` threads (numba ``prange``).
+
+    The radii are cut into ``chunks`` contiguous runs, each computed by
+    :func:`tooth_compliance_batch` with its own closure-scan store; the store memoises
+    samples that do not depend on the contact point, so every row is the serial kernel's,
+    bit for bit.
 
     Parameters
     ----------
     prof, rcs, crs, model, e_mod, g_mod, e_found, sainsot, nodes, weights, out
         As :func:`tooth_compliance_batch`.
+    chunks
+        Number of runs (the threads numba may use).
 
     Returns
     -------
     ndarray
         ``out``.
     """
-    for i in prange(rcs.shape[0]):
-        buf = np.empty(4)
-        if rcs[i] <= 0.0:
-            for j in range(4):
-                out[i, j] = np.nan
-            continue
-        tooth_compliance(prof, rcs[i], crs[i], model, e_mod, g_mod, e_found, sainsot, nodes,
-                         weights, buf)
-        for j in range(4):
-            out[i, j] = buf[j]
+    n = rcs.shape[0]
+    for c in prange(chunks):
+        lo = c * n // chunks
+        hi = (c + 1) * n // chunks
+        tooth_compliance_batch(prof, rcs[lo:hi], crs[lo:hi], model, e_mod, g_mod, e_found,
+                               sainsot, nodes, weights, out[lo:hi])
     return out
 
 
@@ -792,7 +795,7 @@ __all__ = [
     "P_AN",
     "tooth_compliance",
     "tooth_compliance_batch",
-    "tooth_compliance_batch_parallel",
+    "tooth_compliance_batch_threads",
 ]
 
 

@@ -26,6 +26,7 @@ import warnings
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
 
+import numba
 import numpy as np
 
 from gearsim.errors import ModelRangeWarning, require
@@ -396,11 +397,17 @@ class ToothModel:
         e, g = self.beam_moduli
         nodes, weights = gauss_rule(self.gauss_points)
         out = np.empty((r.shape[0], 4))
-        K.tooth_compliance_batch(self.profile.packed, r, records, self.model_code, e, g,
-                                 self.gear.material.youngs_modulus, self.sainsot, nodes,
-                                 weights, out)
-        return out
+        args = (self.profile.packed, r, records, self.model_code, e, g,
+                self.gear.material.youngs_modulus, self.sainsot, nodes, weights, out)
+        threads = numba.get_num_threads()
+        if threads > 1 and r.shape[0] >= THREADED_MIN_RADII:
+            return K.tooth_compliance_batch_threads(*args, threads)
+        return K.tooth_compliance_batch(*args)
 
+
+#: Radii from which a batch runs on numba's threads: a thread's share of a smaller batch
+#: (about 5 us a radius) is not worth waking the others for.
+THREADED_MIN_RADII = 256
 
 #: Healthy-tooth compliance tables kept per process (:func:`_healthy_compliance`).
 HEALTHY_CACHE_SIZE = 32

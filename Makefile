@@ -63,9 +63,10 @@ run: sysdeps
 # Every core (pytest-xdist; whole files to one worker, so an expensive module fixture such
 # as the reproduction is built once, not once per worker), one BLAS thread per worker (a
 # second one would only spin against the other worker); the 20 slowest
-# tests are printed at the end.
+# tests are printed at the end. One numba thread per worker too (its threaded kernels, the
+# tooth-compliance batches, would wait on the other worker's core).
 test: sysdeps browser
-	OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 \
+	OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 NUMBA_NUM_THREADS=1 \
 	  $(BIN)/python -m pytest -q -n auto --dist loadfile --durations=20 tests --doctest-modules src/gearsim
 
 lint: $(STAMP)

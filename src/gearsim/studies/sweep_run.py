@@ -231,11 +231,20 @@ def batch_bytes(study: Study, batch: Sequence[Sequence[Case]],
         the groups, in order; ``warnings``: the messages of the warnings the groups
         raised, once each (absent if none).
     """
+    import numba
+
     from gearsim.io.npzset import to_bytes
     from gearsim.studies.sweep_case import run_batch
 
-    with warnings.catch_warnings(record=True) as caught:  # not on the worker's stderr: the
-        ds = run_batch(study, batch, hook)  # client says them (run_study)
+    # a task is one core's work: numba's threaded kernels (the tooth-compliance batches)
+    # stay on this thread (the setting is this thread's), as the other cores run tasks too
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        with warnings.catch_warnings(record=True) as caught:  # not on the worker's stderr:
+            ds = run_batch(study, batch, hook)  # the client says them (run_study)
+    finally:
+        numba.set_num_threads(threads)
     ds.attrs["groups"] = [study.simulation_key(cases[0]) for cases in batch]
     if caught:
         ds.attrs["warnings"] = "\n".join(dict.fromkeys(

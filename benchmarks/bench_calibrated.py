@@ -24,9 +24,11 @@ reduction), ``cal_q_both`` the correction on both crack sides, ``cal_healthy_x``
 crack correction with the healthy body's coupling beside the cracked tooth (the model
 before the cracked body's coupling factors G). ``--extra`` adds the
 17/60 pair with x1 = +0.3 and the 25/25 pair at 25 deg; ``--healthy`` runs the healthy
-case only.
+case only; ``--level N`` takes the FE pair (and the healthy FE pair of the zone
+classification) at mesh level N instead of level 1.
 
-Run: ``.venv/bin/python benchmarks/bench_calibrated.py [--accuracy] [--extra] [--healthy]``.
+Run: ``.venv/bin/python benchmarks/bench_calibrated.py [--accuracy] [--extra] [--healthy]
+[--level N]``.
 """
 
 from __future__ import annotations
@@ -43,6 +45,7 @@ from gearsim.model import load
 from gearsim.stiffness.mesh import mesh_stiffness
 from gearsim.stiffness.settings import MODELS
 from gearsim.studies.fe_pair_check import PE_POSITIONS, fe_pair_check
+from gearsim.system.fe_pair import FE_PAIR_LEVEL
 from gearsim.system.train import body_coupling, tooth_compliance
 
 #: The calibrated curves of the accuracy rows: (tip-corner contacts, crack sides of the
@@ -134,20 +137,21 @@ def cost() -> None:
     print(f"load average during the run: {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
 
 
-def _zones(pair, torque: float, u: np.ndarray, npc: int) -> tuple[np.ndarray, np.ndarray]:
+def _zones(pair, torque: float, u: np.ndarray, npc: int, level: int = FE_PAIR_LEVEL
+           ) -> tuple[np.ndarray, np.ndarray]:
     """Inside-zone and double-contact flags of the positions ``u``.
 
     A position is a zone end when it is within half a sample spacing of a nominal
-    transition (u = 0 or eps_alpha - 1) or when the healthy FE pair (level 1) carries more
-    than :data:`CORNER_SHARE` of the torque on a tip-corner contact outside the nominal
-    path of contact (extended contact under load, docs/fem.md).
+    transition (u = 0 or eps_alpha - 1) or when the healthy FE pair (mesh level ``level``,
+    default 1) carries more than :data:`CORNER_SHARE` of the torque on a tip-corner
+    contact outside the nominal path of contact (extended contact under load,
+    docs/fem.md).
     """
     from gearsim.fem.pair import FEPairModel
-    from gearsim.system.fe_pair import FE_PAIR_LEVEL
 
     eps = pair.transverse_contact_ratio
     frac = np.round(np.mod(u, 1.0) * npc) / npc
-    model = FEPairModel(pair, torque=torque, level=FE_PAIR_LEVEL)
+    model = FEPairModel(pair, torque=torque, level=level)
     corner = {}
     for f in np.unique(frac):
         res = model.solve(float(f))
@@ -204,22 +208,26 @@ def calibrated_curve(train, mesh: int, crack: str, depth: float | None, u: np.nd
 
 
 def accuracy_case(name: str, train, torque: float, depth: float | None,
-                  cracks: tuple[str, ...] = ("none", "working", "non-working")) -> list[dict]:
-    """The crack cases of one train at one input torque; prints and returns rows."""
+                  cracks: tuple[str, ...] = ("none", "working", "non-working"),
+                  level: int = FE_PAIR_LEVEL) -> list[dict]:
+    """The crack cases of one train at one input torque; prints and returns rows.
+
+    ``level``: FE mesh level of the FE pair and of the zone classification.
+    """
     tr = dataclasses.replace(train, operating=dataclasses.replace(train.operating,
                                                                   torque=torque))
     rows = []
     inside = double = None
     for crack in cracks:
         t0 = time.perf_counter()
-        chk = fe_pair_check(tr, 0, crack=crack, depth=depth)
+        chk = fe_pair_check(tr, 0, crack=crack, depth=depth, level=level)
         for c, (corner, sides, cracked, cross) in CALIBRATED.items():
             if cracked and crack == "none":
                 continue
             chk.curves[c] = calibrated_curve(tr, 0, crack, depth, chk.cycles, corner, sides,
                                              cross)
         if inside is None:  # the same positions in every case
-            inside, double = _zones(tr.pairs[0], tr.torque(0), chk.cycles, 20)
+            inside, double = _zones(tr.pairs[0], tr.torque(0), chk.cycles, 20, level)
         row = {"case": name, "torque": torque, "crack": crack,
                "seconds": time.perf_counter() - t0}
         for c in CURVES:
@@ -272,10 +280,11 @@ def _extra_train(teeth: tuple[int, int], shift: float, alpha_deg: float, torque:
                      stiffness=base.stiffness, cracks=base.cracks)
 
 
-def accuracy(extra: bool, healthy: bool = False) -> None:
-    """The accuracy tables of docs/stiffness.md section 4c."""
+def accuracy(extra: bool, healthy: bool = False, level: int = FE_PAIR_LEVEL) -> None:
+    """The accuracy tables of docs/stiffness.md section 4c (FE pair at mesh ``level``)."""
     spur = load("spur-19-48").train
     table1 = load("idler-table1").train
+    print(f"FE pair level {level}")
     print("100 (k - k_FE pair) / k_FE pair [%]; double/single: pointwise inside the zones, "
           "ends: positions on a nominal transition or with tip-corner contact in the FE pair")
     cases = [("19/48", lambda: spur, 100.0, None), ("19/48", lambda: spur, 400.0, None),
@@ -288,11 +297,21 @@ def accuracy(extra: bool, healthy: bool = False) -> None:
         cases += [("25/25 25deg", lambda: _extra_train(*p25), t, None) for t in (100., 400.)]
     for name, make, torque, depth in cases:
         accuracy_case(name, make(), torque, depth, ("none",) if healthy else
-                      ("none", "working", "non-working"))
+                      ("none", "working", "non-working"), level)
+
+
+def _level(argv: list[str]) -> int:
+    """The FE pair level of ``--level N`` (default :data:`FE_PAIR_LEVEL`)."""
+    if "--level" not in argv:
+        return FE_PAIR_LEVEL
+    i = argv.index("--level")
+    if i + 1 >= len(argv) or not argv[i + 1].isdigit():
+        sys.exit("--level needs an integer mesh level, e.g. --level 2")
+    return int(argv[i + 1])
 
 
 if __name__ == "__main__":
     if "--accuracy" in sys.argv:
-        accuracy("--extra" in sys.argv, "--healthy" in sys.argv)
+        accuracy("--extra" in sys.argv, "--healthy" in sys.argv, _level(sys.argv))
     else:
         cost()

@@ -141,7 +141,7 @@ def section_tvms(train: GearTrain, mesh: int, settings, npc: int, revolution_of:
 
 def fe_pair_check(train: GearTrain, mesh: int = 0, *, crack: str = "none",
                   depth: float | None = None, positions_per_cycle: int = 20,
-                  cycles: int = 4) -> FEPairCheck:
+                  cycles: int = 4, level: int = FE_PAIR_LEVEL) -> FEPairCheck:
     """The FE pair's section TVMS against the PE curves (module docstring).
 
     Parameters
@@ -160,6 +160,9 @@ def fe_pair_check(train: GearTrain, mesh: int = 0, *, crack: str = "none",
         FE positions per mesh cycle (the cached table's).
     cycles : int
         Mesh cycles shown, from the cycle before the cracked tooth enters.
+    level : int
+        FE mesh level of the FE pair (:class:`gearsim.fem.pair.FEPairModel`); default
+        :data:`gearsim.system.fe_pair.FE_PAIR_LEVEL`, the level of the ``fe-pair`` tables.
 
     Returns
     -------
@@ -181,7 +184,7 @@ def fe_pair_check(train: GearTrain, mesh: int = 0, *, crack: str = "none",
         train.cracks[0].tooth if train.cracks and train.mesh_cracks(mesh) else 1)
     first = ref - 1
     fe = fe_pair_mesh_stiffness(pair, torque=torque, cracks=cracks,
-                                positions_per_cycle=positions_per_cycle, level=FE_PAIR_LEVEL,
+                                positions_per_cycle=positions_per_cycle, level=level,
                                 plane=tr.stiffness.plane, revolution_of=rev, closure="contact")
     z_rev = pair.driver.teeth if rev == 1 else pair.driven.teeth
     npc = positions_per_cycle
@@ -199,4 +202,4 @@ def fe_pair_check(train: GearTrain, mesh: int = 0, *, crack: str = "none",
         x, k = section_tvms(tr, mesh, st, PE_POSITIONS, revolution_of=rev)
         curves[name] = np.interp(u, x, k, period=float(z_rev))
     return FEPairCheck(mesh=pair.name, crack=crack, torque=torque, cycles=u,
-                       k_fe=fe.k[idx].copy(), curves=curves)
+                       k_fe=fe.k[idx].copy(), curves=curves, level=level)

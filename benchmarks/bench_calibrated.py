@@ -137,21 +137,21 @@ def cost() -> None:
     print(f"load average during the run: {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
 
 
-def _zones(pair, torque: float, u: np.ndarray, npc: int, level: int = FE_PAIR_LEVEL
-           ) -> tuple[np.ndarray, np.ndarray]:
+def _zones(pair, torque: float, u: np.ndarray, npc: int, level: int = FE_PAIR_LEVEL,
+           plane: str = "stress") -> tuple[np.ndarray, np.ndarray]:
     """Inside-zone and double-contact flags of the positions ``u``.
 
     A position is a zone end when it is within half a sample spacing of a nominal
-    transition (u = 0 or eps_alpha - 1) or when the healthy FE pair (mesh level ``level``,
-    default 1) carries more than :data:`CORNER_SHARE` of the torque on a tip-corner
-    contact outside the nominal path of contact (extended contact under load,
-    docs/fem.md).
+    transition (u = 0 or eps_alpha - 1) or when the healthy FE pair (mesh level
+    ``level``, default 1, in the train's ``plane``, as :func:`fe_pair_check` builds it)
+    carries more than :data:`CORNER_SHARE` of the torque on a tip-corner contact outside
+    the nominal path of contact (extended contact under load, docs/fem.md).
     """
     from gearsim.fem.pair import FEPairModel
 
     eps = pair.transverse_contact_ratio
     frac = np.round(np.mod(u, 1.0) * npc) / npc
-    model = FEPairModel(pair, torque=torque, level=level)
+    model = FEPairModel(pair, torque=torque, level=level, plane=plane)
     corner = {}
     for f in np.unique(frac):
         res = model.solve(float(f))
@@ -227,7 +227,8 @@ def accuracy_case(name: str, train, torque: float, depth: float | None,
             chk.curves[c] = calibrated_curve(tr, 0, crack, depth, chk.cycles, corner, sides,
                                              cross)
         if inside is None:  # the same positions in every case
-            inside, double = _zones(tr.pairs[0], tr.torque(0), chk.cycles, 20, level)
+            inside, double = _zones(tr.pairs[0], tr.torque(0), chk.cycles, 20, level,
+                                   tr.stiffness.plane)
         row = {"case": name, "torque": torque, "crack": crack,
                "seconds": time.perf_counter() - t0}
         for c in CURVES:

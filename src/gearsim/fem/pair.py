@@ -171,7 +171,11 @@ class _Body:
             self.lu = splu(kff, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                            options={"SymmetricMode": True})
         except RuntimeError as exc:  # pragma: no cover - a held bore is never singular
-            raise SimulationError(f"the gear stiffness matrix is singular ({exc})") from None
+            # SuperLU reports a failed allocation as a RuntimeError too
+            what = ("ran out of memory: a coarser FE level needs less" if "MALLOC" in str(exc)
+                    else "found the gear stiffness matrix singular")
+            raise SimulationError(f"the sparse LU factorisation of {n} dofs {what} "
+                                  f"({exc})") from None
 
     @property
     def rotation(self) -> np.ndarray:

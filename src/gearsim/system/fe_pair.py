@@ -39,9 +39,11 @@ from gearsim.stiffness.settings import StiffnessSettings
 __all__ = ["FE_PAIR_LEVEL", "fe_pair_train_stiffness"]
 
 #: FE mesh level of the stiffness tables of this route. Level 1 differs from the default
-#: level 2 of the FE pair by 0.06-0.24 % on the 19/48 pair and 0.1 % on Table-1 mesh I
-#: (docs/fem.md, convergence) at a quarter of the cost (0.3 s against 1.5 s per position
-#: on mesh I).
+#: level 2 of the FE pair by 0.06-0.24 % on the 19/48 pair and 0.1 % on Table-1 mesh I at
+#: 4876 N m (docs/fem.md, convergence) at a quarter of the cost (0.3 s against 1.5 s per
+#: position on mesh I); at a quarter of that torque the Hertz half width (about 100 um) is
+#: close to level 1's contact element (94 um), and level 1 is 0.3-0.65 % too soft
+#: (docs/stiffness.md, section 4c).
 FE_PAIR_LEVEL = 1
 
 

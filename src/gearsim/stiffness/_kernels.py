@@ -47,6 +47,16 @@ double with a secant search on the closure stresses and a replay of the bisectio
 round-off can flip the state (about 5 x fewer outline evaluations), and a batch keeps
 the scan samples of the pieces whose ends come from the crack record (the same for all
 its contact points).
+
+The mesh law of the tables with tip-corner contacts
+(:func:`gearsim.stiffness.mesh.extended_law`, docs/stiffness.md section 4c) has its
+active-set solve here too: :func:`extended_law_solve` (and
+:func:`extended_law_solve_threads`) solve, for every position of a mesh cycle at once,
+the tridiagonal compliance systems of the pairs of each slice by elimination
+(:func:`tridiagonal_solve`, the Thomas algorithm) and update the set of closed tip
+corners. They repeat the numpy implementation they replace operation for operation
+(the sums over a position in numpy's pairwise order, :func:`pairwise_sum`), so the
+tables are the same to the last bit.
 """
 
 from __future__ import annotations
@@ -793,9 +803,13 @@ __all__ = [
     "MODEL_CONTACT",
     "MODEL_OPEN",
     "P_AN",
+    "extended_law_solve",
+    "extended_law_solve_threads",
+    "pairwise_sum",
     "tooth_compliance",
     "tooth_compliance_batch",
     "tooth_compliance_batch_threads",
+    "tridiagonal_solve",
 ]
 
 
@@ -840,3 +854,410 @@ def rectangular_beam_compliance(half_width, length, a1, xc, e_mod, g_mod, nodes,
         acc[1] += es * half * weights[k]
         acc[2] += ea * half * weights[k]
     return acc
+
+
+# --- the mesh law's active-set solve (gearsim.stiffness.mesh.extended_law) -------------
+
+
+@njit(cache=True)
+def _pairwise_block(x, lo, n):
+    """numpy's pairwise sum of ``x[lo:lo + n]`` for n <= 128 (one block, no split).
+
+    Parameters
+    ----------
+    x
+        Values [any unit].
+    lo
+        First index.
+    n
+        Number of values, <= 128.
+
+    Returns
+    -------
+    float
+        The sum, in the order of :func:`pairwise_sum` [unit of ``x``].
+    """
+    if n < 8:
+        res = -0.0
+        for i in range(lo, lo + n):
+            res += x[i]
+        return res
+    r0 = x[lo]
+    r1 = x[lo + 1]
+    r2 = x[lo + 2]
+    r3 = x[lo + 3]
+    r4 = x[lo + 4]
+    r5 = x[lo + 5]
+    r6 = x[lo + 6]
+    r7 = x[lo + 7]
+    i = 8
+    end = n - n % 8
+    while i < end:
+        k = lo + i
+        r0 += x[k]
+        r1 += x[k + 1]
+        r2 += x[k + 2]
+        r3 += x[k + 3]
+        r4 += x[k + 4]
+        r5 += x[k + 5]
+        r6 += x[k + 6]
+        r7 += x[k + 7]
+        i += 8
+    res = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
+    while i < n:
+        res += x[lo + i]
+        i += 1
+    return res
+
+
+@njit(cache=True)
+def _pairwise_split(n):
+    """Length of the first half of numpy's split of a run of values.
+
+    Parameters
+    ----------
+    n
+        Length of the run, > 128.
+
+    Returns
+    -------
+    int
+        n // 2 rounded down to a multiple of 8.
+    """
+    n2 = n // 2
+    return n2 - n2 % 8
+
+
+@njit(cache=True)
+def pairwise_sum(x, lo, n):
+    """Sum of ``x[lo:lo + n]`` in numpy's pairwise order (``np.add.reduce``).
+
+    numpy sums a contiguous run of float64 by blocks of at most 128 values, each with
+    eight interleaved partial sums combined as ((r0 + r1) + (r2 + r3)) + ((r4 + r5) +
+    (r6 + r7)), a longer run split in two at a multiple of 8 near its middle and the
+    halves' sums added (``pairwise_sum`` in numpy/_core/src/umath/loops_utils.h.src;
+    Higham, The accuracy of floating point summation, SIAM J. Sci. Comput. 14 (1993)
+    783-799). Repeating that order makes a compiled sum equal numpy's to the last bit.
+
+    Parameters
+    ----------
+    x
+        Values, shape (>= lo + n,) [any unit].
+    lo
+        First index.
+    n
+        Number of values.
+
+    Returns
+    -------
+    float
+        The sum [unit of ``x``].
+    """
+    return _pairwise_sum(x, lo, n, np.empty((64, 3), dtype=np.int64), np.empty(64))
+
+
+@njit(cache=True)
+def _pairwise_sum(x, lo, n, stack, left):
+    """:func:`pairwise_sum` with its work space.
+
+    numpy's recursion is an explicit stack here (numba cannot call a recursive function
+    from a parallel region): per level the run's start and length and its state (0 new,
+    1 left half being summed, 2 right half being summed), and the left half's sum.
+
+    Parameters
+    ----------
+    x, lo, n
+        As :func:`pairwise_sum`.
+    stack
+        Work space, int64, shape (64, 3) (64 levels: runs up to 128 x 2^63 values).
+    left
+        Work space, shape (64,) [unit of ``x``].
+
+    Returns
+    -------
+    float
+        The sum [unit of ``x``].
+    """
+    if n <= 128:
+        return _pairwise_block(x, lo, n)
+    if n <= 256:  # one split (a table's 7 ages x 40 slices)
+        n2 = _pairwise_split(n)
+        return _pairwise_block(x, lo, n2) + _pairwise_block(x, lo + n2, n - n2)
+    top = 0
+    stack[0, 0] = lo
+    stack[0, 1] = n
+    stack[0, 2] = 0
+    while True:
+        if stack[top, 1] > 128:
+            n2 = _pairwise_split(stack[top, 1])
+            stack[top, 2] = 1
+            stack[top + 1, 0] = stack[top, 0]
+            stack[top + 1, 1] = n2
+            stack[top + 1, 2] = 0
+            top += 1
+            continue
+        v = _pairwise_block(x, stack[top, 0], stack[top, 1])
+        while True:  # hand the sum up
+            if top == 0:
+                return v
+            top -= 1
+            if stack[top, 2] == 1:  # the left half: now the right one
+                left[top] = v
+                stack[top, 2] = 2
+                n2 = _pairwise_split(stack[top, 1])
+                stack[top + 1, 0] = stack[top, 0] + n2
+                stack[top + 1, 1] = stack[top, 1] - n2
+                stack[top + 1, 2] = 0
+                top += 1
+                break
+            v = left[top] + v
+
+
+@njit(cache=True, error_model="numpy")
+def _thomas(d, o, r, x, cp, den):
+    """Symmetric tridiagonal systems side by side, several right-hand sides (Thomas).
+
+    Elimination without pivoting (Golub & Van Loan, Matrix Computations, 4th ed., 2013,
+    sec. 4.3: stable for a diagonally dominant matrix, as a slice's compliance matrix
+    is), in the order of the numpy implementation it replaces: c'_i = o_i / den_i,
+    den_{i+1} = d_{i+1} - o_i c'_i, x'_{i+1} = (r_{i+1} - o_i x'_i) / den_{i+1}, then
+    x_i = x'_i - c'_i x_{i+1} backwards. The k systems (columns) are independent and
+    swept row by row together, so their division chains overlap.
+
+    Parameters
+    ----------
+    d
+        Diagonals, shape (m, k) [m^2/N].
+    o
+        Off-diagonals between rows i and i + 1, shape (m - 1, k) [m^2/N].
+    r
+        Right-hand sides, shape (nr, m, k) [any unit].
+    x
+        Out: the solutions, shape (nr, m, k) [unit of r / m^2/N].
+    cp, den
+        Work space, shapes (m - 1, k) [-] and (k,) [m^2/N].
+    """
+    m, k = d.shape
+    nr = r.shape[0]
+    for s in range(k):
+        den[s] = d[0, s]
+    for j in range(nr):
+        for s in range(k):
+            x[j, 0, s] = r[j, 0, s] / den[s]
+    for i in range(1, m):
+        for s in range(k):
+            c = o[i - 1, s] / den[s]
+            cp[i - 1, s] = c
+            den[s] = d[i, s] - o[i - 1, s] * c
+        for j in range(nr):
+            for s in range(k):
+                x[j, i, s] = (r[j, i, s] - o[i - 1, s] * x[j, i - 1, s]) / den[s]
+    for i in range(m - 2, -1, -1):
+        for j in range(nr):
+            for s in range(k):
+                x[j, i, s] = x[j, i, s] - cp[i, s] * x[j, i + 1, s]
+
+
+@njit(cache=True, error_model="numpy")
+def tridiagonal_solve(diag, off, rhs, out):
+    """Symmetric tridiagonal systems along axis 1 of ``diag``, several right-hand sides.
+
+    The compliance matrix C of the pairs of a slice (contact plus both teeth on the
+    diagonal, the body cross compliance of adjacent pairs off it; docs/stiffness.md
+    sections 4b, 4c) solved by :func:`_thomas` for every (row, column) of axes 0 and 2.
+
+    Parameters
+    ----------
+    diag
+        Diagonal, shape (n, m, k) [m^2/N].
+    off
+        Off-diagonal between rows i and i + 1, shape (n, m - 1, k) [m^2/N].
+    rhs
+        Right-hand sides, shape (n, nr, m, k) [any unit].
+    out
+        Array of the shape of ``rhs``, filled with the solutions C^-1 rhs
+        [unit of rhs / m^2/N].
+
+    Returns
+    -------
+    ndarray
+        ``out``.
+    """
+    n, m, k = diag.shape
+    cp = np.empty((max(m - 1, 0), k))
+    den = np.empty(k)
+    for p in range(n):
+        _thomas(diag[p], off[p], rhs[p], out[p], cp, den)
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def extended_law_solve(cdiag, act, path, cand, width, rho, s_pos, cross, coupled, force,
+                       passes, q, delta):
+    """Active-set solve of the mesh law with tip-corner contacts, all positions at once.
+
+    At a position the contacts j (pair ages m, slices) with per-unit-width compliance
+    matrix C per slice (``cdiag`` on the diagonal, ``cross`` between adjacent ages; no
+    coupling: C diagonal), widths w, no-load separations s and closing rates rho carry
+    the normal loads per unit width q >= 0 at the mesh deflection delta under the force
+    F (docs/stiffness.md section 4c, "Law"): for the active (closed) set A,
+
+        q_A = delta C_AA^-1 rho_A - C_AA^-1 (rho s)_A,
+        delta = (F + w rho . C^-1 (rho s)) / (w rho . C^-1 rho),
+
+    C_AA^-1 by :func:`_thomas`, the slices side by side (the inactive rows: 1 on the
+    diagonal, no coupling, right-hand sides 0). A closed corner opens when its q <= 0;
+    an open one closes when its gap rho (delta - s) - (C q) > 0 (the neighbours' loads
+    through the cross compliance). The passes stop at a position when its set does not
+    change (positions are independent: the numpy law's passes over all positions at
+    once, which stop when no position's set changes, give each the same), after
+    ``passes`` passes at most (then ``act`` holds the last update and ``q``, ``delta``
+    the solve before it, as in the numpy law). Sums over a position in numpy's pairwise
+    order, each product and quotient as numpy forms it: the numpy law's result to the
+    last bit.
+
+    Parameters
+    ----------
+    cdiag
+        Compliance of each contact per unit width, contact plus both teeth, shape
+        (npc, n_age, ns) [m^2/N].
+    act
+        In/out: the closed contacts, bool, shape (npc, n_age, ns); the start of the
+        active set (the path contacts and the corners closed so far), updated.
+    path
+        Contacts on the path of contact (always closed), bool, shape (npc, n_age, ns).
+    cand
+        Tip-corner contacts that can close, bool, shape (npc, n_age, ns).
+    width
+        Width of each contact [m] (0: none), shape (npc, n_age, ns).
+    rho
+        Closing rate of each contact per unit delta [-] (1 except at a corner).
+    s_pos
+        No-load separation of each contact along the line of action [m] (0 except at a
+        corner).
+    cross
+        Body cross compliance between ages m and m + 1 per unit width, shape
+        (npc, n_age - 1, ns) [m^2/N]; not read unless ``coupled``.
+    coupled
+        Whether the pairs of a slice are coupled through ``cross``.
+    force
+        Line-of-action force of the mesh F [N].
+    passes
+        Largest number of active-set passes.
+    q
+        Out: normal load per unit width of each contact, shape (npc, n_age, ns) [N/m]
+        (0 where open).
+    delta
+        Out: mesh deflection of each position along the line of action, shape (npc,)
+        [m].
+
+    Returns
+    -------
+    ndarray
+        ``delta``.
+    """
+    npc, m, ns = cdiag.shape
+    nn = m * ns
+    d = np.empty((m, ns))
+    o = np.empty((max(m - 1, 0), ns))
+    cp = np.empty((max(m - 1, 0), ns))
+    den = np.empty(ns)
+    r = np.empty((2, m, ns))
+    x = np.empty((2, m, ns))
+    ca = x[0]  # C^-1 rho
+    cb = x[1]  # C^-1 (rho s)
+    ta = np.empty(nn)
+    tb = np.empty(nn)
+    stack = np.empty((64, 3), dtype=np.int64)
+    left = np.empty(64)
+    new = np.empty((m, ns), dtype=np.bool_)
+    for p in range(npc):
+        for _ in range(passes):
+            if coupled:
+                for i in range(m):
+                    for s in range(ns):
+                        on = act[p, i, s]
+                        d[i, s] = cdiag[p, i, s] if on else 1.0
+                        r[0, i, s] = rho[p, i, s] if on else 0.0
+                        r[1, i, s] = rho[p, i, s] * s_pos[p, i, s] if on else 0.0
+                for i in range(m - 1):
+                    for s in range(ns):
+                        o[i, s] = cross[p, i, s] if act[p, i, s] and act[p, i + 1, s] else 0.0
+                _thomas(d, o, r, x, cp, den)
+            else:
+                for i in range(m):
+                    for s in range(ns):
+                        a = rho[p, i, s] / cdiag[p, i, s] if act[p, i, s] else 0.0
+                        ca[i, s] = a
+                        cb[i, s] = a * s_pos[p, i, s]
+            k = 0
+            for i in range(m):
+                for s in range(ns):
+                    wr = width[p, i, s] * rho[p, i, s]
+                    tb[k] = wr * cb[i, s]
+                    ta[k] = wr * ca[i, s]
+                    k += 1
+            # np.sum starts from its identity 0.0
+            dl = ((force + (0.0 + _pairwise_sum(tb, 0, nn, stack, left)))
+                  / (0.0 + _pairwise_sum(ta, 0, nn, stack, left)))
+            delta[p] = dl
+            for i in range(m):
+                for s in range(ns):
+                    q[p, i, s] = dl * ca[i, s] - cb[i, s] if act[p, i, s] else 0.0
+            same = True
+            for i in range(m):
+                for s in range(ns):
+                    if path[p, i, s]:
+                        nw = True
+                    elif not cand[p, i, s]:
+                        nw = False
+                    elif act[p, i, s]:
+                        nw = q[p, i, s] > 0.0
+                    else:  # the gap, the neighbours' loads deflecting the open corner
+                        gap = rho[p, i, s] * (dl - s_pos[p, i, s])
+                        if coupled:
+                            if i >= 1:
+                                gap = gap - cross[p, i - 1, s] * q[p, i - 1, s]
+                            if i < m - 1:
+                                gap = gap - cross[p, i, s] * q[p, i + 1, s]
+                        nw = gap > 0.0
+                    new[i, s] = nw
+                    if nw != act[p, i, s]:
+                        same = False
+            if same:
+                break
+            for i in range(m):
+                for s in range(ns):
+                    act[p, i, s] = new[i, s]
+    return delta
+
+
+@njit(cache=True, parallel=True)
+def extended_law_solve_threads(cdiag, act, path, cand, width, rho, s_pos, cross, coupled,
+                               force, passes, q, delta, chunks):
+    """:func:`extended_law_solve` on ``chunks`` threads (numba ``prange``).
+
+    The positions are cut into ``chunks`` contiguous runs, each solved by
+    :func:`extended_law_solve` with its own work space; a position's solve does not
+    depend on the others', so every result is the serial kernel's, bit for bit.
+
+    Parameters
+    ----------
+    cdiag, act, path, cand, width, rho, s_pos, cross, coupled, force, passes, q, delta
+        As :func:`extended_law_solve` (``act``, ``q``, ``delta`` filled in place).
+    chunks
+        Number of runs (the threads numba may use).
+
+    Returns
+    -------
+    ndarray
+        ``delta`` [m].
+    """
+    n = cdiag.shape[0]
+    for c in prange(chunks):
+        lo = c * n // chunks
+        hi = (c + 1) * n // chunks
+        extended_law_solve(cdiag[lo:hi], act[lo:hi], path[lo:hi], cand[lo:hi], width[lo:hi],
+                           rho[lo:hi], s_pos[lo:hi], cross[lo:hi], coupled, force, passes,
+                           q[lo:hi], delta[lo:hi])
+    return delta

@@ -44,11 +44,13 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
 
 from gearsim.errors import require
 from gearsim.geometry.pair import GearPair
 from gearsim.geometry.profile import ToothProfile
+from gearsim.stiffness import _kernels
 from gearsim.stiffness.settings import DEFAULT_SLICES, StiffnessSettings
 from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance, ToothCrack
 from gearsim.stiffness.tooth import hertz_stiffness, line_contact_compliance
@@ -646,6 +648,9 @@ def extended_law(width: np.ndarray, corner: np.ndarray, separation: np.ndarray,
     by :data:`LINE_ITERATIONS` fixed-point passes (an open corner keeps the
     compliance of the previous pass). The mesh stiffness is the secant F / delta, the
     quantity the FE gear pair computes; contact j's share of it is w_j rho_j q_j / delta.
+    The active-set passes of a fixed-point pass are compiled
+    (:func:`gearsim.stiffness._kernels.extended_law_solve`, on numba's threads from
+    :data:`THREADED_MIN_CONTACTS` slice contacts per cycle when numba has more than one).
 
     Tip-corner contact law: the 2D line contact of the nearer path end
     (:func:`gearsim.stiffness.tooth.line_contact_compliance`, Johnson 1985 eq. 5.79:
@@ -693,45 +698,43 @@ def extended_law(width: np.ndarray, corner: np.ndarray, separation: np.ndarray,
     cand = exists & corner
     s_pos = np.where(cand, separation, 0.0)
     rho = np.where(cand, rate, 1.0)
-
-    def solve(cdiag: np.ndarray, act: np.ndarray, cross: np.ndarray | None
-              ) -> tuple[np.ndarray, np.ndarray]:
-        if cross is None:
-            with np.errstate(divide="ignore", invalid="ignore"):
-                a = np.where(act, rho / cdiag, 0.0)
-            b = a * s_pos
-        else:
-            off = np.where(act[:, :-1] & act[:, 1:], cross, 0.0)
-            a, b = _tridiagonal_solve(np.where(act, cdiag, 1.0), off, np.where(act, rho, 0.0),
-                                      np.where(act, rho * s_pos, 0.0))
-        delta = (force + np.sum(width * rho * b, axis=(1, 2))) / np.sum(width * rho * a,
-                                                                         axis=(1, 2))
-        return delta, np.where(act, delta[:, None, None] * a - b, 0.0)
+    npc = width.shape[0]
+    no_cross = np.zeros((npc, 0, 0))
 
     def law(teeth: np.ndarray, cross_now: np.ndarray | None = None
             ) -> tuple[np.ndarray, np.ndarray]:
         cx = cross if cross_now is None else cross_now
+        coupled = cx is not None
+        cx = np.ascontiguousarray(cx, dtype=float) if coupled else no_cross
         chs = np.full(width.shape, ch)
         act = path.copy()
         q = np.zeros(width.shape)
+        delta = np.empty(npc)
+        threads = numba.get_num_threads()
         for it in range(LINE_ITERATIONS + 1):
             if it:
                 chs = np.where(exists & (q > 0), contact(np.where(q > 0, q, 1.0)), chs)
             cdiag = chs + teeth
-            for _ in range(CORNER_PASSES):
-                delta, q = solve(cdiag, act, cx)
-                approach = rho * (delta[:, None, None] - s_pos)
-                if cx is not None:  # the neighbours' loads deflect an open corner
-                    approach[:, 1:] -= np.where(cand[:, 1:], cx * q[:, :-1], 0.0)
-                    approach[:, :-1] -= np.where(cand[:, :-1], cx * q[:, 1:], 0.0)
-                new = path | (cand & np.where(act, q > 0, approach > 0))
-                if np.array_equal(new, act):
-                    break
-                act = new
+            # the active-set passes of all positions (compiled: the numpy law's operations
+            # in its order, so the same tables to the bit)
+            args = (cdiag, act, path, cand, width, rho, s_pos, cx, coupled, float(force),
+                    CORNER_PASSES, q, delta)
+            if threads > 1 and width.size >= THREADED_MIN_CONTACTS:
+                _kernels.extended_law_solve_threads(*args, min(threads, npc))
+            else:
+                _kernels.extended_law_solve(*args)
         ks = np.where(act, width * rho * q / delta[:, None, None], 0.0)
         return ks, chs
 
     return law
+
+
+#: Slice contacts of a cycle (positions x pair ages x slices) from which
+#: :func:`extended_law` solves on numba's threads, one run of positions per thread: the
+#: active-set solve costs about 17 ns a contact (Table-1 mesh I at 40 x 7 x 40: 0.19 ms
+#: a fixed-point pass on one thread, 0.10 ms on two); below ~2000 the waking of the
+#: other threads costs as much as it saves (measured 2026-11-28, 2-core machine at load 0.5).
+THREADED_MIN_CONTACTS = 2048
 
 
 def _tridiagonal_solve(diag: np.ndarray, off: np.ndarray, *rhs: np.ndarray
@@ -741,7 +744,8 @@ def _tridiagonal_solve(diag: np.ndarray, off: np.ndarray, *rhs: np.ndarray
     The compliance matrix of the pairs of a slice is tridiagonal (the body couples
     adjacent pairs only) and diagonally dominant (a cross compliance is a few per cent of
     a pair's compliance), so elimination without pivoting is stable (Golub & Van Loan,
-    Matrix Computations, 4th ed., sec. 4.3).
+    Matrix Computations, 4th ed., sec. 4.3). Compiled:
+    :func:`gearsim.stiffness._kernels.tridiagonal_solve`.
 
     Parameters
     ----------
@@ -757,21 +761,14 @@ def _tridiagonal_solve(diag: np.ndarray, off: np.ndarray, *rhs: np.ndarray
     tuple of ndarray
         The solutions, shape of ``diag``, one per right-hand side.
     """
-    m = diag.shape[1]
-    cp = np.empty(off.shape)
-    rp = [np.empty(diag.shape) for _ in rhs]
-    den = diag[:, 0]
-    for j, r in enumerate(rhs):
-        rp[j][:, 0] = r[:, 0] / den
-    for i in range(1, m):
-        cp[:, i - 1] = off[:, i - 1] / den
-        den = diag[:, i] - off[:, i - 1] * cp[:, i - 1]
-        for j, r in enumerate(rhs):
-            rp[j][:, i] = (r[:, i] - off[:, i - 1] * rp[j][:, i - 1]) / den
-    for i in range(m - 2, -1, -1):
-        for x in rp:
-            x[:, i] -= cp[:, i] * x[:, i + 1]
-    return tuple(rp)
+    shape = diag.shape
+    n, m = shape[:2]
+    k = math.prod(shape[2:])
+    d3 = np.ascontiguousarray(diag, dtype=float).reshape(n, m, k)
+    o3 = np.ascontiguousarray(off, dtype=float).reshape(n, m - 1, k)
+    r4 = np.ascontiguousarray(np.stack(rhs, axis=1), dtype=float).reshape(n, len(rhs), m, k)
+    out = _kernels.tridiagonal_solve(d3, o3, r4, np.empty(r4.shape))
+    return tuple(out[:, j].reshape(shape) for j in range(len(rhs)))
 
 
 def crack_cross_factors(pair: GearPair, model, cracks: tuple[ToothCrack, ...],

@@ -60,17 +60,7 @@ crack_depth = {{ min = "1 mm", max = "2.5 mm", num = {n} }}
 #: torque (10 speeds x 10 torques per depth): every case is its own simulation, and the
 #: cases of one depth share its mesh-stiffness table (the seed model's contact law does
 #: not depend on the load).
-FACTORIAL = """
-[study]
-name = "bench-factorial"
-config = "idler-table1"
-signal = "acceleration[input,y]"
-[study.dynamics]
-duration = "1 s"
-fs = "50 kHz"
-[parameters]
-flank = ["working"]
-crack_depth = {{ min = "1 mm", max = "2.5 mm", num = {n} }}
+FACTORIAL = STUDY.replace('name = "bench"', 'name = "bench-factorial"') + """\
 speed = {{ min = "1500 rpm", max = "1900 rpm", num = 10 }}
 torque = {{ min = "2000 N*m", max = "4876 N*m", num = 10 }}
 """

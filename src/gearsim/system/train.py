@@ -412,8 +412,7 @@ class GearTrain:
         float
         """
         name = self.gears[i].name
-        r = self.flow.ratio[self.flow.shaft_of[name]]
-        return self.operating.torque * self.flow.gear_share(name) * r.denominator / r.numerator
+        return self._loss_free_torque(name, self.flow.gear_share(name))
 
     def mesh_torque(self, mesh: int) -> float:
         """Torque the driver of mesh ``mesh`` passes through it [N m], T_in Sigma_mesh
@@ -428,8 +427,13 @@ class GearTrain:
         -------
         float
         """
-        r = self.flow.ratio[self.flow.shaft_of[self.pairs[mesh].driver.name]]
-        return self.operating.torque * self.flow.mesh_share[mesh] * r.denominator / r.numerator
+        return self._loss_free_torque(self.pairs[mesh].driver.name, self.flow.mesh_share[mesh])
+
+    def _loss_free_torque(self, gear: str, share: float) -> float:
+        """T_in Sigma omega_in / omega_shaft on the shaft of ``gear`` for the power share
+        ``share`` [N m] (eq. (2) of :mod:`gearsim.system.graph`)."""
+        r = self.flow.ratio[self.flow.shaft_of[gear]]
+        return self.operating.torque * share * r.denominator / r.numerator
 
     def shaft_frequency(self, i: int) -> float:
         """Shaft frequency f_r of gear ``i`` [Hz].

@@ -94,9 +94,12 @@ depth = "4 mm"
     f_i = box.train.mesh_frequencies[0]
     f_int = box.train.shaft_frequency(box.train.gear_index("intermediate-pinion"))
     f_sun = box.stage.speeds["sun"] / (2 * math.pi)
-    own = [_amplitude(x, fs, f_i + k * f_int) for k in (-2, -1, 1, 2)]
-    sun = [_amplitude(x, fs, f_i + k * f_sun) for k in (-1, 1)]
-    assert min(own) > 10 * max(sun), (own, sun)
+    # sideband order by order: the crack's +-k f_int lines against the same order at
+    # the sun shaft's rate (measured 2026-11-28: orders 1 and 2 at 27x and 89x)
+    for order in (1, 2):
+        own = [_amplitude(x, fs, f_i + k * f_int) for k in (-order, order)]
+        sun = [_amplitude(x, fs, f_i + k * f_sun) for k in (-order, order)]
+        assert min(own) > 10 * max(sun), (order, own, sun)
 
 
 def test_torsional_stage_equals_a_hand_assembled_torsional_planetary_model():

@@ -70,6 +70,7 @@ from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance,
 from gearsim.stiffness.tooth import hertz_stiffness, line_contact_compliance
 
 __all__ = ["MAX_GRID", "ContactGrid", "FlankState", "contact_grid", "corner_separation",
+           "tip_edge_offset",
            "grid_period"]
 
 #: Largest contact grid (positions x pairs x slices x layers) built in memory; a finer
@@ -316,6 +317,78 @@ def corner_separation(pair: GearPair, l: np.ndarray) -> np.ndarray:
     return np.where(l > le, out_, out)
 
 
+def _line_angle(x: np.ndarray) -> np.ndarray:
+    """Angle between two lines whose directions differ by ``x`` [rad], in [0, pi/2]."""
+    return np.abs(np.mod(x + 0.5 * math.pi, math.pi) - 0.5 * math.pi)
+
+
+def tip_edge_offset(pair: GearPair, l: np.ndarray) -> np.ndarray:
+    """Offset of a contact's Hertz centre beyond the nearer tip edge of its pair [m].
+
+    The signed ``edge`` of :func:`gearsim.stiffness.tooth.line_contact_compliance`
+    (:func:`gearsim.stiffness.tooth.edge_truncation`), in the frame of
+    :func:`corner_separation`. On the path of contact (l_A <= l <= l_E) the involute
+    contact lies the arc length s = (rho_a^2 - rho^2) / (2 r_b) inside the tip edge of
+    each profile (Litvin & Fuentes 2004, ch. 10: the involute's arc length between the
+    roll lengths rho and rho_a): the driver's tip is at rho_1 = l_E, the driven's at
+    rho_2 = L - l_A, and the offset is -min(s_1, s_2). Outside the path the tip corner
+    touches the mating flank (the incoming pair's driven corner before l_A, the
+    outgoing pair's driver corner after l_E, at the no-load position l): its own flank
+    leaves the mating one at the angle theta between the two involutes' normals at the
+    corner (the tangents from the corner to the two base circles; 0 at l_A and l_E), a
+    gap theta |x| + x^2 / (2 R) at the distance x inside the edge, i.e. the Hertz
+    centre theta R beyond it, R the relative radius of curvature at the path end (the
+    radii of the corner law, :func:`gearsim.stiffness.mesh.extended_law`).
+
+    Parameters
+    ----------
+    pair : GearPair
+        The mesh.
+    l : ndarray
+        Positions on the (extended) line of action, from T1 [m], between T1 and T2.
+
+    Returns
+    -------
+    ndarray
+        Offset [m]: <= 0 on the path, >= 0 outside it; the shape of ``l``.
+
+    References
+    ----------
+    F. L. Litvin, A. Fuentes, Gear Geometry and Applied Theory, Cambridge University
+    Press, 2004, ch. 10 (involute geometry); K. L. Johnson, Contact Mechanics, 1985,
+    ch. 5 (non-Hertzian contact).
+    """
+    l = np.asarray(l, dtype=float)
+    g1, g2 = pair.driver, pair.driven
+    rb1, rb2 = g1.base_radius, g2.base_radius
+    alpha = pair.working_pressure_angle
+    a = pair.centre_distance
+    big_l = pair.line_length
+    la, le = pair.start_of_contact, pair.end_of_contact
+    lc = np.clip(l, la, le)
+    s1 = (le * le - lc * lc) / (2.0 * rb1)
+    s2 = ((big_l - la) ** 2 - (big_l - lc) ** 2) / (2.0 * rb2)
+    on_path = -np.minimum(s1, s2)
+    # incoming: the driven tip corner C and the driver involute through it
+    ra2 = big_l - la
+    h = math.pi - alpha + (big_l - l - ra2) / rb2
+    cx = a + rb2 * np.cos(h) + ra2 * np.cos(h + math.pi / 2)
+    cy = rb2 * np.sin(h) + ra2 * np.sin(h + math.pi / 2)
+    rho1 = np.sqrt(np.maximum(cx * cx + cy * cy - rb1 * rb1, 0.0))
+    g_in = np.arctan2(cy, cx) - np.arctan2(rho1, rb1)
+    theta_in = _line_angle(h - g_in)
+    # outgoing: the driver tip corner D and the driven involute through it
+    g = l / rb1 - alpha - le / rb1
+    dx = rb1 * np.cos(g) + le * np.cos(g + math.pi / 2) - a
+    dy = rb1 * np.sin(g) + le * np.sin(g + math.pi / 2)
+    rho2 = np.sqrt(np.maximum(dx * dx + dy * dy - rb2 * rb2, 0.0))
+    h_out = np.arctan2(dy, dx) - np.arctan2(rho2, rb2)
+    theta_out = _line_angle(h_out - g)
+    r_a = 1.0 / (1.0 / la + 1.0 / (big_l - la))
+    r_e = 1.0 / (1.0 / le + 1.0 / (big_l - le))
+    return np.where(l < la, theta_in * r_a, np.where(l > le, theta_out * r_e, on_path))
+
+
 def _corner_cross(g1, g2, coupling, inside: np.ndarray, corner: np.ndarray, r1: np.ndarray,
                   r2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Body cross compliance of adjacent pairs, path or tip-corner contacts [m^2/N].
@@ -521,7 +594,12 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     law = None
     factors = None
     if settings.contact != "yang-lin" or settings.coupling != "none":
-        law = pair_law(pair, settings, lmid, width, r1, r2, force=force, coupling=coupling)
+        # with the tip corners (point samples) the line contact is cut off at the tip edges,
+        # as the tables' (stiffness.mesh.extended_grid)
+        edge = (np.where(inside, tip_edge_offset(pair, np.where(inside, lmid, la)), 0.0)
+                if points else None)
+        law = pair_law(pair, settings, lmid, width, r1, r2, force=force, coupling=coupling,
+                       edge=edge)
         # a cracked body's coupling beside the cracked tooth, as the tables'
         factors = crack_cross_factors(pair, model, cracks, settings, r1, r2, inside, zfrac)
     corner_factors = None
@@ -554,7 +632,8 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
                 np.where(ok, big_l - lend, 1.0),
                 np.where(ok, centre_line_depth(g1, np.where(ok, rc1, g1.base_radius)), 1.0),
                 np.where(ok, centre_line_depth(g2, np.where(ok, rc2, g2.base_radius)), 1.0),
-                g1.material, g2.material, settings.plane)
+                g1.material, g2.material, settings.plane,
+                np.where(ok, tip_edge_offset(pair, np.where(ok, centre, la)), -np.inf))
             kc_unit = np.where(ok, np.maximum(rate, 0.0) ** 2 / (cl + cc1 + cc2), 0.0)
             corner_mask = ok
             c_corner = cl + cc1 + cc2  # normal compliance per unit width [m^2/N]

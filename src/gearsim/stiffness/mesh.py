@@ -343,7 +343,7 @@ def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
              width: np.ndarray, r1: np.ndarray, r2: np.ndarray, *,
              force: float | None = None, coupling=None,
              corner: np.ndarray | None = None, separation: np.ndarray | None = None,
-             rate: np.ndarray | None = None
+             rate: np.ndarray | None = None, edge: np.ndarray | None = None
              ) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
     """The contact law and coupling of a mesh's slice contacts, as a function of the teeth.
 
@@ -381,6 +381,11 @@ def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
         ``lmid``, ``r1``, ``r2`` at the nearer end of the path), their no-load
         separations [m] and closing rates [-]: the law is then :func:`extended_law`
         (line contact only).
+    edge : ndarray, shape (npc, n_age, ns), optional
+        Offset of each contact's Hertz centre beyond the nearer tip edge [m]
+        (:func:`gearsim.stiffness.contacts.tip_edge_offset`): the line contact is then
+        cut off by the tip corner (:func:`gearsim.stiffness.tooth.edge_truncation`).
+        None: the profiles continue past their tips (the path-of-contact law).
 
     Returns
     -------
@@ -428,9 +433,11 @@ def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
 
     contact = None
     if line:
+        cut = None if edge is None else np.where(inside, edge, -np.inf)
+
         def contact(q: np.ndarray) -> np.ndarray:
             return line_contact_compliance(np.maximum(q, 1e-3), rho1, rho2, dep1, dep2,
-                                           g1.material, g2.material, settings.plane)
+                                           g1.material, g2.material, settings.plane, cut)
 
     if corner is not None:
         require(line, "stiffness.contact", settings.contact,
@@ -542,14 +549,16 @@ def extended_grid(pair: GearPair, settings: StiffnessSettings
 
     Returns
     -------
-    lmid, width, corner, separation, rate, n_age, first, ns, zfrac
+    lmid, width, corner, separation, rate, n_age, first, ns, zfrac, edge
         Contact point for the law (clipped to the path) [m], slice width of each
         existing contact (0: none) [m], tip-corner flags, no-load separations [m] and
         closing rates [-] (1 on the path and before it), all (npc, n_age, ns); number of
         ages, age of the first column (-1), slices, slice centres over the face width
-        [-]. The grid depends on the geometry alone: it is computed once per pair and
-        grid (:data:`EXTENDED_GRID_CACHE_SIZE` kept, about 4.5 ms each for Table-1 mesh I
-        at 40 x 40) and its arrays are read-only.
+        [-]; the offset of each contact's Hertz centre beyond the nearer tip edge [m]
+        (:func:`gearsim.stiffness.contacts.tip_edge_offset`, (npc, n_age, ns)). The grid
+        depends on the geometry alone: it is computed once per pair and grid
+        (:data:`EXTENDED_GRID_CACHE_SIZE` kept, about 4.5 ms each for Table-1 mesh I at
+        40 x 40) and its arrays are read-only.
     """
     return _extended_grid(pair, settings.positions_per_cycle, settings.slices)
 
@@ -561,6 +570,8 @@ EXTENDED_GRID_CACHE_SIZE = 32
 @lru_cache(maxsize=EXTENDED_GRID_CACHE_SIZE)
 def _extended_grid(pair: GearPair, npc: int, slices: int):
     """:func:`extended_grid` of ``pair`` at ``npc`` positions per cycle and ``slices``."""
+    from gearsim.stiffness.contacts import tip_edge_offset
+
     tb = math.tan(pair.driver.base_helix_angle)
     b = pair.face_width
     pb = pair.base_pitch
@@ -579,11 +590,12 @@ def _extended_grid(pair: GearPair, npc: int, slices: int):
     sep, rate = corner_closing(pair, np.where(corner, centre, la))
     corner = corner & (rate > 0)  # a corner the turning driver cannot close
     width = np.where(path | corner, dz, 0.0)
+    edge = np.where(width > 0, tip_edge_offset(pair, np.where(width > 0, centre, la)), 0.0)
     arrays = (np.clip(centre, la, le), width, corner, np.where(corner, sep, 0.0),
-              np.where(corner, rate, 1.0), zc / b)
+              np.where(corner, rate, 1.0), zc / b, edge)
     for arr in arrays:
         arr.flags.writeable = False  # shared by every table of this pair and grid
-    return (*arrays[:5], n_age, first, ns, arrays[5])
+    return (*arrays[:5], n_age, first, ns, arrays[5], arrays[6])
 
 
 def corner_closing(pair: GearPair, l: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -670,14 +682,14 @@ def extended_law(width: np.ndarray, corner: np.ndarray, separation: np.ndarray,
     Tip-corner contact law: the 2D line contact of the nearer path end
     (:func:`gearsim.stiffness.tooth.line_contact_compliance`, Johnson 1985 eq. 5.79:
     radii of curvature and centre-line depths at l_A or l_E) at the corner's own load
-    per unit width. A corner has no curvature of its own (the FE gear pair finds no
-    Hertz width there); this is the limit of the involute contact at the path end,
-    where the touching point is the same material point (the end of the involute), so
-    the stiffness is continuous across l_A and l_E. The compliance depends on the
-    contact width only through ln(2 d / a): a corner whose real contact width differed
-    by a factor 2 would change its contact compliance by ln 2 / (ln(2 d / a) - nu / 2)
-    of it; the zone ends against the FE gear pair bound that error (docs/stiffness.md,
-    section 4c).
+    per unit width, cut off by the tip edge (:func:`gearsim.stiffness.tooth.
+    edge_truncation`, with the offsets of :func:`gearsim.stiffness.contacts.
+    tip_edge_offset` passed in ``contact``): the corner touches the mating flank at the
+    end of its involute, its own flank leaving the mating one at a small angle, and
+    the path contacts within a Hertz half width of a tip are cut off by it the same
+    way. At the path ends both are the involute contact whose centre lies on the edge,
+    so the stiffness is continuous across l_A and l_E (docs/stiffness.md, section 4c,
+    "The tip edge").
 
     Parameters
     ----------
@@ -1014,10 +1026,10 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     # contact outside the path (tip corners) under the load-dependent line contact law;
     # the seed's load-independent law keeps the path of contact (docs/stiffness.md 4c)
     extended = settings.contact == "line" and settings.corner_contact
-    first, corner, sep, rate = 0, None, None, None
+    first, corner, sep, rate, edge = 0, None, None, None, None
     if extended:
-        lmid, width, corner, sep, rate, n_age, first, ns, zfrac = extended_grid(pair,
-                                                                                settings)
+        lmid, width, corner, sep, rate, n_age, first, ns, zfrac, edge = extended_grid(
+            pair, settings)
         inside = width > 0
     else:
         lmid, frac, dz, n_age, ns, zfrac = _slice_grid(pair, settings)
@@ -1050,7 +1062,7 @@ def mesh_stiffness(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     if not extended:
         width = frac * dz  # carried face width of each slice [m]
     pairs = pair_law(pair, settings, lmid, width, r1, r2, force=force, coupling=coupling,
-                     corner=corner, separation=sep, rate=rate)
+                     corner=corner, separation=sep, rate=rate, edge=edge)
 
     z_rev = g1.teeth if revolution_of == 1 else g2.teeth
     factors = crack_cross_factors(pair, model, cracks, settings, r1, r2, width > 0, zfrac)

@@ -40,6 +40,7 @@ __all__ = [
     "ToothModel",
     "beam_moduli",
     "gauss_rule",
+    "edge_truncation",
     "hertz_stiffness",
     "line_contact_compliance",
     "sainsot_coefficients",
@@ -178,9 +179,76 @@ def hertz_stiffness(m1: Material, m2: Material, length: float) -> float:
     return math.pi * length / (2.0 * s)
 
 
+def edge_truncation(offset: np.ndarray) -> np.ndarray:
+    """Extra approach of a 2D Hertz line contact cut off by a tooth's tip edge [-].
+
+    Two bodies with relative radius R pressed by w per unit length, one of whose
+    surfaces ends at a sharp edge beyond which it falls away (the tip corner: the tip
+    land meets the involute at 90 deg + the tip pressure angle). The gap is
+    h(x) = ((x - e)^2 - max(e, 0)^2) / (2 R) for x <= 0 (edge at x = 0, pressure only
+    there): e < 0 is an involute contact whose Hertz centre lies -e inside the edge,
+    e > 0 the tip corner itself touching a flank tilted by theta = e / R against it (no
+    gap at the edge). Both bodies are taken as half-planes, as in the untruncated
+    contact (Johnson 1985, ch. 2 and 5). In units of the untruncated half width
+    a = sqrt(4 w R / (pi E*)) (``offset`` = e / a), the pressure solving the contact
+    equations (finite Hilbert transform, bounded at the far end, square-root singular
+    at the edge; Muskhelishvili 1953, section 88) is
+
+        p(x) = (2 w / (pi a)) sqrt((x + L) / -x) (L / 2 + e - x),  -L <= x <= 0,
+        L = (2 / 3) (sqrt(e^2 + 3) - e)   (from the total load w),
+
+    which is Hertz's at e = -1 (L = 2) and exists for e > -1; for e <= -1 the whole
+    Hertz strip lies inside the edge. The approach of two points deep inside the bodies
+    then exceeds the untruncated one (:func:`line_contact_compliance`) by
+    (2 / (pi E*)) w G with
+
+        G(e) = lambda(e) - max(e, 0)^2 - (1/2 + ln 2),
+        lambda(e) = (L + e)^2 - ln L - L^2 (5/8 - (3/2) ln 2) - L e (1 - 2 ln 2),
+
+    lambda being the constant of the integrated contact equation
+    int p ln|x - s| ds / w = (x - e)^2 - lambda on the contact (the Beta-function
+    integrals of sqrt(t / (1 - t)) ln t); G(-1) = 0, G(0) = ln sqrt(3), G grows like
+    ln(e) for large e (the contact shrinks to the edge). A derivation, and a check
+    against a numerical solution of the contact problem, are in docs/stiffness.md,
+    section 4c ("The tip edge").
+
+    Parameters
+    ----------
+    offset : ndarray
+        Signed offset of the untruncated Hertz centre beyond the edge over the
+        untruncated half width, e / a [-].
+
+    Returns
+    -------
+    ndarray
+        G [-] (0 where ``offset`` <= -1), the shape of ``offset``.
+
+    References
+    ----------
+    K. L. Johnson, Contact Mechanics, Cambridge University Press, 1985, ch. 2 (line
+    loading of a half-plane) and ch. 5 (non-Hertzian contact); N. I. Muskhelishvili,
+    Singular Integral Equations, Noordhoff, 1953, section 88 (inversion of the finite
+    Hilbert transform).
+
+    Examples
+    --------
+    >>> round(float(edge_truncation(0.0)), 6), round(math.log(math.sqrt(3.0)), 6)
+    (0.549306, 0.549306)
+    >>> float(edge_truncation(-1.5))
+    0.0
+    """
+    e = np.maximum(np.asarray(offset, dtype=float), -1.0)
+    big_l = (2.0 / 3.0) * (np.sqrt(e * e + 3.0) - e)
+    ln2 = math.log(2.0)
+    lam = ((big_l + e) ** 2 - np.log(big_l) - big_l**2 * (0.625 - 1.5 * ln2)
+           - big_l * e * (1.0 - 2.0 * ln2))
+    return np.maximum(lam - np.maximum(e, 0.0) ** 2 - (0.5 + ln2), 0.0)
+
+
 def line_contact_compliance(load: np.ndarray, rho1: np.ndarray, rho2: np.ndarray,
                             depth1: np.ndarray, depth2: np.ndarray, m1: Material,
-                            m2: Material, plane: str = "stress") -> np.ndarray:
+                            m2: Material, plane: str = "stress",
+                            edge: np.ndarray | None = None) -> np.ndarray:
     """Compliance of a 2D Hertz line contact up to points inside both bodies [m/(N/m)].
 
     The approach of two points at depths d_1, d_2 below the contact of two cylinders
@@ -212,6 +280,11 @@ def line_contact_compliance(load: np.ndarray, rho1: np.ndarray, rho2: np.ndarray
         Materials.
     plane
         ``"stress"`` or ``"strain"``.
+    edge : ndarray, optional
+        Signed offset of the Hertz centre beyond the nearer tip edge of either profile
+        [m] (negative: the edge lies inside the contact's reach from the centre; see
+        :func:`edge_truncation`). Adds (2 / (pi E*)) G(edge / a): the contact cut off by
+        the tip corner. None: no edge (the profiles continue).
 
     Returns
     -------
@@ -254,6 +327,8 @@ def line_contact_compliance(load: np.ndarray, rho1: np.ndarray, rho2: np.ndarray
     a = np.sqrt(4.0 * w * r * e_inv / math.pi)
     for scale, shift, d in terms:
         out = out + scale * (np.log(2.0 * np.asarray(d, dtype=float) / a) - shift)
+    if edge is not None:
+        out = out + (2.0 / math.pi) * e_inv * edge_truncation(np.asarray(edge, dtype=float) / a)
     return out
 
 

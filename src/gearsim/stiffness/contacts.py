@@ -251,6 +251,25 @@ def _e(a):
     return np.cos(a), np.sin(a)
 
 
+def _tip_corners(pair: GearPair, l: np.ndarray):
+    """The two tip corners of a pair at line-of-action position ``l``, in the frame of
+    :func:`corner_separation`: the driven tip corner C = (cx, cy) of the incoming pair
+    with its base-circle angle h, the driver tip corner D relative to the driven centre
+    (dx, dy) with its base-circle angle g (Litvin & Fuentes 2004, ch. 10)."""
+    rb1, rb2 = pair.driver.base_radius, pair.driven.base_radius
+    alpha = pair.working_pressure_angle
+    big_l = pair.line_length
+    ra2 = big_l - pair.start_of_contact  # roll length of the driven tip
+    h = math.pi - alpha + (big_l - l - ra2) / rb2
+    cx = pair.centre_distance + rb2 * np.cos(h) + ra2 * np.cos(h + math.pi / 2)
+    cy = rb2 * np.sin(h) + ra2 * np.sin(h + math.pi / 2)
+    ra1 = pair.end_of_contact  # roll length of the driver tip
+    g = l / rb1 - alpha - ra1 / rb1
+    dx = rb1 * np.cos(g) + ra1 * np.cos(g + math.pi / 2) - pair.centre_distance
+    dy = rb1 * np.sin(g) + ra1 * np.sin(g + math.pi / 2)
+    return h, cx, cy, g, dx, dy
+
+
 def corner_separation(pair: GearPair, l: np.ndarray) -> np.ndarray:
     """Separation of a tooth pair outside the path of contact, at the tip corner [m].
 
@@ -285,28 +304,19 @@ def corner_separation(pair: GearPair, l: np.ndarray) -> np.ndarray:
     load).
     """
     l = np.asarray(l, dtype=float)
-    g1, g2 = pair.driver, pair.driven
-    rb1, rb2 = g1.base_radius, g2.base_radius
+    rb1, rb2 = pair.driver.base_radius, pair.driven.base_radius
     alpha = pair.working_pressure_angle
-    a = pair.centre_distance
     big_l = pair.line_length
     la, le = pair.start_of_contact, pair.end_of_contact
     out = np.zeros(l.shape)
+    h, cx, cy, g, dx, dy = _tip_corners(pair, l)
     # incoming pair: driven tip corner against the driver involute
-    ra2 = big_l - la  # roll length of the driven tip
-    h = math.pi - alpha + (big_l - l - ra2) / rb2
-    cx = a + rb2 * np.cos(h) + ra2 * np.cos(h + math.pi / 2)
-    cy = rb2 * np.sin(h) + ra2 * np.sin(h + math.pi / 2)
     rc = np.hypot(cx, cy)
     psi = np.arctan2(cy, cx)
     rho = np.sqrt(np.maximum(rc * rc - rb1 * rb1, 0.0))
     phi = l / rb1 - alpha - rho / rb1 + np.arctan2(rho, rb1)
     inc = rb1 * (psi - phi)
     # outgoing pair: driver tip corner against the driven involute
-    ra1 = le
-    g = l / rb1 - alpha - ra1 / rb1
-    dx = rb1 * np.cos(g) + ra1 * np.cos(g + math.pi / 2) - a
-    dy = rb1 * np.sin(g) + ra1 * np.sin(g + math.pi / 2)
     rd = np.hypot(dx, dy)
     psi2 = np.arctan2(dy, dx)
     rho2 = np.sqrt(np.maximum(rd * rd - rb2 * rb2, 0.0))
@@ -359,28 +369,19 @@ def tip_edge_offset(pair: GearPair, l: np.ndarray) -> np.ndarray:
     ch. 5 (non-Hertzian contact).
     """
     l = np.asarray(l, dtype=float)
-    g1, g2 = pair.driver, pair.driven
-    rb1, rb2 = g1.base_radius, g2.base_radius
-    alpha = pair.working_pressure_angle
-    a = pair.centre_distance
+    rb1, rb2 = pair.driver.base_radius, pair.driven.base_radius
     big_l = pair.line_length
     la, le = pair.start_of_contact, pair.end_of_contact
     lc = np.clip(l, la, le)
     s1 = (le * le - lc * lc) / (2.0 * rb1)
     s2 = ((big_l - la) ** 2 - (big_l - lc) ** 2) / (2.0 * rb2)
     on_path = -np.minimum(s1, s2)
+    h, cx, cy, g, dx, dy = _tip_corners(pair, l)
     # incoming: the driven tip corner C and the driver involute through it
-    ra2 = big_l - la
-    h = math.pi - alpha + (big_l - l - ra2) / rb2
-    cx = a + rb2 * np.cos(h) + ra2 * np.cos(h + math.pi / 2)
-    cy = rb2 * np.sin(h) + ra2 * np.sin(h + math.pi / 2)
     rho1 = np.sqrt(np.maximum(cx * cx + cy * cy - rb1 * rb1, 0.0))
     g_in = np.arctan2(cy, cx) - np.arctan2(rho1, rb1)
     theta_in = _line_angle(h - g_in)
     # outgoing: the driver tip corner D and the driven involute through it
-    g = l / rb1 - alpha - le / rb1
-    dx = rb1 * np.cos(g) + le * np.cos(g + math.pi / 2) - a
-    dy = rb1 * np.sin(g) + le * np.sin(g + math.pi / 2)
     rho2 = np.sqrt(np.maximum(dx * dx + dy * dy - rb2 * rb2, 0.0))
     h_out = np.arctan2(dy, dx) - np.arctan2(rho2, rb2)
     theta_out = _line_angle(h_out - g)

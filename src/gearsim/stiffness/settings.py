@@ -25,9 +25,10 @@ COUPLINGS = ("none", "fe")
 #: each stands for: ``"seed"``, the source paper's potential-energy method (PE tooth,
 #: Yang-Lin contact, independent pairs; +24 % on the cycle mean of the 19/48 pair against
 #: the FE gear pair); ``"accurate"``, the calibrated tooth with the 2D line contact and
-#: the FE body coupling and the tip-corner contacts under load (within 3 % of the FE gear
-#: pair inside the contact zones and for the cycle mean, +0.6 to +5.3 % at the zone
-#: ends, healthy; docs/stiffness.md, section 4c).
+#: the FE body coupling and the tip-corner contacts under load, the line contact cut off
+#: by the tip edge (within 3 % of the FE gear pair at level 2 inside the contact zones,
+#: for the cycle mean and at the zone ends, healthy and cracked; docs/stiffness.md,
+#: section 4c).
 MODELS = {"seed": {"source": "pe", "contact": "yang-lin", "coupling": "none"},
           "accurate": {"source": "calibrated", "contact": "line", "coupling": "fe"}}
 #: The model of a gear train, a planetary stage or a stage's chain whose file names none

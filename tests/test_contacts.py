@@ -10,8 +10,9 @@ import pytest
 
 import gearsim as gs
 from gearsim.errors import InputError
+from gearsim.geometry.corners import corner_separation
 from gearsim.geometry.gear import inv
-from gearsim.stiffness.contacts import contact_grid, corner_separation
+from gearsim.stiffness.contacts import contact_grid
 from gearsim.stiffness.faults import BrokenTooth, ChippedTip, Pitting, Spall
 from gearsim.stiffness.ltca import loaded_contact, solve_deflection
 from gearsim.stiffness.mesh import mesh_stiffness

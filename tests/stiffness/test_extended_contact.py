@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import gearsim as gs
-from gearsim.stiffness.contacts import corner_separation
+from gearsim.geometry.corners import corner_separation
 from gearsim.stiffness.mesh import corner_closing, extended_grid, mesh_stiffness
 from gearsim.stiffness.settings import MODELS
 from gearsim.system.train import body_coupling, tooth_compliance

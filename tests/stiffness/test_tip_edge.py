@@ -3,7 +3,7 @@
 :func:`gearsim.stiffness.tooth.edge_truncation` is a closed form; here it is checked
 against a numerical solution of the same contact problem written out independently (a
 panel method: piecewise-constant pressure on the half-plane's logarithmic kernel, an
-active set for p >= 0). :func:`gearsim.stiffness.contacts.tip_edge_offset` is checked
+active set for p >= 0). :func:`gearsim.geometry.corners.tip_edge_offset` is checked
 against two independent routes: the arc length of the involute by quadrature, and the
 tilt of the outgoing tip corner implied by its closing rate (finite differences of the
 corner separations, :func:`gearsim.stiffness.mesh.corner_closing`).
@@ -18,8 +18,8 @@ import numpy as np
 import pytest
 
 import gearsim as gs
+from gearsim.geometry.corners import tip_edge_offset
 from gearsim.geometry.gear import Material
-from gearsim.stiffness.contacts import tip_edge_offset
 from gearsim.stiffness.mesh import corner_closing
 from gearsim.stiffness.tooth import edge_truncation, line_contact_compliance
 from gearsim.system.train import GearTrain

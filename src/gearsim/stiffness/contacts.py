@@ -24,7 +24,7 @@ Optionally (``corner=True``) the pair that has not yet entered the path of conta
 the pair that has just left it are springs too: out of the path, the driven tooth's tip
 corner (incoming pair) or the driver's tip corner (outgoing pair) touches the mating
 involute once the relative rotation, in line-of-action units, exceeds the corner
-separation of :func:`corner_separation`. They carry load when contact is lost
+separation of :func:`gearsim.geometry.corners.corner_separation`. They carry load when contact is lost
 elsewhere (a broken tooth) and near the ends of the path under load: the "extended
 contact" of loaded gears. Under the seed's contact law a corner spring is the seed's
 Hertz contact and the teeth at the path end; under the line contact law it is the
@@ -54,6 +54,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from gearsim.errors import require
+from gearsim.geometry.corners import corner_separation, tip_edge_offset
 from gearsim.geometry.pair import GearPair
 from gearsim.stiffness.faults import Patch
 from gearsim.stiffness.mesh import (
@@ -69,9 +70,7 @@ from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.stiffness.source import PotentialEnergyCompliance, ToothCompliance, ToothCrack
 from gearsim.stiffness.tooth import hertz_stiffness, line_contact_compliance
 
-__all__ = ["MAX_GRID", "ContactGrid", "FlankState", "contact_grid", "corner_separation",
-           "tip_edge_offset",
-           "grid_period"]
+__all__ = ["MAX_GRID", "ContactGrid", "FlankState", "contact_grid", "grid_period"]
 
 #: Largest contact grid (positions x pairs x slices x layers) built in memory; a finer
 #: grid is refused naming slices and positions (about 160 MB per array at the limit).
@@ -245,149 +244,6 @@ def grid_period(pair: GearPair, varies1: bool, varies2: bool) -> int:
     if varies2:
         return z2
     return 1
-
-
-def _e(a):
-    return np.cos(a), np.sin(a)
-
-
-def _tip_corners(pair: GearPair, l: np.ndarray):
-    """The two tip corners of a pair at line-of-action position ``l``, in the frame of
-    :func:`corner_separation`: the driven tip corner C = (cx, cy) of the incoming pair
-    with its base-circle angle h, the driver tip corner D relative to the driven centre
-    (dx, dy) with its base-circle angle g (Litvin & Fuentes 2004, ch. 10)."""
-    rb1, rb2 = pair.driver.base_radius, pair.driven.base_radius
-    alpha = pair.working_pressure_angle
-    big_l = pair.line_length
-    ra2 = big_l - pair.start_of_contact  # roll length of the driven tip
-    h = math.pi - alpha + (big_l - l - ra2) / rb2
-    cx = pair.centre_distance + rb2 * np.cos(h) + ra2 * np.cos(h + math.pi / 2)
-    cy = rb2 * np.sin(h) + ra2 * np.sin(h + math.pi / 2)
-    ra1 = pair.end_of_contact  # roll length of the driver tip
-    g = l / rb1 - alpha - ra1 / rb1
-    dx = rb1 * np.cos(g) + ra1 * np.cos(g + math.pi / 2) - pair.centre_distance
-    dy = rb1 * np.sin(g) + ra1 * np.sin(g + math.pi / 2)
-    return h, cx, cy, g, dx, dy
-
-
-def corner_separation(pair: GearPair, l: np.ndarray) -> np.ndarray:
-    """Separation of a tooth pair outside the path of contact, at the tip corner [m].
-
-    Frame: driver centre O1 at the origin, driven centre O2 = (a_w, 0), driver turning
-    counter-clockwise; the transverse line of action runs from T1 = r_b1 e(-alpha_wt)
-    in the direction t = e(pi/2 - alpha_wt). A driver involute whose extension meets the
-    line of action at l has the points r_b1 e(g) + rho e(g + pi/2), g = l / r_b1 -
-    alpha_wt - rho / r_b1; a driven involute meeting it at l has O2 + r_b2 e(h) + rho
-    e(h + pi/2), h = pi - alpha_wt + (T1T2 - l - rho) / r_b2. Before the start of contact
-    A (l < l_A) the driven tip corner (rho = rho_a2) lies off the line; the driver must
-    turn by Delta = psi_C - phi_1(r_C) (polar angle of the corner minus that of the
-    driver involute at the corner's radius) to touch it: separation r_b1 Delta. After the
-    end of contact E (l > l_E) the driver's tip corner and the driven involute give
-    r_b2 Delta in the same way. Zero at A and E, growing quadratically away from them.
-
-    Parameters
-    ----------
-    pair : GearPair
-        The mesh.
-    l : ndarray
-        Positions on the (extended) line of action, from T1 [m]; outside [l_A, l_E].
-
-    Returns
-    -------
-    ndarray
-        Separation along the transverse line of action [m] (0 inside [l_A, l_E]).
-
-    References
-    ----------
-    Involute geometry: Litvin & Fuentes, Gear Geometry and Applied Theory (2004), ch. 10;
-    corner (extended) contact: Lin, Liou & Huston (1988) (contact outside the path under
-    load).
-    """
-    l = np.asarray(l, dtype=float)
-    rb1, rb2 = pair.driver.base_radius, pair.driven.base_radius
-    alpha = pair.working_pressure_angle
-    big_l = pair.line_length
-    la, le = pair.start_of_contact, pair.end_of_contact
-    out = np.zeros(l.shape)
-    h, cx, cy, g, dx, dy = _tip_corners(pair, l)
-    # incoming pair: driven tip corner against the driver involute
-    rc = np.hypot(cx, cy)
-    psi = np.arctan2(cy, cx)
-    rho = np.sqrt(np.maximum(rc * rc - rb1 * rb1, 0.0))
-    phi = l / rb1 - alpha - rho / rb1 + np.arctan2(rho, rb1)
-    inc = rb1 * (psi - phi)
-    # outgoing pair: driver tip corner against the driven involute
-    rd = np.hypot(dx, dy)
-    psi2 = np.arctan2(dy, dx)
-    rho2 = np.sqrt(np.maximum(rd * rd - rb2 * rb2, 0.0))
-    hh = math.pi - alpha + (big_l - l - rho2) / rb2
-    phi2 = hh + np.arctan2(rho2, rb2)
-    out_ = rb2 * np.mod(psi2 - phi2 + math.pi, 2 * math.pi) - rb2 * math.pi
-    out = np.where(l < la, inc, out)
-    return np.where(l > le, out_, out)
-
-
-def _line_angle(x: np.ndarray) -> np.ndarray:
-    """Angle between two lines whose directions differ by ``x`` [rad], in [0, pi/2]."""
-    return np.abs(np.mod(x + 0.5 * math.pi, math.pi) - 0.5 * math.pi)
-
-
-def tip_edge_offset(pair: GearPair, l: np.ndarray) -> np.ndarray:
-    """Offset of a contact's Hertz centre beyond the nearer tip edge of its pair [m].
-
-    The signed ``edge`` of :func:`gearsim.stiffness.tooth.line_contact_compliance`
-    (:func:`gearsim.stiffness.tooth.edge_truncation`), in the frame of
-    :func:`corner_separation`. On the path of contact (l_A <= l <= l_E) the involute
-    contact lies the arc length s = (rho_a^2 - rho^2) / (2 r_b) inside the tip edge of
-    each profile (Litvin & Fuentes 2004, ch. 10: the involute's arc length between the
-    roll lengths rho and rho_a): the driver's tip is at rho_1 = l_E, the driven's at
-    rho_2 = L - l_A, and the offset is -min(s_1, s_2). Outside the path the tip corner
-    touches the mating flank (the incoming pair's driven corner before l_A, the
-    outgoing pair's driver corner after l_E, at the no-load position l): its own flank
-    leaves the mating one at the angle theta between the two involutes' normals at the
-    corner (the tangents from the corner to the two base circles; 0 at l_A and l_E), a
-    gap theta |x| + x^2 / (2 R) at the distance x inside the edge, i.e. the Hertz
-    centre theta R beyond it, R the relative radius of curvature at the path end (the
-    radii of the corner law, :func:`gearsim.stiffness.mesh.extended_law`).
-
-    Parameters
-    ----------
-    pair : GearPair
-        The mesh.
-    l : ndarray
-        Positions on the (extended) line of action, from T1 [m], between T1 and T2.
-
-    Returns
-    -------
-    ndarray
-        Offset [m]: <= 0 on the path, >= 0 outside it; the shape of ``l``.
-
-    References
-    ----------
-    F. L. Litvin, A. Fuentes, Gear Geometry and Applied Theory, Cambridge University
-    Press, 2004, ch. 10 (involute geometry); K. L. Johnson, Contact Mechanics, 1985,
-    ch. 5 (non-Hertzian contact).
-    """
-    l = np.asarray(l, dtype=float)
-    rb1, rb2 = pair.driver.base_radius, pair.driven.base_radius
-    big_l = pair.line_length
-    la, le = pair.start_of_contact, pair.end_of_contact
-    lc = np.clip(l, la, le)
-    s1 = (le * le - lc * lc) / (2.0 * rb1)
-    s2 = ((big_l - la) ** 2 - (big_l - lc) ** 2) / (2.0 * rb2)
-    on_path = -np.minimum(s1, s2)
-    h, cx, cy, g, dx, dy = _tip_corners(pair, l)
-    # incoming: the driven tip corner C and the driver involute through it
-    rho1 = np.sqrt(np.maximum(cx * cx + cy * cy - rb1 * rb1, 0.0))
-    g_in = np.arctan2(cy, cx) - np.arctan2(rho1, rb1)
-    theta_in = _line_angle(h - g_in)
-    # outgoing: the driver tip corner D and the driven involute through it
-    rho2 = np.sqrt(np.maximum(dx * dx + dy * dy - rb2 * rb2, 0.0))
-    h_out = np.arctan2(dy, dx) - np.arctan2(rho2, rb2)
-    theta_out = _line_angle(h_out - g)
-    r_a = 1.0 / (1.0 / la + 1.0 / (big_l - la))
-    r_e = 1.0 / (1.0 / le + 1.0 / (big_l - le))
-    return np.where(l < la, theta_in * r_a, np.where(l > le, theta_out * r_e, on_path))
 
 
 def _corner_cross(g1, g2, coupling, inside: np.ndarray, corner: np.ndarray, r1: np.ndarray,
@@ -597,8 +453,7 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
     if settings.contact != "yang-lin" or settings.coupling != "none":
         # with the tip corners (point samples) the line contact is cut off at the tip edges,
         # as the tables' (stiffness.mesh.extended_grid)
-        edge = (np.where(inside, tip_edge_offset(pair, np.where(inside, lmid, la)), 0.0)
-                if points else None)
+        edge = tip_edge_offset(pair, np.where(inside, lmid, la)) if points else None
         law = pair_law(pair, settings, lmid, width, r1, r2, force=force, coupling=coupling,
                        edge=edge)
         # a cracked body's coupling beside the cracked tooth, as the tables'

@@ -49,6 +49,7 @@ import numba
 import numpy as np
 
 from gearsim.errors import require
+from gearsim.geometry.corners import corner_separation, tip_edge_offset
 from gearsim.geometry.pair import GearPair
 from gearsim.geometry.profile import ToothProfile
 from gearsim.stiffness import _kernels
@@ -383,7 +384,7 @@ def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
         (line contact only).
     edge : ndarray, shape (npc, n_age, ns), optional
         Offset of each contact's Hertz centre beyond the nearer tip edge [m]
-        (:func:`gearsim.stiffness.contacts.tip_edge_offset`): the line contact is then
+        (:func:`gearsim.geometry.corners.tip_edge_offset`): the line contact is then
         cut off by the tip corner (:func:`gearsim.stiffness.tooth.edge_truncation`).
         None: the profiles continue past their tips (the path-of-contact law).
 
@@ -529,7 +530,7 @@ def extended_grid(pair: GearPair, settings: StiffnessSettings
     tip corner against the driver flank) or after l_E (outgoing pair: the driver tip
     corner against the driven flank), and between the base tangent points T1 and T2, it
     is a tip-corner contact with the no-load separation of
-    :func:`gearsim.stiffness.contacts.corner_separation` (Litvin & Fuentes 2004, ch. 10;
+    :func:`gearsim.geometry.corners.corner_separation` (Litvin & Fuentes 2004, ch. 10;
     zero at l_A and l_E, quadratic away from them) and the contact law and teeth of the
     nearer path end (``lmid`` = l_A or l_E).
 
@@ -555,7 +556,7 @@ def extended_grid(pair: GearPair, settings: StiffnessSettings
         closing rates [-] (1 on the path and before it), all (npc, n_age, ns); number of
         ages, age of the first column (-1), slices, slice centres over the face width
         [-]; the offset of each contact's Hertz centre beyond the nearer tip edge [m]
-        (:func:`gearsim.stiffness.contacts.tip_edge_offset`, (npc, n_age, ns)). The grid
+        (:func:`gearsim.geometry.corners.tip_edge_offset`, (npc, n_age, ns)). The grid
         depends on the geometry alone: it is computed once per pair and grid
         (:data:`EXTENDED_GRID_CACHE_SIZE` kept, about 4.5 ms each for Table-1 mesh I at
         40 x 40) and its arrays are read-only.
@@ -570,8 +571,6 @@ EXTENDED_GRID_CACHE_SIZE = 32
 @lru_cache(maxsize=EXTENDED_GRID_CACHE_SIZE)
 def _extended_grid(pair: GearPair, npc: int, slices: int):
     """:func:`extended_grid` of ``pair`` at ``npc`` positions per cycle and ``slices``."""
-    from gearsim.stiffness.contacts import tip_edge_offset
-
     tb = math.tan(pair.driver.base_helix_angle)
     b = pair.face_width
     pb = pair.base_pitch
@@ -604,7 +603,7 @@ def corner_closing(pair: GearPair, l: np.ndarray) -> tuple[np.ndarray, np.ndarra
     As in the FE gear pair (:mod:`gearsim.fem.pair`), the driven gear stays at its
     kinematic angle of the position and the driver turns by the deflection delta
     (line-of-action units). The incoming corner's separation of
-    :func:`gearsim.stiffness.contacts.corner_separation` is that rotation already (rate
+    :func:`gearsim.geometry.corners.corner_separation` is that rotation already (rate
     1). The outgoing corner's is given there as a rotation of the driven gear; turning
     the driver instead advances the mesh by delta too, so the corner closes at
     delta* = s(l + delta*) (fixed point, :data:`SEPARATION_PASSES` passes) and beyond it
@@ -628,8 +627,6 @@ def corner_closing(pair: GearPair, l: np.ndarray) -> tuple[np.ndarray, np.ndarra
         Separation along the line of action [m] and closing rate [-] (<= 0: a corner the
         turning driver cannot close), the shape of ``l``.
     """
-    from gearsim.stiffness.contacts import corner_separation
-
     l = np.asarray(l, dtype=float)
     le, pb = pair.end_of_contact, pair.base_pitch
     sep = corner_separation(pair, l)
@@ -683,7 +680,7 @@ def extended_law(width: np.ndarray, corner: np.ndarray, separation: np.ndarray,
     (:func:`gearsim.stiffness.tooth.line_contact_compliance`, Johnson 1985 eq. 5.79:
     radii of curvature and centre-line depths at l_A or l_E) at the corner's own load
     per unit width, cut off by the tip edge (:func:`gearsim.stiffness.tooth.
-    edge_truncation`, with the offsets of :func:`gearsim.stiffness.contacts.
+    edge_truncation`, with the offsets of :func:`gearsim.geometry.corners.
     tip_edge_offset` passed in ``contact``): the corner touches the mating flank at the
     end of its involute, its own flank leaving the mating one at a small angle, and
     the path contacts within a Hertz half width of a tip are cut off by it the same

@@ -2,10 +2,15 @@
 
 A parameter study analyses one record per run; ``Gearbox.record`` forms it from the
 channels it needs only. The reference is independent of that code path: the record
-selected from the whole result of ``Gearbox.simulate`` (every channel decimated, the
-dataset built). The FIR acts on each channel alone and the record is formed by the
-same operations, so the two must be *equal*, not only close: any difference would mean
-the fast path integrates, filters or combines something else.
+selected from the whole result of ``Gearbox.simulate`` (its records formed around the
+decimation, the dataset built). The FIR acts on each channel alone and is linear, so the
+two differ only by where the channels are combined, before the filter (``simulate``) or
+after it (``simulate_record``, the order studies had before, kept so that their
+results did not change: tests/studies/test_results_identical_to_before.py): to
+round-off, ``ORDER_RTOL``. A record formed alike in both (a mesh force) must be equal.
+Any larger difference would mean the fast path integrates, filters or combines
+something else (a wrong channel or coefficient moves a record by 1e-6 of its peak or
+more).
 """
 
 from __future__ import annotations
@@ -17,6 +22,12 @@ import gearsim as gs
 from gearsim.dynamics.simulate import simulate_record
 from gearsim.errors import InputError
 from gearsim.model.variants import fault_variant
+
+#: Records combined from the same filtered channels before or after the filter: sums of
+#: two to five terms whose magnitudes exceed the record's (an acceleration is a difference
+#: of forces) round differently; measured 1.1e-13 of the record's largest value at most
+#: (the reducer's axial bearing force).
+ORDER_RTOL = 1e-12
 
 
 def _box(name: str, **dyn) -> gs.Gearbox:
@@ -42,7 +53,14 @@ def test_every_record_equals_the_one_selected_from_the_whole_result(case):
     names = gb.signals()
     assert any("acceleration[" in n for n in names)
     for spec in names:
-        np.testing.assert_array_equal(gb.record(spec), gb.select(ds, spec), err_msg=spec)
+        got, want = gb.record(spec), gb.select(ds, spec)
+        scale = np.max(np.abs(want))
+        # the same operations in both (ste_i: taken from the whole result), or zero
+        if spec.startswith(("mesh_force_", "ste_")) or scale == 0.0:
+            np.testing.assert_array_equal(got, want, err_msg=spec)
+        else:
+            np.testing.assert_allclose(got, want, rtol=0.0, atol=ORDER_RTOL * scale,
+                                       err_msg=spec)
 
 
 def test_names_it_does_not_derive_go_through_the_whole_result():

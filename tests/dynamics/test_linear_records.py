@@ -173,11 +173,15 @@ def test_maps_name_every_record_and_record_only_what_they_use():
     assert [c.tolist() for c in one.channels] == [[1], [1], [0]]
 
 
-def test_a_selected_record_is_the_same_numbers():
+def test_a_selected_record_is_the_one_a_study_forms():
+    # a study forms its record after the filter (simulate_record, the order studies had
+    # before); the maps form it before: the same numbers to rounding
     gb = _box("spur-19-48")
     ds = simulate(gb.train, gb.dynamics)
     for spec in ("acceleration[pinion,y]", "dte_1", "bearing_force[gear,x]"):
-        np.testing.assert_array_equal(gb.record(spec), gb.select(ds, spec), err_msg=spec)
+        want = gb.select(ds, spec)
+        err = np.max(np.abs(gb.record(spec) - want))
+        assert err <= RECORD_RTOL * np.max(np.abs(want)), (spec, err)
 
 
 def test_reference_grid_is_the_documented_one():

@@ -103,7 +103,13 @@ def _reference(gb: gs.Gearbox, ds) -> dict[str, np.ndarray]:
     n = model.n_dof
     q, v, f = y[:n].T, y[n:2 * n].T, y[2 * n:].T
     t = ds["time"].values
-    acc = (model.fext - model.kb * q - model.cb * v - f @ model.V) / model.mass
+    if model.profile is None and model.load is None:
+        acc = (model.fext - model.kb * q - model.cb * v - f @ model.V) / model.mass
+    else:  # the absolute acceleration w tau'' + q'' (docs/dynamics.md eq. 6a)
+        _, _, taudd, lam = model.nominal(t)
+        c = model.inertial + model.mass * model.info["nominal_velocity"]
+        acc = (lam[:, None] * model.fext + taudd[:, None] * c - model.kb * q - model.cb * v
+               - f @ model.V) / model.mass
     bd = model.bearing_dofs
     ref = {"bearing_force": model.kb[bd] * q[:, bd] + model.cb[bd] * v[:, bd],
            "acceleration": acc[:, bd]}

@@ -65,6 +65,7 @@ __all__ = ["FORCE_ENV", "MAX_STEPS", "MEMORY_FRACTION", "LinearRecords", "Raw", 
            "anti_alias_taps",
            "build_model",
            "check_cost", "cost_bounds_lifted", "integration_step", "linear_records",
+           "nominal_acceleration_load",
            "physical_memory", "record", "reference_mesh_forces", "reference_rhs", "run_kernel",
            "settings_of", "simulate", "simulate_record", "summary", "tacho_variable"]
 
@@ -741,14 +742,18 @@ def simulate_record(train: GearTrain, spec: str, settings: DynamicsSettings | No
         d = int(model.bearing_dofs[shafts.index(mt.group(4)), model.axes.index(mt.group(5))])
     one = np.array([d])
     meshes = np.arange(model.V.shape[0])
-    _, q, v, f, _ = record(model, settings, dt=dt, m=m, transient=transient,
+    t, q, v, f, _ = record(model, settings, dt=dt, m=m, transient=transient,
                            channels=(one, one, none if mt.group(3) == "bearing_force"
                                      else meshes))
     qd, vd = (q[:, d], v[:, d]) if whole else (q[:, 0], v[:, 0])
     if mt.group(3) == "bearing_force":
         return model.kb[d] * qd + model.cb[d] * vd
-    return (model.fext[d] - model.kb[d] * qd - model.cb[d] * vd - (f @ model.V)[:, d]
-            ) / model.mass[d]
+    if model.profile is None and model.load is None:
+        return (model.fext[d] - model.kb[d] * qd - model.cb[d] * vd - (f @ model.V)[:, d]
+                ) / model.mass[d]
+    _, _, taudd, lam = model.nominal(t)  # a profile: eq. 6a, as linear_records
+    return (lam * model.fext[d] + nominal_acceleration_load(model)[d] * taudd
+            - model.kb[d] * qd - model.cb[d] * vd - (f @ model.V)[:, d]) / model.mass[d]
 
 
 def record(model: DynamicModel, settings: DynamicsSettings, *, dt: float, m: int,
@@ -926,6 +931,41 @@ def _compressed(rows: list[list[tuple[int, float]]]) -> tuple[np.ndarray, ...]:
     return ptr, col, w
 
 
+def nominal_acceleration_load(model: DynamicModel) -> np.ndarray:
+    """c_j = g_j + m_j w_j: the load per unit tau'' of the absolute acceleration record.
+
+    Under a speed profile each coordinate is a deviation q_j from the nominal motion
+    w_j tau(t) (:func:`gearsim.dynamics.model.nominal_inertia`), so m_j q_j'' =
+    lambda(t) F_j + g_j tau'' - k_b q_j - c_b q_j' - sum_i V_ij f_i. The recorded
+    acceleration is that of the coordinate itself, w_j tau'' + q_j'' (the second
+    derivative of ``shaft_angle`` for a shaft's rotation; w_j = 0 for a translation):
+
+        a_j = (lambda(t) F_j + (g_j + m_j w_j) tau''(t) - k_b q_j - c_b q_j'
+               - sum_i V_ij f_i) / m_j                                           (6a)
+
+    (docs/dynamics.md section 6). With g = -M w but at the input, c_j = 0 on every
+    coordinate but the input's, which carries the drive's torque sum_k m_k w_k^2 / w_in.
+
+    Parameters
+    ----------
+    model : DynamicModel
+        The equations of motion (``inertial`` g and ``info["nominal_velocity"]`` w when
+        it has a speed profile).
+
+    Returns
+    -------
+    ndarray, shape (n_dof,)
+        c [N s or N m s per unit tau'']; zeros without a speed profile.
+    """
+    c = np.zeros(model.n_dof)
+    if model.inertial is not None:
+        c += model.inertial
+        w = model.info.get("nominal_velocity")
+        if w is not None:
+            c += model.mass * np.asarray(w, dtype=float)
+    return c
+
+
 def linear_records(model: DynamicModel, train: GearTrain) -> LinearRecords:
     """The records of :func:`simulate` as linear maps of the kernel's channels.
 
@@ -985,10 +1025,18 @@ def linear_records(model: DynamicModel, train: GearTrain) -> LinearRecords:
     rot = [j for j, lab in enumerate(labels) if lab.endswith(".theta") and model.kind != "seed"]
     with_bearing = {j for _, _, j in each} | {j for j in range(model.n_dof) if kb[j] or cb[j]}
 
+    profiled = model.profile is not None or model.load is not None
+    nominal_load = nominal_acceleration_load(model)
+
     def acceleration(j: int) -> tuple[float, list, float]:
         terms = [(bearing(j), -1.0)] if j in with_bearing else []
         terms += [(signal((("f", i), 1.0)), -row[j]) for i, row in enumerate(V) if row[j]]
-        return float(model.fext[j]), terms, float(model.mass[j])
+        if not profiled:
+            return float(model.fext[j]), terms, float(model.mass[j])
+        # a speed or load profile: lambda(t) F_j and the nominal motion's (g_j + m_j w_j)
+        # tau''(t), rows at the output times (the absolute acceleration, eq. 6a)
+        return 0.0, [("lam", float(model.fext[j])), ("taudd", float(nominal_load[j])),
+                     *terms], float(model.mass[j])
 
     rows: list[tuple[str, tuple[float, list, float]]] = []  # name, (b, terms, d)
     n_pair = len(train.pairs)
@@ -1017,12 +1065,13 @@ def linear_records(model: DynamicModel, train: GearTrain) -> LinearRecords:
     at = {("q", j): i for i, j in enumerate(cols["q"])}
     at |= {("v", j): len(cols["q"]) + i for i, j in enumerate(cols["v"])}
     at |= {("f", j): len(cols["q"]) + len(cols["v"]) + i for i, j in enumerate(cols["f"])}
-    post = _compressed([[(len(sig) if c == "tau" else c, w) for c, w in terms if w != 0.0]
-                        for _, (_, terms, _) in rows])
+    extra = ("tau", "lam", "taudd") if profiled else ("tau",)
+    post = _compressed([[(len(sig) + extra.index(c) if isinstance(c, str) else c, w)
+                         for c, w in terms if w != 0.0] for _, (_, terms, _) in rows])
     return LinearRecords(
         names=tuple(name for name, _ in rows),
         channels=tuple(np.array(cols[k], dtype=np.int64) for k in "qvf"),
-        pre=_compressed([[(at[c], w) for c, w in r] for r in pre_rows]), extra=("tau",),
+        pre=_compressed([[(at[c], w) for c, w in r] for r in pre_rows]), extra=extra,
         post=(*post, np.array([b for _, (b, _, _) in rows], dtype=float),
               np.array([d for _, (_, _, d) in rows], dtype=float)))
 
@@ -1042,9 +1091,12 @@ def _run_linear(model: DynamicModel, settings: DynamicsSettings, lin: LinearReco
     raw = run_kernel(model, dt=dt, n_steps=g.n_steps, rec_start=g.rec_start, rec_every=m,
                      n_rec=g.n_rec, channels=lin.channels)
     taps = anti_alias_taps(r, settings.fs) if r > 1 else np.ones(1)
-    rows = {"tau": lambda: model.nominal(g.t)[0]}
-    extra = (np.stack([rows[e]() for e in lin.extra]) if lin.extra
-             else np.empty((0, g.n_out)))
+    if lin.extra:
+        tau, _, taudd, lam = model.nominal(g.t)
+        rows = {"tau": tau, "lam": lam, "taudd": taudd}
+        extra = np.stack([rows[e] for e in lin.extra])
+    else:
+        extra = np.empty((0, g.n_out))
     z = np.empty((lin.post[3].size, g.n_out))
     _kernels.decimate_linear(taps, raw.channels, r, g.first, g.n_out, *lin.pre, extra,
                              *lin.post, z)

@@ -179,3 +179,30 @@ def test_analyze_with_the_own_tacho_reports_each_stage_mesh_orders(runup, tmp_pa
         assert not bad, (channel, bad, orders)
         if own is not None:
             assert all(harmonic(o, own, res) for o in orders[:3]), (channel, orders)
+
+
+def test_the_seed_model_follows_a_run_up():
+    # the seed's 3-DOF model reads its tables at f_i tau(t) like the others (it ran at
+    # constant speed whatever the profile said, its shaft angles and tacho included)
+    gb = gs.example("idler-table1")
+    ds = gs.simulate(gb, model="seed", duration=1.0, transient=0.02, fs=20e3,
+                     speed_times=[0.02, 1.02], speed_values=[100.0, 200.0])
+    fs, t0 = ds.attrs["fs"], float(ds.time[0])
+    z1 = gb.train.gears[0].teeth
+    x = ds["mesh_force_1"].values
+    f, t, z = stft(x - x.mean(), fs=fs, nperseg=2000, noverlap=1000)
+    for j in range(2, t.size - 2, 3):
+        expected = z1 * (100.0 + 100.0 * (t[j] + t0 - 0.02)) / TWO_PI
+        band = (f > 0.7 * expected) & (f < 1.3 * expected)
+        peak = f[band][np.argmax(np.abs(z[band, j]))]
+        assert abs(peak - expected) < 2 * fs / 2000, (t[j], peak, expected)
+    # the input's angle is the integral of its speed
+    ang = ds["shaft_angle"].sel(shaft="input").values
+    tt = ds.time.values - 0.02
+    want = 100.0 * tt + 50.0 * tt ** 2
+    np.testing.assert_allclose(ang - ang[0], want - want[0], rtol=0, atol=1e-3)
+
+
+def test_the_seed_model_refuses_a_load_profile():
+    with pytest.raises(InputError, match=r"dynamics.load_times = \[0.0, 1.0\]: needs model"):
+        DynamicsSettings(model="seed", load_times=(0.0, 1.0), load_values=(0.5, 1.0))

@@ -121,6 +121,10 @@ def build_seed(train: GearTrain, settings: DynamicsSettings | None = None, *,
                     for p in pairs])
     cm = 2 * settings.mesh_damping_ratio * np.sqrt(kn_mean * meq)
     q_static = static_equilibrium(mass, kb, V, kappa * kn_mean, np.zeros(ng), e0)
+    # a speed profile: the tables are read at f_i tau(t); the coordinates are
+    # translations, which the nominal rotation does not load (no inertial term); a load
+    # profile is refused by DynamicsSettings (the load is the offset e0)
+    profile, _ = settings.profiles(train.operating.speed)
     return DynamicModel(
         kind="seed", gear_names=tuple(g.name for g in gears),
         dof_labels=tuple(f"{g.name}.y" for g in gears), mass=mass, kb=kb, cb=cb,
@@ -129,6 +133,7 @@ def build_seed(train: GearTrain, settings: DynamicsSettings | None = None, *,
         mesh_frequency=train.mesh_frequency, e0=e0, h_amp=amp, h_omega=om, h_phase=ph,
         to_transverse=np.cos(beta_b) / kappa, dte_offset=offset, static_force=static,
         bearing_dofs=np.arange(ng, dtype=np.int64)[:, None], axes=("y",), q_static=q_static,
+        profile=profile,
         info={"equivalent_mass": meq, "mesh_damping_ratio": settings.mesh_damping_ratio,
               "static_offset": offset, "kappa": kappa},
     )

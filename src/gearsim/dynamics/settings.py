@@ -194,6 +194,11 @@ class DynamicsSettings:
         p = "dynamics"
         require(self.model in MODELS, f"{p}.model", self.model,
                 'must be "lta", "torsional" or "seed"')
+        require(self.model != "seed" or self.load_times is None, f"{p}.load_times",
+                self.load_times and list(self.load_times),
+                'needs model = "lta" or "torsional": the seed\'s 3-DOF model carries its load '
+                "as a constant transmission-error offset, not as torques a profile could "
+                "scale (docs/dynamics.md section 2)")
         require(_number(self.step) and MIN_STEP <= self.step <= MAX_STEP, f"{p}.step",
                 self.step, f"must be a finite number in [{MIN_STEP:g}, {MAX_STEP:g}] s")
         require(_number(self.duration) and 0 < self.duration <= MAX_DURATION,

@@ -59,6 +59,7 @@ width = "90 deg"
 [dynamics]
 duration = 3.0
 fs = 6000  # > 2 x 4 x 660 Hz: the fourth harmonic of the high-speed mesh that `gearsim simulate` analyses
+oversample = 10
 
 [chain]
 name = "parallel stages"

@@ -169,14 +169,6 @@ def test_maps_name_every_record_and_record_only_what_they_use():
     assert lin.pre[0].size - 1 == 16
     assert [c.size for c in lin.channels] == [12, 9, 2]
     assert sum("acceleration[" in n for n in lin.names) == 12
-    # one record alone: the signals and channels it uses (the idler's y: its bearing
-    # force and both mesh forces; the input's y: one mesh)
-    one = lin.select([lin.names.index("acceleration[idler,y]")])
-    assert one.names == ("acceleration[idler,y]",)
-    assert one.pre[0].size - 1 == 3
-    assert [c.tolist() for c in one.channels] == [[5], [5], [0, 1]]
-    one = lin.select([lin.names.index("acceleration[input,y]")])
-    assert [c.tolist() for c in one.channels] == [[1], [1], [0]]
 
 
 def test_a_selected_record_is_the_one_a_study_forms():

@@ -866,8 +866,9 @@ class LinearRecords:
         (ptr, col, w): signal m = sum_k w[k] (recorded row col[k]), k = ptr[m] ..
         ptr[m + 1] - 1.
     extra : tuple of str
-        Rows at the output times after the filtered signals (``"tau"``: the nominal
-        time of :meth:`DynamicModel.nominal`).
+        Rows at the output times after the filtered signals, from
+        :meth:`DynamicModel.nominal`: ``"tau"`` (the nominal time), and under a profile
+        ``"lam"`` (the load factor) and ``"taudd"`` (tau'') for the accelerations.
     post : tuple of five arrays
         (ptr, col, w, b, d): record j = (b[j] + sum_k w[k] y[col[k]]) / d[j], y the
         filtered signals then the ``extra`` rows.
@@ -878,48 +879,6 @@ class LinearRecords:
     pre: tuple[np.ndarray, np.ndarray, np.ndarray]
     extra: tuple[str, ...]
     post: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
-
-    def select(self, rows: list[int]) -> LinearRecords:
-        """The records ``rows`` only, with the signals and channels they use.
-
-        Each record keeps its terms and each signal its terms, in their order: the
-        numbers are those of the whole map.
-
-        Parameters
-        ----------
-        rows : list of int
-            Indices into :attr:`names`.
-
-        Returns
-        -------
-        LinearRecords
-        """
-        pptr, pcol, pw, pb, pd = self.post
-        n_sig = self.pre[0].size - 1
-        terms = [(int(c), float(w)) for j in rows for c, w in
-                 zip(pcol[pptr[j]:pptr[j + 1]], pw[pptr[j]:pptr[j + 1]], strict=True)]
-        sigs = sorted({c for c, _ in terms if c < n_sig})
-        xs = sorted({c - n_sig for c, _ in terms if c >= n_sig})
-        ptr, col, w = self.pre
-        nq, nv = self.channels[0].size, self.channels[1].size
-        used = sorted({int(c) for m in sigs for c in col[ptr[m]:ptr[m + 1]]})
-        kinds = [(kind, self.channels[kind][c - off]) for c in used
-                 for kind, off in ((0, 0), (1, nq), (2, nq + nv))
-                 if off <= c < off + self.channels[kind].size]
-        new_ch = tuple(np.array([col_ for kind, col_ in kinds if kind == k], dtype=np.int64)
-                       for k in range(3))
-        row_of = {c: i for i, c in enumerate(used)}
-        sig_of = {m: i for i, m in enumerate(sigs)}
-        sig_of |= {n_sig + e: len(sigs) + i for i, e in enumerate(xs)}
-        pre = _compressed([[(row_of[int(c)], float(wk)) for c, wk in
-                            zip(col[ptr[m]:ptr[m + 1]], w[ptr[m]:ptr[m + 1]], strict=True)]
-                           for m in sigs])
-        post = _compressed([[(sig_of[int(c)], float(wk)) for c, wk in
-                             zip(pcol[pptr[j]:pptr[j + 1]], pw[pptr[j]:pptr[j + 1]],
-                                 strict=True)] for j in rows])
-        return LinearRecords(names=tuple(self.names[j] for j in rows), channels=new_ch,
-                             pre=pre, extra=tuple(self.extra[e] for e in xs),
-                             post=(*post, pb[rows].copy(), pd[rows].copy()))
 
 
 def _compressed(rows: list[list[tuple[int, float]]]) -> tuple[np.ndarray, ...]:

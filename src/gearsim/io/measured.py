@@ -545,6 +545,7 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
     channels: dict[str, np.ndarray] = {}
     units: dict[str, str] = {}
     fs_per: dict[str, float] = {}
+    aliases: set[str] = set()
     for name, var in ds.data_vars.items():
         if tdim not in var.dims or not np.issubdtype(var.dtype, np.number):
             continue
@@ -561,6 +562,12 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
             for j, combo in enumerate(itertools.product(*labels)):
                 sel = ",".join(f"{d}={v}" for d, v in zip(others, combo, strict=True))
                 keys[f"{name}[{sel}]"] = flat[:, j]
+                # also by its labels alone, "acceleration[input,y]": the names of
+                # Gearbox.signals() and of a study's signal (an alias, not listed)
+                short = f"{name}[{','.join(combo)}]"
+                if short not in ds.data_vars:
+                    keys[short] = flat[:, j]
+                    aliases.add(short)
         for key, values in keys.items():
             channels[key] = np.asarray(values, dtype=np.float64)
             if "units" in var.attrs:
@@ -596,7 +603,8 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
                 "sensor_angle": float(ds.attrs["sensor_angle"])}
         except (KeyError, TypeError, ValueError, IndexError):
             pass  # an incomplete stage result is analysed as a plain record
-    return _Raw(channels=channels, fs=fs, units=units, metadata=meta, fs_per_channel=fs_per)
+    return _Raw(channels=channels, fs=fs, units=units, metadata=meta, fs_per_channel=fs_per,
+                aliases=aliases)
 
 
 def _parts_attr(a: Mapping) -> dict | None:

@@ -240,7 +240,9 @@ def _part_of(channel: str, meta: Mapping) -> dict:
     from gearsim.dynamics.compose import chain_of_record, stage_of_label
 
     var, _, label = channel.partition("[")
-    values = [v.partition("=")[2] for v in label.rstrip("]").split(",")] if label else []
+    # "var[dim=label,...]" or the labels alone, "var[label,...]"
+    values = [v.partition("=")[2] if "=" in v else v
+              for v in label.rstrip("]").split(",")] if label else []
     chains = parts["chains"]
     k = chain_of_record(var, values[0] if values else None,
                         [c["shafts"] for c in chains], [c["meshes"] for c in chains])

@@ -10,6 +10,7 @@ stage records with the carrier).
 from __future__ import annotations
 
 import pytest
+from test_batch_stages import _without_timings
 
 import gearsim as gs
 from gearsim.io.results import write_results
@@ -35,13 +36,5 @@ def test_a_record_by_its_labels_is_the_keyed_record(tmp_path, name, dyn, short, 
     assert a["record"]["source"]["channel"] == short
     assert b["record"]["source"]["channel"] == keyed
     a["record"]["source"] = b["record"]["source"] = None
-    assert _untimed(a) == _untimed(b)  # the same samples, speed, teeth or stage, features
-
-
-def _untimed(x):
-    """``x`` without its timings (``timings_s``), which differ from run to run."""
-    if isinstance(x, dict):
-        return {k: _untimed(v) for k, v in x.items() if k != "timings_s"}
-    if isinstance(x, list):
-        return [_untimed(v) for v in x]
-    return x
+    # the same samples, speed, teeth or stage, and features
+    assert _without_timings(a) == _without_timings(b)

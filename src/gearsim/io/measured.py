@@ -580,6 +580,10 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
         f_in = float(np.atleast_1d(ds.attrs["shaft_frequency"])[0])
         if teeth and all(z >= 1 for z in teeth) and math.isfinite(f_in) and f_in > 0:
             meta["rpm"], meta["teeth"] = 60.0 * f_in, teeth
+            if "tacho" in ds.data_vars and "shaft" in ds.coords:
+                # the shaft each simulated tacho pulses once a revolution of, the input
+                # (whose speed rpm is) first
+                meta["tacho_shafts"] = [str(v) for v in ds["shaft"].values]
     except (KeyError, TypeError, ValueError, IndexError):
         pass
     if "teeth" in meta:  # a compound train's stages ("32/80,48/64"), else its configuration

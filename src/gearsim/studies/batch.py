@@ -215,10 +215,65 @@ def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho) -> list[
         raise InputError("tacho", tacho, "is also a channel to analyse: a tacho is not "
                          "analysed as vibration" if chosen else f"is the only channel of "
                          f"{name}: no vibration channel is left to analyse")
+    for c in chosen:
+        _check_tacho_shaft(tacho, c, meta)
     return [{"channel": c, "data": data[c], "fs": rec.fs,
              "fs_source": {"file": "file", "user": "given"}.get(rec.fs_source),
              "units": rec.units.get(c), "tacho": data.get(tacho), **_part_of(c, meta),
              "dropped": str(rec.dropped[c]) if c in rec.dropped else None} for c in chosen]
+
+
+def _labels(channel: str) -> list[str]:
+    """The labels of ``var[dim=label,...]`` or ``var[label,...]`` (none for ``var``)."""
+    label = channel.partition("[")[2]
+    return [v.partition("=")[2] if "=" in v else v
+            for v in label.rstrip("]").split(",")] if label else []
+
+
+def _check_tacho_shaft(tacho: str | None, channel: str, meta: Mapping) -> None:
+    """Refuse the tacho of one shaft of a gearsim result for a record whose speed
+    reference is another shaft.
+
+    The analysis takes the tacho's speed as that of the record's reference shaft (a
+    gear train's input; the first shaft of the gears beside a stage), whose teeth and
+    stages the file gives: another shaft's tacho would put every mesh frequency at the
+    wrong speed without a word (the reducer's input record with the intermediate
+    shaft's tacho: stage 1 at 384 Hz instead of 960 Hz).
+
+    Raises
+    ------
+    InputError
+        ``tacho``: naming the tacho to give instead.
+    """
+    if tacho is None or not tacho.startswith("tacho["):
+        return
+    shaft = (_labels(tacho) or [""])[0]
+    parts = meta.get("parts")
+    if parts:
+        from gearsim.dynamics.compose import chain_of_record
+
+        chains = parts["chains"]
+        values = _labels(channel)
+        k = chain_of_record(channel.partition("[")[0], values[0] if values else None,
+                            [c["shafts"] for c in chains], [c["meshes"] for c in chains])
+        others = {sh for c in chains for sh in c["shafts"]}
+        if k is not None:
+            ref = chains[k]["shafts"][0]
+        elif shaft in others:  # a stage's record with a gear shaft's tacho
+            ref = "its stage's carrier"
+        else:
+            return  # a stage member's tacho for a stage record
+    elif meta.get("tacho_shafts"):
+        ref = meta["tacho_shafts"][0]
+    else:
+        return
+    if shaft != ref:
+        named = not ref.startswith("its ")
+        where = f"shaft {ref}" if named else ref
+        hint = f"give --tacho 'tacho[{ref}]'" if named else "give the tacho of that carrier's shaft"
+        raise InputError("tacho", tacho, f"pulses once a revolution of shaft {shaft}, but "
+                         f"{channel} is analysed at the speed of {where} (its teeth and "
+                         f"stages are counted from there): {hint}")
 
 
 def _part_of(channel: str, meta: Mapping) -> dict:
@@ -239,10 +294,8 @@ def _part_of(channel: str, meta: Mapping) -> dict:
                 "config": meta.get("config")}
     from gearsim.dynamics.compose import chain_of_record, stage_of_label
 
-    var, _, label = channel.partition("[")
-    # "var[dim=label,...]" or the labels alone, "var[label,...]"
-    values = [v.partition("=")[2] if "=" in v else v
-              for v in label.rstrip("]").split(",")] if label else []
+    var = channel.partition("[")[0]
+    values = _labels(channel)  # "var[dim=label,...]" or the labels alone
     chains = parts["chains"]
     k = chain_of_record(var, values[0] if values else None,
                         [c["shafts"] for c in chains], [c["meshes"] for c in chains])

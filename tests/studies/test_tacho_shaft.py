@@ -1,0 +1,64 @@
+"""A gearsim result's tacho must be that of the shaft the record is analysed at.
+
+Every shaft of a result has a tacho. The analysis takes the tacho's speed as the
+speed of the record's reference shaft (a gear train's input; the first shaft of the gears
+beside a stage; a stage's carrier), whose teeth and stages the file gives. Another
+shaft's tacho put every mesh frequency at the wrong speed without a word: the two-stage
+reducer's input record with the intermediate shaft's tacho had stage 1 at 384 Hz, not
+960 Hz. It is refused in one line naming the tacho to give.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+import gearsim as gs
+from gearsim.io.results import write_results
+from gearsim.studies.batch import analyze_file
+
+
+@pytest.fixture(scope="module")
+def reducer(tmp_path_factory):
+    path = tmp_path_factory.mktemp("tacho") / "reducer.nc"
+    write_results(gs.example("two-stage-reducer").replace(
+        dynamics={"duration": 0.6, "fs": 10e3}).simulate(), path)
+    return str(path)
+
+
+@pytest.fixture(scope="module")
+def turbine(tmp_path_factory):
+    path = tmp_path_factory.mktemp("tacho") / "turbine.nc"
+    write_results(gs.example("wind-turbine-grc").replace(
+        dynamics={"duration": 3.0}).simulate(), path)
+    return str(path)
+
+
+def test_the_reference_shafts_tacho_gives_the_mesh_frequency(reducer):
+    (row,), problems = analyze_file(reducer, channels=["acceleration[input,y]"],
+                                    tacho="tacho[input]")
+    assert not problems
+    # 32 teeth at 30 Hz, the reducer's input speed measured from its own pulses
+    assert row["record"]["speed_hz"] == pytest.approx(30.0, rel=1e-3)
+    assert row["features"]["mesh_frequency_hz"][0] == pytest.approx(960.0, rel=1e-3)
+
+
+@pytest.mark.parametrize(("channel", "tacho", "ref"), [
+    ("acceleration[input,y]", "tacho[intermediate]", "tacho[input]"),
+    ("acceleration[output,x]", "tacho[shaft=output]", "tacho[input]"),
+])
+def test_another_shafts_tacho_is_refused(reducer, channel, tacho, ref):
+    rows, problems = analyze_file(reducer, channels=[channel], tacho=tacho)
+    assert rows == [] and len(problems) == 1
+    assert f"--tacho = {tacho}:" in problems[0] or f"tacho = {tacho}:" in problems[0]
+    assert f"give --tacho '{ref}'" in problems[0]
+
+
+@pytest.mark.parametrize(("channel", "tacho", "ok"), [
+    ("chain_acceleration[high-speed,y]", "tacho[low-speed]", True),
+    ("chain_acceleration[high-speed,y]", "tacho[high-speed]", False),
+    ("sensor", "tacho[rotor]", True),
+    ("sensor", "tacho[intermediate]", False),
+])
+def test_a_stage_box_takes_the_tacho_of_the_records_part(turbine, channel, tacho, ok):
+    rows, problems = analyze_file(turbine, channels=[channel], tacho=tacho)
+    assert (len(rows), len(problems)) == ((1, 0) if ok else (0, 1)), problems

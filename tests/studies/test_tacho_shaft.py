@@ -33,6 +33,13 @@ def turbine(tmp_path_factory):
     return str(path)
 
 
+@pytest.fixture(scope="module")
+def stage(tmp_path_factory):
+    path = tmp_path_factory.mktemp("tacho") / "stage.nc"
+    write_results(gs.example("nrel-grc").replace(dynamics={"duration": 3.0}).simulate(), path)
+    return str(path)
+
+
 def test_the_reference_shafts_tacho_gives_the_mesh_frequency(reducer):
     (row,), problems = analyze_file(reducer, channels=["acceleration[input,y]"],
                                     tacho="tacho[input]")
@@ -62,3 +69,12 @@ def test_another_shafts_tacho_is_refused(reducer, channel, tacho, ref):
 def test_a_stage_box_takes_the_tacho_of_the_records_part(turbine, channel, tacho, ok):
     rows, problems = analyze_file(turbine, channels=[channel], tacho=tacho)
     assert (len(rows), len(problems)) == ((1, 0) if ok else (0, 1)), problems
+
+
+@pytest.mark.parametrize(("tacho", "ok"), [("tacho[carrier]", True), ("tacho[sun]", False)])
+def test_a_stage_record_takes_the_carriers_tacho(stage, tacho, ok):
+    rows, problems = analyze_file(stage, channels=["sensor"], tacho=tacho)
+    assert (len(rows), len(problems)) == ((1, 0) if ok else (0, 1)), problems
+    if not ok:
+        assert "give --tacho 'tacho[carrier]'" in problems[0]
+

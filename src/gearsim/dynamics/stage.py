@@ -670,7 +670,7 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     parts = series or ({"train": train, "prefix": ""},)  # the stages, named
     extra_attrs["analysis_parts"] = analysis_parts(
         [e["train"] for e in parts], [e["chain"] for e in chains],
-        float(tau[0]))
+        float(tau[0]), prefixes=[e["prefix"] for e in parts])
     shafts = [(e["prefix"] + m, abs(e["train"].speeds[m]))
               for e in parts
               for m in ("carrier", "sun", "ring") if e["train"].speeds[m] != 0.0]
@@ -718,7 +718,7 @@ def _analysis_teeth(chain) -> list[int]:
                                    (chain.pairs[0].driver, chain.pairs[0].driven))]
 
 
-def analysis_parts(stages, chains, tau0: float) -> str:
+def analysis_parts(stages, chains, tau0: float, prefixes=None) -> str:
     """What the analysis of a stage result's records needs, part by part, as JSON (the
     result's ``analysis_parts`` attribute).
 
@@ -736,13 +736,18 @@ def analysis_parts(stages, chains, tau0: float) -> str:
     tau0 : float
         Nominal time of the first sample [s] (the carrier's angle there is
         omega_c tau0).
+    prefixes : sequence of str, optional
+        Each stage's prefix of its members' names in the result (``"stage2-"``; default
+        none).
 
     Returns
     -------
     str
         ``{"stages": [...], "chains": [...]}``: per stage its tooth counts, planets,
-        carrier and ring frequencies [Hz], the carrier's angle at the first sample [rad]
-        and the reference member's ``frequency`` [Hz] and ``teeth`` of
+        carrier and ring frequencies [Hz], the carrier's angle at the first sample [rad],
+        the name of the reference member's tacho (``tacho``: the member with its prefix,
+        which :class:`gearsim.model.Gearbox` renames to the member's shaft) and its
+        ``frequency`` [Hz] and ``teeth`` of
         :meth:`~gearsim.system.planetary.PlanetaryTrain.analysis_reference`; per chain
         its shafts and meshes (the result's names), the first shaft's frequency [Hz], the
         tooth counts and, for a compound train, its stages.
@@ -750,15 +755,17 @@ def analysis_parts(stages, chains, tau0: float) -> str:
     import json
 
     out_stages = []
-    for tr in stages:
-        _, freq, teeth = tr.analysis_reference()
+    prefixes = prefixes or [""] * len(stages)
+    for tr, pre in zip(stages, prefixes, strict=True):
+        member, freq, teeth = tr.analysis_reference()
         st, w = tr.stage, tr.speeds
         out_stages.append({
             "z_sun": int(st.sun_teeth), "z_planet": int(st.planet_teeth),
             "z_ring": int(st.ring_teeth), "planets": int(st.planets),
             "carrier_frequency": w["carrier"] / (2 * math.pi),
             "ring_frequency": w["ring"] / (2 * math.pi),
-            "carrier_phase": float(w["carrier"] * tau0), "frequency": freq, "teeth": [int(z) for z in teeth]})
+            "carrier_phase": float(w["carrier"] * tau0), "tacho": pre + member,
+            "frequency": freq, "teeth": [int(z) for z in teeth]})
     names, k, out_chains = chain_mesh_names(chains), 0, []
     for ch in chains:
         stg = ch.compound_stages()

@@ -17,6 +17,7 @@ gearbox has.
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import re
 from collections.abc import Callable
@@ -398,7 +399,14 @@ class Gearbox:
             return ds
         labels = [self.shaft_label(str(n)) for n in ds["shaft"].values]
         keep = [i for i, n in enumerate(labels) if n not in labels[:i]]
-        return ds.isel(shaft=keep).assign_coords(shaft=[labels[i] for i in keep])
+        ds = ds.isel(shaft=keep).assign_coords(shaft=[labels[i] for i in keep])
+        if "analysis_parts" in ds.attrs:  # each stage's reference tacho, renamed alike
+            parts = json.loads(ds.attrs["analysis_parts"])
+            for st in parts["stages"]:
+                if "tacho" in st:
+                    st["tacho"] = self.shaft_label(st["tacho"])
+            ds.attrs["analysis_parts"] = json.dumps(parts)
+        return ds
 
     def record(self, spec: str, *, harmonics: int = 1, force: bool | None = None,
                **dynamics: Any) -> np.ndarray:

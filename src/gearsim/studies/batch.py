@@ -250,30 +250,28 @@ def _check_tacho_shaft(tacho: str | None, channel: str, meta: Mapping) -> None:
     shaft = (_labels(tacho) or [""])[0]
     parts = meta.get("parts")
     if parts:
-        from gearsim.dynamics.compose import chain_of_record
+        from gearsim.dynamics.compose import chain_of_record, stage_of_label
 
         chains = parts["chains"]
         values = _labels(channel)
         k = chain_of_record(channel.partition("[")[0], values[0] if values else None,
                             [c["shafts"] for c in chains], [c["meshes"] for c in chains])
-        others = {sh for c in chains for sh in c["shafts"]}
         if k is not None:
             ref = chains[k]["shafts"][0]
-        elif shaft in others:  # a stage's record with a gear shaft's tacho
-            ref = "its stage's carrier"
-        else:
-            return  # a stage member's tacho for a stage record
+        else:  # a stage's record: its reference member's tacho (absent: an older file)
+            st = parts["stages"][stage_of_label(values[0] if values else "",
+                                                len(parts["stages"]))]
+            if "tacho" not in st:
+                return
+            ref = st["tacho"]
     elif meta.get("tacho_shafts"):
         ref = meta["tacho_shafts"][0]
     else:
         return
     if shaft != ref:
-        named = not ref.startswith("its ")
-        where = f"shaft {ref}" if named else ref
-        hint = f"give --tacho 'tacho[{ref}]'" if named else "give the tacho of that carrier's shaft"
         raise InputError("tacho", tacho, f"pulses once a revolution of shaft {shaft}, but "
-                         f"{channel} is analysed at the speed of {where} (its teeth and "
-                         f"stages are counted from there): {hint}")
+                         f"{channel} is analysed at the speed of shaft {ref} (its teeth and "
+                         f"stages are counted from there): give --tacho 'tacho[{ref}]'")
 
 
 def _part_of(channel: str, meta: Mapping) -> dict:

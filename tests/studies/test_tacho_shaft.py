@@ -11,6 +11,7 @@ reducer's input record with the intermediate shaft's tacho had stage 1 at 384 Hz
 from __future__ import annotations
 
 import pytest
+import xarray as xr
 
 import gearsim as gs
 from gearsim.io.results import write_results
@@ -78,3 +79,36 @@ def test_a_stage_record_takes_the_carriers_tacho(stage, tacho, ok):
     if not ok:
         assert "give --tacho 'tacho[carrier]'" in problems[0]
 
+
+
+@pytest.fixture(scope="module")
+def run_up(tmp_path_factory):
+    path = tmp_path_factory.mktemp("tacho") / "run_up.nc"
+    gb = gs.example("two-stage-reducer")
+    speed, _ = gb.operating()
+    write_results(gb.replace(dynamics={"duration": 1.0, "fs": 10e3, "speed_times": [0.0, 1.5],
+                                       "speed_values": [0.5 * speed, 1.5 * speed]}
+                             ).simulate(), path)
+    return str(path)
+
+
+def test_a_run_up_is_analysed_with_its_own_tacho(run_up):
+    # no --tacho: the file's nominal 30 Hz would smear every line of a 15 -> 40 Hz run;
+    # its input shaft's tacho is used, as if given
+    (auto,), problems = analyze_file(run_up, channels=["acceleration[input,y]"])
+    (given,), _ = analyze_file(run_up, channels=["acceleration[input,y]"],
+                               tacho="tacho[input]")
+    assert not problems
+    assert auto["record"]["source"]["tacho"] == "tacho[shaft=input]"
+    assert auto["record"]["speed_hz"] == given["record"]["speed_hz"]
+    with xr.open_dataset(run_up) as ds:  # 15 Hz at t = 0, + 20 Hz/s: the record's mean
+        mean_speed = 15.0 + 20.0 * float(ds["time"].mean())
+    # (the pulses' mean rate, first to last pulse: within 3 %)
+    assert auto["record"]["speed_hz"] == pytest.approx(mean_speed, rel=0.03)
+    assert auto["features"] == given["features"]
+
+
+def test_a_constant_speed_result_keeps_the_files_speed(reducer):
+    (row,), _ = analyze_file(reducer, channels=["acceleration[input,y]"])
+    assert "tacho" not in row["record"]["source"]
+    assert row["record"]["speed_hz"] == pytest.approx(30.0, rel=1e-12)

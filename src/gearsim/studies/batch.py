@@ -217,9 +217,12 @@ def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho) -> list[
                          f"{name}: no vibration channel is left to analyse")
     for c in chosen:
         _check_tacho_shaft(tacho, c, meta)
+    own = _own_tachos(path, chosen, meta, fs, fmt) if tacho is None else {}
     return [{"channel": c, "data": data[c], "fs": rec.fs,
              "fs_source": {"file": "file", "user": "given"}.get(rec.fs_source),
-             "units": rec.units.get(c), "tacho": data.get(tacho), **_part_of(c, meta),
+             "units": rec.units.get(c),
+             "tacho": own[c][1] if c in own else data.get(tacho),
+             "own_tacho": own[c][0] if c in own else None, **_part_of(c, meta),
              "dropped": str(rec.dropped[c]) if c in rec.dropped else None} for c in chosen]
 
 
@@ -230,24 +233,11 @@ def _labels(channel: str) -> list[str]:
             for v in label.rstrip("]").split(",")] if label else []
 
 
-def _check_tacho_shaft(tacho: str | None, channel: str, meta: Mapping) -> None:
-    """Refuse the tacho of one shaft of a gearsim result for a record whose speed
-    reference is another shaft.
-
-    The analysis takes the tacho's speed as that of the record's reference shaft (a
-    gear train's input; the first shaft of the gears beside a stage), whose teeth and
-    stages the file gives: another shaft's tacho would put every mesh frequency at the
-    wrong speed without a word (the reducer's input record with the intermediate
-    shaft's tacho: stage 1 at 384 Hz instead of 960 Hz).
-
-    Raises
-    ------
-    InputError
-        ``tacho``: naming the tacho to give instead.
-    """
-    if tacho is None or not tacho.startswith("tacho["):
-        return
-    shaft = (_labels(tacho) or [""])[0]
+def _reference_shaft(channel: str, meta: Mapping) -> str | None:
+    """The shaft a record of a gearsim result is analysed at, by the name of its tacho
+    (``tacho[shaft=NAME]``): a gear train's input, the first shaft of the gears beside a
+    stage, a stage's reference member; ``None`` for another file (or a stage result
+    written before its stages named their tachos)."""
     parts = meta.get("parts")
     if parts:
         from gearsim.dynamics.compose import chain_of_record, stage_of_label
@@ -257,21 +247,80 @@ def _check_tacho_shaft(tacho: str | None, channel: str, meta: Mapping) -> None:
         k = chain_of_record(channel.partition("[")[0], values[0] if values else None,
                             [c["shafts"] for c in chains], [c["meshes"] for c in chains])
         if k is not None:
-            ref = chains[k]["shafts"][0]
-        else:  # a stage's record: its reference member's tacho (absent: an older file)
-            st = parts["stages"][stage_of_label(values[0] if values else "",
-                                                len(parts["stages"]))]
-            if "tacho" not in st:
-                return
-            ref = st["tacho"]
-    elif meta.get("tacho_shafts"):
-        ref = meta["tacho_shafts"][0]
-    else:
+            return chains[k]["shafts"][0]
+        st = parts["stages"][stage_of_label(values[0] if values else "",
+                                            len(parts["stages"]))]
+        return st.get("tacho")
+    shafts = meta.get("tacho_shafts")
+    return shafts[0] if shafts else None
+
+
+def _check_tacho_shaft(tacho: str | None, channel: str, meta: Mapping) -> None:
+    """Refuse the tacho of one shaft of a gearsim result for a record whose speed
+    reference is another shaft (:func:`_reference_shaft`).
+
+    The analysis takes the tacho's speed as that of the record's reference shaft, whose
+    teeth and stages the file gives: another shaft's tacho would put every mesh
+    frequency at the wrong speed without a word (the reducer's input record with the
+    intermediate shaft's tacho: stage 1 at 384 Hz instead of 960 Hz).
+
+    Raises
+    ------
+    InputError
+        ``tacho``: naming the tacho to give instead.
+    """
+    if tacho is None or not tacho.startswith("tacho["):
         return
-    if shaft != ref:
+    shaft = (_labels(tacho) or [""])[0]
+    ref = _reference_shaft(channel, meta)
+    if ref is not None and shaft != ref:
         raise InputError("tacho", tacho, f"pulses once a revolution of shaft {shaft}, but "
                          f"{channel} is analysed at the speed of shaft {ref} (its teeth and "
                          f"stages are counted from there): give --tacho 'tacho[{ref}]'")
+
+
+#: A simulated tacho whose pulse intervals differ by more than this fraction of their
+#: mean (and by more than two samples, the pulses' quantisation) marks a run with a speed
+#: profile: 1 %, where a constant-speed run's intervals agree to a sample.
+RUN_UP_TOL = 0.01
+
+
+def _varies(pulses: Any) -> bool:
+    """Whether the once-per-revolution pulse train ``pulses`` has a changing period (at
+    least three pulses; :data:`RUN_UP_TOL`)."""
+    import numpy as np
+
+    x = np.asarray(pulses, dtype=float)
+    h = 0.5 * float(np.max(x)) if x.size else 0.0
+    rises = np.flatnonzero((x[1:] >= h) & (x[:-1] < h)) if h > 0.0 else np.empty(0)
+    if rises.size < 3:
+        return False
+    iv = np.diff(rises)
+    return float(iv.max() - iv.min()) > max(2.0, RUN_UP_TOL * float(iv.mean()))
+
+
+def _own_tachos(path: str, chosen: list[str], meta: Mapping, fs, fmt) -> dict[str, tuple]:
+    """For a gearsim result of a run whose speed changes, each record's own tacho:
+    ``{channel: (tacho name, pulses)}`` for the records whose reference shaft's tacho
+    (:func:`_reference_shaft`) has a changing period (:func:`_varies`); empty for a
+    constant-speed run or another file. The file's nominal speed would smear every
+    line of a run-up; the file's own tacho follows it."""
+    from gearsim.io.measured import read_record
+
+    refs = {c: _reference_shaft(c, meta) for c in chosen if not c.startswith("tacho[")}
+    names = sorted({f"tacho[shaft={r}]" for r in refs.values() if r})
+    if not names:
+        return {}
+    try:
+        rec = read_record(path, channels=names, fs=fs, fmt=fmt)
+    except InputError:
+        return {}
+    out = {}
+    for c, r in refs.items():
+        name = f"tacho[shaft={r}]"
+        if r and name in rec.data and _varies(rec.data[name]):
+            out[c] = (name, rec.data[name])
+    return out
 
 
 def _part_of(channel: str, meta: Mapping) -> dict:
@@ -377,7 +426,7 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
     own = teeth is None and stages is None and any(ch.get("teeth") for ch in chans)
     for ch in chans:
         file_rpm = ch.get("rpm") if speed is None and tacho is None and speed_search is None \
-            else None
+            and ch.get("own_tacho") is None else None
         file_teeth = ch.get("teeth") if own else None
         own_stages = _file_stages(ch) if file_teeth else None
         route = _path_kinematics(ch["config"], ch["channel"]) if file_teeth and isinstance(
@@ -389,6 +438,8 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
         else:
             train = {"stages": stages} if stages is not None else {"teeth": teeth}
         src = {"file": path, "channel": ch["channel"]}
+        if ch.get("own_tacho"):  # a run whose speed changes: the file's own tacho
+            src["tacho"] = ch["own_tacho"]
         if ch.get("dropped"):
             src["dropped"] = ch["dropped"]
         try:

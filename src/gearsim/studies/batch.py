@@ -233,24 +233,31 @@ def _labels(channel: str) -> list[str]:
             for v in label.rstrip("]").split(",")] if label else []
 
 
+def _part(channel: str, parts: Mapping) -> tuple[str, Mapping]:
+    """The part of a stage result (its ``analysis_parts``) a record belongs to:
+    ``("chain", chain)`` for the gears beside the stages
+    (:func:`~gearsim.dynamics.compose.chain_of_record`), else ``("stage", stage)``
+    (:func:`~gearsim.dynamics.compose.stage_of_label`)."""
+    from gearsim.dynamics.compose import chain_of_record, stage_of_label
+
+    values = _labels(channel)  # "var[dim=label,...]" or the labels alone
+    chains = parts["chains"]
+    k = chain_of_record(channel.partition("[")[0], values[0] if values else None,
+                        [c["shafts"] for c in chains], [c["meshes"] for c in chains])
+    if k is not None:
+        return "chain", chains[k]
+    return "stage", parts["stages"][stage_of_label(values[0] if values else "",
+                                                   len(parts["stages"]))]
+
+
 def _reference_shaft(channel: str, meta: Mapping) -> str | None:
     """The shaft a record of a gearsim result is analysed at, by the name of its tacho
     (``tacho[shaft=NAME]``): a gear train's input, the first shaft of the gears beside a
     stage, a stage's reference member; ``None`` for another file (or a stage result
     written before its stages named their tachos)."""
-    parts = meta.get("parts")
-    if parts:
-        from gearsim.dynamics.compose import chain_of_record, stage_of_label
-
-        chains = parts["chains"]
-        values = _labels(channel)
-        k = chain_of_record(channel.partition("[")[0], values[0] if values else None,
-                            [c["shafts"] for c in chains], [c["meshes"] for c in chains])
-        if k is not None:
-            return chains[k]["shafts"][0]
-        st = parts["stages"][stage_of_label(values[0] if values else "",
-                                            len(parts["stages"]))]
-        return st.get("tacho")
+    if parts := meta.get("parts"):
+        kind, part = _part(channel, parts)
+        return part["shafts"][0] if kind == "chain" else part.get("tacho")
     shafts = meta.get("tacho_shafts")
     return shafts[0] if shafts else None
 
@@ -339,19 +346,11 @@ def _part_of(channel: str, meta: Mapping) -> dict:
                 "rpm": float(rpm) if isinstance(rpm, (int, float)) and rpm > 0 else None,
                 "teeth": meta.get("teeth"), "stages": meta.get("stages"),
                 "config": meta.get("config")}
-    from gearsim.dynamics.compose import chain_of_record, stage_of_label
-
-    var = channel.partition("[")[0]
-    values = _labels(channel)  # "var[dim=label,...]" or the labels alone
-    chains = parts["chains"]
-    k = chain_of_record(var, values[0] if values else None,
-                        [c["shafts"] for c in chains], [c["meshes"] for c in chains])
-    if k is not None:
-        part, planetary = chains[k], None
+    kind, part = _part(channel, parts)
+    if kind == "chain":
+        planetary = None
         stages = tuple(map(tuple, part["stages"])) if part["stages"] else None
     else:
-        part = parts["stages"][stage_of_label(values[0] if values else "",
-                                              len(parts["stages"]))]
         planetary, stages = part, None
     f = float(part["frequency"])
     return {"planetary": planetary, "rpm": 60.0 * f if f > 0 else None,

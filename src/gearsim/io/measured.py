@@ -586,6 +586,12 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
                 meta["tacho_shafts"] = [str(v) for v in ds["shaft"].values]
     except (KeyError, TypeError, ValueError, IndexError):
         pass
+    if "tacho" in ds.data_vars and ds["tacho"].dims == (tdim, "shaft") and "shaft" in ds.coords:
+        # a run whose speed changes: the shafts whose tacho period varies
+        varying = [str(sh) for sh, x in zip(ds["shaft"].values, ds["tacho"].values.T,
+                                            strict=True) if _period_varies(x)]
+        if varying:
+            meta["varying_tachos"] = varying
     if "teeth" in meta:  # a compound train's stages ("32/80,48/64"), else its configuration
         if (stages := _stages_attr(ds.attrs.get("analysis_stages"))) is not None:
             meta["stages"] = stages
@@ -609,6 +615,24 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
             pass  # an incomplete stage result is analysed as a plain record
     return _Raw(channels=channels, fs=fs, units=units, metadata=meta, fs_per_channel=fs_per,
                 aliases=aliases)
+
+
+#: A simulated tacho whose pulse intervals differ by more than this fraction of their
+#: mean (and by more than two samples, the pulses' quantisation) marks a run with a speed
+#: profile: 1 %, where a constant-speed run's intervals agree to a sample.
+RUN_UP_TOL = 0.01
+
+
+def _period_varies(pulses: np.ndarray) -> bool:
+    """Whether the once-per-revolution pulse train ``pulses`` has a changing period (at
+    least three pulses; :data:`RUN_UP_TOL`)."""
+    x = np.asarray(pulses, dtype=float)
+    h = 0.5 * float(np.max(x)) if x.size else 0.0
+    rises = np.flatnonzero((x[1:] >= h) & (x[:-1] < h)) if h > 0.0 else np.empty(0)
+    if rises.size < 3:
+        return False
+    iv = np.diff(rises)
+    return float(iv.max() - iv.min()) > max(2.0, RUN_UP_TOL * float(iv.mean()))
 
 
 def _parts_attr(a: Mapping) -> dict | None:

@@ -286,48 +286,23 @@ def _check_tacho_shaft(tacho: str | None, channel: str, meta: Mapping) -> None:
                          f"stages are counted from there): give --tacho 'tacho[{ref}]'")
 
 
-#: A simulated tacho whose pulse intervals differ by more than this fraction of their
-#: mean (and by more than two samples, the pulses' quantisation) marks a run with a speed
-#: profile: 1 %, where a constant-speed run's intervals agree to a sample.
-RUN_UP_TOL = 0.01
-
-
-def _varies(pulses: Any) -> bool:
-    """Whether the once-per-revolution pulse train ``pulses`` has a changing period (at
-    least three pulses; :data:`RUN_UP_TOL`)."""
-    import numpy as np
-
-    x = np.asarray(pulses, dtype=float)
-    h = 0.5 * float(np.max(x)) if x.size else 0.0
-    rises = np.flatnonzero((x[1:] >= h) & (x[:-1] < h)) if h > 0.0 else np.empty(0)
-    if rises.size < 3:
-        return False
-    iv = np.diff(rises)
-    return float(iv.max() - iv.min()) > max(2.0, RUN_UP_TOL * float(iv.mean()))
-
-
 def _own_tachos(path: str, chosen: list[str], meta: Mapping, fs, fmt) -> dict[str, tuple]:
     """For a gearsim result of a run whose speed changes, each record's own tacho:
     ``{channel: (tacho name, pulses)}`` for the records whose reference shaft's tacho
-    (:func:`_reference_shaft`) has a changing period (:func:`_varies`); empty for a
-    constant-speed run or another file. The file's nominal speed would smear every
+    (:func:`_reference_shaft`) has a changing period (the reader's ``varying_tachos``,
+    :data:`gearsim.io.measured.RUN_UP_TOL`); empty, without reading anything more, for
+    a constant-speed run or another file. The file's nominal speed would smear every
     line of a run-up; the file's own tacho follows it."""
     from gearsim.io.measured import read_record
 
-    refs = {c: _reference_shaft(c, meta) for c in chosen if not c.startswith("tacho[")}
-    names = sorted({f"tacho[shaft={r}]" for r in refs.values() if r})
-    if not names:
+    varying = set(meta.get("varying_tachos", ()))
+    refs = {c: r for c in chosen if not c.startswith("tacho[")
+            and (r := _reference_shaft(c, meta)) in varying}
+    if not refs:
         return {}
-    try:
-        rec = read_record(path, channels=names, fs=fs, fmt=fmt)
-    except InputError:
-        return {}
-    out = {}
-    for c, r in refs.items():
-        name = f"tacho[shaft={r}]"
-        if r and name in rec.data and _varies(rec.data[name]):
-            out[c] = (name, rec.data[name])
-    return out
+    names = sorted({f"tacho[shaft={r}]" for r in refs.values()})
+    rec = read_record(path, channels=names, fs=fs, fmt=fmt)
+    return {c: (f"tacho[shaft={r}]", rec.data[f"tacho[shaft={r}]"]) for c, r in refs.items()}
 
 
 def _part_of(channel: str, meta: Mapping) -> dict:

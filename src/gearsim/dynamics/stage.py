@@ -718,7 +718,7 @@ def _analysis_teeth(chain) -> list[int]:
                                    (chain.pairs[0].driver, chain.pairs[0].driven))]
 
 
-def analysis_parts(stages, chains, tau0: float, prefixes=None) -> str:
+def analysis_parts(stages, chains, tau0: float, prefixes: list[str] | None = None) -> str:
     """What the analysis of a stage result's records needs, part by part, as JSON (the
     result's ``analysis_parts`` attribute).
 

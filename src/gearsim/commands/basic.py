@@ -28,7 +28,8 @@ def layout(
     json_: Annotated[bool, typer.Option("--json", help="print a JSON summary")] = False,
 ) -> None:
     """The gearbox as a graph: shafts (speed, torque), gears, meshes (driver -> driven,
-    mesh frequency, static force) and the planetary stage, with a plan-view figure."""
+    mesh frequency, static force) and the planetary stage, with a figure in plan and side
+    view."""
     from gearsim.model import load
     from gearsim.viz import check_plot_file, save
 

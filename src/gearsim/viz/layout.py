@@ -6,13 +6,14 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
+from matplotlib.patches import Rectangle
 
 from gearsim.viz.style import figure_or_new, styled
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
-__all__ = ["plot_layout"]
+__all__ = ["axial_stations", "plot_layout"]
 
 
 def _chain(ax, shafts, gears, meshes) -> None:
@@ -27,14 +28,88 @@ def _chain(ax, shafts, gears, meshes) -> None:
         where[g] = c
         ax.plot(c[0] + r * mm * np.cos(phi), c[1] + r * mm * np.sin(phi), color=f"C{k % 10}",
                 label=f"{g} (z {z}, on {names[s_i]})")
+    at: dict[tuple, list[str]] = {}  # coaxial shafts and their meshes: one label each
     for a, b, label in meshes:
         p, q = where[a], where[b]
         ax.plot([p[0], q[0]], [p[1], q[1]], "k:", lw=0.8)
-        ax.annotate(label, (p + q) / 2, fontsize=8, ha="center", va="bottom")
+        at.setdefault(("mesh", *np.round((p + q) / 2, 6)), []).append(label)
     for name, c in centre.items():
         ax.plot(*c, "k+")
-        ax.annotate(name, c, fontsize=8, xytext=(4, -10), textcoords="offset points")
+        at.setdefault(("shaft", *np.round(c, 6)), []).append(name)
+    for (kind, *c), labels in at.items():
+        ax.annotate(", ".join(labels), c, fontsize=8, xytext=(0, 3) if kind == "mesh"
+                    else (4, -10), textcoords="offset points",
+                    ha="center" if kind == "mesh" else "left")
     ax.legend(fontsize=7, loc="best")
+
+
+def axial_stations(gears: Sequence[tuple[str, int, float, int]],
+                   meshes: Sequence[tuple[str, str, str]]) -> dict[str, int]:
+    """Axial station of each gear in a side view: the two gears of a mesh in one plane.
+
+    Walking the meshes in power-flow order, a driver not yet placed (the input gear, or
+    the second gear of a compound shaft) opens the next station and its driven gear
+    takes the driver's; an idler's two meshes share its station.
+
+    Parameters
+    ----------
+    gears : sequence of (str, int, float, int)
+        Name, shaft index, pitch radius [m] and teeth of each gear.
+    meshes : sequence of (str, str, str)
+        Driver, driven gear name and mesh label, in power-flow order.
+
+    Returns
+    -------
+    dict
+        Gear name -> station (0, 1, ...); gears in no mesh get stations after the others.
+
+    Examples
+    --------
+    >>> g = [("a", 0, 0.02, 32), ("b", 1, 0.05, 80), ("c", 1, 0.03, 48), ("d", 2, 0.04, 64)]
+    >>> axial_stations(g, [("a", "b", "I"), ("c", "d", "II")])
+    {'a': 0, 'b': 0, 'c': 1, 'd': 1}
+    """
+    where: dict[str, int] = {}
+    for a, b, _ in meshes:
+        if a not in where:
+            where[a] = max(where.values(), default=-1) + 1
+        where.setdefault(b, where[a])
+    for g, *_ in gears:
+        where.setdefault(g, max(where.values(), default=-1) + 1)
+    return {g: where[g] for g, *_ in gears}
+
+
+def _side(ax, shafts, gears, meshes) -> None:
+    """Side view: shafts as lines at their plan x along the axis, gears as bars of their
+    pitch diameter at their axial stations, mesh labels at the pitch points (mm)."""
+    mm = 1e3
+    x = {k: c[0] * mm for k, (_, c) in enumerate(shafts)}
+    station = axial_stations(gears, meshes)
+    shaft_of = {g: s_i for g, s_i, _, _ in gears}
+    partner = {a: b for a, b, _ in meshes} | {b: a for a, b, _ in reversed(meshes)}
+    span: dict[int, list[int]] = {}
+    for k, (g, s_i, r, z) in enumerate(gears):
+        z_g = station[g]
+        span.setdefault(s_i, []).append(z_g)
+        ax.add_patch(Rectangle((z_g - 0.12, x[s_i] - r * mm), 0.24, 2 * r * mm,
+                               color=f"C{k % 10}", alpha=0.6))
+        away = -1.0 if g in partner and x[shaft_of[partner[g]]] > x[s_i] else 1.0
+        ax.annotate(f"{g} (z {z})", (z_g + 0.14, x[s_i] + away * 0.6 * r * mm), fontsize=7,
+                    va="center")
+    for s_i, zs in span.items():
+        ax.plot([min(zs) - 0.35, max(zs) + 0.35], [x[s_i]] * 2, "k-", lw=2.5)
+        ax.annotate(shafts[s_i][0], (min(zs) - 0.35, x[s_i]), fontsize=8, ha="right",
+                    va="center", xytext=(-3, 0), textcoords="offset points")
+    radius = {g: r * mm for g, _, r, _ in gears}
+    for a, b, label in meshes:
+        up = 1.0 if x[shaft_of[b]] >= x[shaft_of[a]] else -1.0
+        ax.annotate(label, (station[a] + 0.14, x[shaft_of[a]] + up * radius[a]), fontsize=8,
+                    va="center")
+    ax.set_xlim(-1.2, max(station.values(), default=0) + 1.3)
+    ax.set_xticks(sorted(set(station.values())))
+    ax.set_xlabel("axial station (gear plane)")
+    ax.set_ylabel("x [mm]")
+    ax.grid(alpha=0.3)
 
 
 def _stage(ax, stage: dict) -> None:
@@ -58,10 +133,13 @@ def plot_layout(shafts: Sequence[tuple[str, tuple[float, float]]],
                 meshes: Sequence[tuple[str, str, str]], *, title: str = "",
                 stage: dict | None = None, upstream: tuple | None = None,
                 fig: Figure | None = None) -> Figure:
-    """Plan view of a gearbox: each gear a pitch circle on its shaft, meshes as links.
+    """Plan and side views of a gearbox: gears on their shafts, meshes labelled.
 
-    Gears on one shaft are concentric circles (they sit at different axial positions);
-    each mesh joins its two gears' centres, labelled with its name; a planetary stage is
+    Plan view (top): each gear a pitch circle on its shaft, gears on one shaft concentric
+    (they sit at different axial positions), each mesh a link between its two gears'
+    centres labelled with its name. Side view (below it): each shaft a line at its plan
+    x, each gear a bar of its pitch diameter in its plane (:func:`axial_stations`), so
+    coaxial shafts and the gears of a compound shaft stand apart. A planetary stage is
     drawn in a panel of its own (sun, planets on the carrier circle, ring), in
     power-flow order between the parallel shafts that drive it and those it drives.
 
@@ -88,7 +166,8 @@ def plot_layout(shafts: Sequence[tuple[str, tuple[float, float]]],
     Returns
     -------
     matplotlib.figure.Figure
-        One panel per part in power-flow order, axes in mm, equal aspect.
+        One column per part in power-flow order: plan view (mm, equal aspect) above the
+        side view of the parallel shafts.
     """
     panels: list[tuple[str, object]] = []
     if upstream is not None:
@@ -97,21 +176,24 @@ def plot_layout(shafts: Sequence[tuple[str, tuple[float, float]]],
         panels.append(("stage", stage))
     if gears or not stage:
         panels.append(("down", (shafts, gears, meshes)))
-    fig = figure_or_new(fig, 5.0 * len(panels) + 2.0, 5.5)
-    axes = fig.subplots(1, len(panels), squeeze=False)[0]
-    for ax, (kind, part) in zip(axes, panels, strict=True):
+    fig = figure_or_new(fig, 5.0 * len(panels) + 2.0, 10.0)
+    axes = fig.subplots(2, len(panels), squeeze=False,
+                        gridspec_kw={"height_ratios": [1.2, 1.0]})
+    for ax, side, (kind, part) in zip(axes[0], axes[1], panels, strict=True):
         if kind == "stage":
             _stage(ax, part)
-            continue
-        _chain(ax, *part)
-        member = (stage or {}).get("input" if kind == "up" else "output")
-        ax.set_title(title if not stage else "parallel shafts" if member is None else
-                     f"parallel shafts ({'driving' if kind == 'up' else 'driven by'} the "
-                     f"{member})")
-    for a in axes:
-        a.set_aspect("equal")
-        a.set_xlabel("x [mm]")
-    axes[0].set_ylabel("y [mm]")
+            side.set_axis_off()
+        else:
+            _chain(ax, *part)
+            _side(side, *part)
+            member = (stage or {}).get("input" if kind == "up" else "output")
+            ax.set_title(title if not stage else "parallel shafts" if member is None else
+                         f"parallel shafts ({'driving' if kind == 'up' else 'driven by'} the "
+                         f"{member})")
+            side.set_title("side view: gears in their planes along the shafts", fontsize=9)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [mm]")
+    axes[0][0].set_ylabel("y [mm]")
     if stage:
         fig.suptitle(title)
     return fig

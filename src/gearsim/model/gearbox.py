@@ -49,6 +49,7 @@ from gearsim.system.train import GearTrain, Operating
 
 __all__ = ["Gearbox", "GearboxStiffness"]
 
+_BEARING_MEMBERS = ("sun", "planet", "ring", "carrier")
 _SIGNAL = re.compile(r"\s*(\w+)\s*(?:\[\s*([\w-]+)\s*(?:,\s*(\w+)\s*)?\])?\s*")
 
 
@@ -750,11 +751,106 @@ class Gearbox:
 
     @property
     def default_bearings(self) -> bool:
-        """Whether some bearing takes ``dynamics.bearing_stiffness`` (has none of its own)."""
-        if self.stage is not None:
-            return not all(m in self.members.bearings
-                           for m in ("sun", "planet", "ring", "carrier"))
-        return any(sh.bearing_stiffness is None for sh in self.train.flow.shafts)
+        """Whether some bearing takes ``dynamics.bearing_stiffness`` (has none of its own):
+        a stage member's or a shaft's of the gears."""
+        members = (self.members, *(s.members for s in self.next_stages)) if self.stages else ()
+        return (any(m not in d.bearings for d in members for m in _BEARING_MEMBERS)
+                or any(sh.bearing_stiffness is None for t in self.chains for sh in t.flow.shafts))
+
+    def _bearing_sites(self) -> dict[str, list[tuple[int, str]]]:
+        """Shaft name -> what carries its bearings: ``(-1, shaft)`` a shaft of the gears,
+        ``(k, member)`` a member of stage k (from 0); a stage member is named by the
+        shaft it sits on (:meth:`shaft_label`), its planets ``planet`` (with stages in
+        series ``stage<k>-planet``)."""
+        sites: dict[str, list[tuple[int, str]]] = {}
+        for t in self.chains:
+            for sh in t.flow.shafts:
+                sites.setdefault(sh.name, []).append((-1, sh.name))
+        for k in range(len(self.stages)):
+            pre = stage_prefix(k, len(self.stages))
+            for m in _BEARING_MEMBERS:
+                name = pre + m if m == "planet" else self.shaft_label(pre + m)
+                sites.setdefault(name, []).append((k, m))
+        return sites
+
+    def bearing_names(self) -> tuple[str, ...]:
+        """The bearings :meth:`with_bearing` can set, by the name of their shaft.
+
+        Returns
+        -------
+        tuple of str
+            Every shaft of the gears, and each stage member by the shaft it sits on
+            (its own name when it sits on none; the planets' bearings ``planet``).
+
+        Examples
+        --------
+        >>> import gearsim as gs
+        >>> gs.example("two-stage-reducer").bearing_names()
+        ('input', 'intermediate', 'output')
+        >>> gs.example("wind-turbine-grc").bearing_names()
+        ('low-speed', 'intermediate', 'high-speed', 'planet', 'ring', 'rotor')
+        """
+        return tuple(self._bearing_sites())
+
+    def with_bearing(self, shaft: str, stiffness: float) -> Gearbox:
+        """The gearbox with the radial bearing stiffness of one shaft set.
+
+        A shaft of the gears takes it as its ``bearing_stiffness`` (its axial stiffness
+        follows it when not given, as in :func:`gearsim.dynamics.lta.build_lta`); a stage
+        member as its translational bearing stiffness (planets: radial and tangential,
+        Lin & Parker 1999). A shaft that carries a stage member and gears (the sun's shaft
+        of a wind-turbine box) sets both.
+
+        Parameters
+        ----------
+        shaft : str
+            A name of :meth:`bearing_names`.
+        stiffness : float
+            Radial bearing stiffness [N/m], in the bounds of
+            :class:`gearsim.system.graph.Shaft` (checked where it is set).
+
+        Returns
+        -------
+        Gearbox
+
+        Raises
+        ------
+        InputError
+            ``bearing_stiffness[shaft]`` names no shaft, or the stiffness is out of bounds.
+
+        Examples
+        --------
+        >>> import gearsim as gs
+        >>> gb = gs.example("two-stage-reducer").with_bearing("intermediate", 2e8)
+        >>> [sh.bearing_stiffness for sh in gb.train.flow.shafts]
+        [None, 200000000.0, None]
+        """
+        sites = self._bearing_sites()
+        require(shaft in sites, f"bearing_stiffness[{shaft}]", stiffness,
+                "names no shaft of the gearbox; one of " + ", ".join(sites))
+        gb = self
+        for k, name in sites[shaft]:
+            if k < 0:
+                gb = gb._with_chains(tuple(dataclasses.replace(t, shafts=tuple(
+                    dataclasses.replace(sh, bearing_stiffness=stiffness) if sh.name == name
+                    else sh for sh in t.shafts)) for t in gb.chains))
+            elif k == 0:
+                gb = dataclasses.replace(gb, members=dataclasses.replace(
+                    gb.members, bearings={**gb.members.bearings, name: stiffness}))
+            else:
+                nxt = list(gb.next_stages)
+                d = nxt[k - 1].members
+                nxt[k - 1] = dataclasses.replace(nxt[k - 1], members=dataclasses.replace(
+                    d, bearings={**d.bearings, name: stiffness}))
+                gb = dataclasses.replace(gb, next_stages=tuple(nxt))
+        return gb
+
+    def _with_chains(self, chains: tuple[GearTrain, ...]) -> Gearbox:
+        """The gearbox with its gears (:attr:`chains`, in that order) replaced."""
+        it = iter(chains)
+        inp = None if self.input_train is None else next(it)
+        return dataclasses.replace(self, input_train=inp,
+                                   train=None if self.train is None else next(it))
 
     @staticmethod
     def signal_key(spec: str) -> str | None:

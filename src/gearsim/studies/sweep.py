@@ -30,6 +30,7 @@ Layout::
     speed = { min = "1200 rpm", max = "1900 rpm", num = 3 }   # grid: linspace
     torque = ["2000 N*m", "4876 N*m"]
     bearing_stiffness = ["1e9 N/m"]
+    "bearing_stiffness[idler]" = ["2e8 N/m"]   # one shaft's bearings only (a quoted key)
     noise = [0.0, 0.5, 1.0]     # noise RMS / RMS of the noise-free dynamic record
 
 Parameters not given take the base train's value (noise: 0; severity: 1). Plain numbers
@@ -71,6 +72,7 @@ import hashlib
 import itertools
 import json
 import math
+import re
 import tomllib
 from dataclasses import dataclass
 from importlib import resources
@@ -107,6 +109,10 @@ PARAMETERS: dict[str, str | tuple[str, ...]] = {
     "bearing_stiffness": "stiffness",
     "noise": "dimensionless",
 }
+#: A parameter of one shaft's bearings, ``bearing_stiffness[SHAFT]`` (a name of
+#: :meth:`gearsim.model.Gearbox.bearing_names`): the radial stiffness [N/m] of that shaft's
+#: bearings only, a quoted key of ``[parameters]``.
+NAMED_BEARING = re.compile(r"bearing_stiffness\[([\w-]+)\]")
 STUDY_KEYS = ("name", "config", "sampling", "samples", "seed", "replicates", "signal",
               "shafts", "store_signals", "max_cases", "dynamics")
 #: Largest number of cases a study may have unless its ``study.max_cases`` allows more.
@@ -156,6 +162,10 @@ class Case:
     gear : str or None
         The faulty gear of a study that varies ``gear`` (a name of the train's gears);
         ``None``: the input gear.
+    bearings : tuple of (str, float)
+        Shaft name and radial stiffness [N/m] of each shaft's bearings the study varies
+        (``bearing_stiffness[SHAFT]``, :meth:`gearsim.model.Gearbox.with_bearing`); set
+        after ``bearing_stiffness``, which the other bearings keep.
     """
 
     index: int
@@ -170,16 +180,20 @@ class Case:
     fault: str | None = None
     severity: float | None = None
     gear: str | None = None
+    bearings: tuple[tuple[str, float], ...] = ()
 
     def params(self) -> dict[str, Any]:
         """Parameters without the index (the case's identity).
 
         ``fault`` and ``severity`` are left out when ``fault`` is ``None``, and ``gear``
         when it is ``None``, so that the keys of a study without them are those it had
-        before they existed.
+        before they existed; each shaft's bearing stiffness is
+        ``bearing_stiffness[SHAFT]``.
         """
         d = dataclasses.asdict(self)
         d.pop("index")
+        d.pop("bearings")
+        d.update({f"bearing_stiffness[{n}]": k for n, k in self.bearings})
         if self.fault is None:
             d.pop("fault")
             d.pop("severity")
@@ -344,13 +358,19 @@ def load_study(path: str | Path) -> Study:
     return loads_study(text, base_dir=folder)
 
 
+def _kind_of(name: str) -> str:
+    """The parameter whose kind and bounds ``name`` takes: ``bearing_stiffness`` for a
+    shaft's own (:data:`NAMED_BEARING`), else ``name``."""
+    return "bearing_stiffness" if NAMED_BEARING.fullmatch(name) else name
+
+
 def _checked(name: str, value: float, where: str, raw: Any) -> float:
     """``value`` (SI) if finite and within the parameter's bounds, else refused."""
-    low, inclusive, unit = LOWER_BOUNDS[name]
+    low, inclusive, unit = LOWER_BOUNDS[_kind_of(name)]
     unit = f" {unit}" if unit else ""
     limit = f"must be >= {low:g}{unit}" if inclusive else f"must be > {low:g}{unit}"
     ok = math.isfinite(value) and (value >= low if inclusive else value > low)
-    high = UPPER_BOUNDS.get(name)
+    high = UPPER_BOUNDS.get(_kind_of(name))
     if high is not None:
         limit += f" and <= {high:g}{unit}"
         ok = ok and value <= high
@@ -359,7 +379,7 @@ def _checked(name: str, value: float, where: str, raw: Any) -> float:
 
 
 def _values(name: str, raw: Any) -> tuple | dict:
-    kind = PARAMETERS[name]
+    kind = PARAMETERS[_kind_of(name)]
     where = f"parameters.{name}"
     if isinstance(raw, dict):
         if isinstance(kind, tuple) or kind == "name":
@@ -492,9 +512,9 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
     require(isinstance(params_raw, dict), "parameters", params_raw, "must be a table")
     parameters: dict[str, Any] = {}
     for key, value in params_raw.items():
-        if key not in PARAMETERS:
+        if key not in PARAMETERS and not NAMED_BEARING.fullmatch(key):
             raise InputError(f"parameters.{key}", value, "unknown parameter; allowed: "
-                             + ", ".join(PARAMETERS))
+                             + ", ".join(PARAMETERS) + ', "bearing_stiffness[SHAFT]"')
         parameters[key] = _values(key, value)
     if sampling == "grid":
         for key, value in parameters.items():
@@ -635,6 +655,15 @@ def check_study(study: Study) -> None:
         for where, raw, value in _points(study, "bearing_stiffness"):
             try:
                 gb.replace(dynamics={"bearing_stiffness": value})
+            except InputError as exc:
+                raise InputError(where, raw, exc.limit) from None
+    for name in (n for n in study.parameters if NAMED_BEARING.fullmatch(n)):
+        shaft = NAMED_BEARING.fullmatch(name).group(1)
+        require(shaft in gb.bearing_names(), f"parameters.{name}", _raw_parameter(study, name),
+                "names no shaft of the gearbox; its bearings: " + ", ".join(gb.bearing_names()))
+        for where, raw, value in _points(study, name):
+            try:
+                gb.with_bearing(shaft, value)
             except InputError as exc:
                 raise InputError(where, raw, exc.limit) from None
     flanks = study.parameters.get("flank")
@@ -811,7 +840,8 @@ def expand(study: Study) -> list[Case]:
     (198.968, 4876.0)
     """
     specs = {**_base_values(study), **study.parameters}
-    names = list(PARAMETERS)
+    named = [n for n in study.parameters if NAMED_BEARING.fullmatch(n)]
+    names = [*PARAMETERS, *named]
     if study.sampling == "grid":
         combos = list(itertools.product(*(_grid(specs[n]) for n in names)))
     else:
@@ -820,6 +850,9 @@ def expand(study: Study) -> list[Case]:
     cases = []
     for combo in combos:
         kw = dict(zip(names, combo, strict=True))
+        bearings = tuple((NAMED_BEARING.fullmatch(n).group(1), kw.pop(n)) for n in named)
+        if bearings:
+            kw["bearings"] = bearings
         for r in range(study.replicates):
             cases.append(Case(index=len(cases), replicate=r, **kw))
     return cases

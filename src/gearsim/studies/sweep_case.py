@@ -54,7 +54,7 @@ def build_case(study: Study, case: Case) -> Gearbox:
         The study (base configuration and dynamics overrides).
     case : Case
         The case (operating point, closure, crack flank and depth or fault class and
-        severity, bearing stiffness).
+        severity, bearing stiffness, the bearings of named shafts).
 
     Returns
     -------
@@ -67,7 +67,9 @@ def build_case(study: Study, case: Case) -> Gearbox:
         :func:`gearsim.model.variants.fault_variant` of that class and severity instead
         (one fault on tooth 0 of the input gear, no other crack or fault; its dynamics
         run every mesh as a mesh of contacts and carry the eccentricity). The dynamics
-        settings have the study's overrides and the case's bearing stiffness.
+        settings have the study's overrides and the case's bearing stiffness; the shafts
+        the case names (``bearing_stiffness[SHAFT]``) then take their own
+        (:meth:`~gearsim.model.Gearbox.with_bearing`).
 
     Raises
     ------
@@ -82,8 +84,10 @@ def build_case(study: Study, case: Case) -> Gearbox:
         severity = 1.0 if case.fault == "none" else case.severity
         gb = fault_variant(gb.with_crack(None, closure=case.closure), case.fault, severity,
                            gear=case.gear)
-    return gb.replace(dynamics={"bearing_stiffness": case.bearing_stiffness,
-                                **study.dynamics})
+    gb = gb.replace(dynamics={"bearing_stiffness": case.bearing_stiffness, **study.dynamics})
+    for shaft, k in case.bearings:
+        gb = gb.with_bearing(shaft, k)
+    return gb
 
 
 def add_noise(x: np.ndarray, level: float, seed: int) -> np.ndarray:
@@ -188,6 +192,9 @@ def _table(study: Study, cases: Sequence[Case], rows: list[dict], status: list[s
             continue
         coords[name] = ("case", [getattr(c, name) for c in cases],
                         {"units": PARAM_UNITS[name]} if PARAM_UNITS[name] else {})
+    for j, (shaft, _) in enumerate(cases[0].bearings if cases else ()):  # named shafts
+        coords[f"bearing_stiffness[{shaft}]"] = ("case", [c.bearings[j][1] for c in cases],
+                                                 {"units": "N/m"})
     if names is None:
         names = sorted({k for r in rows for k in r})
     data: dict[str, Any] = {

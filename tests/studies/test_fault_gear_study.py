@@ -106,8 +106,9 @@ gear = ["intermediate-pinion", "high-speed-pinion"]
 
 def test_a_stage_gearbox_takes_the_classes_on_its_parallel_gears():
     """wind-turbine-grc: each class sits on the named gear of the parallel stages, the
-    planetary stage keeps no crack or fault; a stage member or the eccentricity class is
-    refused in one line naming the study's parameter."""
+    planetary stage keeps no crack or fault; a gear the gearbox does not have or the
+    eccentricity class is refused in one line naming the study's parameter (a stage
+    member is a gear too: tests/planetary/test_member_fault_classes.py)."""
     study = loads_study(STAGE_STUDY)
     cases = expand(study)
     for c in cases:
@@ -116,8 +117,9 @@ def test_a_stage_gearbox_takes_the_classes_on_its_parallel_gears():
         assert where == ([] if c.fault == "none" else [c.gear]), (c, where)
         assert gb.stage.cracks == () and gb.stage.faults == ()
     with pytest.raises(InputError) as err:
-        loads_study(STAGE_STUDY.replace('"high-speed-pinion"]', '"sun"]'))
+        loads_study(STAGE_STUDY.replace('"high-speed-pinion"]', '"planet-4"]'))
     assert err.value.parameter == "parameters.gear[1]"
+    assert "sun, ring, planet-1, planet-2, planet-3" in str(err.value)
     with pytest.raises(InputError) as err:
         loads_study(STAGE_STUDY.replace('"working"]', '"eccentricity"]'))
     assert "not among its fault classes" in str(err.value)

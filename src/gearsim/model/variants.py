@@ -36,19 +36,44 @@ from __future__ import annotations
 import dataclasses
 import math
 
+from gearsim.dynamics.compose import stage_prefix
 from gearsim.errors import require
 from gearsim.model.gearbox import Gearbox
 from gearsim.stiffness.crack import Crack
 from gearsim.stiffness.faults import BrokenTooth, ChippedTip, Pitting, Spall, arc_at_radius
 from gearsim.stiffness.modifications import Modification, single_pitch_tolerance
 from gearsim.system.faults import active_roll_range
+from gearsim.system.planetary import PlanetaryTrain, planet_name
 from gearsim.system.train import DEFAULT_CRACK
 
-__all__ = ["FAULT_CLASSES", "fault_variant"]
+__all__ = ["FAULT_CLASSES", "fault_gears", "fault_variant"]
 
 #: Fault classes of :func:`fault_variant` (``none`` = healthy).
 FAULT_CLASSES = ("none", "working", "non-working", "spall", "pitting", "chip", "broken",
                  "pitch", "eccentricity")
+
+
+def fault_gears(gearbox: Gearbox) -> tuple[str, ...]:
+    """The gears :func:`fault_variant` can put a fault class on, by name.
+
+    Parameters
+    ----------
+    gearbox : Gearbox
+        The base gearbox.
+
+    Returns
+    -------
+    tuple of str
+        Every gear of the parallel shafts, then every stage member (``sun``, ``ring``,
+        ``planet-1``, ...; prefixed ``stage<k>-`` with stages in series).
+
+    Examples
+    --------
+    >>> import gearsim as gs
+    >>> fault_gears(gs.example("nrel-grc"))
+    ('sun', 'ring', 'planet-1', 'planet-2', 'planet-3')
+    """
+    return (*(g.name for t in gearbox.chains for g in t.gears), *_stage_members(gearbox))
 
 
 def fault_variant(gearbox: Gearbox, kind: str, severity: float = 1.0, *,
@@ -75,12 +100,16 @@ def fault_variant(gearbox: Gearbox, kind: str, severity: float = 1.0, *,
         Name of the faulty gear (any gear of the train, e.g. ``"intermediate-pinion"``
         of the two-stage reducer); its own module, face width, flank and tolerance set
         the sizes. Default: the input gear. A gearbox with planetary stages takes the
-        classes on a gear of its parallel stages, named (``"intermediate-pinion"`` of
-        wind-turbine-grc): the stages and the gears keep no other crack or fault, and
-        the stages' own members are varied through their cracks; ``eccentricity`` is
-        not among its classes there. Its dynamics settings stay its own (a stage's
-        dynamics takes no mesh of contacts): the faulty mesh runs as its mesh of
-        contacts, as every mesh with a fault does, the others on their tables (the two
+        classes on a named gear (:func:`fault_gears`): a gear of its parallel stages
+        (``"intermediate-pinion"`` of wind-turbine-grc) or a stage member (``"sun"``,
+        ``"planet-2"``, ``"ring"``; sized by the member's own module, face width and
+        active flank in the sun-planet mesh, the flank the sun loads; the ring takes the
+        cracks only, a planet no broken tooth, no member a pitch error: refused in one
+        line); the stages and the gears keep no other crack or fault, and
+        ``eccentricity`` is not among its classes there. Its dynamics settings stay its
+        own (a stage's dynamics takes no mesh of contacts): the faulty mesh runs as its
+        mesh of contacts, as every mesh with a fault does (a stage member's surface
+        fault: every sun-planet mesh of that stage), the others on their tables (the two
         within 0.4-2 % of each other, docs/stiffness.md 4c).
 
     Returns
@@ -92,7 +121,8 @@ def fault_variant(gearbox: Gearbox, kind: str, severity: float = 1.0, *,
     ------
     InputError
         For an unknown class or gear, or a severity outside (0, 1]; on a gearbox with
-        planetary stages, no gear or a stage member, or ``eccentricity``.
+        planetary stages, no gear, ``eccentricity``, or a class its member does not
+        model.
 
     Examples
     --------
@@ -125,18 +155,25 @@ def fault_variant(gearbox: Gearbox, kind: str, severity: float = 1.0, *,
 def _beside_stages(gearbox: Gearbox, kind: str, s: float, gear: str | None,
                    dyn) -> Gearbox:
     """:func:`fault_variant` of a gearbox with planetary stages: every stage and chain
-    without cracks and faults, the fault on ``gear`` of the gear chain holding it (the
-    stages' own faults are varied through their cracks)."""
+    without cracks and faults, the fault on ``gear``: a gear of the chain holding it, or
+    a stage member (:func:`_stage_members`)."""
     names = [g.name for t in gearbox.chains for g in t.gears]
-    require(gear in names or (kind == "none" and gear is None), "gear", gear,
-            "a gearbox with planetary stages takes the fault classes on a gear of its "
-            "parallel stages (" + (", ".join(names) or "it has none")
-            + "); vary a planetary stage through its cracks (flank, crack_depth)")
+    members = _stage_members(gearbox)
+    require(gear in names or gear in members or (kind == "none" and gear is None), "gear",
+            gear, "a gearbox with planetary stages takes the fault classes on a named gear: "
+            "of its parallel stages (" + (", ".join(names) or "it has none")
+            + ") or a stage member (" + ", ".join(members) + ")")
     require(kind != "eccentricity", "fault", kind, "the runout of a gear beside a "
-            "planetary stage is not among its fault classes")
-    clean = {"stage": dataclasses.replace(gearbox.stage, cracks=(), faults=()),
-             "next_stages": tuple(dataclasses.replace(n, train=dataclasses.replace(
-                 n.train, cracks=(), faults=())) for n in gearbox.next_stages)}
+            "planetary stage, or of a stage member, is not among its fault classes")
+    require(gear not in members or kind != "pitch", "fault", kind, f"a pitch error of the "
+            f"stage member {gear} is not modelled (a stage has no tooth modifications)")
+    stages = [dataclasses.replace(t, cracks=(), faults=()) for t in gearbox.stages]
+    if gear in members and kind != "none":  # a crack or surface fault of a stage member
+        k, m = members[gear]
+        stages[k] = _member_fault(stages[k], m, kind, s)
+    clean = {"stage": stages[0], "next_stages": tuple(
+        dataclasses.replace(n, train=t) for n, t in zip(gearbox.next_stages, stages[1:],
+                                                        strict=True))}
     for key in ("input_train", "train"):
         t = getattr(gearbox, key)
         if t is None:
@@ -148,39 +185,75 @@ def _beside_stages(gearbox: Gearbox, kind: str, s: float, gear: str | None,
     return dataclasses.replace(gearbox, dynamics=dyn, **clean)
 
 
+def _sized(kind: str, s: float, g, name: str, lo: float, hi: float):
+    """The crack or surface fault of class ``kind`` (a crack, spall, pitting, chip or
+    broken tooth) at severity ``s`` on tooth 0 of gear ``g`` (named ``name``), whose
+    working flank is in contact between the roll lengths ``lo`` and ``hi`` [m]; sizes of
+    the module docstring."""
+    m = g.normal_module
+    if kind in ("working", "non-working"):
+        return Crack(gear=name, flank=kind, **{**DEFAULT_CRACK, "depth": s * 2e-3 * m / 6e-3})
+    b, rb = g.face_width, g.base_radius
+    arc = (hi * hi - lo * lo) / (2 * rb)
+    if kind == "spall":
+        # centred on the pitch circle, kept inside the active flank
+        sc = min(max(arc_at_radius(g.pitch_radius, rb), lo * lo / (2 * rb) + 0.25 * arc),
+                 hi * hi / (2 * rb) - 0.25 * arc)
+        r = math.sqrt(2 * rb * sc + rb * rb)
+        return Spall(gear=name, tooth=0, radius=r, length=s * 0.5 * arc, width=s * 0.5 * b,
+                     depth=0.05 * m)
+    if kind == "pitting":
+        r_lo = math.hypot(rb, lo)
+        r_hi = max(min(g.pitch_radius, math.hypot(rb, hi)), r_lo + 0.25 * (math.hypot(rb, hi) - r_lo))
+        return Pitting(gear=name, tooth=0, area_fraction=0.3 * s, radius_min=r_lo,
+                       radius_max=r_hi, pit_diameter=0.1 * m, depth=0.02 * m)
+    if kind == "chip":
+        return ChippedTip(gear=name, tooth=0, length=s * 0.4 * arc, width=s * 0.5 * b)
+    require(kind == "broken", "fault", kind, "is not a tooth fault of a gear's flank")
+    return BrokenTooth(gear=name, tooth=0, width=None if s == 1 else s * b)
+
+
+def _stage_members(gearbox: Gearbox) -> dict[str, tuple[int, str]]:
+    """Name (``sun``, ``ring``, ``planet-1``, ...; ``stage<k>-`` before them with stages in
+    series) -> (stage index, member) of every stage member a fault class can sit on."""
+    n = len(gearbox.stages)
+    return {stage_prefix(k, n) + m: (k, m) for k, st in enumerate(gearbox.stages)
+            for m in ("sun", "ring", *(planet_name(j) for j in range(st.stage.planets)))}
+
+
+def _member_fault(stage: PlanetaryTrain, member: str, kind: str, s: float) -> PlanetaryTrain:
+    """``stage`` (no crack, no fault) with the class ``kind`` at severity ``s`` on tooth 0 of
+    ``member``; the working flank is the one in the sun-planet mesh (the sun drives in
+    the model frame: the sun's roll lengths from its start of contact, a planet's from
+    the other end of the line; the ring takes cracks only, on the flank the planets
+    load). What a stage does not model is refused where the stage is made."""
+    require(member != "ring" or kind in ("working", "non-working"), "fault", kind,
+            "the ring takes cracks only (working, on the flank the planets load): its "
+            "mesh has no mesh of contacts for surface faults")
+    st, pair = stage.stage, stage.sun_pair
+    g = {"sun": st.sun, "ring": st.ring}.get(member, st.planet)
+    lo, hi = ((pair.start_of_contact, pair.end_of_contact) if member == "sun" else
+              (pair.line_length - pair.end_of_contact, pair.line_length - pair.start_of_contact))
+    fault = _sized(kind, s, g, member, lo, hi)
+    if isinstance(fault, Crack):
+        return dataclasses.replace(stage, cracks=(fault,))
+    return dataclasses.replace(stage, faults=(fault,))
+
+
 def _with_fault(base, kind: str, s: float, gear: str | None, dyn):
     """The train ``base`` (no crack, no fault) with one fault of class ``kind`` at
     severity ``s`` on tooth 0 of ``gear`` (its first gear if None), and the dynamics
     settings (the eccentricity's runout)."""
     names = [x.name for x in base.gears]
     g = base.gears[0] if gear is None else base.gear(gear)
-    m, b, rb = g.normal_module, g.face_width, g.base_radius
-    lo, hi = active_roll_range(base, g.name, "working")
-    arc = (hi * hi - lo * lo) / (2 * rb)
+    m = g.normal_module
     fpt = single_pitch_tolerance(6, 2 * g.pitch_radius, m)
     train = base
     if kind in ("working", "non-working"):
-        train = base.with_cracks((Crack(gear=g.name, flank=kind, **{
-            **DEFAULT_CRACK, "depth": s * 2e-3 * m / 6e-3}),))
-    elif kind == "spall":
-        # centred on the pitch circle, kept inside the active flank
-        sc = min(max(arc_at_radius(g.pitch_radius, rb), lo * lo / (2 * rb) + 0.25 * arc),
-                 hi * hi / (2 * rb) - 0.25 * arc)
-        r = math.sqrt(2 * rb * sc + rb * rb)
-        train = base.with_faults((Spall(gear=g.name, tooth=0, radius=r, length=s * 0.5 * arc,
-                                        width=s * 0.5 * b, depth=0.05 * m),))
-    elif kind == "pitting":
-        r_lo = math.hypot(rb, lo)
-        r_hi = max(min(g.pitch_radius, math.hypot(rb, hi)), r_lo + 0.25 * (math.hypot(rb, hi) - r_lo))
-        train = base.with_faults((Pitting(gear=g.name, tooth=0, area_fraction=0.3 * s,
-                                          radius_min=r_lo, radius_max=r_hi,
-                                          pit_diameter=0.1 * m, depth=0.02 * m),))
-    elif kind == "chip":
-        train = base.with_faults((ChippedTip(gear=g.name, tooth=0, length=s * 0.4 * arc,
-                                             width=s * 0.5 * b),))
-    elif kind == "broken":
-        train = base.with_faults((BrokenTooth(gear=g.name, tooth=0,
-                                              width=None if s == 1 else s * b),))
+        train = base.with_cracks((_sized(kind, s, g, g.name, 0.0, 0.0),))
+    elif kind in ("spall", "pitting", "chip", "broken"):
+        lo, hi = active_roll_range(base, g.name, "working")
+        train = base.with_faults((_sized(kind, s, g, g.name, lo, hi),))
     elif kind == "pitch":
         errors = [0.0] * g.teeth
         errors[0] = s * 4 * fpt

@@ -84,7 +84,7 @@ import numpy as np
 from gearsim.errors import InputError, require
 from gearsim.model import Gearbox, loads
 from gearsim.model.config import EXAMPLES, example_text, read_file_or_builtin
-from gearsim.model.variants import FAULT_CLASSES, fault_variant
+from gearsim.model.variants import FAULT_CLASSES, fault_gears, fault_variant
 from gearsim.sections import convert
 from gearsim.stiffness.settings import CLOSURES
 from gearsim.system.train import CRACK_CHOICES
@@ -750,9 +750,10 @@ def _check_faults(study: Study, gb: Gearbox) -> None:
                   else [("parameters.fault", None, 1.0)])
     if "gear" in study.parameters:
         names = [g.name for t in gb.chains for g in t.gears]  # beside stages too
+        names += [n for n in fault_gears(gb) if n not in names]  # and stage members
         for where, raw, name in _points(study, "gear"):
-            require(name in names, where, raw, "is not a gear of the train; its gears: "
-                    + (", ".join(names) or "none (a planetary stage: vary its cracks)"))
+            require(name in names, where, raw, "is not a gear of the gearbox; its gears: "
+                    + ", ".join(names))
     gears = [g for _, _, g in _points(study, "gear")] if "gear" in study.parameters else [None]
     for where_f, raw_f, kind in _points(study, "fault"):
         if kind == "none":

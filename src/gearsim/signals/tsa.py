@@ -750,6 +750,26 @@ def m8a(d: np.ndarray) -> float:
     return _moment_ratio(d, 8, "difference")
 
 
+def _history_kurtosis(records: Sequence[np.ndarray], name: str, what: str, needs: str) -> float:
+    """Kurtosis of the last record over the squared run-average variance (NA4, NB4).
+
+    ``name`` names the argument (``"residuals"``), ``what`` one record (``"residual"``)
+    and ``needs`` starts the zero-variance message (``"NA4 needs a residual"``).
+    """
+    rs = [as_signal(r, name=f"{name}[{j}]") for j, r in enumerate(records)]
+    if not rs:
+        raise InputError(name, "[]", f"must hold at least the current {what}")
+    n = rs[-1].size
+    for j, r in enumerate(rs):
+        if r.size != n:
+            raise InputError(f"{name}[{j}].length", r.size, f"must equal {n} (current record)")
+    var = np.mean([np.mean((r - r.mean()) ** 2) for r in rs])
+    if var == 0.0:
+        raise InputError(name, "zero variance", f"{needs} with variance > 0")
+    c = rs[-1] - rs[-1].mean()
+    return float(np.mean(c**4) / var**2)
+
+
 def na4(residuals: Sequence[np.ndarray]) -> float:
     r"""NA4 of the last residual normalised by the run-average residual variance.
 
@@ -794,18 +814,7 @@ def na4(residuals: Sequence[np.ndarray]) -> float:
     >>> round(na4([r]), 6), round(na4([2 * r, r]), 6)
     (1.5, 0.24)
     """
-    rs = [as_signal(r, name=f"residuals[{j}]") for j, r in enumerate(residuals)]
-    if not rs:
-        raise InputError("residuals", "[]", "must hold at least the current residual")
-    n = rs[-1].size
-    for j, r in enumerate(rs):
-        if r.size != n:
-            raise InputError(f"residuals[{j}].length", r.size, f"must equal {n} (current record)")
-    var = np.mean([np.mean((r - r.mean()) ** 2) for r in rs])
-    if var == 0.0:
-        raise InputError("residuals", "zero variance", "NA4 needs a residual with variance > 0")
-    c = rs[-1] - rs[-1].mean()
-    return float(np.mean(c**4) / var**2)
+    return _history_kurtosis(residuals, "residuals", "residual", "NA4 needs a residual")
 
 
 @dataclass(frozen=True)

@@ -76,6 +76,15 @@ __all__ = [
 ]
 
 
+def _order_amplitudes(y: np.ndarray) -> np.ndarray:
+    """Peak amplitude per DFT bin of ``y`` (rectangular window), halved at 0 and Nyquist."""
+    a = np.abs(scipy.fft.rfft(y)) * (2.0 / y.size)
+    a[0] *= 0.5
+    if y.size % 2 == 0:
+        a[-1] *= 0.5
+    return a
+
+
 @dataclass(frozen=True)
 class TSA:
     """Time-synchronous average over one revolution (built by :func:`tsa`).
@@ -118,11 +127,7 @@ class TSA:
         >>> round(float(t.order_amplitudes()[10]), 6)
         3.0
         """
-        a = np.abs(scipy.fft.rfft(self.average)) * (2.0 / self.average.size)
-        a[0] *= 0.5
-        if self.average.size % 2 == 0:
-            a[-1] *= 0.5
-        return a
+        return _order_amplitudes(self.average)
 
 
 def pulse_times(tacho: np.ndarray, fs: float, *, threshold: float | None = None) -> np.ndarray:

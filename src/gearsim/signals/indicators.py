@@ -53,8 +53,8 @@ from collections.abc import Sequence
 import numpy as np
 
 from gearsim.errors import InputError
-from gearsim.signals._checks import as_signal, check_int
-from gearsim.signals.tsa import TSA, difference_signal, regular_signal
+from gearsim.signals._checks import check_int
+from gearsim.signals.tsa import TSA, _history_kurtosis, difference_signal, regular_signal
 
 __all__ = ["nb4", "energy_ratio", "sideband_index", "sideband_level_factor"]
 
@@ -102,18 +102,7 @@ def nb4(envelopes: Sequence[np.ndarray]) -> float:
     >>> round(nb4([1 + 0.5 * c]), 6), round(nb4([1 + c, 1 + 0.5 * c]), 6)
     (1.5, 0.24)
     """
-    es = [as_signal(e, name=f"envelopes[{j}]") for j, e in enumerate(envelopes)]
-    if not es:
-        raise InputError("envelopes", "[]", "must hold at least the current envelope")
-    n = es[-1].size
-    for j, e in enumerate(es):
-        if e.size != n:
-            raise InputError(f"envelopes[{j}].length", e.size, f"must equal {n} (current record)")
-    var = float(np.mean([np.mean((e - e.mean()) ** 2) for e in es]))
-    if var == 0.0:
-        raise InputError("envelopes", "zero variance", "NB4 needs an envelope with variance > 0")
-    c = es[-1] - es[-1].mean()
-    return float(np.mean(c**4) / var**2)
+    return _history_kurtosis(envelopes, "envelopes", "envelope", "NB4 needs an envelope")
 
 
 def energy_ratio(

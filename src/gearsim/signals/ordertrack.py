@@ -50,7 +50,7 @@ import scipy.fft
 from gearsim.errors import InputError
 from gearsim.signals._checks import as_signal, check_fs, check_int
 from gearsim.signals.speed import SpeedProfile
-from gearsim.signals.tsa import TSA, cubic_resample
+from gearsim.signals.tsa import TSA, _order_amplitudes, cubic_resample
 
 __all__ = ["order_track", "order_spectrum", "tracked_tsa", "default_samples_per_rev"]
 
@@ -163,14 +163,6 @@ def order_track(
     return cubic_resample(a, fs, times), angle
 
 
-def _amplitudes(y: np.ndarray) -> np.ndarray:
-    amp = np.abs(scipy.fft.rfft(y)) * (2.0 / y.size)
-    amp[0] *= 0.5
-    if y.size % 2 == 0:
-        amp[-1] *= 0.5
-    return amp
-
-
 def order_spectrum(
     x: np.ndarray, fs: float, profile: SpeedProfile, *, samples_per_rev: int
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -210,7 +202,7 @@ def order_spectrum(
     """
     y, angle = order_track(x, fs, profile, samples_per_rev=samples_per_rev)
     n_rev = y.size // int(samples_per_rev)
-    return np.arange(y.size // 2 + 1) / n_rev, _amplitudes(y)
+    return np.arange(y.size // 2 + 1) / n_rev, _order_amplitudes(y)
 
 
 def tracked_tsa(

@@ -59,6 +59,7 @@ from typing import Any
 import numpy as np
 
 from gearsim.errors import InputError, require
+from gearsim.signals.tiers import _hann_amplitude
 
 __all__ = ["MIN_BINS", "StageSpec", "planetary_tier"]
 
@@ -116,12 +117,6 @@ class StageSpec:
                     "must be finite")
 
 
-def _amplitude(a: np.ndarray) -> np.ndarray:
-    n = a.size
-    w = 0.5 - 0.5 * np.cos(2.0 * np.pi * np.arange(n) / n)
-    return np.abs(np.fft.rfft((a - a.mean()) * w)) * (2.0 / w.sum())
-
-
 def _kurtosis(y: np.ndarray) -> float:
     d = y - y.mean()
     v = float(np.mean(d * d))
@@ -139,7 +134,7 @@ def _sidebands(a: np.ndarray, fs: float, spec: StageSpec, fr: Any, skipped: list
                         f" must be >= {MIN_BINS / fc:.4g} s ({MIN_BINS} Hann bins per carrier "
                         f"order f_c = {fc:.4g} Hz)"})
         return None
-    amp = _amplitude(a)
+    amp = _hann_amplitude(a)
     out = []
     for m in range(1, HARMONICS + 1):
         if m * fm + SPAN * fc >= 0.5 * fs:

@@ -94,6 +94,14 @@ def _optional(module: str, name: str):
     return getattr(mod, name, None)
 
 
+def _tool(module: str, name: str, tier: str, skipped: list):
+    """:func:`_optional`, noting ``tier`` in ``skipped`` when it is None."""
+    f = _optional(module, name)
+    if f is None:
+        skipped.append({"tier": tier, "reason": f"gearsim.signals.{module} is not available"})
+    return f
+
+
 def _f(v: Any) -> float | None:
     """A finite float or None."""
     try:
@@ -553,10 +561,8 @@ def _spectrum_tier(a: np.ndarray, fs: float | None,
 
 
 def _kurtogram(a: np.ndarray, fs: float | None, skipped: list) -> dict | None:
-    fk = _optional("kurtogram", "fast_kurtogram")
+    fk = _tool("kurtogram", "fast_kurtogram", "spectrum.kurtogram", skipped)
     if fk is None:
-        skipped.append({"tier": "spectrum.kurtogram",
-                        "reason": "gearsim.signals.kurtogram is not available"})
         return None
     try:
         res = fk(a, fs if fs is not None else 1.0)
@@ -682,11 +688,8 @@ def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
         i = lo + int(np.argmax(amp[lo:hi + 1])) if hi >= lo else int(round(f / df))
         rows.append({"order": k, "frequency_hz": float(i * df), "amplitude": float(amp[i])})
     out["orders"] = rows
-    env = _optional("envelope", "envelope_spectrum")
-    if env is None:
-        skipped.append({"tier": "shaft.envelope",
-                        "reason": "gearsim.signals.envelope is not available"})
-    else:
+    env = _tool("envelope", "envelope_spectrum", "shaft.envelope", skipped)
+    if env is not None:
         try:
             es = env(a, fs)
             ef = np.asarray(es.frequency, dtype=float)
@@ -701,11 +704,8 @@ def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
             out["envelope"] = {"orders": erows}
         except (InputError, AttributeError, TypeError) as exc:
             skipped.append({"tier": "shaft.envelope", "reason": _first_line(exc)})
-    cep = _optional("cepstrum", "real_cepstrum")
-    if cep is None:
-        skipped.append({"tier": "shaft.cepstrum",
-                        "reason": "gearsim.signals.cepstrum is not available"})
-    else:
+    cep = _tool("cepstrum", "real_cepstrum", "shaft.cepstrum", skipped)
+    if cep is not None:
         try:
             c = cep(a, fs)
             q = np.asarray(getattr(c, "quefrency", None) if not isinstance(c, tuple)
@@ -723,11 +723,8 @@ def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
                                 "reason": "record shorter than 1.2 shaft periods"})
         except (InputError, TypeError, ValueError) as exc:
             skipped.append({"tier": "shaft.cepstrum", "reason": _first_line(exc)})
-    per = _optional("periodicity", "impact_periodicity")
-    if per is None:
-        skipped.append({"tier": "shaft.periodicity",
-                        "reason": "gearsim.signals.periodicity is not available"})
-    else:
+    per = _tool("periodicity", "impact_periodicity", "shaft.periodicity", skipped)
+    if per is not None:
         try:
             res = per(a, fs, frequency=f_r)
             out["periodicity"] = {"verdict": str(res.verdict), "p_value": _f(res.p_value),
@@ -828,10 +825,8 @@ def _gear_indicators(full, teeth, skipped) -> dict | None:
 
 
 def _demodulation(a, fs, full, skipped) -> dict | None:
-    dem = _optional("demodulation", "demodulate_tsa")
+    dem = _tool("demodulation", "demodulate_tsa", "gear.demodulation", skipped)
     if dem is None:
-        skipped.append({"tier": "gear.demodulation",
-                        "reason": "gearsim.signals.demodulation is not available"})
         return None
     try:
         d = dem(full.tsa, teeth=full.kinematics.teeth[0], harmonic=1,

@@ -76,6 +76,15 @@ __all__ = [
 ]
 
 
+def _order_amplitudes(y: np.ndarray) -> np.ndarray:
+    """Peak amplitude per DFT bin of ``y`` (rectangular window), halved at 0 and Nyquist."""
+    a = np.abs(scipy.fft.rfft(y)) * (2.0 / y.size)
+    a[0] *= 0.5
+    if y.size % 2 == 0:
+        a[-1] *= 0.5
+    return a
+
+
 @dataclass(frozen=True)
 class TSA:
     """Time-synchronous average over one revolution (built by :func:`tsa`).
@@ -118,11 +127,7 @@ class TSA:
         >>> round(float(t.order_amplitudes()[10]), 6)
         3.0
         """
-        a = np.abs(scipy.fft.rfft(self.average)) * (2.0 / self.average.size)
-        a[0] *= 0.5
-        if self.average.size % 2 == 0:
-            a[-1] *= 0.5
-        return a
+        return _order_amplitudes(self.average)
 
 
 def pulse_times(tacho: np.ndarray, fs: float, *, threshold: float | None = None) -> np.ndarray:
@@ -750,6 +755,26 @@ def m8a(d: np.ndarray) -> float:
     return _moment_ratio(d, 8, "difference")
 
 
+def _history_kurtosis(records: Sequence[np.ndarray], name: str, what: str, needs: str) -> float:
+    """Kurtosis of the last record over the squared run-average variance (NA4, NB4).
+
+    ``name`` names the argument (``"residuals"``), ``what`` one record (``"residual"``)
+    and ``needs`` starts the zero-variance message (``"NA4 needs a residual"``).
+    """
+    rs = [as_signal(r, name=f"{name}[{j}]") for j, r in enumerate(records)]
+    if not rs:
+        raise InputError(name, "[]", f"must hold at least the current {what}")
+    n = rs[-1].size
+    for j, r in enumerate(rs):
+        if r.size != n:
+            raise InputError(f"{name}[{j}].length", r.size, f"must equal {n} (current record)")
+    var = np.mean([np.mean((r - r.mean()) ** 2) for r in rs])
+    if var == 0.0:
+        raise InputError(name, "zero variance", f"{needs} with variance > 0")
+    c = rs[-1] - rs[-1].mean()
+    return float(np.mean(c**4) / var**2)
+
+
 def na4(residuals: Sequence[np.ndarray]) -> float:
     r"""NA4 of the last residual normalised by the run-average residual variance.
 
@@ -794,18 +819,7 @@ def na4(residuals: Sequence[np.ndarray]) -> float:
     >>> round(na4([r]), 6), round(na4([2 * r, r]), 6)
     (1.5, 0.24)
     """
-    rs = [as_signal(r, name=f"residuals[{j}]") for j, r in enumerate(residuals)]
-    if not rs:
-        raise InputError("residuals", "[]", "must hold at least the current residual")
-    n = rs[-1].size
-    for j, r in enumerate(rs):
-        if r.size != n:
-            raise InputError(f"residuals[{j}].length", r.size, f"must equal {n} (current record)")
-    var = np.mean([np.mean((r - r.mean()) ** 2) for r in rs])
-    if var == 0.0:
-        raise InputError("residuals", "zero variance", "NA4 needs a residual with variance > 0")
-    c = rs[-1] - rs[-1].mean()
-    return float(np.mean(c**4) / var**2)
+    return _history_kurtosis(residuals, "residuals", "residual", "NA4 needs a residual")
 
 
 @dataclass(frozen=True)

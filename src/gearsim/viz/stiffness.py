@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -55,6 +55,18 @@ def plot(ts: TrainStiffness, mesh: int | None = None, *, ax: Axes | None = None,
     return plot_mesh_tvms(ts, mesh, ax=ax)
 
 
+def _tvms_panel(ax: Axes, pair: Any, r: Any, **line: Any) -> None:
+    """Draw the TVMS ``r`` of mesh ``pair`` against its driver's rotation, labelled.
+
+    ``line`` goes to ``ax.plot`` (``label``, ``color``).
+    """
+    ax.plot(np.degrees(r.theta1), r.k / 1e9, lw=1.0, **line)
+    ax.set_xlabel(f"rotation of {pair.driver.name} [deg]")
+    ax.set_ylabel("mesh stiffness [GN/m]")
+    ax.set_title(f"mesh {pair.name}: {pair.driver.name} -> {pair.driven.name}")
+    ax.legend(loc="lower right")
+
+
 @styled
 def plot_train_stiffness(ts: TrainStiffness, *, fig: Figure | None = None) -> Figure:
     """TVMS of every mesh over one revolution of its driver, with the load sharing.
@@ -76,12 +88,7 @@ def plot_train_stiffness(ts: TrainStiffness, *, fig: Figure | None = None) -> Fi
     axes = fig.subplots(n, 2, squeeze=False)
     for i, pair in enumerate(ts.train.pairs):
         r = ts.results[(i, 1)]
-        ax = axes[i, 0]
-        ax.plot(np.degrees(r.theta1), r.k / 1e9, lw=1.0, label="total")
-        ax.set_xlabel(f"rotation of {pair.driver.name} [deg]")
-        ax.set_ylabel("mesh stiffness [GN/m]")
-        ax.set_title(f"mesh {pair.name}: {pair.driver.name} -> {pair.driven.name}")
-        ax.legend(loc="lower right")
+        _tvms_panel(axes[i, 0], pair, r, label="total")
         ax = axes[i, 1]
         npc = r.attrs["positions_per_cycle"]
         sel = slice(0, 3 * npc)
@@ -130,12 +137,7 @@ def plot_mesh_tvms(ts: TrainStiffness, mesh: int = 0, *, label: str | None = Non
     fig, ax = figure_and_axes(ax, 10, 4)
     pair = ts.train.pairs[mesh]
     r = ts.results[(mesh, 1)]
-    ax.plot(np.degrees(r.theta1), r.k / 1e9, lw=1.0, color=color,
-            label=ts.train.name if label is None else label)
-    ax.set_xlabel(f"rotation of {pair.driver.name} [deg]")
-    ax.set_ylabel("mesh stiffness [GN/m]")
-    ax.set_title(f"mesh {pair.name}: {pair.driver.name} -> {pair.driven.name}")
-    ax.legend(loc="lower right")
+    _tvms_panel(ax, pair, r, color=color, label=ts.train.name if label is None else label)
     return fig
 
 

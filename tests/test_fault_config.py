@@ -123,6 +123,13 @@ def _bad(tmp_path, extra: str):
      "< 19"),
     ('[[faults]]\nkind = "spall"\ngear = "pinion"\nradius = "30.4 mm"\nlength = "-2 mm"\n'
      'width = "4 mm"\ndepth = "0.1 mm"\n', "faults[0].length", "> 0"),
+    # a size left out (was an internal TypeError)
+    ('[[faults]]\nkind = "spall"\ngear = "pinion"\nlength = "2 mm"\nwidth = "4 mm"\n'
+     'depth = "0.1 mm"\n', "faults[0].radius = missing", "a spall needs radius"),
+    ('[[faults]]\nkind = "pitting"\ngear = "pinion"\narea_fraction = 0.2\n',
+     "faults[0].radius_min = missing", "a pitting needs radius_min, radius_max"),
+    ('[[faults]]\nkind = "chip"\ngear = "pinion"\n', "faults[0].length = missing",
+     "a chip needs length, width"),
 ])
 def test_bad_faults_exit_2_naming_the_entry(tmp_path, capsys, extra, parameter, words):
     p = _bad(tmp_path, extra)

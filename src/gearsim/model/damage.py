@@ -11,7 +11,7 @@ from typing import Any
 from gearsim.errors import InputError
 from gearsim.sections import as_written, convert
 from gearsim.stiffness.crack import Crack
-from gearsim.stiffness.faults import FAULT_KINDS, fault_from_kind
+from gearsim.stiffness.faults import FAULT_KINDS, fault_from_kind, required_fields
 
 __all__ = ["CRACK_KEYS", "FAULT_FIELDS", "FAULT_KEYS", "array_of_tables", "parse_cracks",
            "parse_faults"]
@@ -97,6 +97,10 @@ def parse_faults(raw: Any, table: str = "faults") -> tuple:
                                  f"allowed: kind, {', '.join(FAULT_FIELDS[kind])}")
         if "gear" not in kw:
             raise InputError(f"{name}.gear", "missing", "name the damaged gear")
+        missing = [k for k in required_fields(kind) if k not in kw]
+        if missing:
+            raise InputError(f"{name}.{missing[0]}", "missing", f"a {kind} needs "
+                             + ", ".join(missing))
         for key in ("radii", "depths"):
             if key in kw and not isinstance(kw[key], tuple):
                 kw[key] = (kw[key],)

@@ -43,6 +43,7 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import numbers
 from dataclasses import dataclass, field
@@ -62,6 +63,7 @@ __all__ = [
     "Pitting",
     "Spall",
     "Wear",
+    "required_fields",
     "fault_from_kind",
 ]
 
@@ -503,6 +505,28 @@ Fault = Spall | Pitting | ChippedTip | BrokenTooth | Wear
 
 _CLASSES = {"spall": Spall, "pitting": Pitting, "chip": ChippedTip, "broken": BrokenTooth,
             "wear": Wear}
+
+
+def required_fields(kind: str) -> tuple[str, ...]:
+    """The fields a fault of ``kind`` must be given (those without a default).
+
+    Parameters
+    ----------
+    kind : str
+        One of :data:`FAULT_KINDS`.
+
+    Returns
+    -------
+    tuple of str
+
+    Examples
+    --------
+    >>> required_fields("spall")
+    ('gear', 'radius', 'length', 'width', 'depth')
+    """
+    return tuple(f.name for f in dataclasses.fields(_CLASSES[kind])
+                 if f.default is dataclasses.MISSING
+                 and f.default_factory is dataclasses.MISSING)
 
 
 def fault_from_kind(kind: str, **kw) -> Fault:

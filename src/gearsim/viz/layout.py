@@ -13,7 +13,7 @@ from gearsim.viz.style import figure_or_new, styled
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
-__all__ = ["axial_stations", "plot_layout"]
+__all__ = ["axial_stations", "developed_heights", "plot_layout"]
 
 
 def _chain(ax, shafts, gears, meshes) -> None:
@@ -79,11 +79,47 @@ def axial_stations(gears: Sequence[tuple[str, int, float, int]],
     return {g: where[g] for g, *_ in gears}
 
 
+def developed_heights(shafts: Sequence[tuple[str, tuple[float, float]]],
+                      gears: Sequence[tuple[str, int, float, int]],
+                      meshes: Sequence[tuple[str, str, str]]) -> list[float]:
+    """Height of each shaft in the developed side view [m]: the input at 0, each driven
+    shaft its centre distance beyond its driver's, back where the centre line points
+    back along the first one (x < 0: a reverted train's output on the input axis).
+
+    Parameters
+    ----------
+    shafts, gears, meshes
+        As :func:`plot_layout` (shaft centres [m] in the plan, meshes in power-flow order).
+
+    Returns
+    -------
+    list of float
+        One height per shaft; a shaft the meshes do not reach keeps its plan x.
+
+    Examples
+    --------
+    >>> sh = [("a", (0.0, 0.0)), ("b", (0.1, 0.0)), ("c", (0.1, 0.2))]
+    >>> g = [("p", 0, 0.02, 20), ("q", 1, 0.08, 80), ("r", 1, 0.05, 30), ("t", 2, 0.15, 90)]
+    >>> developed_heights(sh, g, [("p", "q", "I"), ("r", "t", "II")])
+    [0.0, 0.1, 0.30000000000000004]
+    """
+    shaft_of = {g: s_i for g, s_i, _, _ in gears}
+    c = [np.asarray(xy, dtype=float) for _, xy in shafts]
+    h: dict[int, float] = {shaft_of[meshes[0][0]]: 0.0} if meshes else {}
+    for a, b, _ in meshes:
+        i, j = shaft_of[a], shaft_of[b]
+        d = c[j] - c[i]
+        dist = float(np.hypot(*d))
+        h.setdefault(j, h.get(i, float(c[i][0])) + (-dist if d[0] < -1e-9 * dist else dist))
+    return [h.get(k, float(c[k][0])) for k in range(len(shafts))]
+
+
 def _side(ax, shafts, gears, meshes) -> None:
-    """Side view: shafts as lines at their plan x along the axis, gears as bars of their
-    pitch diameter at their axial stations, mesh labels at the pitch points (mm)."""
+    """Side view: shafts as lines at their developed heights (:func:`developed_heights`),
+    gears as bars of their pitch diameter at their axial stations, mesh labels at the
+    pitch points (mm)."""
     mm = 1e3
-    x = {k: c[0] * mm for k, (_, c) in enumerate(shafts)}
+    x = {k: v * mm for k, v in enumerate(developed_heights(shafts, gears, meshes))}
     station = axial_stations(gears, meshes)
     shaft_of = {g: s_i for g, s_i, _, _ in gears}
     partner = {a: b for a, b, _ in meshes} | {b: a for a, b, _ in reversed(meshes)}
@@ -108,7 +144,7 @@ def _side(ax, shafts, gears, meshes) -> None:
     ax.set_xlim(-1.2, max(station.values(), default=0) + 1.3)
     ax.set_xticks(sorted(set(station.values())))
     ax.set_xlabel("axial station (gear plane)")
-    ax.set_ylabel("x [mm]")
+    ax.set_ylabel("developed centre distance [mm]")
     ax.grid(alpha=0.3)
 
 
@@ -137,9 +173,10 @@ def plot_layout(shafts: Sequence[tuple[str, tuple[float, float]]],
 
     Plan view (top): each gear a pitch circle on its shaft, gears on one shaft concentric
     (they sit at different axial positions), each mesh a link between its two gears'
-    centres labelled with its name. Side view (below it): each shaft a line at its plan
-    x, each gear a bar of its pitch diameter in its plane (:func:`axial_stations`), so
-    coaxial shafts and the gears of a compound shaft stand apart. A planetary stage is
+    centres labelled with its name. Side view (below it), developed into one plane: each
+    shaft a line at its distance along the power path (:func:`developed_heights`), each
+    gear a bar of its pitch diameter in its plane (:func:`axial_stations`), so coaxial
+    shafts and the gears of a compound shaft stand apart. A planetary stage is
     drawn in a panel of its own (sun, planets on the carrier circle, ring), in
     power-flow order between the parallel shafts that drive it and those it drives.
 

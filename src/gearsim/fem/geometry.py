@@ -470,7 +470,7 @@ def _check_crack(outer: np.ndarray, cl: CrackLine, half: np.ndarray) -> None:
                          "not model (its crack is a straight slit on one side); reduce the "
                          "depth or the angle, or leave the FE route out (the potential-"
                          "energy model takes the crack up to tooth loss)")
-    if not _inside(outer, tp):
+    if not point_in_polygon(np.vstack([outer, [[0.0, 0.0]]]), tp):  # the region below outer
         ang = math.degrees(math.atan2(abs(s[0] - tp[0]), s[1] - tp[1]))
         raise InputError("crack.angle", f"{ang:.4g} deg",
                          "the crack tip lies outside the tooth material; the crack must run "
@@ -492,10 +492,9 @@ def _check_crack(outer: np.ndarray, cl: CrackLine, half: np.ndarray) -> None:
                          "the crack tip reaches the tooth outline (tooth cut off)")
 
 
-def _inside(poly: np.ndarray, pt: np.ndarray) -> bool:
-    """Point in the region below the outer outline ``poly`` (ray casting, even-odd)."""
-    closed = np.vstack([poly, [[0.0, 0.0]]])
-    x, y = closed[:, 0], closed[:, 1]
+def point_in_polygon(poly: np.ndarray, pt: np.ndarray) -> bool:
+    """Even-odd point-in-polygon test (ray casting) of ``pt`` in ``poly``, shape (n, 2)."""
+    x, y = poly[:, 0], poly[:, 1]
     xn, yn = np.roll(x, -1), np.roll(y, -1)
     cond = (y > pt[1]) != (yn > pt[1])
     with np.errstate(divide="ignore", invalid="ignore"):

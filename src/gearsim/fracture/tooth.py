@@ -45,6 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gearsim.errors import InputError, require
+from gearsim.fem.geometry import point_in_polygon
 from gearsim.fem.solve import ElasticModel, plane_lame
 from gearsim.fem.tooth import PATCH_HALF_LENGTH, load_geometry
 from gearsim.fracture.contact import closed_crack_intensity
@@ -534,16 +535,6 @@ def fillet_stress(gear: Gear, radius: float, *, force: float = 1e5,
     return float(tan @ sig @ tan)
 
 
-def _inside(poly: np.ndarray, pt: np.ndarray) -> bool:
-    """Even-odd point-in-polygon test."""
-    x, y = poly[:, 0], poly[:, 1]
-    xn, yn = np.roll(x, -1), np.roll(y, -1)
-    cond = (y > pt[1]) != (yn > pt[1])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        xc = x + (pt[1] - y) * (xn - x) / (yn - y)
-    return bool(np.count_nonzero(cond & (pt[0] < xc)) % 2 == 1)
-
-
 def _web_clearance(gear: Gear, poly: np.ndarray, crack: CrackPath,
                    bore_radius: float | None, web: RimWeb | None) -> float:
     """Distance from the tip to the outline and, with a web, to the rim's inner circle."""
@@ -804,7 +795,7 @@ def grow_crack(gear: Gear, crack: CrackPath, radius: float, increment: float,
     new = tip + increment * kinked_direction(d, res.sif.k1, res.sif.k2)
     grown = CrackPath(points=(*crack.points, (float(new[0]), float(new[1]))), tips=crack.tips)
     left = float(_dist_to_segments(new, poly, np.roll(poly, -1, axis=0)).min())
-    if not (_inside(poly, new) and left > 0.25 * increment):
+    if not (point_in_polygon(poly, new) and left > 0.25 * increment):
         raise InputError("crack.path", f"tip at {tuple(np.round(new * 1e3, 4))} mm",
                          "the grown crack leaves the body or reaches its outline: the tooth "
                          "(or rim) is broken at this increment")

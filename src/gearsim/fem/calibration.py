@@ -98,8 +98,6 @@ References
 from __future__ import annotations
 
 import contextlib
-import hashlib
-import json
 import math
 import warnings
 import zipfile
@@ -122,6 +120,8 @@ from gearsim.fem.tables import (
     CACHE_VERSION,
     DEFAULT_LEVEL,
     NODES,
+    _cache_key,
+    _gear_key,
     _level_for,
     _write_npz,
     cache_dir,
@@ -207,14 +207,9 @@ def calibration_dir() -> Path:
 
 
 def _key_doc(gear: Gear, plane: str, level: int, gauss_points: int) -> dict:
-    g = gear
     return {
         "kind": "calibration", "v": CALIBRATION_VERSION, "fe_tables": CACHE_VERSION,
-        "gearsim": __version__,
-        "gear": [g.teeth, g.normal_module, g.normal_pressure_angle, abs(g.helix_angle),
-                 g.addendum_coefficient, g.dedendum_coefficient, g.fillet_radius_coefficient,
-                 g.profile_shift, g.bore_radius_value, g.material.youngs_modulus,
-                 g.material.poisson_ratio],
+        "gearsim": __version__, "gear": _gear_key(gear),
         "plane": plane, "level": level, "gauss_points": gauss_points,
     }
 
@@ -241,9 +236,7 @@ def calibration_key(gear: Gear, *, plane: str = "stress", level: int = DEFAULT_L
         geometry, material, plane, level, Gauss points, versions (FE tables, calibration,
         gearsim).
     """
-    text = json.dumps(_key_doc(gear, plane, level, gauss_points), sort_keys=True,
-                      default=repr)
-    return hashlib.sha256(text.encode()).hexdigest()[:32], text
+    return _cache_key(_key_doc(gear, plane, level, gauss_points))
 
 
 def _entry(path: Path, doc: str, nodes: np.ndarray, names: tuple[str, ...]
@@ -393,8 +386,7 @@ def crack_correction_key(gear: Gear, crack: Crack, side: int, *, closure: str = 
     doc.update(kind="crack-correction", v=CRACK_CORRECTION_VERSION,
                crack={"angle": crack.angle, "start_radius": crack.start_radius,
                       "side": int(side), "closure": closure, "grid": list(CRACK_GRID)})
-    text = json.dumps(doc, sort_keys=True, default=repr)
-    return hashlib.sha256(text.encode()).hexdigest()[:32], text
+    return _cache_key(doc)
 
 
 def _read_crack(path: Path, doc: str, nodes: np.ndarray, depths: np.ndarray
@@ -945,9 +937,7 @@ def ring_calibration_key(ring: RingGear, material: Material, *, plane: str = "st
         The first 32 hex digits of the SHA-256 of ``document`` (JSON of the ring geometry,
         material, plane, level, Gauss points, FE segment and versions) and ``document``.
     """
-    text = json.dumps(_ring_doc(ring, material, plane, level, gauss_points), sort_keys=True,
-                      default=repr)
-    return hashlib.sha256(text.encode()).hexdigest()[:32], text
+    return _cache_key(_ring_doc(ring, material, plane, level, gauss_points))
 
 
 def _read_ring(path: Path, doc: str, nodes: np.ndarray, beam: np.ndarray

@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gearsim.errors import InputError
-from gearsim.fem.geometry import gmsh_session
+from gearsim.fem.geometry import drop_unused_nodes, gmsh_session
 from gearsim.fem.solve import ElasticModel
 
 __all__ = ["CantileverResult", "cantilever_exact", "convergence_rate", "solve_cantilever",
@@ -191,10 +191,8 @@ def _rectangle(length: float, depth: float, h: float) -> tuple[np.ndarray, np.nd
         et, _, en = gmsh.model.mesh.getElements(2)
         tri = index[en[list(et).index(2)].astype(np.int64)].reshape(-1, 3)
         xy = coords.reshape(-1, 3)[:, :2]
-    used = np.unique(tri)
-    renum = np.full(xy.shape[0], -1, dtype=np.int64)
-    renum[used] = np.arange(used.size)
-    return xy[used].T.copy(), renum[tri].T.copy()
+    p, t, _ = drop_unused_nodes(xy, tri)
+    return p, t
 
 
 def solve_cantilever(*, length: float = 0.05, depth: float = 0.01, h: float = 1e-3,

@@ -39,14 +39,18 @@ References
 
 from __future__ import annotations
 
-import hashlib
-import json
-
 import numpy as np
 
 from gearsim.errors import require
 from gearsim.fem.geometry import SectorOptions, mesh_sector
-from gearsim.fem.tables import DEFAULT_LEVEL, _write_npz, cache_dir, fe_nodes
+from gearsim.fem.tables import (
+    DEFAULT_LEVEL,
+    _cache_key,
+    _gear_key,
+    _write_npz,
+    cache_dir,
+    fe_nodes,
+)
 from gearsim.fem.tooth import flank_loads, neighbour_cross
 from gearsim.geometry.gear import Gear
 
@@ -58,17 +62,11 @@ COUPLING_VERSION = 2
 
 
 def _key(gear: Gear, plane: str, level: int) -> str:
-    g = gear
     doc = {
-        "kind": "coupling", "v": COUPLING_VERSION,
-        "gear": [g.teeth, g.normal_module, g.normal_pressure_angle, abs(g.helix_angle),
-                 g.addendum_coefficient, g.dedendum_coefficient, g.fillet_radius_coefficient,
-                 g.profile_shift, g.bore_radius_value, g.material.youngs_modulus,
-                 g.material.poisson_ratio],
-        "plane": plane, "level": level, "nodes": fe_nodes(g).tolist(),
+        "kind": "coupling", "v": COUPLING_VERSION, "gear": _gear_key(gear),
+        "plane": plane, "level": level, "nodes": fe_nodes(gear).tolist(),
     }
-    text = json.dumps(doc, sort_keys=True, default=repr)
-    return hashlib.sha256(text.encode()).hexdigest()[:32]
+    return _cache_key(doc)[0]
 
 
 def fe_neighbour_coupling(gear: Gear, *, plane: str = "stress", level: int = DEFAULT_LEVEL,

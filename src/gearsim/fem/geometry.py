@@ -470,7 +470,7 @@ def _check_crack(outer: np.ndarray, cl: CrackLine, half: np.ndarray) -> None:
                          "not model (its crack is a straight slit on one side); reduce the "
                          "depth or the angle, or leave the FE route out (the potential-"
                          "energy model takes the crack up to tooth loss)")
-    if not _inside(outer, tp):
+    if not point_in_polygon(np.vstack([outer, [[0.0, 0.0]]]), tp):  # the region below outer
         ang = math.degrees(math.atan2(abs(s[0] - tp[0]), s[1] - tp[1]))
         raise InputError("crack.angle", f"{ang:.4g} deg",
                          "the crack tip lies outside the tooth material; the crack must run "
@@ -492,10 +492,9 @@ def _check_crack(outer: np.ndarray, cl: CrackLine, half: np.ndarray) -> None:
                          "the crack tip reaches the tooth outline (tooth cut off)")
 
 
-def _inside(poly: np.ndarray, pt: np.ndarray) -> bool:
-    """Point in the region below the outer outline ``poly`` (ray casting, even-odd)."""
-    closed = np.vstack([poly, [[0.0, 0.0]]])
-    x, y = closed[:, 0], closed[:, 1]
+def point_in_polygon(poly: np.ndarray, pt: np.ndarray) -> bool:
+    """Even-odd point-in-polygon test (ray casting) of ``pt`` in ``poly``, shape (n, 2)."""
+    x, y = poly[:, 0], poly[:, 1]
     xn, yn = np.roll(x, -1), np.roll(y, -1)
     cond = (y > pt[1]) != (yn > pt[1])
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -598,6 +597,54 @@ def distance_threshold(gmsh, *, size: tuple[float, float], distance: tuple[float
     fld.setNumber(thr, "DistMin", distance[0])
     fld.setNumber(thr, "DistMax", distance[1])
     return thr
+
+
+def generate_sized(gmsh, fields: int | list[int], *, lc_precision: float | None = None
+                   ) -> None:
+    """Mesh the model in 2D, element sizes from the field ``fields`` (a list: their Min).
+
+    Sizes from points, curvature and boundary off, gmsh algorithm 6; ``lc_precision``
+    sets ``Mesh.LcIntegrationPrecision`` for the generation (the 1D size integration is
+    slow at the default 1e-9 with a steep field).
+    """
+    fld = gmsh.model.mesh.field
+    if isinstance(fields, list):
+        mn = fld.add("Min")
+        fld.setNumbers(mn, "FieldsList", fields)
+        fields = mn
+    fld.setAsBackgroundMesh(fields)
+    gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+    gmsh.option.setNumber("Mesh.Algorithm", 6)
+    if lc_precision is None:
+        gmsh.model.mesh.generate(2)
+        return
+    precision = gmsh.option.getNumber("Mesh.LcIntegrationPrecision")
+    gmsh.option.setNumber("Mesh.LcIntegrationPrecision", lc_precision)
+    try:
+        gmsh.model.mesh.generate(2)
+    finally:
+        gmsh.option.setNumber("Mesh.LcIntegrationPrecision", precision)
+
+
+def drop_unused_nodes(xy: np.ndarray, tri: np.ndarray
+                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``p`` (2, k), ``t`` (3, m) without the nodes no triangle uses, and ``renum``.
+
+    ``xy`` (n, 2) and ``tri`` (m, 3) as :func:`gmsh_triangles` gives them; ``renum`` is
+    the new index of each row of ``xy``, -1 for a dropped node (e.g. an arc centre).
+    """
+    used = np.unique(tri)
+    renum = np.full(xy.shape[0], -1, dtype=np.int64)
+    renum[used] = np.arange(used.size)
+    return xy[used].T.copy(), renum[tri].T.copy(), renum
+
+
+def kept_nodes(renum: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """New indices of the node ``rows`` that :func:`drop_unused_nodes` kept."""
+    r = renum[rows]
+    return r[r >= 0]
 
 
 def gmsh_nodes_on(gmsh, index: np.ndarray, dim: int, tags: list[int]) -> np.ndarray:
@@ -926,7 +973,6 @@ def _mesh(gear: Gear, half: np.ndarray, outer: np.ndarray, crack: CrackLine | No
             geo.synchronize()
             gmsh.model.mesh.embed(1, [crack_curve], 2, surf)
         # size field: distance from the middle tooth (and the crack)
-        fld = gmsh.model.mesh.field
         near = middle + refined_curves + ([crack_curve] if crack is not None else [])
         thr = distance_threshold(gmsh, curves=near, sampling=200, size=(h, h_max),
                                  distance=(0.5 * mod, 0.5 * mod + (h_max - h) / opt.growth))
@@ -943,22 +989,7 @@ def _mesh(gear: Gear, half: np.ndarray, outer: np.ndarray, crack: CrackLine | No
                 gmsh, curves=inv_curves, sampling=max(200, int(math.ceil(4.0 * mod / refine.size))),
                 size=(refine.size, h_max), distance=(0.0, (h_max - refine.size) / refine.growth))
             fields.append(tflank)
-        mn = fld.add("Min")
-        fld.setNumbers(mn, "FieldsList", fields)
-        fld.setAsBackgroundMesh(mn)
-        gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-        gmsh.option.setNumber("Mesh.Algorithm", 6)
-        if refine is None:
-            gmsh.model.mesh.generate(2)
-        else:  # the 1D size integration is slow at the default 1e-9 with a steep field
-            precision = gmsh.option.getNumber("Mesh.LcIntegrationPrecision")
-            gmsh.option.setNumber("Mesh.LcIntegrationPrecision", 1e-4)
-            try:
-                gmsh.model.mesh.generate(2)
-            finally:
-                gmsh.option.setNumber("Mesh.LcIntegrationPrecision", precision)
+        generate_sized(gmsh, fields, lc_precision=None if refine is None else 1e-4)
         xy, index, tri = gmsh_triangles(gmsh, surf, f"{gear.name}.geometry", "sector")
 
         def nodes_on(dim: int, tags_: list[int]) -> np.ndarray:
@@ -973,20 +1004,13 @@ def _mesh(gear: Gear, half: np.ndarray, outer: np.ndarray, crack: CrackLine | No
             et, _, en = gmsh.model.mesh.getElements(1, crack_curve)
             crack_edges = index[np.concatenate(en).astype(np.int64)].reshape(-1, 2)
     # drop nodes not used by triangles (e.g. the arc centre), renumber
-    used = np.unique(tri)
-    renum = np.full(xy.shape[0], -1, dtype=np.int64)
-    renum[used] = np.arange(used.size)
-    p = xy[used].T.copy()
-    t = renum[tri].T.copy()
-
-    def keep(a: np.ndarray) -> np.ndarray:
-        r = renum[a]
-        return r[r >= 0]
-
-    out = SectorMesh(p=p, t=t, bore=keep(bore_nodes), sides=keep(side_nodes),
-                     flank=keep(flank_nodes), crack_pairs=np.zeros((2, 0), dtype=np.int64),
+    p, t, renum = drop_unused_nodes(xy, tri)
+    out = SectorMesh(p=p, t=t, bore=kept_nodes(renum, bore_nodes),
+                     sides=kept_nodes(renum, side_nodes), flank=kept_nodes(renum, flank_nodes),
+                     crack_pairs=np.zeros((2, 0), dtype=np.int64),
                      crack_edges=np.zeros((2, 0), dtype=np.int64), crack=crack, h=h,
-                     level=opt.level, parts={key: keep(a) for key, a in part_nodes.items()})
+                     level=opt.level,
+                     parts={key: kept_nodes(renum, a) for key, a in part_nodes.items()})
     if crack is not None:
         edges = renum[crack_edges].T
         p2, t2, pairs, dup = split_along_crack(p, t, edges, crack)

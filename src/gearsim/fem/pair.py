@@ -100,8 +100,12 @@ from gearsim.fem.geometry import (
     SectorOptions,
     crack_line,
     distance_threshold,
+    drop_unused_nodes,
     element_size,
+    generate_sized,
+    gmsh_nodes_on,
     gmsh_session,
+    kept_nodes,
     mesh_sector,
 )
 from gearsim.fem.solve import ElasticModel, plane_lame
@@ -1499,39 +1503,20 @@ def _mesh_disc(radius: float, bore: float, contact_y: float, h_contact: float,
         surf = geo.addPlaneSurface([geo.addCurveLoop(rim), geo.addCurveLoop(bcs)])
         geo.synchronize()
         target = rim_pts[0] if contact_y > 0 else rim_pts[2]
-        fld = gmsh.model.mesh.field
         thr = distance_threshold(gmsh, points=[target], size=(h_contact, h_max),
                                  distance=(20.0 * h_contact,
                                            20.0 * h_contact + (h_max - h_contact) / growth))
-        fld.setAsBackgroundMesh(thr)
-        gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-        gmsh.option.setNumber("Mesh.Algorithm", 6)
-        precision = gmsh.option.getNumber("Mesh.LcIntegrationPrecision")
-        gmsh.option.setNumber("Mesh.LcIntegrationPrecision", 1e-4)
-        try:
-            gmsh.model.mesh.generate(2)
-        finally:
-            gmsh.option.setNumber("Mesh.LcIntegrationPrecision", precision)
+        generate_sized(gmsh, thr, lc_precision=1e-4)
         tags, coords, _ = gmsh.model.mesh.getNodes()
         xy = coords.reshape(-1, 3)[:, :2]
         index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
         index[tags.astype(np.int64)] = np.arange(tags.size)
         etypes, _, enodes = gmsh.model.mesh.getElements(2, surf)
         tri = index[enodes[list(etypes).index(2)].astype(np.int64)].reshape(-1, 3)
-
-        def nodes_on(tags_):
-            return np.unique(np.concatenate([
-                index[gmsh.model.mesh.getNodes(1, tg, includeBoundary=True)[0].astype(np.int64)]
-                for tg in tags_]))
-
-        bore_nodes, rim_nodes = nodes_on(bcs), nodes_on(rim)
-    used = np.unique(tri)
-    renum = np.full(xy.shape[0], -1, dtype=np.int64)
-    renum[used] = np.arange(used.size)
-    keep = lambda a: renum[a][renum[a] >= 0]  # noqa: E731
-    return xy[used].T.copy(), renum[tri].T.copy(), keep(bore_nodes), keep(rim_nodes)
+        bore_nodes = gmsh_nodes_on(gmsh, index, 1, bcs)
+        rim_nodes = gmsh_nodes_on(gmsh, index, 1, rim)
+    p, t, renum = drop_unused_nodes(xy, tri)
+    return p, t, kept_nodes(renum, bore_nodes), kept_nodes(renum, rim_nodes)
 
 
 def fe_cylinder_contact(radius1: float, radius2: float, load: float, *,

@@ -19,8 +19,6 @@ A cached table is returned in well under a second.
 
 from __future__ import annotations
 
-import hashlib
-import json
 import math
 import time
 from pathlib import Path
@@ -29,7 +27,7 @@ import numpy as np
 
 from gearsim.errors import require
 from gearsim.fem.pair import DEFAULT_LEVEL, FEPairModel, PairCrack
-from gearsim.fem.tables import _write_npz, cache_dir
+from gearsim.fem.tables import _cache_key, _write_npz, cache_dir
 from gearsim.geometry.pair import GearPair
 from gearsim.stiffness.mesh import MeshStiffness
 
@@ -52,8 +50,7 @@ def _key(pair: GearPair, torque: float, npc: int, level: int, plane: str,
            "driven": _gear_doc(pair.driven), "offset": pair.centre_distance_offset,
            "torque": torque, "positions": npc, "level": level, "plane": plane,
            "crack": crack_doc, "revolution_of": revolution_of if crack_doc else 0}
-    text = json.dumps(doc, sort_keys=True, default=repr)
-    return hashlib.sha256(text.encode()).hexdigest()[:32]
+    return _cache_key(doc)[0]
 
 
 def _label(c: int, tooth: int, z: int, teeth: tuple[int, ...]) -> int | None:

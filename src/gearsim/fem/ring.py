@@ -71,7 +71,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from gearsim.errors import InputError
-from gearsim.fem.geometry import distance_threshold, gmsh_nodes_on, gmsh_session, gmsh_triangles
+from gearsim.fem.geometry import (
+    distance_threshold,
+    drop_unused_nodes,
+    generate_sized,
+    gmsh_nodes_on,
+    gmsh_session,
+    gmsh_triangles,
+    kept_nodes,
+)
 from gearsim.fem.solve import ElasticModel
 from gearsim.fem.tooth import PATCH_HALF_LENGTH, bell_loads, deflection_along_load
 from gearsim.geometry.gear import inv
@@ -373,30 +381,18 @@ def mesh_ring_segment(ring: RingGear, *, rim_thickness: float, n_teeth: int, lev
         loop = geo.addCurveLoop(curves)
         surf = geo.addPlaneSurface([loop])
         geo.synchronize()
-        fld = gmsh.model.mesh.field
         thr = distance_threshold(gmsh, curves=middle, sampling=200,
                                  size=(h, h_max),
                                  distance=(0.5 * mod, 0.5 * mod + (h_max - h) / 0.3))
-        fld.setAsBackgroundMesh(thr)
-        gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-        gmsh.option.setNumber("Mesh.Algorithm", 6)
-        gmsh.model.mesh.generate(2)
+        generate_sized(gmsh, thr)
         xy, index, tri = gmsh_triangles(gmsh, surf, "ring.geometry", "segment")
         outer_nodes = gmsh_nodes_on(gmsh, index, 1, outer_curves)
         side_nodes = gmsh_nodes_on(gmsh, index, 1, side_curves)
         flank_nodes = gmsh_nodes_on(gmsh, index, 1, [flank_curve])
-    used = np.unique(tri)
-    renum = np.full(xy.shape[0], -1, dtype=np.int64)
-    renum[used] = np.arange(used.size)
-
-    def keep(a: np.ndarray) -> np.ndarray:
-        r = renum[a]
-        return r[r >= 0]
-
-    return RingSegmentMesh(p=xy[used].T.copy(), t=renum[tri].T.copy(), outer=keep(outer_nodes),
-                           sides=keep(side_nodes), flank=keep(flank_nodes), h=h,
+    p, t, renum = drop_unused_nodes(xy, tri)
+    return RingSegmentMesh(p=p, t=t, outer=kept_nodes(renum, outer_nodes),
+                           sides=kept_nodes(renum, side_nodes),
+                           flank=kept_nodes(renum, flank_nodes), h=h,
                            fillet_radius=rho_t, outer_radius=r_o)
 
 

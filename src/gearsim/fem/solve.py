@@ -452,3 +452,33 @@ class ElasticModel:
             act = new
         raise SimulationError(f"crack-face contact did not settle in "
                               f"{MAX_ACTIVE_SET_ITERATIONS} active-set iterations")
+
+
+def face_dof_pairs(model: ElasticModel, p: np.ndarray, pairs: np.ndarray, edges,
+                   dup: dict[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Dof pairs (k, 2, 2), face-length weights (k,) [m] and positions (k, 2) [m] of a crack.
+
+    ``pairs`` (2, n): the vertex on one face and its duplicate on the other; ``edges``:
+    (a, b) vertex pairs of the first face's edges, ``dup`` a vertex's duplicate. Weights:
+    1/6 per vertex and 4/6 at the midpoint of each edge's length for P2 (then a pair per
+    edge midpoint too), 1/2 per vertex for P1.
+    """
+    index = {int(a): i for i, a in enumerate(pairs[0])}
+    dofs = [(model.node_dofs(int(a)), model.node_dofs(int(b))) for a, b in pairs.T]
+    weights = [0.0] * len(dofs)
+    positions = [p[:, int(a)] for a in pairs[0]]
+    share = 1.0 / 6.0 if model.order == 2 else 0.5
+    for a, b in edges:
+        a, b = int(a), int(b)
+        length = float(np.hypot(*(p[:, a] - p[:, b])))
+        for nd in (a, b):
+            if nd in index:
+                weights[index[nd]] += share * length
+        if model.order == 2:
+            f1 = model.facet(a, b)
+            f2 = model.facet(dup.get(a, a), dup.get(b, b))
+            dofs.append((model.edge_dofs(f1), model.edge_dofs(f2)))
+            weights.append(4.0 / 6.0 * length)
+            positions.append(0.5 * (p[:, a] + p[:, b]))
+    return (np.array([[d1, d2] for d1, d2 in dofs], dtype=np.int64), np.asarray(weights),
+            np.asarray(positions))

@@ -58,22 +58,30 @@ def _level_for(gear: Gear, depth: float, level: int) -> int:
     return level
 
 
+def _gear_key(g: Gear) -> list:
+    """Geometry and material of a gear as the FE cache keys hold them."""
+    return [g.teeth, g.normal_module, g.normal_pressure_angle, abs(g.helix_angle),
+            g.addendum_coefficient, g.dedendum_coefficient, g.fillet_radius_coefficient,
+            g.profile_shift, g.bore_radius_value, g.material.youngs_modulus,
+            g.material.poisson_ratio]
+
+
+def _cache_key(doc: dict) -> tuple[str, str]:
+    """First 32 hex digits of the SHA-256 of ``doc`` as sorted JSON, and that JSON."""
+    text = json.dumps(doc, sort_keys=True, default=repr)
+    return hashlib.sha256(text.encode()).hexdigest()[:32], text
+
+
 def _key(gear: Gear, crack, depth: float, side: int, closure: str, plane: str,
          opt: SectorOptions) -> str:
-    g = gear
     doc = {
-        "v": CACHE_VERSION, "nodes": NODES,
-        "gear": [g.teeth, g.normal_module, g.normal_pressure_angle, abs(g.helix_angle),
-                 g.addendum_coefficient, g.dedendum_coefficient, g.fillet_radius_coefficient,
-                 g.profile_shift, g.bore_radius_value, g.material.youngs_modulus,
-                 g.material.poisson_ratio],
+        "v": CACHE_VERSION, "nodes": NODES, "gear": _gear_key(gear),
         "crack": None if crack is None or depth <= 0 or side == 0 else
         [crack.angle, crack.start_radius, depth, side],
         "closure": closure, "plane": plane,
         "mesh": [opt.level, opt.n_teeth, opt.sides, opt.growth, opt.tip_refinement],
     }
-    text = json.dumps(doc, sort_keys=True, default=repr)
-    return hashlib.sha256(text.encode()).hexdigest()[:32]
+    return _cache_key(doc)[0]
 
 
 def fe_nodes(gear: Gear) -> np.ndarray:

@@ -45,7 +45,7 @@ from gearsim.fem.geometry import (
     element_size,
     mesh_sector,
 )
-from gearsim.fem.solve import ElasticModel
+from gearsim.fem.solve import ElasticModel, face_dof_pairs
 from gearsim.geometry.gear import Gear
 from gearsim.geometry.profile import ToothProfile
 
@@ -161,29 +161,9 @@ def _patch(model: ElasticModel, flank_facets: np.ndarray, point: np.ndarray,
 
 def _contact_pairs(model: ElasticModel, sector: SectorMesh) -> tuple[np.ndarray, np.ndarray]:
     """Dof pairs (k, 2, 2) and length weights (k,) of the crack faces."""
-    dup = sector.crack_dup
-    pairs: list[tuple[np.ndarray, np.ndarray]] = []
-    weights: dict[int, float] = {}
-    index: dict[int, int] = {}
-    for i, j in sector.crack_pairs.T:
-        index[int(i)] = len(pairs)
-        pairs.append((model.node_dofs(int(i)), model.node_dofs(int(j))))
-        weights[int(i)] = 0.0
-    wts = [0.0] * len(pairs)
-    vertex_share = 1.0 / 6.0 if model.order == 2 else 0.5
-    for a, b in sector.crack_edges.T:
-        a, b = int(a), int(b)
-        length = float(np.hypot(*(model.mesh.p[:, a] - model.mesh.p[:, b])))
-        for nd in (a, b):
-            if nd in index:
-                wts[index[nd]] += vertex_share * length
-        if model.order == 2:
-            fm = model.facet(a, b)
-            fp = model.facet(dup.get(a, a), dup.get(b, b))
-            pairs.append((model.edge_dofs(fm), model.edge_dofs(fp)))
-            wts.append(4.0 / 6.0 * length)
-    arr = np.array([[m, p] for m, p in pairs], dtype=np.int64)  # (k, 2, 2)
-    return arr, np.asarray(wts)
+    arr, wts, _ = face_dof_pairs(model, model.mesh.p, sector.crack_pairs,
+                                 sector.crack_edges.T, sector.crack_dup)
+    return arr, wts
 
 
 def check_crack_resolved(gear: Gear, depth: float, *, crack_depth: float | None = None) -> None:

@@ -24,11 +24,11 @@ from gearsim.fracture.mesh import CrackPath, mesh_cracked_polygon, mesh_polygon
 from gearsim.fracture.tooth import (
     RING_FRACTION,
     _check_load,
-    _dist_to_segments,
     _flank_load,
     _insert_vertex,
     _sector_model,
     _tip_clearance,
+    _with_crack_mouth,
     sector_polygon,
 )
 from gearsim.geometry.gear import Gear
@@ -94,11 +94,7 @@ def sector_compliance(gear: Gear, radii, *, crack: CrackPath | None = None,
     poly, fixed = sector_polygon(gear, n_teeth)
     h = gear.normal_module / (4.0 * refinement)
     if crack is not None:
-        mouth = crack.array[0]
-        on = float(_dist_to_segments(mouth, poly, np.roll(poly, -1, axis=0)).min())
-        require(on <= 1e-3 * gear.normal_module, "crack.points[0]", tuple(mouth),
-                "the crack must start on the tooth outline")
-        poly = _insert_vertex(poly, mouth)
+        poly = _with_crack_mouth(gear, poly, crack)
         r_out = RING_FRACTION * min(crack.last_segment_length(1), _tip_clearance(poly, crack))
         h_tip = r_out / (10.0 * refinement)
         cm = mesh_cracked_polygon(poly, crack, h=h, h_tip=h_tip, growth=0.3)

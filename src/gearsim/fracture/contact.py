@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gearsim.errors import require
-from gearsim.fem.solve import ElasticModel
+from gearsim.fem.solve import ElasticModel, face_dof_pairs
 from gearsim.fracture.mesh import CrackedMesh
 from gearsim.fracture.sif import StressIntensity, effective_modulus, interaction_integral
 
@@ -96,25 +96,7 @@ def face_pairs(model: ElasticModel, cm: CrackedMesh) -> tuple[np.ndarray, np.nda
         Location of each pair [m].
     """
     dup = {int(a): int(b) for a, b in cm.pairs.T}
-    index = {int(a): i for i, a in enumerate(cm.pairs[0])}
-    pairs = [(model.node_dofs(int(a)), model.node_dofs(int(b))) for a, b in cm.pairs.T]
-    weights = [0.0] * len(pairs)
-    positions = [cm.p[:, int(a)] for a in cm.pairs[0]]
-    share = 1.0 / 6.0 if model.order == 2 else 0.5
-    for a, b in cm.edges:
-        a, b = int(a), int(b)
-        length = float(np.hypot(*(cm.p[:, a] - cm.p[:, b])))
-        for nd in (a, b):
-            if nd in index:
-                weights[index[nd]] += share * length
-        if model.order == 2:
-            fr = model.facet(a, b)
-            fl = model.facet(dup.get(a, a), dup.get(b, b))
-            pairs.append((model.edge_dofs(fr), model.edge_dofs(fl)))
-            weights.append(4.0 / 6.0 * length)
-            positions.append(0.5 * (cm.p[:, a] + cm.p[:, b]))
-    return (np.array([[r, lft] for r, lft in pairs], dtype=np.int64), np.asarray(weights),
-            np.asarray(positions))
+    return face_dof_pairs(model, cm.p, cm.pairs, cm.edges, dup)
 
 
 def closed_crack_intensity(model: ElasticModel, cm: CrackedMesh, load: np.ndarray,

@@ -26,7 +26,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from gearsim.errors import InputError, require
-from gearsim.fem.geometry import distance_threshold, gmsh_session, gmsh_triangles
+from gearsim.fem.geometry import (
+    distance_threshold,
+    drop_unused_nodes,
+    generate_sized,
+    gmsh_session,
+    gmsh_triangles,
+)
 
 __all__ = ["CrackPath", "CrackedMesh", "mesh_cracked_polygon", "mesh_polygon",
            "split_crack_nodes"]
@@ -242,7 +248,6 @@ def _mesh(poly: np.ndarray, crack: CrackPath, mouth: int, h: float, h_tip: float
         gmsh.model.mesh.embed(1, clines, 2, surf)
         tip_tags = [ctags[0]] if crack.tips[0] else []
         tip_tags.append(ctags[-1])
-        fld = gmsh.model.mesh.field
         ttip = distance_threshold(gmsh, points=tip_tags,
                                   size=(h_tip, h),
                                   distance=(zone, zone + (h - h_tip) / growth))
@@ -254,25 +259,14 @@ def _mesh(poly: np.ndarray, crack: CrackPath, mouth: int, h: float, h_tip: float
                                      size=(h_crack, h),
                                      distance=(0.0, (h - h_crack) / growth))
             fields.append(tcr)
-        mn = fld.add("Min")
-        fld.setNumbers(mn, "FieldsList", fields)
-        fld.setAsBackgroundMesh(mn)
-        gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-        gmsh.option.setNumber("Mesh.Algorithm", 6)
-        gmsh.model.mesh.generate(2)
+        generate_sized(gmsh, fields)
         xy, index, tri = gmsh_triangles(gmsh, surf, "mesh", "cracked body")
         edges = []
         for c in clines:
             _, _, en = gmsh.model.mesh.getElements(1, c)
             edges.append(index[np.concatenate(en).astype(np.int64)].reshape(-1, 2))
         crack_edges = np.vstack(edges)
-    used = np.unique(tri)
-    renum = np.full(xy.shape[0], -1, dtype=np.int64)
-    renum[used] = np.arange(used.size)
-    p = xy[used].T.copy()
-    t = renum[tri].T.copy()
+    p, t, renum = drop_unused_nodes(xy, tri)
     crack_edges = renum[crack_edges]
     # orient the edges along the path (start -> end) by the arc parameter of their ends
     s_nodes = _arc_parameter(pts, p.T)
@@ -336,25 +330,17 @@ def mesh_polygon(outline: np.ndarray, *, h: float, focus: np.ndarray, h_focus: f
             lines = [geo.addLine(tags[i], tags[(i + 1) % len(tags)]) for i in range(len(tags))]
             surf = geo.addPlaneSurface([geo.addCurveLoop(lines)])
             geo.synchronize()
-            fld = gmsh.model.mesh.field
             thr = distance_threshold(gmsh, points=[tags[i] for i in idx],
                                      size=(h_focus, h),
                                      distance=(4.0 * h_focus, 4.0 * h_focus + (h - h_focus) / growth))
-            fld.setAsBackgroundMesh(thr)
-            gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
-            gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
-            gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-            gmsh.option.setNumber("Mesh.Algorithm", 6)
-            gmsh.model.mesh.generate(2)
+            generate_sized(gmsh, thr)
             xy, _, tri = gmsh_triangles(gmsh, surf, "mesh", "body")
     except InputError:
         raise
     except Exception as exc:  # gmsh raises plain Exception with its log message
         raise InputError("mesh", "body", f"gmsh could not mesh it: {exc}") from None
-    used = np.unique(tri)
-    renum = np.full(xy.shape[0], -1, dtype=np.int64)
-    renum[used] = np.arange(used.size)
-    return xy[used].T.copy(), renum[tri].T.copy()
+    p, t, _ = drop_unused_nodes(xy, tri)
+    return p, t
 
 
 def _arc_parameter(path: np.ndarray, xy: np.ndarray) -> np.ndarray:

@@ -30,12 +30,12 @@ import numpy as np
 from scipy.interpolate import PchipInterpolator
 
 from gearsim.errors import InputError, require
+from gearsim.fem.geometry import point_in_polygon
 from gearsim.fracture.direction import equivalent_k, kink_angle, kinked_direction
 from gearsim.fracture.mesh import CrackPath
 from gearsim.fracture.paris import LifeResult, ParisLaw, paris_life
 from gearsim.fracture.tooth import (
     _dist_to_segments,
-    _inside,
     _tip_clearance,
     cycle_intensity,
     grow_crack,
@@ -302,7 +302,7 @@ def grow_cycle_path(gear: Gear, crack: CrackPath, radii, forces, increment: floa
             status = "no growth"
             break
         left = float(_dist_to_segments(new, *edges).min())
-        if not (_inside(poly, new) and left > 0.25 * increment):
+        if not (point_in_polygon(poly, new) and left > 0.25 * increment):
             status = "broken"
             message = ("crack.path: the grown crack leaves the body or reaches its outline: "
                        "the tooth (or rim) is broken at this increment")

@@ -45,11 +45,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from gearsim.errors import InputError, require
+from gearsim.fem.geometry import point_in_polygon
 from gearsim.fem.solve import ElasticModel, plane_lame
 from gearsim.fem.tooth import PATCH_HALF_LENGTH, load_geometry
 from gearsim.fracture.contact import closed_crack_intensity
 from gearsim.fracture.direction import equivalent_k, kink_angle, kinked_direction
-from gearsim.fracture.mesh import CrackPath, mesh_cracked_polygon, mesh_polygon
+from gearsim.fracture.mesh import CrackedMesh, CrackPath, mesh_cracked_polygon, mesh_polygon
 from gearsim.fracture.sif import StressIntensity, interaction_integral
 from gearsim.geometry.gear import Gear
 from gearsim.geometry.profile import ToothProfile
@@ -534,16 +535,6 @@ def fillet_stress(gear: Gear, radius: float, *, force: float = 1e5,
     return float(tan @ sig @ tan)
 
 
-def _inside(poly: np.ndarray, pt: np.ndarray) -> bool:
-    """Even-odd point-in-polygon test."""
-    x, y = poly[:, 0], poly[:, 1]
-    xn, yn = np.roll(x, -1), np.roll(y, -1)
-    cond = (y > pt[1]) != (yn > pt[1])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        xc = x + (pt[1] - y) * (xn - x) / (yn - y)
-    return bool(np.count_nonzero(cond & (pt[0] < xc)) % 2 == 1)
-
-
 def _web_clearance(gear: Gear, poly: np.ndarray, crack: CrackPath,
                    bore_radius: float | None, web: RimWeb | None) -> float:
     """Distance from the tip to the outline and, with a web, to the rim's inner circle."""
@@ -555,6 +546,31 @@ def _web_clearance(gear: Gear, poly: np.ndarray, crack: CrackPath,
     require(gap > 0.0, "crack.points", tuple(tip),
             "the tip must lie in the rim, above its inner radius (the web)")
     return min(clearance, gap)
+
+
+def _with_crack_mouth(gear: Gear, poly: np.ndarray, crack: CrackPath) -> np.ndarray:
+    """``poly`` with the crack's start as a vertex (refused off the outline)."""
+    start = crack.array[0]
+    on = float(_dist_to_segments(start, poly, np.roll(poly, -1, axis=0)).min())
+    require(on <= 1e-3 * gear.normal_module, "crack.points[0]", tuple(start),
+            "the crack must start on the tooth outline")
+    return _insert_vertex(poly, start)
+
+
+def _cracked_sector(gear: Gear, crack: CrackPath, closure: str, n_teeth: int,
+                    bore_radius: float | None, web: RimWeb | None, refinement: float
+                    ) -> tuple[CrackedMesh, np.ndarray, float, float, float]:
+    """Mesh of the sector cut by ``crack`` (its start checked on the outline), its fixed
+    nodes, the interaction-integral ring r_out and the sizes h_tip and h [m]."""
+    require(closure in ("open", "contact"), "closure", closure, 'must be "open" or "contact"')
+    poly, fixed = sector_polygon(gear, n_teeth, bore_radius=bore_radius, web=web)
+    poly = _with_crack_mouth(gear, poly, crack)
+    r_out = RING_FRACTION * min(crack.last_segment_length(1),
+                                _web_clearance(gear, poly, crack, bore_radius, web))
+    h_tip = r_out / (TIP_DIVISIONS * refinement)
+    h = gear.normal_module / (4.0 * refinement)
+    cm = mesh_cracked_polygon(poly, crack, h=h, h_tip=h_tip, growth=0.3)
+    return cm, fixed, r_out, h_tip, h
 
 
 def tooth_crack_sif(gear: Gear, crack: CrackPath, radius: float, *, force: float = 1e5,
@@ -604,18 +620,8 @@ def tooth_crack_sif(gear: Gear, crack: CrackPath, radius: float, *, force: float
     """
     t0 = time.perf_counter()
     _check_load(gear, radius, force, refinement)
-    require(closure in ("open", "contact"), "closure", closure, 'must be "open" or "contact"')
-    poly, fixed = sector_polygon(gear, n_teeth, bore_radius=bore_radius, web=web)
-    start = crack.array[0]
-    on = float(_dist_to_segments(start, poly, np.roll(poly, -1, axis=0)).min())
-    require(on <= 1e-3 * gear.normal_module, "crack.points[0]", tuple(start),
-            "the crack must start on the tooth outline")
-    poly = _insert_vertex(poly, start)
-    clearance = _web_clearance(gear, poly, crack, bore_radius, web)
-    r_out = RING_FRACTION * min(crack.last_segment_length(1), clearance)
-    h_tip = r_out / (TIP_DIVISIONS * refinement)
-    h = gear.normal_module / (4.0 * refinement)
-    cm = mesh_cracked_polygon(poly, crack, h=h, h_tip=h_tip, growth=0.3)
+    cm, fixed, r_out, h_tip, h = _cracked_sector(gear, crack, closure, n_teeth, bore_radius,
+                                                 web, refinement)
     web_model = None if web is None else (_rim_radius(gear, bore_radius), web)
     model, f, fixed_dofs = _loaded_model(gear, cm.p, cm.t, fixed, radius, force, plane, h,
                                          web_model)
@@ -707,18 +713,8 @@ def cycle_intensity(gear: Gear, crack: CrackPath, radii, forces, *, n_teeth: int
             "forces", "negative, non-finite or all zero", "must be >= 0 N/m, one > 0")
     for ri in r:
         _check_load(gear, float(ri), 1.0, refinement)
-    require(closure in ("open", "contact"), "closure", closure, 'must be "open" or "contact"')
-    poly, fixed = sector_polygon(gear, n_teeth, bore_radius=bore_radius, web=web)
-    start = crack.array[0]
-    on = float(_dist_to_segments(start, poly, np.roll(poly, -1, axis=0)).min())
-    require(on <= 1e-3 * gear.normal_module, "crack.points[0]", tuple(start),
-            "the crack must start on the tooth outline")
-    poly = _insert_vertex(poly, start)
-    r_out = RING_FRACTION * min(crack.last_segment_length(1),
-                                _web_clearance(gear, poly, crack, bore_radius, web))
-    h_tip = r_out / (TIP_DIVISIONS * refinement)
-    h = gear.normal_module / (4.0 * refinement)
-    cm = mesh_cracked_polygon(poly, crack, h=h, h_tip=h_tip, growth=0.3)
+    cm, fixed, r_out, h_tip, h = _cracked_sector(gear, crack, closure, n_teeth, bore_radius,
+                                                 web, refinement)
     model, fixed_dofs = _sector_model(gear, cm.p, cm.t, fixed, plane,
                                       None if web is None else
                                       (_rim_radius(gear, bore_radius), web))
@@ -799,7 +795,7 @@ def grow_crack(gear: Gear, crack: CrackPath, radius: float, increment: float,
     new = tip + increment * kinked_direction(d, res.sif.k1, res.sif.k2)
     grown = CrackPath(points=(*crack.points, (float(new[0]), float(new[1]))), tips=crack.tips)
     left = float(_dist_to_segments(new, poly, np.roll(poly, -1, axis=0)).min())
-    if not (_inside(poly, new) and left > 0.25 * increment):
+    if not (point_in_polygon(poly, new) and left > 0.25 * increment):
         raise InputError("crack.path", f"tip at {tuple(np.round(new * 1e3, 4))} mm",
                          "the grown crack leaves the body or reaches its outline: the tooth "
                          "(or rim) is broken at this increment")

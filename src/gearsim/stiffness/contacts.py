@@ -59,6 +59,7 @@ from gearsim.geometry.pair import GearPair
 from gearsim.stiffness.faults import Patch
 from gearsim.stiffness.mesh import (
     _tridiagonal_solve,
+    adjacent_cross,
     centre_line_depth,
     corner_closing,
     crack_cross_factors,
@@ -244,25 +245,6 @@ def grid_period(pair: GearPair, varies1: bool, varies2: bool) -> int:
     if varies2:
         return z2
     return 1
-
-
-def _corner_cross(g1, g2, coupling, inside: np.ndarray, corner: np.ndarray, r1: np.ndarray,
-                  r2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Body cross compliance of adjacent pairs, path or tip-corner contacts [m^2/N].
-
-    As :func:`gearsim.stiffness.mesh.pair_law` (the older pair is the driver tooth's +x
-    neighbour and the driven tooth's -x neighbour; Maxwell symmetry), with the corner
-    contacts at their path end's radii; the driver's and the driven gear's parts (their
-    sum is the cross compliance; a cracked body's factors,
-    :func:`gearsim.stiffness.mesh.crack_cross_factors`, multiply each).
-    """
-    on = inside | corner
-    both = on[:, :-1] & on[:, 1:]
-    x1 = np.where(both, coupling.cross(g1, np.where(both, r1[:, :-1], g1.tip_radius),
-                                       np.where(both, r1[:, 1:], g1.tip_radius)), 0.0)
-    x2 = np.where(both, coupling.cross(g2, np.where(both, r2[:, 1:], g2.tip_radius),
-                                       np.where(both, r2[:, :-1], g2.tip_radius)), 0.0)
-    return x1, x2
 
 
 def _condensed_corners(kpath: np.ndarray, cpath: np.ndarray, width: np.ndarray,
@@ -495,8 +477,9 @@ def contact_grid(pair: GearPair, *, cracks: tuple[ToothCrack, ...] = (),
             c_corner = cl + cc1 + cc2  # normal compliance per unit width [m^2/N]
             cross = None
             if settings.coupling != "none":
+                # path or tip-corner contacts, the corner ones at their path end's radii
                 rr1, rr2 = np.where(inside, r1, rc1), np.where(inside, r2, rc2)
-                x1c, x2c = _corner_cross(g1, g2, coupling, inside, corner_mask, rr1, rr2)
+                x1c, x2c = adjacent_cross(g1, g2, coupling, inside | corner_mask, rr1, rr2)
                 cross = x1c + x2c
                 corner_factors = crack_cross_factors(pair, model, cracks, settings, rr1, rr2,
                                                      inside | corner_mask, zfrac)

@@ -50,6 +50,7 @@ import numpy as np
 
 from gearsim.errors import require
 from gearsim.geometry.corners import corner_separation, tip_edge_offset
+from gearsim.geometry.gear import Gear
 from gearsim.geometry.pair import GearPair
 from gearsim.geometry.profile import ToothProfile
 from gearsim.stiffness import _kernels
@@ -340,6 +341,23 @@ def _slice_stiffness(diag: np.ndarray, width: np.ndarray, cross: np.ndarray | No
     return np.where(inside, width * np.moveaxis(q, -1, 1), 0.0)
 
 
+def adjacent_cross(g1: Gear, g2: Gear, coupling, on: np.ndarray, r1: np.ndarray,
+                   r2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Body cross compliance [m^2/N] of adjacent pairs in contact (``on``), driver and
+    driven parts, each (npc, n_age - 1, ns); 0 where either pair is out of contact.
+
+    The tooth of age m + 1 (older pair) is the +x neighbour of the driver tooth of age m
+    (the drive flank faces the way the driver turns) and the -x neighbour of the driven
+    tooth of age m; X is symmetric in the two loaded teeth (Maxwell).
+    """
+    both = on[:, :-1] & on[:, 1:]
+    x1 = np.where(both, coupling.cross(g1, np.where(both, r1[:, :-1], g1.tip_radius),
+                                       np.where(both, r1[:, 1:], g1.tip_radius)), 0.0)
+    x2 = np.where(both, coupling.cross(g2, np.where(both, r2[:, 1:], g2.tip_radius),
+                                       np.where(both, r2[:, :-1], g2.tip_radius)), 0.0)
+    return x1, x2
+
+
 def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
              width: np.ndarray, r1: np.ndarray, r2: np.ndarray, *,
              force: float | None = None, coupling=None,
@@ -422,14 +440,7 @@ def pair_law(pair: GearPair, settings: StiffnessSettings, lmid: np.ndarray,
         require(coupling is not None and hasattr(coupling, "cross"), "stiffness.coupling",
                 settings.coupling, "needs a body-coupling model: pass coupling= (gearsim."
                 "fem.coupling.FiniteElementCoupling) or use GearTrain.mesh_stiffness")
-        # tooth of age m + 1 (older pair) is the +x neighbour of the driver tooth of age m
-        # (the drive flank faces the way the driver turns) and the -x neighbour of the
-        # driven tooth of age m; X is symmetric in the two loaded teeth (Maxwell)
-        both = inside[:, :-1] & inside[:, 1:]
-        x1 = np.where(both, coupling.cross(g1, np.where(both, r1[:, :-1], g1.tip_radius),
-                                           np.where(both, r1[:, 1:], g1.tip_radius)), 0.0)
-        x2 = np.where(both, coupling.cross(g2, np.where(both, r2[:, 1:], g2.tip_radius),
-                                           np.where(both, r2[:, :-1], g2.tip_radius)), 0.0)
+        x1, x2 = adjacent_cross(g1, g2, coupling, inside, r1, r2)
         cross = x1 + x2  # (npc, n_age - 1, ns)
 
     contact = None

@@ -133,3 +133,19 @@ def test_mesh_frequency_above_nyquist_is_refused(tmp_path):
     assert cli.run(["analyze", str(rec), "--fs", "1000", "--shaft-rpm", "600", "--teeth", "80",
                     "--out", str(out)]) == 2
     assert not out.exists()
+
+
+def test_the_squared_envelope_lines_are_in_squared_units_and_match_the_hand_values():
+    """x = A (1 + m cos w_r t) cos w_c t: the squared envelope A^2 (1 + m cos)^2 has the
+    line 2 m A^2 at the shaft order and m^2 A^2 / 2 at twice it (4 and 0.5 (m/s^2)^2 for
+    A = 2 m/s^2, m = 0.5); they were labelled in m/s^2."""
+    fs, fr, amp, m = 20_000.0, 25.0, 2.0, 0.5
+    t = np.arange(int(2 * fs)) / fs
+    x = amp * (1 + m * np.cos(2 * np.pi * fr * t)) * np.cos(2 * np.pi * 40 * fr * t)
+    r = analyze_record(x, fs, speed=fr, teeth=[40], units="m/s^2")
+    f = r.features()
+    assert f["envelope_order1_amplitude"][1] == "signal^2"
+    assert f["envelope_order1_amplitude"][0] == pytest.approx(2 * m * amp**2, rel=1e-9)
+    assert f["envelope_order2_amplitude"][0] == pytest.approx(m**2 * amp**2 / 2, rel=1e-9)
+    line = next(s for s in r.text().splitlines() if "envelope at shaft orders" in s)
+    assert line.strip().startswith("squared envelope") and "1x 4 (m/s^2)^2" in line

@@ -234,7 +234,8 @@ class RecordAnalysis:
     def features(self) -> dict[str, tuple[float | str | None, str]]:
         """Flat indicators of the record: name to ``(value, unit)``, for tables.
 
-        Amplitudes are in ``signal`` units (the ``units`` of the record); frequencies in
+        Amplitudes are in ``signal`` units (the ``units`` of the record; the squared
+        envelope's, ``envelope_order*``, in ``signal^2``); frequencies in
         Hz, or in cycles per sample when the name ends in ``_cps``. A compound train's
         gear tier gives stage 1's lines under the simple-train names and every further
         stage ``k`` as ``stage{k}_mesh_frequency_hz`` and the :func:`stage_features`.
@@ -269,7 +270,8 @@ class RecordAnalysis:
             for row in sh["orders"]:
                 out[f"shaft_order{row['order']}_amplitude"] = (row["amplitude"], "signal")
             for row in sh.get("envelope", {}).get("orders", []):
-                out[f"envelope_order{row['order']}_amplitude"] = (row["amplitude"], "signal")
+                out[f"envelope_order{row['order']}_amplitude"] = (row["amplitude"],
+                                                                  "signal^2")
             cep = sh.get("cepstrum")
             if cep:
                 out["cepstrum_period_ratio"] = (cep.get("period_ratio_to_T1"), "1")
@@ -398,8 +400,9 @@ class RecordAnalysis:
                     f"{o['order']:.4g}x {o['amplitude']:.4g}{u}" for o in osp["lines"]))
             env = sh.get("envelope")
             if env:
-                lines.append("    envelope at shaft orders: " + ", ".join(
-                    f"{o['order']}x {o['amplitude']:.4g}{u}" for o in env["orders"]))
+                u2 = f" ({self.units})^2" if self.units else ""  # squared envelope
+                lines.append("    squared envelope at shaft orders: " + ", ".join(
+                    f"{o['order']}x {o['amplitude']:.4g}{u2}" for o in env["orders"]))
             cep = sh.get("cepstrum")
             if cep and cep.get("period_s") is not None:
                 lines.append(f"    cepstral shaft period {1e3 * cep['period_s']:.4g} ms "

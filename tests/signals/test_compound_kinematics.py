@@ -504,3 +504,82 @@ def test_spectraquest_batch_of_four_has_stage_2(tmp_path, gearsim_here):
         assert float(row["stage2_mesh_amplitude_o1 [signal]"]) == pytest.approx(
             h1["amplitude"], rel=1e-9)
         assert row["stage2_sb_ser_o1_shaft3 [1]"] != ""
+
+
+# ------------------------------------------------------- the gearbox measured: --config
+def _without(rec: dict) -> dict:
+    """A record's JSON without what differs between two spellings of one analysis: its
+    timings and the provenance labels."""
+    text = json.dumps({k: v for k, v in rec.items() if k != "timings_s"})
+    out = json.loads(text.replace('"config"', '"given"'))
+    out["tiers"].get("gear", {}).get("analysis", {}).pop("timings_s", None)
+    return out
+
+
+def test_config_brings_the_reducers_stages_and_speed(record_csv, gearsim_here):
+    """The synthetic record is the reducer at its configured 1800 rpm (960 and 576 Hz):
+    --config two-stage-reducer analyses it at that speed and with its stages, labelled
+    (config), and with the speed given it is the analysis of --stages 32/80,48/64."""
+    code, out, err = _cli(gearsim_here, "analyze", record_csv, "--fs", FS, "--config",
+                          "two-stage-reducer", "--json")
+    assert code == 0, err
+    mine = json.loads(out)["records"][0]
+    assert (mine["speed_provenance"], mine["teeth_provenance"]) == ("config", "config")
+    assert mine["speed_hz"] == pytest.approx(30.0, rel=1e-15)  # 1800 rpm through rad/s
+    assert mine["stages"] == [[32, 80], [48, 64]]
+    assert [s["mesh_frequency_hz"] for s in mine["tiers"]["gear"]["analysis"]["stages"]] \
+        == pytest.approx([960.0, 576.0], rel=1e-12)
+    runs = [_cli(gearsim_here, "analyze", record_csv, "--fs", FS, "--shaft-rpm", 1800, *how,
+                 "--json") for how in (("--config", "two-stage-reducer"),
+                                       ("--stages", "32/80,48/64"))]
+    assert [r[0] for r in runs] == [0, 0], runs[0][2] + runs[1][2]
+    a, b = (json.loads(r[1])["records"][0] for r in runs)
+    assert a["teeth_provenance"] == "config" and a["speed_provenance"] == "given"
+    assert _without(a) == _without(b)
+
+
+def test_config_of_a_lone_stage_brings_its_stage_and_carrier_speed(record_csv, gearsim_here):
+    """nrel-grc (21/39/99 x 3, ring held, carrier 22.1 rpm): the planetary tier of
+    --stage 21,39,99,3 at the carrier speed."""
+    code, out, err = _cli(gearsim_here, "analyze", record_csv, "--fs", FS, "--config",
+                          "nrel-grc", "--json")
+    assert code == 0, err
+    mine = json.loads(out)["records"][0]
+    assert mine["tiers"]["planetary"]["rests_on"]["stage"] == "config"
+    assert mine["speed_hz"] == pytest.approx(22.1 / 60, rel=1e-14)
+    runs = [_cli(gearsim_here, "analyze", record_csv, "--fs", FS, "--shaft-rpm", 22.1, *how,
+                 "--json") for how in (("--config", "nrel-grc"), ("--stage", "21,39,99,3"))]
+    assert [r[0] for r in runs] == [0, 0], runs[0][2] + runs[1][2]
+    a, b = (json.loads(r[1])["records"][0] for r in runs)
+    assert _without(a) == _without(b)
+
+
+@pytest.mark.parametrize(("args", "words"), [
+    (("--config", "wind-turbine-grc"), "--config = wind-turbine-grc: the records of a "
+     "gearbox with a planetary stage and other parts"),
+    (("--config", "two-stage-reducer", "--teeth", "32"), "--config/--teeth = "
+     "two-stage-reducer / ...: give one"),
+    (("--config", "no-such-box"), "no-such-box"),
+])
+def test_config_refusals(record_csv, gearsim_here, args, words):
+    code, _, err = _cli(gearsim_here, "analyze", record_csv, "--fs", FS, *args)
+    lines = err.strip().splitlines()
+    assert code == 2 and len(lines) == 1, err
+    assert words in lines[0], lines[0]
+
+
+@pytest.mark.skipif(not (DATA / "b30hz90.csv.gz").exists(),
+                    reason=f"the SpectraQuest record b30hz90 (OpenEI Gearbox Fault Diagnosis "
+                           f"Data) is not in {DATA}")
+def test_a_real_record_of_the_rig_analysed_with_its_gearbox(gearsim_here):
+    """The rig's broken-tooth record at 90 % load, 20 kHz, speed searched: --config
+    two-stage-reducer gives every feature of --stages 32/80,48/64."""
+    base = ("analyze", DATA / "b30hz90.csv.gz", "--channel", "a1", "--fs", 20000,
+            "--speed-search", "20,40", "--json")
+    code, out, err = _cli(gearsim_here, *base, "--config", "two-stage-reducer")
+    assert code == 0, err
+    mine = json.loads(out)["records"][0]
+    code, out, err = _cli(gearsim_here, *base, "--stages", "32/80,48/64")
+    assert code == 0, err
+    assert _without(mine) == _without(json.loads(out)["records"][0])
+    assert mine["stages"] == [[32, 80], [48, 64]]

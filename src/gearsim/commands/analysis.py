@@ -22,7 +22,7 @@ from typing import Annotated, Any
 import typer
 
 from gearsim.commands._options import as_options
-from gearsim.errors import InputError
+from gearsim.errors import InputError, require
 
 __all__ = ["register"]
 
@@ -308,6 +308,11 @@ def analyze(
     emd_threshold: Annotated[str | None, typer.Option(
         help="IMF threshold [-]: number, or 'ayenu-prah' (correlation default); kurtosis "
              "default 3.0")] = None,
+    config: Annotated[str | None, typer.Option(
+        help="the gearbox measured (TOML file or example name): its teeth or stages from "
+             "the input shaft (a lone planetary stage with the ring held: its stage, the "
+             "carrier measured), and its input speed unless --shaft-rpm, --tacho or "
+             "--speed-search gives one; labelled (config)")] = None,
 ) -> None:
     """Tiered analysis of records: statistics always; spectrum in Hz with a sampling rate
     (else cycles/sample); shaft orders with a speed (--shaft-rpm, --tacho or
@@ -371,6 +376,19 @@ def analyze(
         problems.append(f"--stage/--stages = {stage} / {stages}: give one, --stage for a "
                         "planetary stage or --stages for a parallel-shaft compound train")
     stage_z = _stage(stage, problems)
+    config_speed = None
+    if config is not None:
+        given = [o for o, v in (("--teeth", teeth), ("--stages", stages), ("--stage", stage))
+                 if v]
+        if given:
+            problems.append(f"--config/{given[0]} = {config} / ...: give one; --config brings "
+                            "the teeth, stages or stage of its gearbox")
+        else:
+            kin = _collect(problems, _config_kinematics, config)
+            if kin is not None:
+                zs, stg, stage_z, config_speed = kin
+                if n_speed == 0 and stage_z is not None:
+                    shaft_rpm = 60.0 * config_speed  # the carrier, as --stage wants
     if stage_z is not None and shaft_rpm is None:
         problems.append(f"--stage = {stage}: needs the carrier speed --shaft-rpm (the "
                         "measured shaft is the carrier)")
@@ -407,12 +425,18 @@ def analyze(
         raise bt.problems_error(problems)
 
     speed = None if shaft_rpm is None else shaft_rpm / 60.0
+    if config_speed is not None and n_speed == 0:
+        speed = config_speed
     options: dict[str, Any] = {"channels": channel, "fs": fs, "fmt": format_, "speed": speed,
                                "tacho": tacho, "pulses_per_rev": pulses_per_rev,
                                "speed_search": search, "teeth": zs, "settings": settings,
                                "drop_nonfinite": drop_nonfinite, "stage": stage_z}
     if stg is not None:  # only when given: the part keys of simple batches stay the same
         options["stages"] = stg
+    if config is not None:  # what the configuration brought
+        options["provenance"] = {k: "config" for k, v in (
+            ("speed", config_speed is not None and n_speed == 0), ("teeth", zs or stg),
+            ("stage", stage_z)) if v}
     with ExitStack() as stack:  # OUT's lock, from the first part to the table
         if out_path is not None:
             from gearsim.studies.sweep_run import store_lock
@@ -497,6 +521,28 @@ def _text_of(d: dict) -> str:
     return r.text()
 
 
+def _config_kinematics(config: str) -> tuple:
+    """``(teeth, stages, stage, speed)`` of the gearbox ``config`` for a measured record of
+    its input shaft: :meth:`gearsim.model.Gearbox.analysis_train` of gears (teeth or
+    stages, the input speed [Hz]); a lone planetary stage with the ring held: its
+    ``(z_s, z_p, z_r, N)`` and the carrier speed [Hz] (``--stage``)."""
+    from gearsim.model import load
+
+    gb = load(config)
+    if not gb.stages:
+        kin = gb.analysis_train()
+        return (None if "stages" in kin else tuple(kin["teeth"]), kin.get("stages"), None,
+                kin["shaft_frequency"])
+    tr = gb.stage
+    require(len(gb.stages) == 1 and not gb.chains and tr.operating.fixed == "ring",
+            "--config", config, "the records of a gearbox with a planetary stage and other "
+            "parts, or of a stage whose ring turns, are analysed with --stages or --stage "
+            "for the part measured (a lone stage with the ring held is read from --config)")
+    st = tr.stage
+    return (None, None, (st.sun_teeth, st.planet_teeth, st.ring_teeth, st.planets),
+            abs(tr.speeds["carrier"]) / (2 * math.pi))
+
+
 def _one_with_baseline(path: str, baseline: Path | None, options: dict):
     """One record with a baseline (and arrays kept for --plot)."""
     from gearsim.io.measured import read_signal
@@ -531,6 +577,8 @@ def _one_with_baseline(path: str, baseline: Path | None, options: dict):
                          pulses_per_rev=options["pulses_per_rev"],
                          speed_search=options["speed_search"], teeth=options["teeth"],
                          stages=options.get("stages"),
+                         speed_provenance=(options.get("provenance") or {}).get("speed"),
+                         teeth_provenance=(options.get("provenance") or {}).get("teeth"),
                          settings=options["settings"], baseline=b, baseline_tacho=bt,
                          fs_provenance="file" if sig.fs_source == "file" else "given",
                          source={"file": sig.path, "channel": sig.channel,

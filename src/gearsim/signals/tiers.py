@@ -27,8 +27,9 @@ for an unusable signal (not 1-D, fewer than 2 samples, non-finite samples) or an
 option.
 
 Provenance. The sampling rate, the speed and the tooth counts each carry a provenance:
-``"file"`` (read from the record or its tacho channel), ``"given"`` (typed by the user)
-or ``"estimate"`` (estimated from the signal); every tier records the provenance of what
+``"file"`` (read from the record or its tacho channel), ``"given"`` (typed by the user),
+``"config"`` (a gearbox configuration's kinematics: its nominal input speed, its teeth
+and stages) or ``"estimate"`` (estimated from the signal); every tier records the provenance of what
 it rests on (``rests_on``) and the text summary says it next to each tier.
 
 Units: frequencies in Hz when the sampling rate is known, else in cycles per sample
@@ -68,7 +69,7 @@ __all__ = [
 #: Tiers in the order they build on each other.
 TIERS = ("statistics", "spectrum", "shaft", "gear")
 #: Where a sampling rate, speed or tooth count came from.
-PROVENANCES = ("file", "given", "estimate")
+PROVENANCES = ("file", "given", "config", "estimate")
 #: Shortest record for the spectrum tier [samples].
 MIN_SPECTRUM_SAMPLES = 16
 #: Revolutions of the measured shaft the shaft tier needs (shaft orders resolved, TSA).

@@ -339,6 +339,7 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
                  drop_nonfinite: bool = False, keep_analysis: bool = False,
                  stage: Sequence[int] | None = None,
                  stages: Sequence[tuple[int, int]] | None = None,
+                 provenance: Mapping[str, str] | None = None,
                  ) -> tuple[list[Any], list[str]]:
     """Read one file and analyse each of its channels (a Dask task of :func:`run_batch`).
 
@@ -379,6 +380,10 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
         analysed in the gear tier (:func:`~gearsim.signals.tiers.analyze_record`). A
         gearsim result of a compound train brings its own (``analysis_stages``), used
         when neither ``teeth`` nor ``stages`` is given.
+    provenance : mapping, optional
+        Where ``speed`` (key ``"speed"``), ``teeth`` or ``stages`` (``"teeth"``) and
+        ``stage`` (``"stage"``) come from when not from the file (``"config"``: a
+        gearbox's kinematics, ``gearsim analyze --config``); default: given.
 
     Returns
     -------
@@ -417,12 +422,13 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
         if ch.get("dropped"):
             src["dropped"] = ch["dropped"]
         try:
-            spec = _stage_spec(stage, ch, speed)
+            said = provenance or {}
+            spec = _stage_spec(stage, ch, speed, said.get("stage"))
             rec = analyze_record(
                 ch["data"], ch["fs"], speed=file_rpm / 60.0 if file_rpm else speed,
-                speed_provenance="file" if file_rpm else None, tacho=ch["tacho"],
-                pulses_per_rev=pulses_per_rev, speed_search=speed_search,
-                **train, teeth_provenance="file" if file_teeth else None,
+                speed_provenance="file" if file_rpm else said.get("speed"),
+                tacho=ch["tacho"], pulses_per_rev=pulses_per_rev, speed_search=speed_search,
+                **train, teeth_provenance="file" if file_teeth else said.get("teeth"),
                 settings=settings, fs_provenance=ch["fs_source"],
                 source=src, units=ch["units"], stage=spec,
             )
@@ -473,9 +479,11 @@ def _path_kinematics(text: str, channel: str) -> dict[str, tuple] | None:
     return None if gb is None else gb.record_path(channel)
 
 
-def _stage_spec(stage: Sequence[int] | None, ch: dict, speed: float | None):
-    """The planetary tier's stage: given (``--stage``, the speed is the carrier's) or the
-    file's (a gearsim stage result with the ring held); None when neither applies."""
+def _stage_spec(stage: Sequence[int] | None, ch: dict, speed: float | None,
+                provenance: str | None = None):
+    """The planetary tier's stage: given (``--stage`` or a configuration, ``provenance``;
+    the speed is the carrier's) or the file's (a gearsim stage result with the ring
+    held); None when neither applies."""
     from gearsim.signals.planetary_tier import StageSpec
 
     if stage is not None:
@@ -483,7 +491,8 @@ def _stage_spec(stage: Sequence[int] | None, ch: dict, speed: float | None):
             raise InputError("--stage", ",".join(map(str, stage)), "needs the carrier speed "
                              "(--shaft-rpm; the measured shaft is the carrier)")
         zs, zp, zr, n = stage
-        return StageSpec(zs, zp, zr, n, carrier_frequency=speed, provenance="given")
+        return StageSpec(zs, zp, zr, n, carrier_frequency=speed,
+                         provenance=provenance or "given")
     meta = ch.get("planetary")
     if not meta or meta["ring_frequency"] != 0.0 or meta["carrier_frequency"] <= 0:
         return None

@@ -14,7 +14,9 @@ line says "SI units") reads plain numbers as SI throughout. Layout::
                           # the first is the input shaft (gearsim.system.graph)
     [[gears]]             # one table per gear (with shafts: ``shaft = "..."``, ``hand``);
                           # without [[shafts]]: a chain in the order of the power flow
-    [[meshes]]            # with shafts: ``gears = ["a", "b"]``, optional ``angle``
+    [[meshes]]            # with shafts: ``gears = ["a", "b"]``, optional ``angle`` and the
+                          # mesh's own backlash, profile_modification, crowning,
+                          # assembly_error (PER_MESH; [[gears]] take runout, runout_phase)
     [operating]           # speed and torque of the first gear
     [stiffness]           # closure, slices, positions_per_cycle, gauss_points, plane, source
     [[cracks]]            # gear, tooth, flank, depth, angle, extent, profile, start_radius
@@ -37,14 +39,15 @@ from types import SimpleNamespace
 from typing import Any
 
 from gearsim.data import EXAMPLES, example_text
-from gearsim.dynamics.settings import parse_dynamics
-from gearsim.errors import InputError
+from gearsim.dynamics.lta import agma_backlash
+from gearsim.dynamics.settings import DynamicsSettings, parse_dynamics
+from gearsim.errors import InputError, require
 from gearsim.geometry.gear import Gear, Material, check_teeth
 from gearsim.geometry.pair import require_same_rack
 from gearsim.model.damage import CRACK_KEYS, array_of_tables, parse_cracks, parse_faults
 from gearsim.model.gearbox import Gearbox
 from gearsim.model.graph_form import is_graph_with_stages, parse_graph_stages
-from gearsim.model.planetary import parse_planetary
+from gearsim.model.planetary import PER_ELEMENT, parse_planetary
 from gearsim.sections import as_written, convert
 from gearsim.signals.settings import parse_analysis
 from gearsim.stiffness.modifications import Modification
@@ -68,11 +71,19 @@ GEAR_KEYS = {
     "addendum_coefficient": "dimensionless", "dedendum_coefficient": "dimensionless",
     "fillet_radius_coefficient": "dimensionless", "profile_shift": "dimensionless",
     "bore_radius": "length", "material": "table", "shaft": "str", "hand": "str",
+    "runout": "length", "runout_phase": "angle",
 }
 SHAFT_KEYS = {"name": "str", "mass": "mass", "inertia": "inertia",
               "torsional_stiffness": "torsional_stiffness", "bearing_stiffness": "stiffness",
               "axial_stiffness": "stiffness", "power_share": "dimensionless"}
-MESH_KEYS = {"gears": "str", "angle": "angle"}
+MESH_KEYS = {"gears": "str", "angle": "angle", "backlash": "length",
+             "profile_modification": "length", "crowning": "length",
+             "assembly_error": "length"}
+#: ``[dynamics]`` options a ``[[meshes]]`` table may give for its own mesh, and a
+#: ``[[gears]]`` table (or ``[common]``) for its own gear: the loader puts them into the
+#: per-item tuples of :class:`gearsim.dynamics.DynamicsSettings` in power-flow order,
+#: the others at their defaults (backlash: the AGMA minimum of each mesh).
+PER_MESH, PER_GEAR = PER_ELEMENT
 OPERATING_KEYS = {"speed": "speed", "torque": "torque"}
 STIFFNESS_KEYS = {"closure": "str", "slices": "int", "positions_per_cycle": "int",
                   "gauss_points": "int", "plane": "str", "source": "str",
@@ -169,11 +180,14 @@ def parse(doc: dict[str, Any]) -> Gearbox:
                              "[[meshes]]; a chain has neither")
         kw["helix_angle"] = abs(kw.get("helix_angle", 0.0))
         kws.append(kw)
-    shafts, meshes = _graph(doc, kws) if graph else ((), ())
+    shafts, meshes, own_mesh = _graph(doc, kws) if graph else ((), (), {})
     signs = _hands(doc, kws, shafts, meshes)
     gears = []
+    own_gear: dict[str, dict[str, Any]] = {}  # gear name -> its dynamics options
     for i, (kw, table) in enumerate(zip(kws, gear_tables, strict=True)):
-        kw = {k: v for k, v in kw.items() if k not in ("shaft", "hand")}
+        own_gear[kw["name"]] = {k: (kw[k], f"gears[{i}]" if k in table else "common")
+                                for k in PER_GEAR if k in kw}
+        kw = {k: v for k, v in kw.items() if k not in ("shaft", "hand", *PER_GEAR)}
         if kw["helix_angle"]:
             kw["helix_angle"] *= signs[i]
         where = f"gears[{i}]"
@@ -209,13 +223,48 @@ def parse(doc: dict[str, Any]) -> Gearbox:
                 GearTrain(cracks=(crack,), **kw)
         raise
     dynamics = parse_dynamics(doc.get("dynamics", {}), "dynamics")
+    dynamics = _per_element(dynamics, doc.get("dynamics", {}), train, own_mesh, own_gear)
     analysis = parse_analysis(doc.get("analysis", {}), "analysis")
     return Gearbox(train=train, dynamics=dynamics, analysis=analysis)
 
 
+def _per_element(dynamics: DynamicsSettings, raw: Any, train: GearTrain,
+                 own_mesh: dict[frozenset, dict[str, tuple[Any, str]]],
+                 own_gear: dict[str, dict[str, tuple[Any, str]]]) -> DynamicsSettings:
+    """``dynamics`` with the options the meshes and gears give for themselves
+    (:data:`PER_MESH`, :data:`PER_GEAR`) as per-item tuples in power-flow order; each
+    value checked and named where it was written (``meshes[1].backlash``), an option
+    given both per element and in ``[dynamics]`` refused."""
+    items = [("mesh", PER_MESH, [own_mesh.get(frozenset(p), {}) for p in train.flow.meshes]),
+             ("gear", PER_GEAR, [own_gear.get(g.name, {}) for g in train.gears])]
+    for what, names, given in items:
+        for name in names:
+            if not any(name in d for d in given):
+                continue
+            at = next(d[name][1] for d in given if name in d)
+            require(not (isinstance(raw, dict) and name in raw), f"{at}.{name}",
+                    next(d[name][0] for d in given if name in d), f"is also given in "
+                    f"[dynamics] ({name} = {raw.get(name) if isinstance(raw, dict) else ''}):"
+                    f" give it per {what} or there, not both")
+            values = []
+            for k, d in enumerate(given):
+                if name not in d:
+                    values.append(agma_backlash(train, k) if name == "backlash" else 0.0)
+                    continue
+                value, where = d[name]
+                try:  # the element's value alone, named where it was written
+                    dataclasses.replace(dynamics, **{name: (value,)})
+                except InputError as exc:
+                    raise InputError(f"{where}.{name}", value, exc.limit) from None
+                values.append(value)
+            dynamics = dataclasses.replace(dynamics, **{name: tuple(values)})
+    return dynamics
+
+
 def _graph(doc: dict[str, Any], kws: list[dict[str, Any]]
-           ) -> tuple[tuple[Shaft, ...], tuple[MeshSpec, ...]]:
-    """``[[shafts]]`` and ``[[meshes]]`` with each gear's ``shaft``, checked as written."""
+           ) -> tuple[tuple[Shaft, ...], tuple[MeshSpec, ...], dict]:
+    """``[[shafts]]`` and ``[[meshes]]`` with each gear's ``shaft``, checked as written;
+    and each mesh's own dynamics options (:data:`PER_MESH`), by its pair of gears."""
     shafts_raw = array_of_tables(doc.get("shafts", []), "shafts")
     require_tables = [("shafts", shafts_raw), ("meshes", doc.get("meshes"))]
     for key, raw in require_tables:
@@ -236,6 +285,7 @@ def _graph(doc: dict[str, Any], kws: list[dict[str, Any]]
                         sources=[(f"shafts[{i}]", table)], default=f"shafts[{i}]"):
             shafts.append(Shaft(**sp))
     meshes = []
+    own: dict[frozenset, dict[str, tuple[Any, str]]] = {}
     gear_names = [kw["name"] for kw in kws]
     for i, table in enumerate(array_of_tables(doc["meshes"], "meshes")):
         at = f"meshes[{i}]"
@@ -246,8 +296,9 @@ def _graph(doc: dict[str, Any], kws: list[dict[str, Any]]
         kw = convert({k: v for k, v in table.items() if k != "gears"}, MESH_KEYS, at)
         first, second = (kws[gear_names.index(g)] for g in pair)
         require_same_rack(pair[0], *_rack(first), pair[1], *_rack(second), mesh=at)
+        own[frozenset(pair)] = {k: (kw.pop(k), at) for k in PER_MESH if k in kw}
         meshes.append(MeshSpec(gears=tuple(pair), **kw))
-    return tuple(shafts), tuple(meshes)
+    return tuple(shafts), tuple(meshes), own
 
 
 def _hands(doc: dict[str, Any], kws: list[dict[str, Any]], shafts: tuple[Shaft, ...],

@@ -96,6 +96,10 @@ PLANETARY_TOP_KEYS = ("name", "material", "stage", "stages", "operating", "membe
 #: Keys of a ``[[stages]]`` entry after the first besides those of ``[stage]``.
 NEXT_STAGE_KEYS = ("name", "fixed", "input", "shaft_stiffness", "members", "cracks", "faults")
 #: Keys of ``[chain]``: the shaft and a gear train's sections (no operating point).
+#: The per-mesh and per-gear dynamics options of a gear train's file
+#: (:data:`gearsim.model.config.PER_MESH`, ``PER_GEAR``), refused beside a stage.
+PER_ELEMENT = (("backlash", "profile_modification", "crowning", "assembly_error"),
+               ("runout", "runout_phase"))
 CHAIN_KEYS = ("name", "shaft_stiffness", "common", "shafts", "gears", "meshes", "stiffness",
               "cracks", "faults", "modifications")
 
@@ -335,6 +339,13 @@ def _parse_chain(raw: Any, material: Any, op: Operating, parse: Callable, table:
         raise InputError(f"{table}.gears", "missing", f"a chain needs [[{table}.gears]] "
                          "(two or more gears)")
     shaft = _shaft(raw, table)
+    for key, per in (("meshes", PER_ELEMENT[0]), ("gears", PER_ELEMENT[1])):
+        for i, t in enumerate(raw.get(key) or []):
+            for k in per:
+                if isinstance(t, dict) and k in t:
+                    raise InputError(f"{table}.{key}[{i}].{k}", t[k], "is read for a gearbox "
+                                     "of parallel shafts only: a planetary stage's dynamics "
+                                     "takes one backlash for all its meshes in [dynamics]")
     sub = {k: v for k, v in raw.items() if k != "shaft_stiffness"}
     sub.setdefault("name", table.replace("_", " "))
     sub["material"] = material

@@ -112,7 +112,7 @@ PARAMETERS: dict[str, str | tuple[str, ...]] = {
 #: A parameter of one shaft's bearings, ``bearing_stiffness[SHAFT]`` (a name of
 #: :meth:`gearsim.model.Gearbox.bearing_names`): the radial stiffness [N/m] of that shaft's
 #: bearings only, a quoted key of ``[parameters]``.
-NAMED_BEARING = re.compile(r"bearing_stiffness\[([\w-]+)\]")
+NAMED_BEARING = re.compile(r"bearing_stiffness\[([\w.-]+)\]")
 STUDY_KEYS = ("name", "config", "sampling", "samples", "seed", "replicates", "signal",
               "shafts", "store_signals", "max_cases", "dynamics")
 #: Largest number of cases a study may have unless its ``study.max_cases`` allows more.
@@ -514,7 +514,9 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
     for key, value in params_raw.items():
         if key not in PARAMETERS and not NAMED_BEARING.fullmatch(key):
             raise InputError(f"parameters.{key}", value, "unknown parameter; allowed: "
-                             + ", ".join(PARAMETERS) + ', "bearing_stiffness[SHAFT]"')
+                             + ", ".join(PARAMETERS) + ', "bearing_stiffness[SHAFT]" (SHAFT '
+                             "a shaft's name of letters, digits, '_', '-' or '.', as the "
+                             "store's coordinate is named)")
         parameters[key] = _values(key, value)
     if sampling == "grid":
         for key, value in parameters.items():

@@ -71,3 +71,13 @@ def test_beside_a_stage_they_are_refused():
         gs.loads(text)
     assert e.value.parameter == "meshes[1].backlash"
     assert "parallel shafts only" in str(e.value)
+
+
+def test_a_runout_in_the_common_table_beside_a_stage_is_refused():
+    text = example_text("wind-turbine-grc").replace(
+        '[common]                    # the parallel stages\' gears\n',
+        '[common]                    # the parallel stages\' gears\nrunout = "5 um"\n')
+    assert 'runout = "5 um"' in text
+    with pytest.raises(InputError) as e:
+        gs.loads(text)
+    assert e.value.parameter.endswith("common.runout") and "parallel shafts only" in str(e.value)

@@ -339,13 +339,16 @@ def _parse_chain(raw: Any, material: Any, op: Operating, parse: Callable, table:
         raise InputError(f"{table}.gears", "missing", f"a chain needs [[{table}.gears]] "
                          "(two or more gears)")
     shaft = _shaft(raw, table)
-    for key, per in (("meshes", PER_ELEMENT[0]), ("gears", PER_ELEMENT[1])):
-        for i, t in enumerate(raw.get(key) or []):
-            for k in per:
-                if isinstance(t, dict) and k in t:
-                    raise InputError(f"{table}.{key}[{i}].{k}", t[k], "is read for a gearbox "
-                                     "of parallel shafts only: a planetary stage's dynamics "
-                                     "takes one backlash for all its meshes in [dynamics]")
+    tables = [(f"{key}[{i}]", t, per) for key, per in (("meshes", PER_ELEMENT[0]),
+                                                       ("gears", PER_ELEMENT[1]))
+              for i, t in enumerate(raw.get(key) or [])] + [("common", raw.get("common"),
+                                                             PER_ELEMENT[1])]
+    for where, t, per in tables:
+        for k in per:
+            if isinstance(t, dict) and k in t:
+                raise InputError(f"{table}.{where}.{k}", t[k], "is read for a gearbox of "
+                                 "parallel shafts only: a planetary stage's dynamics takes "
+                                 "one backlash for all its meshes in [dynamics]")
     sub = {k: v for k, v in raw.items() if k != "shaft_stiffness"}
     sub.setdefault("name", table.replace("_", " "))
     sub["material"] = material

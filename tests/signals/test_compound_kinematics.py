@@ -583,3 +583,39 @@ def test_a_real_record_of_the_rig_analysed_with_its_gearbox(gearsim_here):
     assert code == 0, err
     assert _without(mine) == _without(json.loads(out)["records"][0])
     assert mine["stages"] == [[32, 80], [48, 64]]
+
+
+#: The stage's speeds reach the two analyses through different products of tooth ratios
+#: (25 x 23/71 here, the kinematics' own there): a last-bit difference in f_m moves the
+#: band edges by that much.
+ROUTE_RTOL = 1e-9
+
+
+def test_a_slow_further_stage_is_banded_as_its_own_pair():
+    """Three stages 23/71, 19/67, 17/59 at 25 Hz: mesh II at 153.9 Hz, mesh III at 39 Hz.
+    Frames sized by the input shaft (4 a revolution: 100 Hz bins) held under two bins
+    around 2 x 153.9 Hz and the whole analysis was refused; each further stage's band
+    energy, widths and modulation are now those of the stage analysed alone as a pair at
+    its own driving shaft's speed (to ROUTE_RTOL)."""
+    fs, f1 = 20_000.0, 25.0
+    stages = ((23, 71), (19, 67), (17, 59))
+    t = np.arange(int(6.2 * fs)) / fs  # 4 Hann bins per 0.66 Hz: the output's sidebands
+    f_shaft, x = f1, np.zeros_like(t)
+    for zd, zn in stages:  # each mesh modulated by its driving shaft
+        x += (1 + 0.3 * np.cos(2 * np.pi * f_shaft * t)) * np.cos(2 * np.pi * zd * f_shaft * t)
+        f_shaft *= zd / zn
+    x += 0.01 * np.random.default_rng(3).standard_normal(t.size)
+    whole = analyze(x, fs, stages=stages, shaft_frequency=f1)
+    f_shaft = f1
+    for k, (zd, zn) in enumerate(stages):
+        alone = analyze(x, fs, stages=((zd, zn),), shaft_frequency=f_shaft).stages[0]
+        mine = whole.stages[k]
+        for name in ("band_energy", "band_width_spectrum", "band_width_stft",
+                     "band_modulation"):
+            got, want = getattr(mine, name), getattr(alone, name)
+            assert got.keys() == want.keys()
+            for n in got:
+                np.testing.assert_allclose(got[n], want[n], rtol=ROUTE_RTOL,
+                                           err_msg=f"{k} {name} {n}")
+        f_shaft *= zd / zn
+    assert whole.stages[1].band_modulation[1] > 0.3  # the 0.3 AM of stage 2's shaft

@@ -710,15 +710,15 @@ def analyze(
     hop = max(1, nperseg // 2)
     # The static part (e.g. the mean mesh force) would swamp the lowest bins; the STFT
     # analyses the dynamic part when remove_mean is set.
-    sg = spectrogram(a - stats.mean if opt.remove_mean else a, fs, nperseg=nperseg, hop=hop,
-                     window="hann")
+    dynamic = a - stats.mean if opt.remove_mean else a
+    sg = spectrogram(dynamic, fs, nperseg=nperseg, hop=hop, window="hann")
     mean_psd = sg.psd.mean(axis=1)
     first = _bands(spec, sg, mean_psd, f_m, f_r1, orders, opt.band_fraction)
     energies, bw_spec, bw_stft, mod_peak = first
     stage_out = []
     for k, st in enumerate(kin.stages):  # stage 1 is the reference gear's mesh: `first`
-        b = first if k == 0 else _bands(spec, sg, mean_psd, st.mesh_frequency,
-                                        kin.shafts[st.shafts[0]], orders, opt.band_fraction)
+        b = first if k == 0 else _stage_bands(dynamic, fs, spec, st, kin.shafts[st.shafts[0]],
+                                              k, orders, opt)
         stage_out.append(StageLines(stage=st, harmonics=stage_spec[k][0],
                                     families=stage_spec[k][1], band_energy=b[0],
                                     band_width_spectrum=b[1], band_width_stft=b[2],
@@ -782,6 +782,24 @@ def _stage_spectrum(kin: Kinematics, shafts: list[dict[str, float]], spec: Spect
                               orders=orders, n_sidebands=n_sidebands, other_lines=others),
         ))
     return out
+
+
+def _stage_bands(dynamic: np.ndarray, fs: float, spec: Spectrum, st, f_drive: float, k: int,
+                 orders: Sequence[int], opt) -> tuple[dict, dict, dict, dict]:
+    """:func:`_bands` of a further stage (index ``k`` from 0) of a compound train, from an
+    STFT of ``opt.stft_frames_per_rev`` frames per revolution of the stage's own driving
+    shaft (``f_drive`` [Hz]): the stage analysed as its own gear pair would be, its band
+    around n f_m resolved however slow the stage (frames sized by the input shaft hold
+    under two bins around a slow stage's mesh)."""
+    nperseg = max(8, int(round(fs / (opt.stft_frames_per_rev * f_drive))))
+    if nperseg > dynamic.size:
+        raise InputError("analysis.stft_frames_per_rev", opt.stft_frames_per_rev,
+                         f"gives stage {k + 1}'s frame of {nperseg} samples (a revolution of "
+                         f"its driving shaft, {f_drive:.4g} Hz, over {opt.stft_frames_per_rev}"
+                         "), longer than the record")
+    sg = spectrogram(dynamic, fs, nperseg=nperseg, hop=max(1, nperseg // 2), window="hann")
+    return _bands(spec, sg, sg.psd.mean(axis=1), st.mesh_frequency, f_drive, orders,
+                  opt.band_fraction)
 
 
 def _bands(spec: Spectrum, sg: Spectrogram, mean_psd: np.ndarray, mesh_frequency: float,

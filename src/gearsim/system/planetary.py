@@ -549,28 +549,31 @@ class PlanetaryTrain:
 
     @cached_property
     def _sun_grids(self) -> dict[str, ContactGrid]:
-        """Mesh of contacts of the sun-planet mesh of the faulted member (key), if any."""
+        """Meshes of contacts of the sun-planet meshes: ``"all"`` healthy, and one for each
+        damaged member (``"sun"``, ``"planet-n"``: its faults and cracks), if any."""
         if not (self.faults or self.contacts):
             return {}
         pair, s = self.sun_pair, self.settings
         model = {"compliance": tooth_compliance(s.source), "force": self.mesh_force,
                  "coupling": body_coupling(s)}
-        healthy = contact_grid(pair, settings=s, corner=s.corner_contact, **model)
-        if not self.faults:
-            return {"all": healthy}
-        member = self.faults[0].gear
-        gear = 1 if member == "sun" else 2
-        own = pair.driver.name if gear == 1 else pair.driven.name
-        cracks = tuple(replace(c, gear=own) for c in self.cracks)
-        aux = GearTrain(gears=(pair.driver, pair.driven), stiffness=s, cracks=cracks,
-                        faults=tuple(replace(f, gear=own) for f in self.faults),
-                        name=f"{self.name}: sun mesh of {member}")
-        f1, f2 = mesh_flanks(aux, 0)
-        tc = tuple(ToothCrack(gear, c, self._side(replace(c, gear=member), "sun"))
-                   for c in cracks)
-        grid = contact_grid(pair, cracks=tc, flank1=f1, flank2=f2, settings=s,
-                            corner=s.corner_contact, **model)
-        return {member: grid, "all": healthy}
+        out = {"all": contact_grid(pair, settings=s, corner=s.corner_contact, **model)}
+        # the ring's cracks are not in the sun meshes
+        damaged = sorted({f.gear for f in self.faults}
+                         | {c.gear for c in self.cracks if c.gear != "ring"})
+        for member in damaged:
+            gear = 1 if member == "sun" else 2
+            own = pair.driver.name if gear == 1 else pair.driven.name
+            cracks = tuple(replace(c, gear=own) for c in self.cracks if c.gear == member)
+            aux = GearTrain(gears=(pair.driver, pair.driven), stiffness=s, cracks=cracks,
+                            faults=tuple(replace(f, gear=own) for f in self.faults
+                                         if f.gear == member),
+                            name=f"{self.name}: sun mesh of {member}")
+            f1, f2 = mesh_flanks(aux, 0)
+            tc = tuple(ToothCrack(gear, c, self._side(replace(c, gear=member), "sun"))
+                       for c in cracks)
+            out[member] = contact_grid(pair, cracks=tc, flank1=f1, flank2=f2, settings=s,
+                                       corner=s.corner_contact, **model)
+        return out
 
     @cached_property
     def _ring_tables(self) -> dict[str, MeshStiffness]:

@@ -40,3 +40,14 @@ def test_coaxial_shafts_are_labelled_once_in_plan_and_apart_in_the_side_view():
     assert where["input"][0] < where["output"][0]  # one axis, two planes
     assert where["input"][1] == where["output"][1] == 0.0
     assert abs(where["intermediate"][1] - 84.0) < 1e-9
+
+
+def test_the_stage_panel_names_the_shaft_each_member_sits_on():
+    """wind-turbine-grc: the sun on the low-speed shaft, the carrier on the rotor, the
+    ring held (the graph's [[stages]] entry)."""
+    d = _drawing("wind-turbine-grc")
+    fig = plot_layout(d["shafts"], d["gears"], d["links"], title="wt", stage=d["stage"],
+                      upstream=d["upstream"])
+    labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert labels == ["sun (z 21, on low-speed)", "ring (z 99, held)",
+                      "carrier (planet centres, on rotor)", "planets (z 39)"]

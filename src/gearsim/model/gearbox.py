@@ -577,7 +577,10 @@ class Gearbox:
                   "teeth": (s.sun_teeth, s.planet_teeth, s.ring_teeth),
                   "output": next(m for m in ("sun", "ring", "carrier")
                                  if m not in (tr.operating.fixed, tr.operating.input)),
-                  "input": tr.operating.input}
+                  "input": tr.operating.input, "fixed": tr.operating.fixed,
+                  "shafts": {m: self.shaft_label(stage_prefix(0, len(self.stages)) + m)
+                             for m in ("sun", "ring", "carrier")
+                             if m != tr.operating.fixed}}
         drawings = []  # (shafts, gears, links) of each chain, in power-flow order
         names = self._chain_mesh_names()
         for train in self.chains:

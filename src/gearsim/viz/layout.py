@@ -153,8 +153,18 @@ def _stage(ax, stage: dict) -> None:
     mm = 1e3
     phi = np.linspace(0, 2 * np.pi, 241)
     zs, zp, zr = stage["teeth"]
-    for r, lab in ((stage["sun"], f"sun (z {zs})"), (stage["ring"], f"ring (z {zr})")):
-        ax.plot(r * mm * np.cos(phi), r * mm * np.sin(phi), "-", lw=1.2, label=lab)
+
+    def on(member: str) -> str:  # the shaft a turning member sits on, or "held"
+        if stage.get("fixed") == member:
+            return ", held"
+        shaft = (stage.get("shafts") or {}).get(member)
+        return f", on {shaft}" if shaft and shaft != member else ""
+
+    for r, m, z in ((stage["sun"], "sun", zs), (stage["ring"], "ring", zr)):
+        ax.plot(r * mm * np.cos(phi), r * mm * np.sin(phi), "-", lw=1.2,
+                label=f"{m} (z {z}{on(m)})")
+    ax.plot(stage["centre"] * mm * np.cos(phi), stage["centre"] * mm * np.sin(phi), ":",
+            color="0.5", lw=0.8, label=f"carrier (planet centres{on('carrier')})")
     for j, psi in enumerate(stage["angles"]):
         cx, cy = stage["centre"] * mm * np.cos(psi), stage["centre"] * mm * np.sin(psi)
         ax.plot(cx + stage["planet"] * mm * np.cos(phi), cy + stage["planet"] * mm
@@ -194,7 +204,9 @@ def plot_layout(shafts: Sequence[tuple[str, tuple[float, float]]],
     stage : dict, optional
         ``sun``, ``ring`` and ``planet`` pitch radii [m], ``centre`` (carrier radius,
         [m]), ``angles`` (planet angles [rad]) and ``teeth`` (z_s, z_p, z_r); optional
-        ``input`` and ``output`` (the members on the joining shafts).
+        ``input`` and ``output`` (the members on the joining shafts), ``fixed`` (the
+        held member) and ``shafts`` (member -> the shaft it sits on), named in the
+        legend.
     upstream : tuple, optional
         ``(shafts, gears, meshes)`` of gears driving the stage, as above.
     fig : matplotlib.figure.Figure, optional

@@ -67,7 +67,7 @@ from gearsim.dynamics.lta import build_lta
 from gearsim.dynamics.model import DynamicModel, nominal_inertia, static_equilibrium
 from gearsim.dynamics.settings import DynamicsSettings
 from gearsim.dynamics.stage import StageDynamics, build_stage_model, model_radii, simulate_stage
-from gearsim.dynamics.tables import MeshTable
+from gearsim.dynamics.tables import MeshTable, mesh_tables
 from gearsim.errors import InputError, require
 from gearsim.system import GearTrain
 from gearsim.system.graph import MAX_SHAFT_STIFFNESS, MIN_SHAFT_STIFFNESS
@@ -477,7 +477,9 @@ def _join_chain(base: DynamicModel, train: PlanetaryTrain, prefix: str, chain: G
         _check_operating(train.operating,
                          stage_operating(chain, train.operating.fixed, train.operating.input),
                          "stage", "the chain output's {:.10g} (use stage_operating)")
-    cm_ = build_lta(chain, settings)
+    # the gears' meshes as meshes of contacts with ``contact_mesh`` (the stage follows its
+    # own ``contacts``), as a gear train's run (gearsim.dynamics.simulate.build_model)
+    cm_ = build_lta(chain, settings, tables=mesh_tables(chain, contacts=settings.contact_mesh))
     # the member on the shaft and the chain's gear on it (its first or its last)
     member = output_member(train) if side == "output" else train.operating.input
     gear = chain.gears[0] if side == "output" else chain.gear(chain.flow.meshes[-1][1])

@@ -229,13 +229,18 @@ def _contact_rows(t, direction: int) -> MeshTable:
                      sx=np.ascontiguousarray(tab.sx[idx]))
 
 
-def check_stage_settings(s: DynamicsSettings) -> None:
+def check_stage_settings(s: DynamicsSettings, *, gears: bool = False) -> None:
     """Refuse the gear-train options a stage does not model (one line each).
 
     Parameters
     ----------
     s : DynamicsSettings
         The settings of a stage's run.
+    gears : bool, optional
+        The gearbox has gears beside its stages: the gear-train options (mesh
+        modifications, runout, meshes of contacts, bearing damping and axial stiffness,
+        idler angles) are theirs (:func:`gearsim.dynamics.compose.stage_settings` resets
+        them for the stages), so only the model and the one backlash are checked.
 
     Raises
     ------
@@ -244,11 +249,10 @@ def check_stage_settings(s: DynamicsSettings) -> None:
     """
     require(s.model in ("lta", "torsional"), "dynamics.model", s.model,
             'a planetary stage is modelled "lta" (Lin & Parker, planar) or "torsional"')
-    for name, default in (("profile_modification", (0.0,)),
-                          ("crowning", (0.0,)), ("runout", (0.0,)),
-                          ("assembly_error", (0.0,)), ("contact_mesh", False),
-                          ("bearing_damping", None), ("bearing_axial_stiffness", None),
-                          ("idler_angle", ())):
+    for name, default in (() if gears else (
+            ("profile_modification", (0.0,)), ("crowning", (0.0,)), ("runout", (0.0,)),
+            ("assembly_error", (0.0,)), ("contact_mesh", False), ("bearing_damping", None),
+            ("bearing_axial_stiffness", None), ("idler_angle", ()))):
         v = getattr(s, name)
         require(v == default, f"dynamics.{name}", v,
                 f"is not modelled for a planetary stage (leave it at {default!r})")

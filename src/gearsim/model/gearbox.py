@@ -142,6 +142,8 @@ class Gearbox:
                 "given", "gears driving a stage need the stage ([stage])")
         require(not self.next_stages or self.stage is not None, "stages", "given",
                 "stages in series need the first stage")
+        if self.stage is not None:  # what a stage does not model, refused where it is read
+            check_stage_settings(self.dynamics, gears=bool(self.chains))
 
     @property
     def stages(self) -> tuple[PlanetaryTrain, ...]:
@@ -285,7 +287,7 @@ class Gearbox:
         if dynamics:
             gb = dataclasses.replace(gb, dynamics=dataclasses.replace(gb.dynamics, **dynamics))
             if gb.stage is not None:  # the options a stage does not model, refused now
-                check_stage_settings(gb.dynamics)
+                check_stage_settings(gb.dynamics, gears=bool(gb.chains))
         if analysis:
             gb = dataclasses.replace(gb, analysis=dataclasses.replace(gb.analysis, **analysis))
         if stiffness:

@@ -44,11 +44,13 @@ References
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from gearsim._version import __version__
 from gearsim.dynamics.modal import modes
 from gearsim.dynamics.model import DynamicModel, constrain, nominal_inertia, static_equilibrium
 from gearsim.dynamics.planetary import LinParkerModel, PlanetaryMode
@@ -527,7 +529,8 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
         ``acceleration`` of the ring translation [m/s^2], ``sensor`` [N] (module docstring),
         ``carrier_angle`` [rad] (omega_c tau(t): it follows a speed profile), ``tacho``
         (time, shaft) [V], a once-per-revolution pulse of every turning member and of a
-        driven chain's shafts; attributes: f_m, speeds, direction, phases. A model of
+        driven chain's shafts; attributes: f_m, speeds, direction, phases,
+        ``gearsim_version`` and ``dynamics`` (the run's options, JSON, SI). A model of
         stages in series (:mod:`gearsim.dynamics.compose`): the meshes of all stages in
         ``mesh_force`` (``stage1-sun-planet-1``, ...), ``stage_shaft_torque`` (time,
         stage_shaft) [N m] and attributes ``stage_mesh_frequency`` [Hz],
@@ -711,7 +714,8 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
                "sensor_angle": dyn.sensor_angle, "sensor_width": dyn.sensor_width,
                "cracks": ", ".join(f"{e['prefix']}{c.gear}:{c.tooth}:{c.flank}:{c.depth:g}"
                                    for e in parts for c in e["train"].cracks) or "none",
-               "constant_meshes": int(constant), **extra_attrs})
+               "constant_meshes": int(constant), "gearsim_version": __version__,
+               "dynamics": json.dumps(settings.to_dict()), **extra_attrs})
     return ds
 
 

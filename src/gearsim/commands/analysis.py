@@ -539,8 +539,9 @@ def _config_kinematics(config: str) -> tuple:
             "parts, or of a stage whose ring turns, are analysed with --stages or --stage "
             "for the part measured (a lone stage with the ring held is read from --config)")
     st = tr.stage
+    _, f_carrier, _ = tr.analysis_reference()  # the carrier, with the ring held
     return (None, None, (st.sun_teeth, st.planet_teeth, st.ring_teeth, st.planets),
-            abs(tr.speeds["carrier"]) / (2 * math.pi))
+            f_carrier)
 
 
 def _one_with_baseline(path: str, baseline: Path | None, options: dict):

@@ -285,9 +285,8 @@ class Gearbox:
         """
         gb = self
         if dynamics:
+            # (a stage's refusals: __post_init__, check_stage_settings)
             gb = dataclasses.replace(gb, dynamics=dataclasses.replace(gb.dynamics, **dynamics))
-            if gb.stage is not None:  # the options a stage does not model, refused now
-                check_stage_settings(gb.dynamics, gears=bool(gb.chains))
         if analysis:
             gb = dataclasses.replace(gb, analysis=dataclasses.replace(gb.analysis, **analysis))
         if stiffness:

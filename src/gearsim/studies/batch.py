@@ -403,6 +403,7 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
     # a gearsim result brings its tooth counts, and a compound train's its stages
     # (of the part of the gearbox each channel is a record of: _part_of)
     own = teeth is None and stages is None and any(ch.get("teeth") for ch in chans)
+    said = provenance or {}
     for ch in chans:
         file_rpm = ch.get("rpm") if speed is None and tacho is None and speed_search is None \
             and ch.get("own_tacho") is None else None
@@ -422,7 +423,6 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
         if ch.get("dropped"):
             src["dropped"] = ch["dropped"]
         try:
-            said = provenance or {}
             spec = _stage_spec(stage, ch, speed, said.get("stage"))
             rec = analyze_record(
                 ch["data"], ch["fs"], speed=file_rpm / 60.0 if file_rpm else speed,

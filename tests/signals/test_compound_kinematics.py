@@ -19,6 +19,7 @@ import pytest
 
 import gearsim as gs
 from gearsim.errors import InputError
+from gearsim.model.config import example_text
 from gearsim.signals.analysis import analyze, kinematics
 from gearsim.signals.sidebands import sideband_spacing
 from gearsim.studies.sweep_case import features
@@ -619,3 +620,20 @@ def test_a_slow_further_stage_is_banded_as_its_own_pair():
                                            err_msg=f"{k} {name} {n}")
         f_shaft *= zd / zn
     assert whole.stages[1].band_modulation[1] > 0.3  # the 0.3 AM of stage 2's shaft
+
+
+@pytest.mark.parametrize("teeth", ["1e300", "inf", "0", "-32", "nan"])
+def test_a_bad_config_is_refused_before_any_record_is_read(record_csv, gearsim_here,
+                                                           tmp_path, teeth):
+    """--config of a file with an impossible tooth count: one line naming the file's
+    key, exit 2, no table written."""
+    text = example_text("two-stage-reducer").replace("teeth = 32\n", f"teeth = {teeth}\n", 1)
+    assert f"teeth = {teeth}\n" in text
+    box = tmp_path / "box.toml"
+    box.write_text(text)
+    out = tmp_path / "t.csv"
+    code, _, err = _cli(gearsim_here, "analyze", record_csv, "--fs", FS, "--config", box,
+                        "--out", out)
+    lines = err.strip().splitlines()
+    assert code == 2 and len(lines) == 1 and "gears[0].teeth" in lines[0], err
+    assert not out.exists()

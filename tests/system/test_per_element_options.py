@@ -55,6 +55,12 @@ def test_written_per_element_or_as_lists_the_run_is_the_same():
     ('assembly_error = "-20 mm"\n', "", "", "meshes[1].assembly_error", "|e| <= 0.01 m"),
     ("", "", 'runout = "-1 um"\n', "gears[3].runout", ">= 0 m"),
     ('backlash = "0.2 kg"\n', "", "", "meshes[1].backlash", "length"),
+    ("backlash = inf\n", "", "", "meshes[1].backlash", "finite"),
+    ("crowning = nan\n", "", "", "meshes[1].crowning", "finite"),
+    ("profile_modification = 1e300\n", "", "", "meshes[1].profile_modification",
+     "<= 0.01 m"),
+    ("backlash = -1e-300\n", "", "", "meshes[1].backlash", ">= 0 m"),
+    ("", "", 'runout_phase = "inf deg"\n', "gears[3].runout_phase", "finite"),
 ])
 def test_bad_element_values_are_named_where_written(mesh_ii, dynamics, gear, parameter,
                                                     words):

@@ -22,7 +22,7 @@ from typing import Annotated, Any
 import typer
 
 from gearsim.commands._options import as_options
-from gearsim.errors import InputError, require
+from gearsim.errors import InputError
 
 __all__ = ["register"]
 
@@ -522,26 +522,17 @@ def _text_of(d: dict) -> str:
 
 
 def _config_kinematics(config: str) -> tuple:
-    """``(teeth, stages, stage, speed)`` of the gearbox ``config`` for a measured record of
-    its input shaft: :meth:`gearsim.model.Gearbox.analysis_train` of gears (teeth or
-    stages, the input speed [Hz]); a lone planetary stage with the ring held: its
-    ``(z_s, z_p, z_r, N)`` and the carrier speed [Hz] (``--stage``)."""
+    """``(teeth, stages, stage, speed)`` of the gearbox ``config`` for a measured record
+    (:meth:`gearsim.model.Gearbox.measured_kinematics`)."""
     from gearsim.model import load
 
-    gb = load(config)
-    if not gb.stages:
-        kin = gb.analysis_train()
-        return (None if "stages" in kin else tuple(kin["teeth"]), kin.get("stages"), None,
-                kin["shaft_frequency"])
-    tr = gb.stage
-    require(len(gb.stages) == 1 and not gb.chains and tr.operating.fixed == "ring",
-            "--config", config, "the records of a gearbox with a planetary stage and other "
-            "parts, or of a stage whose ring turns, are analysed with --stages or --stage "
-            "for the part measured (a lone stage with the ring held is read from --config)")
-    st = tr.stage
-    _, f_carrier, _ = tr.analysis_reference()  # the carrier, with the ring held
-    return (None, None, (st.sun_teeth, st.planet_teeth, st.ring_teeth, st.planets),
-            f_carrier)
+    try:
+        kin = load(config).measured_kinematics("--config")
+    except InputError as exc:
+        if exc.parameter != "--config":
+            raise
+        raise InputError("--config", config, exc.limit) from None
+    return kin.get("teeth"), kin.get("stages"), kin.get("stage"), kin["speed"]
 
 
 def _one_with_baseline(path: str, baseline: Path | None, options: dict):

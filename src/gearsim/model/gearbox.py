@@ -1048,6 +1048,53 @@ class Gearbox:
             return path.get("stages")
         return tr.compound_stages()  # the rule the results' attribute follows
 
+    def measured_kinematics(self, parameter: str = "config") -> dict[str, Any]:
+        """What the analysis of a measured record of this gearbox takes from it.
+
+        A record measured on the input shaft of gears: their teeth or stages
+        (:meth:`analysis_train`); of a lone planetary stage with the ring held, measured
+        at the carrier: the stage (``--stage`` of ``gearsim analyze``).
+
+        Parameters
+        ----------
+        parameter : str, optional
+            Named in the refusal (``"--config"``).
+
+        Returns
+        -------
+        dict
+            ``speed`` [Hz] (the nominal input speed, or the carrier's), and ``teeth``
+            (tuple of int), ``stages`` (tuple of (int, int)) or ``stage``
+            ``(z_s, z_p, z_r, N)``.
+
+        Raises
+        ------
+        InputError
+            For stages with other parts, or a stage whose ring turns: no one record
+            kinematics (analyse the part measured with its own stages or stage).
+
+        Examples
+        --------
+        >>> import gearsim as gs
+        >>> gs.example("nrel-grc").measured_kinematics()["stage"]
+        (21, 39, 99, 3)
+        """
+        if not self.stages:
+            kin = self.analysis_train()
+            what = ({"stages": kin["stages"]} if "stages" in kin
+                    else {"teeth": tuple(kin["teeth"])})
+            return {"speed": kin["shaft_frequency"], **what}
+        tr = self.stage
+        require(len(self.stages) == 1 and not self.chains and tr.operating.fixed == "ring",
+                parameter, self.name, "the records of a gearbox with a planetary stage and "
+                "other parts, or of a stage whose ring turns, are analysed with --stages or "
+                "--stage for the part measured (a lone stage with the ring held is read "
+                "from --config)")
+        st = tr.stage
+        _, f_carrier, _ = tr.analysis_reference()  # the carrier, with the ring held
+        return {"speed": f_carrier,
+                "stage": (st.sun_teeth, st.planet_teeth, st.ring_teeth, st.planets)}
+
     def analysis_train(self, shafts: str = "all", signal: str | None = None) -> dict[str, Any]:
         """The train and speed arguments of the analysis of a record of this gearbox.
 

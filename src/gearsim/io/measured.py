@@ -595,7 +595,8 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
     if "teeth" in meta:  # a compound train's stages ("32/80,48/64"), else its configuration
         if (stages := _stages_attr(ds.attrs.get("analysis_stages"))) is not None:
             meta["stages"] = stages
-        elif isinstance(ds.attrs.get("config"), str):  # a result written before the stages
+        elif isinstance(ds.attrs.get("config"), str) and ds.attrs.get("kind") != "planetary":
+            # gears written before the stages (a stage result's parts: analysis_parts)
             meta["config"] = ds.attrs["config"]
     if ds.attrs.get("kind") == "planetary" and (parts := _parts_attr(ds.attrs)) is not None:
         # a gearsim stage result: each stage in series (one alone) and each gear chain

@@ -53,6 +53,7 @@ from gearsim.signals.settings import parse_analysis
 from gearsim.stiffness.modifications import Modification
 from gearsim.stiffness.settings import StiffnessSettings, model_options
 from gearsim.system.graph import MeshSpec, Shaft, power_flow
+from gearsim.system.toml import EFFECTIVE_HEADER
 from gearsim.system.train import GearTrain, Operating
 from gearsim.units import plain_numbers_are_si
 
@@ -97,10 +98,6 @@ MODIFICATION_KEYS = {"gear": "str", "tip_relief": "length", "tip_relief_length":
 TOP_KEYS = ("name", "material", "common", "shafts", "gears", "meshes", "operating",
             "stiffness", "cracks", "faults", "modifications", "dynamics", "analysis")
 
-
-#: First line of the effective configuration written by
-#: :func:`gearsim.system.train_to_toml`; its plain numbers are SI (also a speed).
-EFFECTIVE_HEADER = "# gearsim effective configuration (SI units"
 
 _GEAR_DEFAULTS = {f.name: f.default for f in dataclasses.fields(Gear)}
 

@@ -16,6 +16,7 @@ gearbox has.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import json
 import math
@@ -41,6 +42,7 @@ from gearsim.dynamics.lta import dof_map
 from gearsim.dynamics.settings import DynamicsSettings
 from gearsim.dynamics.stage import StageDynamics, check_stage_settings
 from gearsim.errors import InputError, require
+from gearsim.model.graph_toml import stages_to_toml
 from gearsim.signals.settings import AnalysisSettings
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.system.planetary import PlanetaryTrain, StageOperating, planet_name
@@ -322,7 +324,12 @@ class Gearbox:
         return self.train.mesh_stiffness(mesh, revolution_of=revolution_of).to_dataset()
 
     def to_toml(self) -> str:
-        """The effective configuration as TOML (SI units) that :func:`gearsim.loads` reads.
+        """The effective configuration as TOML (SI units) that :func:`gearsim.loads` reads
+        back to the same gearbox.
+
+        Gears alone: :func:`gearsim.system.train_to_toml`; with planetary stages the graph
+        form (:func:`gearsim.model.graph_toml.stages_to_toml`: shafts, stages, gears,
+        meshes), whatever form the gearbox was read from.
 
         Returns
         -------
@@ -331,10 +338,11 @@ class Gearbox:
         Raises
         ------
         InputError
-            For a gearbox with a planetary stage (not written back yet).
+            For a gearbox with stages the graph form cannot say (e.g. a study's variant
+            with meshes of contacts; :mod:`gearsim.model.graph_toml`).
         """
-        require(self.stage is None, "gearbox", self.name, "has a planetary stage; writing it "
-                "back as TOML is not available (keep its file)")
+        if self.stage is not None:
+            return stages_to_toml(self)
         return train_to_toml(self.train, self.dynamics.to_dict())
 
     # ---- what is done with a gearbox --------------------------------------------------
@@ -358,7 +366,9 @@ class Gearbox:
         xarray.Dataset
             :func:`gearsim.dynamics.simulate` (gears),
             :func:`gearsim.dynamics.stage.simulate_stage` (a stage) or
-            :func:`gearsim.dynamics.compose.simulate_stage_chain` (a stage driving gears).
+            :func:`gearsim.dynamics.compose.simulate_stage_chain` (a stage driving gears);
+            with stages its attribute ``config`` is :meth:`to_toml` of the run (left out
+            where that refuses).
         """
         settings = (dataclasses.replace(self.dynamics, **dynamics) if dynamics
                     else self.dynamics)
@@ -366,17 +376,22 @@ class Gearbox:
             from gearsim.dynamics.simulate import simulate
 
             return simulate(self.train, settings, harmonics=harmonics, force=force)
-        dataclasses.replace(self, dynamics=settings).check_run(harmonics)
+        run = dataclasses.replace(self, dynamics=settings)
+        run.check_run(harmonics)
         if not self.chains and not self.next_stages:
             from gearsim.dynamics.stage import simulate_stage
 
-            return simulate_stage(self.stage, self.members, settings)
-        from gearsim.dynamics.compose import simulate_stage_chain
+            ds = simulate_stage(self.stage, self.members, settings)
+        else:
+            from gearsim.dynamics.compose import simulate_stage_chain
 
-        return self._named_shafts(simulate_stage_chain(
-            self.stage, self.train, self.members, settings,
-            shaft_stiffness=self.shaft_stiffness, input_chain=self.input_train,
-            input_shaft_stiffness=self.input_shaft_stiffness, stages=self.next_stages))
+            ds = self._named_shafts(simulate_stage_chain(
+                self.stage, self.train, self.members, settings,
+                shaft_stiffness=self.shaft_stiffness, input_chain=self.input_train,
+                input_shaft_stiffness=self.input_shaft_stiffness, stages=self.next_stages))
+        with contextlib.suppress(InputError):  # none for what no file says (a study's
+            ds.attrs["config"] = run.to_toml()  # meshes of contacts: graph_toml)
+        return ds
 
     def shaft_label(self, member: str) -> str:
         """The name of the shaft a stage member sits on (:attr:`member_shafts`), else the

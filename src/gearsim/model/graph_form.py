@@ -51,13 +51,11 @@ from gearsim.errors import InputError
 from gearsim.geometry.gear import Material
 from gearsim.model.damage import array_of_tables
 from gearsim.model.gearbox import Gearbox
+from gearsim.model.graph_toml import HOUSING, MEMBERS
 from gearsim.model.planetary import parse_planetary
 
 __all__ = ["GRAPH_TOP_KEYS", "HOUSING", "is_graph_with_stages", "parse_graph_stages"]
 
-#: The held member's place.
-HOUSING = "housing"
-MEMBERS = ("sun", "ring", "carrier")
 GRAPH_TOP_KEYS = ("name", "material", "common", "shafts", "gears", "meshes", "stages",
                   "operating", "stiffness", "cracks", "faults", "modifications", "sensor",
                   "dynamics", "analysis")

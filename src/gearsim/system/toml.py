@@ -8,10 +8,25 @@ from typing import Any
 
 from gearsim.system.train import GearTrain
 
-__all__ = ["train_to_toml"]
+__all__ = ["EFFECTIVE_HEADER", "damage_tables", "gear_tables", "table", "toml_value",
+           "train_to_toml"]
+
+#: First line of the text written here: its plain numbers are SI (also a speed).
+EFFECTIVE_HEADER = "# gearsim effective configuration (SI units: m, rad, rad/s, N m, Pa, s, Hz)"
 
 
-def _value(v: Any) -> str:
+def toml_value(v: Any) -> str:
+    """``v`` as a TOML value (bool, int, float by ``repr``, str, list).
+
+    Parameters
+    ----------
+    v : bool, int, float, str, list or tuple
+        A finite float.
+
+    Returns
+    -------
+    str
+    """
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, int):
@@ -23,17 +38,87 @@ def _value(v: Any) -> str:
     if isinstance(v, str):
         return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
     if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_value(x) for x in v) + "]"
+        return "[" + ", ".join(toml_value(x) for x in v) + "]"
     raise TypeError(f"cannot write {type(v).__name__} to TOML")
 
 
-def _table(lines: list[str], header: str, items: dict[str, Any]) -> None:
+def table(lines: list[str], header: str, items: dict[str, Any]) -> None:
+    """Append the TOML table ``header`` (``"[stiffness]"``, ``"[[gears]]"``) to ``lines``.
+
+    Parameters
+    ----------
+    lines : list of str
+        The text so far, one line an item (appended to).
+    header : str
+        The table's header line.
+    items : dict
+        Key -> value (bool, int, float via ``repr``: read back bit for bit, str, list);
+        ``None`` values are left out.
+    """
     lines.append("")
     lines.append(header)
     for k, v in items.items():
         if v is None:
             continue
-        lines.append(f"{k} = {_value(v)}")
+        lines.append(f"{k} = {toml_value(v)}")
+
+
+def gear_tables(lines: list[str], train: GearTrain, graph: bool) -> None:
+    """Append the ``[[gears]]`` of ``train`` (each with its ``[gears.material]``) and,
+    written as a graph, each gear's ``shaft`` and ``hand`` and the ``[[meshes]]``.
+
+    Parameters
+    ----------
+    lines : list of str
+        The text so far (appended to).
+    train : GearTrain
+        The gears.
+    graph : bool
+        As a graph of shafts (else a chain: gear i drives gear i + 1).
+    """
+    for g in train.gears:
+        where = {} if not graph else {"shaft": train.flow.shafts[train.flow.shaft_of[g.name]].name,
+                                      "hand": "right" if g.helix_angle >= 0 else "left"}
+        table(lines, "[[gears]]", {
+            "name": g.name, **where, "teeth": g.teeth, "normal_module": g.normal_module,
+            "normal_pressure_angle": g.normal_pressure_angle,
+            "helix_angle": abs(g.helix_angle), "face_width": g.face_width,
+            "addendum_coefficient": g.addendum_coefficient,
+            "dedendum_coefficient": g.dedendum_coefficient,
+            "fillet_radius_coefficient": g.fillet_radius_coefficient,
+            "profile_shift": g.profile_shift, "bore_radius": g.bore_radius})
+        table(lines, "[gears.material]", {
+            "youngs_modulus": g.material.youngs_modulus,
+            "poisson_ratio": g.material.poisson_ratio, "density": g.material.density})
+    for (a, b), angle in zip(train.flow.meshes if graph else (), train.flow.angles,
+                             strict=False):
+        table(lines, "[[meshes]]", {"gears": [a, b], "angle": angle})
+
+
+def damage_tables(lines: list[str], part: Any, prefix: str = "") -> None:
+    """Append the ``[[cracks]]``, ``[[faults]]`` and ``[[modifications]]`` of ``part``.
+
+    Parameters
+    ----------
+    lines : list of str
+        The text so far (appended to).
+    part : GearTrain or PlanetaryTrain
+        Its ``cracks``, ``faults`` and (a train) ``modifications``.
+    prefix : str, optional
+        Of the headers: ``"stages."`` for a stage's own (``[[stages.cracks]]``).
+    """
+    for c in part.cracks:
+        table(lines, f"[[{prefix}cracks]]", {
+            "gear": c.gear, "tooth": c.tooth, "flank": c.flank, "depth": c.depth,
+            "angle": c.angle, "extent": c.extent, "profile": c.profile,
+            "start_radius": c.start_radius})
+    for f in part.faults:
+        table(lines, f"[[{prefix}faults]]", {"kind": f.kind, **{
+            k: v for k, v in dataclasses.asdict(f).items()
+            if not (f.kind == "broken" and k == "flank") and v != ()}})
+    for m in getattr(part, "modifications", ()):
+        table(lines, f"[[{prefix}modifications]]", {k: v for k, v in dataclasses.asdict(m).items()
+                                                    if v != ()})
 
 
 def train_to_toml(train: GearTrain, dynamics: dict[str, Any] | None = None) -> str:
@@ -54,52 +139,24 @@ def train_to_toml(train: GearTrain, dynamics: dict[str, Any] | None = None) -> s
     str
         TOML text.
     """
-    lines = ["# gearsim effective configuration (SI units: m, rad, rad/s, N m, Pa, s, Hz)",
-             f"name = {_value(train.name)}"]
-    chain = train.is_chain
-    if not chain:
-        for sh in train.flow.shafts:
-            _table(lines, "[[shafts]]", {k: v for k, v in dataclasses.asdict(sh).items()
-                                         if k != "gears"})
-    for g in train.gears:
-        where = {} if chain else {"shaft": train.flow.shafts[train.flow.shaft_of[g.name]].name,
-                                  "hand": "right" if g.helix_angle >= 0 else "left"}
-        _table(lines, "[[gears]]", {
-            "name": g.name, **where, "teeth": g.teeth, "normal_module": g.normal_module,
-            "normal_pressure_angle": g.normal_pressure_angle,
-            "helix_angle": abs(g.helix_angle), "face_width": g.face_width,
-            "addendum_coefficient": g.addendum_coefficient,
-            "dedendum_coefficient": g.dedendum_coefficient,
-            "fillet_radius_coefficient": g.fillet_radius_coefficient,
-            "profile_shift": g.profile_shift, "bore_radius": g.bore_radius})
-        _table(lines, "[gears.material]", {
-            "youngs_modulus": g.material.youngs_modulus,
-            "poisson_ratio": g.material.poisson_ratio, "density": g.material.density})
-    for (a, b), angle in zip(() if chain else train.flow.meshes, train.flow.angles,
-                             strict=False):
-        _table(lines, "[[meshes]]", {"gears": [a, b], "angle": angle})
+    lines = [EFFECTIVE_HEADER, f"name = {toml_value(train.name)}"]
+    graph = not train.is_chain
+    for sh in train.flow.shafts if graph else ():
+        table(lines, "[[shafts]]", {k: v for k, v in dataclasses.asdict(sh).items()
+                                    if k != "gears"})
+    gear_tables(lines, train, graph)
     # the speed with its unit: a bare number would be ambiguous (rpm or rad/s) and is
     # refused when a configuration is read
-    _table(lines, "[operating]", {"speed": f"{train.operating.speed!r} rad/s",
-                                  "torque": train.operating.torque})
+    table(lines, "[operating]", {"speed": f"{train.operating.speed!r} rad/s",
+                                 "torque": train.operating.torque})
     st = train.stiffness
-    _table(lines, "[stiffness]", {"closure": st.closure, "slices": st.slices,
-                                  "positions_per_cycle": st.positions_per_cycle,
-                                  "gauss_points": st.gauss_points, "plane": st.plane,
-                                  "source": st.source, "corner_contact": st.corner_contact,
-                                  "contact": st.contact, "coupling": st.coupling,
-                                  "fe_pair_positions": st.fe_pair_positions})
-    for c in train.cracks:
-        _table(lines, "[[cracks]]", {"gear": c.gear, "tooth": c.tooth, "flank": c.flank,
-                                     "depth": c.depth, "angle": c.angle, "extent": c.extent,
-                                     "profile": c.profile, "start_radius": c.start_radius})
-    for f in train.faults:
-        _table(lines, "[[faults]]", {"kind": f.kind, **{
-            k: v for k, v in dataclasses.asdict(f).items()
-            if not (f.kind == "broken" and k == "flank") and v != ()}})
-    for m in train.modifications:
-        _table(lines, "[[modifications]]", {k: v for k, v in dataclasses.asdict(m).items()
-                                            if v != ()})
+    table(lines, "[stiffness]", {"closure": st.closure, "slices": st.slices,
+                                 "positions_per_cycle": st.positions_per_cycle,
+                                 "gauss_points": st.gauss_points, "plane": st.plane,
+                                 "source": st.source, "corner_contact": st.corner_contact,
+                                 "contact": st.contact, "coupling": st.coupling,
+                                 "fe_pair_positions": st.fe_pair_positions})
+    damage_tables(lines, train)
     if dynamics is not None:
-        _table(lines, "[dynamics]", dynamics)
+        table(lines, "[dynamics]", dynamics)
     return "\n".join(lines) + "\n"

@@ -108,6 +108,24 @@ def test_a_run_up_is_analysed_with_its_own_tacho(run_up):
     assert auto["features"] == given["features"]
 
 
+def test_a_run_up_with_a_given_speed_or_a_gearbox(run_up):
+    """A speed the user gives is used, not the run-up's own tacho (before: refused as two
+    speed sources, although one was given); a gearbox's nominal speed (``--config``)
+    gives way to the own tacho, its stages still used."""
+    (given,), problems = analyze_file(run_up, channels=["acceleration[input,y]"],
+                                      speed=30.0)
+    assert not problems and "tacho" not in given["record"]["source"]
+    assert given["record"]["speed_hz"] == 30.0
+    (auto,), _ = analyze_file(run_up, channels=["acceleration[input,y]"])
+    (conf,), problems = analyze_file(
+        run_up, channels=["acceleration[input,y]"], speed=30.0, stages=((32, 80), (48, 64)),
+        provenance={"speed": "config", "teeth": "config"})
+    assert not problems
+    assert conf["record"]["source"]["tacho"] == "tacho[shaft=input]"
+    assert conf["record"]["speed_hz"] == auto["record"]["speed_hz"]
+    assert conf["features"]["mesh_frequency_hz"] == auto["features"]["mesh_frequency_hz"]
+
+
 def test_a_constant_speed_result_keeps_the_files_speed(reducer):
     (row,), _ = analyze_file(reducer, channels=["acceleration[input,y]"])
     assert "tacho" not in row["record"]["source"]

@@ -335,3 +335,19 @@ def test_gearsim_analyze_of_a_branching_result_takes_the_records_path(tmp_path, 
     # stage 2 by hand: mid at 25 x 24 / 48 = 12.5 Hz, f_m = 25 x 12.5 = 312.5 Hz, out-b at
     # 12.5 x 25 / 40 = 7.8125 Hz
     assert "gear stage 2 (25/40): f_m 312.5 Hz, shafts shaft2 12.5 Hz, shaft3 7.8125 Hz" in text
+
+
+def test_analyze_config_of_a_branching_box_names_each_outputs_path(tmp_path, gearsim_here):
+    """An idler driving two gears (21 -> 31 -> 26 and 43): a measured record's stages
+    depend on the shaft measured, so ``gearsim analyze --config`` names each output's
+    path instead of taking every gear as one chain (before: teeth 21, 31, 26, 43 as one
+    train, sidebands of shafts that do not exist); refused before the record is read."""
+    box = tmp_path / "split.toml"
+    box.write_text(IDLER_SPLIT)
+    rec = tmp_path / "rec.csv"
+    rec.write_text("a1\n" + "0.5\n" * 64)
+    r = gearsim_here("analyze", rec, "--fs", "1000", "--config", box)
+    lines = r.stderr.strip().splitlines()
+    assert r.returncode == 2 and len(lines) == 1, r.stderr
+    assert lines[0].endswith("give --stages of its path (out-a: 21/31,31/26; "
+                             "out-b: 21/31,31/43)"), lines[0]

@@ -1095,6 +1095,15 @@ class Gearbox:
         (21, 39, 99, 3)
         """
         if not self.stages:
+            fl = self.train.flow
+            if len(fl.outputs) > 1:  # no one compound train: each output its own path
+                paths = "; ".join(
+                    f"{fl.shafts[k].name}: " + ",".join(
+                        f"{a}/{b}" for a, b in _path_stages(self.train.path_kinematics(k)))
+                    for k in fl.outputs)
+                raise InputError(parameter, self.name, "its power branches, so the stages "
+                                 "depend on the shaft measured: give --stages of its path "
+                                 f"({paths})")
             kin = self.analysis_train()
             what = ({"stages": kin["stages"]} if "stages" in kin
                     else {"teeth": tuple(kin["teeth"])})
@@ -1199,3 +1208,10 @@ def _stage_crack(stage: PlanetaryTrain, flank: str | None, depth: float | None,
         stage.settings, closure=closure)
     return dataclasses.replace(stage, settings=settings,
                                cracks=() if flank == "none" else cracks)
+
+
+def _path_stages(kin: dict[str, tuple]) -> tuple[tuple[int, int], ...]:
+    """The stages of :meth:`GearTrain.path_kinematics`: its ``stages``, or consecutive
+    pairs of its ``teeth`` (an idler chain: the same speeds and mesh frequencies)."""
+    z = kin.get("teeth")
+    return kin["stages"] if z is None else tuple(zip(z, z[1:], strict=False))

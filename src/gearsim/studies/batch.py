@@ -189,13 +189,15 @@ def _label_of(labels: Mapping | None, file: str, channel: str) -> str | None:
     return None
 
 
-def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho) -> list[dict]:
+def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho,
+                   own_tachos: bool = True) -> list[dict]:
     """Channels of one file (one :func:`~gearsim.io.measured.read_record`): per channel
     ``{"channel", "data", "fs", "fs_source", "units", "tacho", "planetary", "rpm",
     "teeth", "stages", "config", "dropped"}`` (``rpm``, ``teeth`` and a compound train's
     ``stages`` from the file: a gearsim result's input speed and tooth counts; ``config``
     the configuration of a result written before results held their stages); ``fs``
-    None when neither the file nor the user gives a rate."""
+    None when neither the file nor the user gives a rate; a run-up's own tachos
+    (:func:`_own_tachos`) only with ``own_tachos`` (no speed given by the user)."""
     from gearsim.io.measured import read_record
     from gearsim.io.record import raise_all
 
@@ -217,7 +219,7 @@ def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho) -> list[
                          f"{name}: no vibration channel is left to analyse")
     for c in chosen:
         _check_tacho_shaft(tacho, c, meta)
-    own = _own_tachos(path, chosen, meta, fs, fmt) if tacho is None else {}
+    own = _own_tachos(path, chosen, meta, fs, fmt) if tacho is None and own_tachos else {}
     return [{"channel": c, "data": data[c], "fs": rec.fs,
              "fs_source": {"file": "file", "user": "given"}.get(rec.fs_source),
              "units": rec.units.get(c),
@@ -395,15 +397,19 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
     """
     from gearsim.signals.tiers import analyze_record
 
+    said = provenance or {}
+    # a speed the user gives (not a gearbox's nominal one) is used instead of a run-up's
+    # own tacho; a configuration's nominal speed gives way to it
+    given = speed_search is not None or (speed is not None and said.get("speed") != "config")
     try:
-        chans = _read_channels(path, channels, fs, fmt, drop_nonfinite, tacho)
+        chans = _read_channels(path, channels, fs, fmt, drop_nonfinite, tacho,
+                               own_tachos=not given)
     except InputError as exc:
         return [], [_problem(path, exc)]
     out, problems = [], []
     # a gearsim result brings its tooth counts, and a compound train's its stages
     # (of the part of the gearbox each channel is a record of: _part_of)
     own = teeth is None and stages is None and any(ch.get("teeth") for ch in chans)
-    said = provenance or {}
     for ch in chans:
         file_rpm = ch.get("rpm") if speed is None and tacho is None and speed_search is None \
             and ch.get("own_tacho") is None else None
@@ -424,8 +430,9 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
             src["dropped"] = ch["dropped"]
         try:
             spec = _stage_spec(stage, ch, speed, said.get("stage"))
+            ch_speed = None if ch.get("own_tacho") else speed  # the run-up's tacho
             rec = analyze_record(
-                ch["data"], ch["fs"], speed=file_rpm / 60.0 if file_rpm else speed,
+                ch["data"], ch["fs"], speed=file_rpm / 60.0 if file_rpm else ch_speed,
                 speed_provenance="file" if file_rpm else said.get("speed"),
                 tacho=ch["tacho"], pulses_per_rev=pulses_per_rev, speed_search=speed_search,
                 **train, teeth_provenance="file" if file_teeth else said.get("teeth"),

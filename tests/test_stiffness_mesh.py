@@ -205,3 +205,23 @@ def test_in_path_fraction_support(start, length, cell, width, centre):
         assert start <= lmid[0] <= end
     if centre - reach >= start and centre + reach <= end:
         assert frac[0] == pytest.approx(1.0, abs=1e-9)
+
+
+def test_iso6336_low_load_factor_at_the_reducers_light_load():
+    """ISO 6336-1 lowers c' by (w / 100 N/mm)^0.25 below 100 N/mm. The two-stage reducer
+    at 20 N m: mesh I, F_t = 20 / 0.024 m = 833.3 N on 15 mm, 55.56 N/mm, factor 0.8633;
+    mesh II, F_t = 20 x 80/32 / (0.5 x 1.5 mm x 48 = 0.036 m) = 1388.9 N, 92.59 N/mm,
+    factor 0.9809; the Table-1 train at 270.7 N/mm keeps ISO's full-load value."""
+    import gearsim as gs
+    from gearsim.system.stiffness import TrainStiffness
+
+    for name, loads, factors in (("two-stage-reducer", (55.556e3, 92.593e3), (0.8633, 0.9809)),
+                                 ("idler-table1", (270.71e3, 270.71e3), (1.0, 1.0))):
+        train = gs.example(name).train
+        tables = {(i, r): train.mesh_stiffness(i, revolution_of=r)
+                  for i in range(len(train.pairs)) for r in (1, 2)}
+        rows = TrainStiffness(train=train, results=tables).summary()["meshes"]
+        for row, pair, w, f in zip(rows, train.pairs, loads, factors, strict=True):
+            assert row["iso6336_line_load"] == pytest.approx(w, rel=1e-4)
+            full = mean_mesh_stiffness(pair)
+            assert row["iso6336_c_gamma_alpha_b"] / full == pytest.approx(f, abs=1e-4)

@@ -684,15 +684,18 @@ def stage_stiffness(train: PlanetaryTrain) -> tuple[dict, object]:
     -------
     summary : dict
         Per mesh (``sun-planet-1`` ...): mean, min, max [N/m], table period [cycles],
-        phase [cycles] and the ISO 6336-1 estimate c_gamma_alpha b with the ratio
-        mean / ISO; ``mesh_frequency`` [Hz], ``direction``, contact ratios.
+        phase [cycles] and the ISO 6336-1 estimate c_gamma_alpha b at the line load
+        |T_s| / (N r_s b) with the ratio mean / ISO; ``mesh_frequency`` [Hz], ``direction``, contact ratios.
     dataset : xarray.Dataset
         ``k_<mesh>`` over ``cycles_<mesh>`` (the forward tables, one period each).
     """
     import xarray as xr
 
     st = train.stage
-    iso = {"sun": mean_mesh_stiffness(train.sun_pair), "ring": internal_mean_mesh_stiffness(st)}
+    # ISO's tangential load per planet on the reference circles (equal for both meshes)
+    w = abs(train.torques["sun"]) / (st.planets * st.sun.pitch_radius * st.face_width)
+    iso = {"sun": mean_mesh_stiffness(train.sun_pair, w),
+           "ring": internal_mean_mesh_stiffness(st, w)}
     meshes, data = [], {}
     tables = train.tables()
     for t in tables:

@@ -33,11 +33,15 @@ class TrainStiffness:
     results: dict[tuple[int, int], MeshStiffness]  # (mesh, 1|2) -> result
 
     def summary(self) -> dict:
-        """Per mesh: max, min, mean stiffness [N/m], contact ratios, ISO ratio."""
+        """Per mesh: max, min, mean stiffness [N/m], contact ratios, ISO 6336-1's
+        c_gamma_alpha b at the static line load F_t / b [N/m] and the ratio to it."""
         out = {"name": self.train.name, "gearsim_version": __version__, "meshes": []}
         for i, pair in enumerate(self.train.pairs):
             r = self.results[(i, 1)]
-            iso = mean_mesh_stiffness(pair)
+            # ISO's nominal tangential load on the reference circle: F_bt cos(alpha_t)
+            f_t = self.train.static_mesh_force(i) * math.cos(pair.driver.transverse_pressure_angle)
+            w = f_t / pair.face_width
+            iso = mean_mesh_stiffness(pair, w)
             out["meshes"].append({
                 "mesh": pair.name,
                 "gears": [pair.driver.name, pair.driven.name],
@@ -45,7 +49,7 @@ class TrainStiffness:
                 "k_mean": float(r.k.mean()),
                 "eps_alpha": pair.transverse_contact_ratio,
                 "eps_beta": pair.overlap_ratio,
-                "iso6336_c_gamma_alpha_b": iso,
+                "iso6336_c_gamma_alpha_b": iso, "iso6336_line_load": w,
                 "ratio_to_iso6336": float(r.k.mean()) / iso,
                 "units": "N/m (transverse plane, along the line of action)",
             })

@@ -1,0 +1,124 @@
+"""A planetary stage beside gears, written as a graph: the keys of the shafts that carry
+stage members.
+
+HELI: a 30/90 spur pair (m 3, 20 deg) on shafts ``engine`` and ``sun-shaft`` drives the
+sun of 27/35/97 x 4 (ring held), whose carrier sits alone on ``mast``; 6000 rpm,
+500 N m. Checked against numbers that do not come from the loader: the stiffness the
+assembled equations carry on each coordinate (read by the coordinates' own labels).
+"""
+
+from __future__ import annotations
+
+import pytest
+from two_stage_boxes import TOML_CHAINS_GRAPH, refused_in_one_line
+
+import gearsim as gs
+from gearsim.dynamics.compose import build_stage_chain_model
+
+HELI = """name = "heli"
+[material]
+youngs_modulus = "206 GPa"
+poisson_ratio = 0.3
+density = "7850 kg/m^3"
+[[shafts]]
+name = "engine"
+[[shafts]]
+name = "sun-shaft"
+torsional_stiffness = "5e5 N*m/rad"
+[[shafts]]
+name = "mast"
+[[gears]]
+name = "engine-pinion"
+shaft = "engine"
+teeth = 30
+normal_module = "3 mm"
+face_width = "40 mm"
+[[gears]]
+name = "bull-gear"
+shaft = "sun-shaft"
+teeth = 90
+normal_module = "3 mm"
+face_width = "40 mm"
+[[meshes]]
+gears = ["engine-pinion", "bull-gear"]
+[[stages]]
+sun = "sun-shaft"
+ring = "housing"
+carrier = "mast"
+sun_teeth = 27
+planet_teeth = 35
+ring_teeth = 97
+planets = 4
+normal_module = "4 mm"
+face_width = "50 mm"
+ring_addendum_coefficient = 0.8
+[operating]
+speed = "6000 rpm"
+torque = "500 N*m"
+[stiffness]
+positions_per_cycle = 10
+slices = 3
+[dynamics]
+duration = 0.02
+fs = 25000
+"""
+
+
+def _on(shaft: str, keys: str, text: str = HELI) -> str:
+    """``text`` with ``keys`` (TOML lines) added to shaft ``shaft``."""
+    at = f'name = "{shaft}"\n'
+    assert at in text
+    return text.replace(at, at + keys + "\n", 1)
+
+
+def _kb(gb: gs.Gearbox) -> dict[str, float]:
+    m = build_stage_chain_model(gb.stage, gb.train, gb.members, gb.dynamics,
+                                shaft_stiffness=gb.shaft_stiffness,
+                                input_chain=gb.input_train,
+                                input_shaft_stiffness=gb.input_shaft_stiffness,
+                                stages=gb.next_stages)
+    return dict(zip(m.dof_labels, m.kb, strict=True))
+
+
+@pytest.mark.parametrize(("shaft", "keys", "parameter", "says"), [
+    ("mast", "foo = 1", "shafts[2].foo", "unknown key"),
+    ("mast", 'mass = "-5 kg"', "shafts[2].mass", "must be in [0"),
+    ("mast", 'mass = "5 kg"', "shafts[2].mass", "[stages.members] keys (carrier_mass"),
+    ("mast", 'inertia = "nan kg*m^2"', "shafts[2].inertia", "finite"),
+    ("mast", 'axial_stiffness = "1e8 N/m"', "shafts[2].axial_stiffness", "no axial bearing"),
+    ("mast", 'torsional_stiffness = "5e5 N*m/rad"', "shafts[2].torsional_stiffness",
+     "nothing for it to twist between"),
+    ("mast", 'bearing_stiffness = "1e20 N/m"', "shafts[2].bearing_stiffness",
+     "must be in [100000, 1e+15] N/m"),
+    ("sun-shaft", 'bearing_stiffness = "-1 N/m"', "shafts[1].bearing_stiffness", "must be"),
+])
+def test_a_key_of_a_members_shaft_is_checked_as_any_shafts(tmp_path, capsys, shaft, keys,
+                                                           parameter, says):
+    line = refused_in_one_line(_on(shaft, keys), tmp_path, capsys, parameter)
+    assert says in line, line
+
+
+def test_the_shaft_between_two_stages_takes_no_mass_of_its_own(tmp_path, capsys):
+    line = refused_in_one_line(_on("between", 'mass = "500 kg"', TOML_CHAINS_GRAPH),
+                               tmp_path, capsys, "shafts[2].mass")
+    assert "the carrier of stages[1] and the sun of stages[2]" in line
+
+
+def test_a_shafts_bearing_stiffness_reaches_every_member_on_it_as_with_bearing():
+    default = 1e9  # [dynamics] bearing_stiffness
+    kb = _kb(gs.loads(_on("mast", 'bearing_stiffness = "3e8 N/m"')))
+    assert [kb["carrier.x"], kb["carrier.y"]] == [3e8, 3e8]
+    assert [kb["sun.x"], kb["ring.x"], kb["sun-shaft.x"], kb["engine.y"]] == [default] * 4
+    # a member and a gear on one shaft: both (the gear's axial bearing follows the radial)
+    gb = gs.loads(_on("sun-shaft", 'bearing_stiffness = "4e8 N/m"'))
+    kb = _kb(gb)
+    assert [kb["sun.x"], kb["sun.y"]] + [kb[f"sun-shaft.{a}"] for a in "xyz"] == [4e8] * 5
+    assert gb == gs.loads(HELI).with_bearing("sun-shaft", 4e8)  # the study's meaning
+    # the member's own bearing ([stages.members]) wins over its shaft's
+    kb = _kb(gs.loads(_on("sun-shaft", 'bearing_stiffness = "4e8 N/m"').replace(
+        "[operating]", '[stages.members]\nsun_bearing = "6e8 N/m"\n[operating]')))
+    assert [kb["sun.x"], kb["sun-shaft.x"]] == [6e8, 4e8]
+    # two stages' members on one shaft: both
+    kb = _kb(gs.loads(_on("between", 'bearing_stiffness = "2e8 N/m"', TOML_CHAINS_GRAPH)))
+    assert [kb["stage1-carrier.x"], kb["stage2-sun.y"], kb["stage1-sun.x"]] == [2e8, 2e8,
+                                                                              default]

@@ -1,5 +1,5 @@
 """A planetary stage beside gears, written as a graph: the keys of the shafts that carry
-stage members.
+stage members, and the variants of a crack on a gear beside the stage.
 
 HELI: a 30/90 spur pair (m 3, 20 deg) on shafts ``engine`` and ``sun-shaft`` drives the
 sun of 27/35/97 x 4 (ring held), whose carrier sits alone on ``mast``; 6000 rpm,
@@ -9,11 +9,15 @@ assembled equations carry on each coordinate (read by the coordinates' own label
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 from two_stage_boxes import TOML_CHAINS_GRAPH, refused_in_one_line
 
 import gearsim as gs
+from gearsim.cli import run as cli_run
 from gearsim.dynamics.compose import build_stage_chain_model
+from gearsim.studies.sweep import expand, loads_study
+from gearsim.studies.sweep_case import build_case
 
 HELI = """name = "heli"
 [material]
@@ -62,6 +66,18 @@ slices = 3
 duration = 0.02
 fs = 25000
 """
+#: HELI with a 1.5 mm crack at tooth 0 of the engine pinion (working flank).
+CRACKED_PINION = HELI + """[[cracks]]
+gear = "engine-pinion"
+tooth = 0
+depth = "1.5 mm"
+"""
+#: ... and a 2 mm crack on planet 2's tooth 0.
+BOTH_CRACKED = CRACKED_PINION.replace("[operating]", """[[stages.cracks]]
+gear = "planet-2"
+tooth = 0
+depth = "2 mm"
+[operating]""")
 
 
 def _on(shaft: str, keys: str, text: str = HELI) -> str:
@@ -122,3 +138,53 @@ def test_a_shafts_bearing_stiffness_reaches_every_member_on_it_as_with_bearing()
     kb = _kb(gs.loads(_on("between", 'bearing_stiffness = "2e8 N/m"', TOML_CHAINS_GRAPH)))
     assert [kb["stage1-carrier.x"], kb["stage2-sun.y"], kb["stage1-sun.x"]] == [2e8, 2e8,
                                                                               default]
+
+
+def test_a_crack_on_a_gear_beside_the_stage_is_varied_as_the_config_writes_it():
+    gb = gs.loads(CRACKED_PINION)
+    # the variant is the box written with that crack (the loader: another route)
+    for flank, depth in (("non-working", 0.8e-3), ("working", 2e-3)):
+        written = CRACKED_PINION.replace('depth = "1.5 mm"',
+                                         f'depth = "{depth * 1e3} mm"\nflank = "{flank}"')
+        assert gb.with_crack(flank, depth=depth) == gs.loads(written)
+    assert gb.with_crack(None, depth=2e-3).input_train.cracks[0].depth == 2e-3
+    assert gb.with_crack("none") == gs.loads(HELI)
+
+    def k(box):  # input pair over one revolution of the 30-tooth pinion, 10 per tooth
+        return box.input_train.mesh_stiffness(0).k
+
+    healthy, cracked = k(gs.loads(HELI)), k(gb)
+    assert np.array_equal(k(gb.with_crack("working", depth=0.0)), healthy)  # depth 0
+    # tooth 0 carries load in at most ceil(eps_alpha = 1.75) + 1 = 3 of the 30 mesh cycles:
+    # only they change, and they soften
+    changed = {i // 10 for i in np.flatnonzero(cracked != healthy)}
+    assert 1 <= len(changed) <= 3 and np.all(cracked <= healthy)
+
+
+def test_every_crack_moves_with_a_crack_on_both_a_stage_member_and_a_gear():
+    gb = gs.loads(BOTH_CRACKED).with_crack("non-working", depth=0.5e-3)
+    moved = gb.stage.cracks + gb.input_train.cracks
+    assert [(c.gear, c.flank, c.depth) for c in moved] == [
+        ("planet-2", "non-working", 0.5e-3), ("engine-pinion", "non-working", 0.5e-3)]
+    with pytest.raises(gs.InputError, match="the gearbox has no crack to vary"):
+        gs.loads(HELI).with_crack("working")
+
+
+def test_cli_and_sweep_vary_the_crack_of_a_gear_beside_a_stage(tmp_path, capsys):
+    box = tmp_path / "box.toml"
+    box.write_text(CRACKED_PINION)
+    assert cli_run(["stiffness", str(box), "--crack", "non-working"]) == 0
+    assert cli_run(["simulate", str(box), "--crack", "working", "--duration", "0.01",
+                    "--out", str(tmp_path / "r.nc")]) == 0
+    st = loads_study(f"""[study]
+config = "{box}"
+[study.dynamics]
+duration = "0.6 s"
+[parameters]
+flank = ["none", "non-working"]
+crack_depth = ["1 mm"]
+""")
+    cases = [build_case(st, c) for c in expand(st)]
+    assert [gb.input_train.cracks for gb in cases][0] == ()
+    assert [(c.flank, c.depth) for c in cases[1].input_train.cracks] == [("non-working",
+                                                                         1e-3)]

@@ -210,9 +210,10 @@ class Gearbox:
         ----------
         flank : {"none", "working", "non-working"} or None
             No crack, the cracks (or the default crack) on that flank, or as configured.
-            With stages, their configured cracks are moved (stages without a crack
-            refuse a flank: the member and tooth are not known); ``"none"`` removes every
-            crack of the gearbox.
+            With stages, every configured crack, on a stage member or a gear beside a
+            stage, is moved (a gearbox with stages and no crack refuses a flank: the
+            member or gear and the tooth are not known); ``"none"`` removes every crack
+            of the gearbox.
         depth : float, optional
             Crack depth [m] of every crack.
         closure : {"contact", "open"}, optional
@@ -224,25 +225,21 @@ class Gearbox:
         -------
         Gearbox
         """
-        gb, train = self, self.train
-        if self.stage is not None:
-            require(source is None, "source", source, "a planetary stage's tooth compliance "
-                    "is set in its [stiffness] section")
-            if flank not in (None, "none"):
-                require(any(st.cracks for st in self.stages), "crack", flank, "the planetary "
-                        "stage has no crack to vary: give the cracked member, tooth and flank "
-                        "in its cracks ([[cracks]] of a [stage] file, [[stages.cracks]] of "
-                        "[[stages]])")
-            gb = self._with_stages(tuple(_stage_crack(st, flank, depth, closure)
-                                         for st in self.stages))
-            if flank not in (None, "none") or depth is not None:
-                return gb  # the stages' cracks
-        inp = self.input_train
-        if train is not None:
-            train = train.with_crack(flank, depth=depth, closure=closure, source=source)
-        if inp is not None:  # gears ahead of a stage: their own cracks, options alike
-            inp = inp.with_crack(flank, closure=closure, source=source)
-        return gb._parts(gb.stage, train, inp)
+        if self.stage is None:
+            return self._parts(None, self.train.with_crack(flank, depth=depth,
+                                                           closure=closure, source=source))
+        require(source is None, "source", source, "a planetary stage's tooth compliance "
+                "is set in its [stiffness] section")
+        if flank not in (None, "none"):
+            require(any(p.cracks for p in (*self.stages, *self.chains)), "crack", flank,
+                    "the gearbox has no crack to vary: give the cracked member or gear, its "
+                    "tooth and flank ([[stages.cracks]] or [[cracks]] of a graph; [[cracks]] "
+                    "of a [stage] file)")
+        gb = self._with_stages(tuple(_stage_crack(st, flank, depth, closure)
+                                     for st in self.stages))
+        return gb._with_chains(tuple(  # gears without a crack get none
+            t.with_crack(flank if t.cracks or flank == "none" else None, depth=depth,
+                         closure=closure) for t in self.chains))
 
     def _with_stages(self, stages: tuple[PlanetaryTrain, ...]) -> Gearbox:
         """The gearbox with its stages (the first, then those in series) replaced."""

@@ -1,13 +1,18 @@
 """A planetary stage beside gears, written as a graph: the keys of the shafts that carry
-stage members, and the variants of a crack on a gear beside the stage.
+stage members, the variants of a crack on a gear beside the stage, and the numbering
+of the gears' meshes (``contact``).
 
 HELI: a 30/90 spur pair (m 3, 20 deg) on shafts ``engine`` and ``sun-shaft`` drives the
 sun of 27/35/97 x 4 (ring held), whose carrier sits alone on ``mast``; 6000 rpm,
-500 N m. Checked against numbers that do not come from the loader: the stiffness the
-assembled equations carry on each coordinate (read by the coordinates' own labels).
+500 N m; HELI_BOTH adds a 60/20 pair (m 3) from ``mast`` to ``tail``. Checked against
+numbers that do not come from the loader: the stiffness the assembled equations carry on
+each coordinate (read by the coordinates' own labels), the box written with the varied
+crack, the static mesh forces by hand.
 """
 
 from __future__ import annotations
+
+import json
 
 import numpy as np
 import pytest
@@ -78,6 +83,24 @@ gear = "planet-2"
 tooth = 0
 depth = "2 mm"
 [operating]""")
+#: HELI with a 60/20 pair driven by the carrier's shaft.
+HELI_BOTH = HELI.replace("[[stages]]", """[[shafts]]
+name = "tail"
+[[gears]]
+name = "mast-gear"
+shaft = "mast"
+teeth = 60
+normal_module = "3 mm"
+face_width = "40 mm"
+[[gears]]
+name = "tail-pinion"
+shaft = "tail"
+teeth = 20
+normal_module = "3 mm"
+face_width = "40 mm"
+[[meshes]]
+gears = ["mast-gear", "tail-pinion"]
+[[stages]]""")
 
 
 def _on(shaft: str, keys: str, text: str = HELI) -> str:
@@ -188,3 +211,28 @@ crack_depth = ["1 mm"]
     assert [gb.input_train.cracks for gb in cases][0] == ()
     assert [(c.flank, c.depth) for c in cases[1].input_train.cracks] == [("non-working",
                                                                          1e-3)]
+
+
+def test_contact_counts_the_meshes_as_layout_and_simulate_name_them(tmp_path, capsys):
+    cos20 = np.cos(np.radians(20.0))
+    t_mast = 500.0 * 3.0 * (1.0 + 97.0 / 27.0)  # 90/30, then the ring-held stage
+    # the static force T / r_b of each driver: r_b = z m / 2 cos 20 deg
+    forces = {"I": 500.0 / (0.045 * cos20), "II": t_mast / (0.09 * cos20)}
+    assert round(forces["I"]) == 11824 and round(forces["II"]) == 81456
+    box = tmp_path / "box.toml"
+    for text, meshes in ((HELI, ["I"]), (HELI_BOTH, ["I", "II"])):
+        box.write_text(text)
+        gb = gs.load(str(box))
+        assert [m["mesh"] for m in gb.layout()["meshes"]] == meshes
+        assert [s[17:-1] for s in gb.signals() if s.startswith("chain_mesh_force")] == meshes
+        for i, name in enumerate(meshes):
+            assert cli_run(["contact", str(box), "--mesh", str(i), "--json"]) == 0
+            got = json.loads(capsys.readouterr().out)
+            assert got["mesh"] == name
+            assert got["force_N"] == pytest.approx(forces[name], rel=1e-9)
+    assert cli_run(["contact", str(box), "--mesh", "1", "--torque", "1000 N*m",
+                    "--json"]) == 0  # the gearbox's input torque, doubled
+    assert json.loads(capsys.readouterr().out)["force_N"] == pytest.approx(
+        2 * forces["II"], rel=1e-9)
+    assert cli_run(["contact", str(box), "--mesh", "2"]) == 2
+    assert "--mesh = 2: must be in 0 .. 1" in capsys.readouterr().err

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from typing import Annotated
 
@@ -143,15 +144,13 @@ def contact(
         out = check_output_file(out, "--out", (".nc",))
     if plot is not None:
         plot = check_plot_file(plot, "--plot")
-    train = load(config).train
-    if train is None:
+    gb = load(config)
+    if not gb.chains:
         raise InputError("config", config, "has no external gear mesh (a planetary stage "
                          "alone): the loaded contact analysis needs [[gears]]")
-    n = len(train.pairs)
-    if not 0 <= mesh < n:
-        raise InputError("--mesh", mesh, f"must be in 0 .. {n - 1} ({n} meshes)")
-    train = with_torque(train, torque)
-    lc = loaded_contact(train.mesh_contacts(mesh), train.static_mesh_force(mesh))
+    train, i, name = with_torque(gb, torque).gear_mesh(mesh, "--mesh")
+    grid = dataclasses.replace(train.mesh_contacts(i), name=name)  # the gearbox's name
+    lc = loaded_contact(grid, train.static_mesh_force(i))
     if out is not None:
         from gearsim.io.results import write_results
 

@@ -622,6 +622,41 @@ class Gearbox:
                        "links": downstream[2], "stage": st, "upstream": upstream}
         return out
 
+    def gear_mesh(self, mesh: int, parameter: str = "mesh") -> tuple[GearTrain, int, str]:
+        """Mesh ``mesh`` of the external gears, counted as :meth:`layout` and
+        :meth:`simulate` name them (with a stage, the gears driving it first).
+
+        Parameters
+        ----------
+        mesh : int
+            From 0 (mesh I).
+        parameter : str, optional
+            Named in the refusal (``"--mesh"``).
+
+        Returns
+        -------
+        train : GearTrain
+            The gears holding it.
+        index : int
+            Its index in ``train``.
+        name : str
+            Its name (``"I"``, ...).
+
+        Raises
+        ------
+        InputError
+            No such mesh.
+        """
+        names, k = self._chain_mesh_names(), mesh
+        n = len(names)
+        require(isinstance(mesh, int) and 0 <= mesh < n, parameter, mesh,
+                f"must be in 0 .. {n - 1} ({n} meshes)")
+        for t in self.chains:
+            if k < len(t.pairs):
+                return t, k, names[mesh]
+            k -= len(t.pairs)
+        raise AssertionError(mesh)  # the names count every chain's meshes
+
     def _chain_mesh_names(self) -> tuple[str, ...]:
         """Names of the gears' meshes (those of a stage's result when there is a stage)."""
         if self.stage is None:

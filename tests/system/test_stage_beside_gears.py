@@ -236,3 +236,10 @@ def test_contact_counts_the_meshes_as_layout_and_simulate_name_them(tmp_path, ca
         2 * forces["II"], rel=1e-9)
     assert cli_run(["contact", str(box), "--mesh", "2"]) == 2
     assert "--mesh = 2: must be in 0 .. 1" in capsys.readouterr().err
+
+
+def test_the_results_cracks_name_a_gears_crack_beside_the_stage():
+    gb = gs.loads(BOTH_CRACKED)
+    assert gb.simulate(duration=0.01).attrs["cracks"] == (
+        "planet-2:0:working:0.002, engine-pinion:0:working:0.0015")
+    assert gb.with_crack("none").simulate(duration=0.01).attrs["cracks"] == "none"

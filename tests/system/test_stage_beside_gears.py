@@ -1,6 +1,6 @@
 """A planetary stage beside gears, written as a graph: the keys of the shafts that carry
 stage members, the variants of a crack on a gear beside the stage, and the numbering
-of the gears' meshes (``contact``).
+of the gears' meshes (``contact``, ``stiffness --out``).
 
 HELI: a 30/90 spur pair (m 3, 20 deg) on shafts ``engine`` and ``sun-shaft`` drives the
 sun of 27/35/97 x 4 (ring held), whose carrier sits alone on ``mast``; 6000 rpm,
@@ -16,6 +16,7 @@ import json
 
 import numpy as np
 import pytest
+import xarray as xr
 from two_stage_boxes import TOML_CHAINS_GRAPH, refused_in_one_line
 
 import gearsim as gs
@@ -243,3 +244,31 @@ def test_the_results_cracks_name_a_gears_crack_beside_the_stage():
     assert gb.simulate(duration=0.01).attrs["cracks"] == (
         "planet-2:0:working:0.002, engine-pinion:0:working:0.0015")
     assert gb.with_crack("none").simulate(duration=0.01).attrs["cracks"] == "none"
+
+
+def test_stiffness_writes_every_stages_and_every_gears_mesh(tmp_path):
+    """TOML_CHAINS_GRAPH: 20/60 (m 3), 24/24/72 x 3, 20/40/100 x 4, 50/25 (m 5); the
+    tables of every mesh, named as the results name them, each the one the part's own
+    computation gives (40 positions a cycle by default)."""
+    gb = gs.loads(TOML_CHAINS_GRAPH)
+    box = tmp_path / "box.toml"
+    box.write_text(TOML_CHAINS_GRAPH)
+    assert cli_run(["stiffness", str(box), "--out", str(tmp_path / "k.csv"),
+                    "--plot", str(tmp_path / "k.png")]) == 0
+    rows = [r.split(",") for r in (tmp_path / "k.csv").read_text().splitlines()[2:]]
+    meshes = [f"stage{k}-{m}-planet-{j}" for k, n in ((1, 3), (2, 4))
+              for j in range(1, n + 1) for m in ("sun", "ring")] + ["I", "II"]
+    assert list(dict.fromkeys(r[0] for r in rows)) == meshes
+    # the gears: one revolution of each driver, 20 and 50 teeth, 40 positions a tooth
+    assert [sum(r[0] == m for r in rows) for m in ("I", "II")] == [20 * 40, 50 * 40]
+    assert cli_run(["stiffness", str(box), "--out", str(tmp_path / "k.nc")]) == 0
+    with xr.open_dataset(tmp_path / "k.nc") as ds:
+        np.testing.assert_allclose(ds["k_II"].values, gb.train.mesh_stiffness(0).k,
+                                   rtol=1e-12)
+        k_s2 = gb.next_stages[0].train.tables()[0]  # stage 2, sun-planet-1
+        np.testing.assert_allclose(ds["k_stage2-sun-planet-1"].values, k_s2.table.k,
+                                   rtol=1e-12)
+        assert set(ds.data_vars) == {f"k_{m}" for m in meshes}
+    titles = [ax.get_title() for ax in gb.tvms().figure().axes]
+    assert len(titles) == 2 * 2 + 2 * 2  # two panels a stage, two a mesh of the gears
+    assert "mesh II: carrier-gear -> output-pinion" in titles

@@ -509,18 +509,30 @@ class Gearbox:
         if self.stage is None:
             ts = train_stiffness(self.train)
             return GearboxStiffness(ts.summary(), ts.write, ts.plot)
+        import xarray as xr
+
         from gearsim.system.planetary import stage_stiffness
 
-        stage = self.stage
-        summary, ds = stage_stiffness(stage)
-        if self.next_stages:  # the tables of the stages after the first (summary only)
-            summary["next_stages"] = [stage_stiffness(s.train)[0] for s in self.next_stages]
-        names = iter(self._chain_mesh_names())  # as the results name them
-        for key, tr in (("input_chain", self.input_train), ("chain", self.train)):
-            if tr is not None:
-                summary[key] = train_stiffness(tr).summary()
-                for m in summary[key]["meshes"]:
-                    m["mesh"] = next(names)
+        stage, n = self.stage, len(self.stages)
+        parts = [stage_stiffness(st) for st in self.stages]
+        summary = parts[0][0]
+        if self.next_stages:  # the stages after the first
+            summary["next_stages"] = [p[0] for p in parts[1:]]
+        sets = [d.rename({x: x.replace("_", "_" + stage_prefix(k, n), 1)
+                          for x in (*d.data_vars, *d.coords)}) if n > 1 else d
+                for k, (_, d) in enumerate(parts)]  # named as the results name them
+        names = iter(self._chain_mesh_names())
+        chains = [train_stiffness(tr) for tr in self.chains]
+        for ts in chains:
+            key = "input_chain" if ts.train is self.input_train else "chain"
+            summary[key] = ts.summary()
+            for i, m in enumerate(summary[key]["meshes"]):
+                m["mesh"] = name = next(names)
+                r = ts.results[(i, 1)]  # over one revolution of its driver
+                sets.append(xr.Dataset({f"k_{name}": (f"cycles_{name}", r.k, {"units": "N/m"})},
+                                       coords={f"cycles_{name}": (f"cycles_{name}", r.cycles,
+                                                                  {"units": "1"})}))
+        ds = xr.merge(sets, combine_attrs="override")
 
         def write(path: str | Path) -> Path:
             from gearsim.io.atomic import atomic_write
@@ -542,9 +554,11 @@ class Gearbox:
             return atomic_write(path, rows)
 
         def figure():
-            from gearsim.viz.planetary import plot_stage_meshes
+            from gearsim.viz.planetary import plot_gearbox_meshes
 
-            return plot_stage_meshes(stage)
+            before = [ts for ts in chains if ts.train is self.input_train]
+            return plot_gearbox_meshes([*before, *self.stages, *chains[len(before):]],
+                                       self._chain_mesh_names())
 
         return GearboxStiffness(summary, write, figure)
 

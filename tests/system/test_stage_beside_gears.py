@@ -1,6 +1,7 @@
 """A planetary stage beside gears, written as a graph: the keys of the shafts that carry
 stage members, the variants of a crack on a gear beside the stage, and the numbering
-of the gears' meshes (``contact``, ``stiffness --out``).
+of the gears' meshes (``contact``, ``stiffness --out``), the shafts and stages of
+``layout``.
 
 HELI: a 30/90 spur pair (m 3, 20 deg) on shafts ``engine`` and ``sun-shaft`` drives the
 sun of 27/35/97 x 4 (ring held), whose carrier sits alone on ``mast``; 6000 rpm,
@@ -24,6 +25,7 @@ from gearsim.cli import run as cli_run
 from gearsim.dynamics.compose import build_stage_chain_model
 from gearsim.studies.sweep import expand, loads_study
 from gearsim.studies.sweep_case import build_case
+from gearsim.viz.layout import plot_layout
 
 HELI = """name = "heli"
 [material]
@@ -272,3 +274,34 @@ def test_stiffness_writes_every_stages_and_every_gears_mesh(tmp_path):
     titles = [ax.get_title() for ax in gb.tvms().figure().axes]
     assert len(titles) == 2 * 2 + 2 * 2  # two panels a stage, two a mesh of the gears
     assert "mesh II: carrier-gear -> output-pinion" in titles
+
+
+def test_layout_lists_every_shaft_and_draws_every_stage():
+    """TOML_CHAINS_GRAPH at 1500 rpm, 200 N m: 20/60, then 24/24/72 (ring held: carrier
+    = sun / (1 + 72/24)), 20/40/100 (/ (1 + 100/20)), then 50/25."""
+    speeds = [1500.0, 500.0, 125.0, 125.0 / 6, 125.0 / 6 * 2]  # rpm
+    torques = [200.0, 600.0, 600.0 * 4, 600.0 * 4 * 6, 600.0 * 4 * 6 / 2]  # N m
+    out = gs.loads(TOML_CHAINS_GRAPH).layout()
+    got = [(sh["name"], sh["gears"], sh.get("members", [])) for sh in out["shafts"]]
+    assert got == [("in", ["input-pinion"], []), ("sun-shaft", ["sun-drive-gear"],
+                                                  ["stage1-sun"]),
+                   ("between", [], ["stage1-carrier", "stage2-sun"]),
+                   ("out", ["carrier-gear"], ["stage2-carrier"]),
+                   ("output", ["output-pinion"], [])]
+    np.testing.assert_allclose([sh["speed_rpm"] for sh in out["shafts"]], speeds, rtol=1e-9)
+    np.testing.assert_allclose([sh["torque_Nm"] for sh in out["shafts"]], torques, rtol=1e-9)
+    d = out["plan"]
+    fig = plot_layout(d["shafts"], d["gears"], d["links"], title="x", stage=d["stage"],
+                      upstream=d["upstream"])
+    titles = [ax.get_title() for ax in fig.axes]
+    assert "planetary stage 1" in titles and "planetary stage 2" in titles
+    legend = [t.get_text() for t in fig.axes[titles.index("planetary stage 2")]
+              .get_legend().get_texts()]
+    assert legend[0] == "sun (z 20, on between)"
+    # a lone stage's output shaft, and its member torques (1500 x (1 + 97/27) N m)
+    heli = gs.loads(HELI).layout()
+    mast = heli["shafts"][-1]
+    assert (mast["name"], mast["members"]) == ("mast", ["carrier"])
+    assert mast["speed_rpm"] == pytest.approx(2000.0 / (1 + 97 / 27), rel=1e-12)
+    assert mast["torque_Nm"] == pytest.approx(1500.0 * 124 / 27, rel=1e-12)
+    assert heli["stage"]["torques_Nm"]["sun"] == pytest.approx(1500.0, rel=1e-12)

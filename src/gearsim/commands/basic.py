@@ -57,7 +57,8 @@ def layout(
                    + ("; " + ", ".join(f"{m} on {sh}" for m, sh in s_["member_shafts"].items())
                       if "member_shafts" in s_ else ""))
     for sh in out["shafts"]:
-        typer.echo(f"shaft {sh['name']}: {', '.join(sh['gears'])}; {sh['speed_rpm']:.6g} rpm, "
+        typer.echo(f"shaft {sh['name']}: {', '.join(sh['gears'] + sh.get('members', []))}; "
+                   f"{sh['speed_rpm']:.6g} rpm, "
                    f"{sh['torque_Nm']:.6g} N m")
     for m in out["meshes"]:
         typer.echo(f"mesh {m['mesh']}: {m['driver']} -> {m['driven']}; f_m "

@@ -569,55 +569,56 @@ class Gearbox:
         -------
         dict
             ``name``; ``stage`` (teeth, planets, held and input member, mesh frequency
-            [Hz], member speeds [rpm], and of a graph ``member_shafts``, the shaft each
-            turning member sits on; with a stage); ``next_stages`` (the same of the
-            stages after it, with member torques [N m]); ``shafts`` (name, gears, speed [rpm],
-            torque [N m]); ``meshes`` (driver -> driven, mesh frequency [Hz], static force
-            [N]); ``plan``: the positional arguments of :func:`gearsim.viz.layout.
-            plot_layout` (shaft centres from :func:`gearsim.dynamics.layout.layout`).
+            [Hz], member speeds [rpm] and torques [N m], and of a graph
+            ``member_shafts``, the shaft each turning member sits on; with a stage);
+            ``next_stages`` (the same of the stages after it); ``shafts`` in power-flow
+            order (name, gears, the stage ``members`` on it as the results name them,
+            speed [rpm] and torque [N m]: every shaft of the gears and of the stages'
+            input and output members); ``meshes`` (driver -> driven, mesh frequency [Hz],
+            static force [N]); ``plan``: the arguments of
+            :func:`gearsim.viz.layout.plot_layout` (shaft centres from
+            :func:`gearsim.dynamics.layout.layout`; ``stage``: one dict a stage).
         """
         from gearsim.dynamics.layout import idlers
         from gearsim.dynamics.layout import layout as plan
 
         out: dict = {"name": self.name, "shafts": [], "meshes": []}
-        st = None
+        n, sts, at_members = len(self.stages), [], []
         for k, tr in enumerate(self.stages):  # the first as "stage", the others after it
-            s = tr.stage
+            s, op, pre = tr.stage, tr.operating, stage_prefix(k, n)
+            ends = {"input": op.input, "output": next(m for m in ("sun", "ring", "carrier")
+                                                      if m not in (op.fixed, op.input))}
             entry = {"teeth": [s.sun_teeth, s.planet_teeth, s.ring_teeth],
-                     "planets": s.planets, "fixed": tr.operating.fixed,
-                     "input": tr.operating.input, "mesh_frequency_hz": tr.mesh_frequency,
+                     "planets": s.planets, "fixed": op.fixed,
+                     "input": op.input, "mesh_frequency_hz": tr.mesh_frequency,
                      "speeds_rpm": {m: w * 30 / math.pi for m, w in tr.speeds.items()},
-                     **({"torques_Nm": dict(tr.torques)} if len(self.stages) > 1 else {})}
+                     "torques_Nm": dict(tr.torques)}
+            shafts = {m: self.shaft_label(pre + m) for m in ("sun", "ring", "carrier")
+                      if m != op.fixed}
             if self.member_shafts:  # a graph: the shaft each turning member sits on
-                entry["member_shafts"] = {
-                    m: self.shaft_label(stage_prefix(k, len(self.stages)) + m)
-                    for m in ("sun", "ring", "carrier") if m != tr.operating.fixed}
+                entry["member_shafts"] = shafts
             if k:
                 out.setdefault("next_stages", []).append(entry)
             else:
                 out["stage"] = entry
-        if self.stage is not None:
-            tr, s = self.stage, self.stage.stage
-            st = {"sun": s.sun.pitch_radius, "ring": s.ring.pitch_radius,
-                  "planet": s.planet.pitch_radius, "centre": s.centre_distance,
-                  "angles": list(s.planet_angles_value),
-                  "teeth": (s.sun_teeth, s.planet_teeth, s.ring_teeth),
-                  "output": next(m for m in ("sun", "ring", "carrier")
-                                 if m not in (tr.operating.fixed, tr.operating.input)),
-                  "input": tr.operating.input, "fixed": tr.operating.fixed,
-                  "shafts": {m: self.shaft_label(stage_prefix(0, len(self.stages)) + m)
-                             for m in ("sun", "ring", "carrier")
-                             if m != tr.operating.fixed}}
-        drawings = []  # (shafts, gears, links) of each chain, in power-flow order
+            at_members += [{"name": shafts[m], "gears": [], "members": [pre + m],
+                            "speed_rpm": abs(tr.speeds[m]) * 30 / math.pi,
+                            "torque_Nm": abs(tr.torques[m])} for m in ends.values()]
+            sts.append({"sun": s.sun.pitch_radius, "ring": s.ring.pitch_radius,
+                        "planet": s.planet.pitch_radius, "centre": s.centre_distance,
+                        "angles": list(s.planet_angles_value),
+                        "teeth": (s.sun_teeth, s.planet_teeth, s.ring_teeth), **ends,
+                        "fixed": op.fixed, "shafts": shafts,
+                        **({"title": f"planetary stage {k + 1}"} if n > 1 else {})})
+        drawings, rows = [], []  # of each chain, in power-flow order: (shafts, gears, links)
         names = self._chain_mesh_names()
         for train in self.chains:
             fl = train.flow
             first = len(out["meshes"])  # the meshes' names run through the chains
-            for sh in fl.shafts:
-                i = train.gear_index(sh.gears[0])
-                out["shafts"].append({"name": sh.name, "gears": list(sh.gears),
-                                      "speed_rpm": train.speed(i) * 30 / math.pi,
-                                      "torque_Nm": train.torque(i)})
+            rows.append([{"name": sh.name, "gears": list(sh.gears),
+                          "speed_rpm": train.speed(i) * 30 / math.pi,
+                          "torque_Nm": train.torque(i)}
+                         for sh in fl.shafts for i in [train.gear_index(sh.gears[0])]])
             for m, p in enumerate(train.pairs):
                 out["meshes"].append({"mesh": names[len(out["meshes"])],
                                       "driver": p.driver.name, "driven": p.driven.name,
@@ -630,10 +631,19 @@ class Gearbox:
                 [(g.name, fl.shaft_of[g.name], g.pitch_radius, g.teeth) for g in train.gears],
                 [(p.driver.name, p.driven.name, names[first + m])
                  for m, p in enumerate(train.pairs)]))
+        seen: dict[str, dict] = {}  # every shaft once, in power-flow order
+        for row in ((rows[0] if self.input_train is not None else []) + at_members
+                    + (rows[-1] if self.train is not None else [])):
+            if row["name"] in seen:  # a member's and a gear's, or two stages' members
+                for key in ("gears", "members"):
+                    seen[row["name"]][key] = seen[row["name"]].get(key, []) + row.get(key, [])
+            else:
+                seen[row["name"]] = row
+        out["shafts"] = list(seen.values())
         downstream = drawings[-1] if self.train is not None else ([], [], [])
         upstream = drawings[0] if self.input_train is not None else None
         out["plan"] = {"shafts": downstream[0], "gears": downstream[1],
-                       "links": downstream[2], "stage": st, "upstream": upstream}
+                       "links": downstream[2], "stage": sts or None, "upstream": upstream}
         return out
 
     def gear_mesh(self, mesh: int, parameter: str = "mesh") -> tuple[GearTrain, int, str]:

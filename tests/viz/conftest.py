@@ -97,6 +97,12 @@ def spur_stiffness(spur):
 
 
 @pytest.fixture(scope="session")
+def gears_and_stage(spur_stiffness, stage_train):
+    """The parts of a gearbox of gears driving a stage: the spur pair's TVMS, the stage."""
+    return [spur_stiffness, stage_train]
+
+
+@pytest.fixture(scope="session")
 def loaded_contact_result(spur):
     """Loaded contact analysis of the spur pair with a broken pinion tooth."""
     from gearsim.stiffness.faults import BrokenTooth

@@ -32,6 +32,7 @@ CALLS: dict[str, tuple[str, dict, str]] = {
     "dynamics.plot_run": ("dynamics_run", {}, "fig"),
     "fem.plot_fe_check": ("fe_result", {}, "fig"),
     "planetary.plot_stage_meshes": ("stage_train", {"cycles": 2.0}, "fig"),
+    "planetary.plot_gearbox_meshes": ("gears_and_stage", {"names": ("II",)}, "fig"),
     "reproduce.plot_stiffness": ("reproduction", {}, "fig"),
     "reproduce.plot_time": ("reproduction", {}, "fig"),
     "reproduce.plot_spectrum": ("reproduction", {}, "ax"),

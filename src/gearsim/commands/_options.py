@@ -39,14 +39,14 @@ def with_torque(train, torque: str | None):
 
     Parameters
     ----------
-    train : GearTrain
-        The train.
+    train : GearTrain or Gearbox
+        The train, or a gearbox (then at that input torque: :meth:`Gearbox.at`).
     torque : str or None
         The option's text, e.g. ``"2000 N*m"``; ``None`` keeps the train's torque.
 
     Returns
     -------
-    GearTrain
+    GearTrain or Gearbox
         The train at that torque (refusals name ``--torque``; below
         :data:`MIN_TORQUE` refused).
     """
@@ -62,5 +62,7 @@ def with_torque(train, torque: str | None):
         raise InputError("--torque", torque, f"must be >= {MIN_TORQUE:g} N*m (a smaller torque can "
                          "only be a slip of unit or exponent)")
     with as_options({"operating.torque": "--torque"}):
+        if hasattr(train, "at"):  # a gearbox: every part at its input's torque
+            return train.at(speed=train.operating()[0], torque=t)
         return dataclasses.replace(train, operating=Operating(speed=train.operating.speed,
                                                               torque=t))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from typing import Annotated
 
@@ -56,7 +57,8 @@ def layout(
                    + ("; " + ", ".join(f"{m} on {sh}" for m, sh in s_["member_shafts"].items())
                       if "member_shafts" in s_ else ""))
     for sh in out["shafts"]:
-        typer.echo(f"shaft {sh['name']}: {', '.join(sh['gears'])}; {sh['speed_rpm']:.6g} rpm, "
+        typer.echo(f"shaft {sh['name']}: {', '.join(sh['gears'] + sh.get('members', []))}; "
+                   f"{sh['speed_rpm']:.6g} rpm, "
                    f"{sh['torque_Nm']:.6g} N m")
     for m in out["meshes"]:
         typer.echo(f"mesh {m['mesh']}: {m['driver']} -> {m['driven']}; f_m "
@@ -143,15 +145,13 @@ def contact(
         out = check_output_file(out, "--out", (".nc",))
     if plot is not None:
         plot = check_plot_file(plot, "--plot")
-    train = load(config).train
-    if train is None:
+    gb = load(config)
+    if not gb.chains:
         raise InputError("config", config, "has no external gear mesh (a planetary stage "
                          "alone): the loaded contact analysis needs [[gears]]")
-    n = len(train.pairs)
-    if not 0 <= mesh < n:
-        raise InputError("--mesh", mesh, f"must be in 0 .. {n - 1} ({n} meshes)")
-    train = with_torque(train, torque)
-    lc = loaded_contact(train.mesh_contacts(mesh), train.static_mesh_force(mesh))
+    train, i, name = with_torque(gb, torque).gear_mesh(mesh, "--mesh")
+    grid = dataclasses.replace(train.mesh_contacts(i), name=name)  # the gearbox's name
+    lc = loaded_contact(grid, train.static_mesh_force(i))
     if out is not None:
         from gearsim.io.results import write_results
 

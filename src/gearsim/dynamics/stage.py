@@ -712,8 +712,9 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
                "ring_teeth": train.stage.ring_teeth, "planets": train.stage.planets,
                "static_mesh_force": float(model.static_force[rows[0]]),
                "sensor_angle": dyn.sensor_angle, "sensor_width": dyn.sensor_width,
-               "cracks": ", ".join(f"{e['prefix']}{c.gear}:{c.tooth}:{c.flank}:{c.depth:g}"
-                                   for e in parts for c in e["train"].cracks) or "none",
+               "cracks": ", ".join(f"{p}{c.gear}:{c.tooth}:{c.flank}:{c.depth:g}" for p, c in (
+                   *((e["prefix"], c) for e in parts for c in e["train"].cracks),
+                   *(("", c) for e in chains for c in e["chain"].cracks))) or "none",
                "constant_meshes": int(constant), "gearsim_version": __version__,
                "dynamics": json.dumps(settings.to_dict()), **extra_attrs})
     return ds

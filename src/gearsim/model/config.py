@@ -46,7 +46,7 @@ from gearsim.geometry.gear import Gear, Material, check_teeth
 from gearsim.geometry.pair import require_same_rack
 from gearsim.model.damage import CRACK_KEYS, array_of_tables, parse_cracks, parse_faults
 from gearsim.model.gearbox import Gearbox
-from gearsim.model.graph_form import is_graph_with_stages, parse_graph_stages
+from gearsim.model.graph_form import SHAFT_KEYS, is_graph_with_stages, parse_graph_stages
 from gearsim.model.planetary import PER_ELEMENT, parse_planetary
 from gearsim.sections import as_written, convert
 from gearsim.signals.settings import parse_analysis
@@ -74,9 +74,6 @@ GEAR_KEYS = {
     "bore_radius": "length", "material": "table", "shaft": "str", "hand": "str",
     "runout": "length", "runout_phase": "angle",
 }
-SHAFT_KEYS = {"name": "str", "mass": "mass", "inertia": "inertia",
-              "torsional_stiffness": "torsional_stiffness", "bearing_stiffness": "stiffness",
-              "axial_stiffness": "stiffness", "power_share": "dimensionless"}
 MESH_KEYS = {"gears": "str", "angle": "angle", "backlash": "length",
              "profile_modification": "length", "crowning": "length",
              "assembly_error": "length"}

@@ -210,9 +210,10 @@ class Gearbox:
         ----------
         flank : {"none", "working", "non-working"} or None
             No crack, the cracks (or the default crack) on that flank, or as configured.
-            With stages, their configured cracks are moved (stages without a crack
-            refuse a flank: the member and tooth are not known); ``"none"`` removes every
-            crack of the gearbox.
+            With stages, every configured crack, on a stage member or a gear beside a
+            stage, is moved (a gearbox with stages and no crack refuses a flank: the
+            member or gear and the tooth are not known); ``"none"`` removes every crack
+            of the gearbox.
         depth : float, optional
             Crack depth [m] of every crack.
         closure : {"contact", "open"}, optional
@@ -224,25 +225,21 @@ class Gearbox:
         -------
         Gearbox
         """
-        gb, train = self, self.train
-        if self.stage is not None:
-            require(source is None, "source", source, "a planetary stage's tooth compliance "
-                    "is set in its [stiffness] section")
-            if flank not in (None, "none"):
-                require(any(st.cracks for st in self.stages), "crack", flank, "the planetary "
-                        "stage has no crack to vary: give the cracked member, tooth and flank "
-                        "in its cracks ([[cracks]] of a [stage] file, [[stages.cracks]] of "
-                        "[[stages]])")
-            gb = self._with_stages(tuple(_stage_crack(st, flank, depth, closure)
-                                         for st in self.stages))
-            if flank not in (None, "none") or depth is not None:
-                return gb  # the stages' cracks
-        inp = self.input_train
-        if train is not None:
-            train = train.with_crack(flank, depth=depth, closure=closure, source=source)
-        if inp is not None:  # gears ahead of a stage: their own cracks, options alike
-            inp = inp.with_crack(flank, closure=closure, source=source)
-        return gb._parts(gb.stage, train, inp)
+        if self.stage is None:
+            return self._parts(None, self.train.with_crack(flank, depth=depth,
+                                                           closure=closure, source=source))
+        require(source is None, "source", source, "a planetary stage's tooth compliance "
+                "is set in its [stiffness] section")
+        if flank not in (None, "none"):
+            require(any(p.cracks for p in (*self.stages, *self.chains)), "crack", flank,
+                    "the gearbox has no crack to vary: give the cracked member or gear, its "
+                    "tooth and flank ([[stages.cracks]] or [[cracks]] of a graph; [[cracks]] "
+                    "of a [stage] file)")
+        gb = self._with_stages(tuple(_stage_crack(st, flank, depth, closure)
+                                     for st in self.stages))
+        return gb._with_chains(tuple(  # gears without a crack get none
+            t.with_crack(flank if t.cracks or flank == "none" else None, depth=depth,
+                         closure=closure) for t in self.chains))
 
     def _with_stages(self, stages: tuple[PlanetaryTrain, ...]) -> Gearbox:
         """The gearbox with its stages (the first, then those in series) replaced."""
@@ -512,18 +509,30 @@ class Gearbox:
         if self.stage is None:
             ts = train_stiffness(self.train)
             return GearboxStiffness(ts.summary(), ts.write, ts.plot)
+        import xarray as xr
+
         from gearsim.system.planetary import stage_stiffness
 
-        stage = self.stage
-        summary, ds = stage_stiffness(stage)
-        if self.next_stages:  # the tables of the stages after the first (summary only)
-            summary["next_stages"] = [stage_stiffness(s.train)[0] for s in self.next_stages]
-        names = iter(self._chain_mesh_names())  # as the results name them
-        for key, tr in (("input_chain", self.input_train), ("chain", self.train)):
-            if tr is not None:
-                summary[key] = train_stiffness(tr).summary()
-                for m in summary[key]["meshes"]:
-                    m["mesh"] = next(names)
+        stage, n = self.stage, len(self.stages)
+        parts = [stage_stiffness(st) for st in self.stages]
+        summary = parts[0][0]
+        if self.next_stages:  # the stages after the first
+            summary["next_stages"] = [p[0] for p in parts[1:]]
+        sets = [d.rename({x: x.replace("_", "_" + stage_prefix(k, n), 1)
+                          for x in (*d.data_vars, *d.coords)}) if n > 1 else d
+                for k, (_, d) in enumerate(parts)]  # named as the results name them
+        names = iter(self._chain_mesh_names())
+        chains = [train_stiffness(tr) for tr in self.chains]
+        for ts in chains:
+            key = "input_chain" if ts.train is self.input_train else "chain"
+            summary[key] = ts.summary()
+            for i, m in enumerate(summary[key]["meshes"]):
+                m["mesh"] = name = next(names)
+                r = ts.results[(i, 1)]  # over one revolution of its driver
+                sets.append(xr.Dataset({f"k_{name}": (f"cycles_{name}", r.k, {"units": "N/m"})},
+                                       coords={f"cycles_{name}": (f"cycles_{name}", r.cycles,
+                                                                  {"units": "1"})}))
+        ds = xr.merge(sets, combine_attrs="override")
 
         def write(path: str | Path) -> Path:
             from gearsim.io.atomic import atomic_write
@@ -545,9 +554,11 @@ class Gearbox:
             return atomic_write(path, rows)
 
         def figure():
-            from gearsim.viz.planetary import plot_stage_meshes
+            from gearsim.viz.planetary import plot_gearbox_meshes
 
-            return plot_stage_meshes(stage)
+            before = [ts for ts in chains if ts.train is self.input_train]
+            return plot_gearbox_meshes([*before, *self.stages, *chains[len(before):]],
+                                       self._chain_mesh_names())
 
         return GearboxStiffness(summary, write, figure)
 
@@ -558,55 +569,56 @@ class Gearbox:
         -------
         dict
             ``name``; ``stage`` (teeth, planets, held and input member, mesh frequency
-            [Hz], member speeds [rpm], and of a graph ``member_shafts``, the shaft each
-            turning member sits on; with a stage); ``next_stages`` (the same of the
-            stages after it, with member torques [N m]); ``shafts`` (name, gears, speed [rpm],
-            torque [N m]); ``meshes`` (driver -> driven, mesh frequency [Hz], static force
-            [N]); ``plan``: the positional arguments of :func:`gearsim.viz.layout.
-            plot_layout` (shaft centres from :func:`gearsim.dynamics.layout.layout`).
+            [Hz], member speeds [rpm] and torques [N m], and of a graph
+            ``member_shafts``, the shaft each turning member sits on; with a stage);
+            ``next_stages`` (the same of the stages after it); ``shafts`` in power-flow
+            order (name, gears, the stage ``members`` on it as the results name them,
+            speed [rpm] and torque [N m]: every shaft of the gears and of the stages'
+            input and output members); ``meshes`` (driver -> driven, mesh frequency [Hz],
+            static force [N]); ``plan``: the arguments of
+            :func:`gearsim.viz.layout.plot_layout` (shaft centres from
+            :func:`gearsim.dynamics.layout.layout`; ``stage``: one dict a stage).
         """
         from gearsim.dynamics.layout import idlers
         from gearsim.dynamics.layout import layout as plan
 
         out: dict = {"name": self.name, "shafts": [], "meshes": []}
-        st = None
+        n, sts, at_members = len(self.stages), [], []
         for k, tr in enumerate(self.stages):  # the first as "stage", the others after it
-            s = tr.stage
+            s, op, pre = tr.stage, tr.operating, stage_prefix(k, n)
+            ends = {"input": op.input, "output": next(m for m in ("sun", "ring", "carrier")
+                                                      if m not in (op.fixed, op.input))}
             entry = {"teeth": [s.sun_teeth, s.planet_teeth, s.ring_teeth],
-                     "planets": s.planets, "fixed": tr.operating.fixed,
-                     "input": tr.operating.input, "mesh_frequency_hz": tr.mesh_frequency,
+                     "planets": s.planets, "fixed": op.fixed,
+                     "input": op.input, "mesh_frequency_hz": tr.mesh_frequency,
                      "speeds_rpm": {m: w * 30 / math.pi for m, w in tr.speeds.items()},
-                     **({"torques_Nm": dict(tr.torques)} if len(self.stages) > 1 else {})}
+                     "torques_Nm": dict(tr.torques)}
+            shafts = {m: self.shaft_label(pre + m) for m in ("sun", "ring", "carrier")
+                      if m != op.fixed}
             if self.member_shafts:  # a graph: the shaft each turning member sits on
-                entry["member_shafts"] = {
-                    m: self.shaft_label(stage_prefix(k, len(self.stages)) + m)
-                    for m in ("sun", "ring", "carrier") if m != tr.operating.fixed}
+                entry["member_shafts"] = shafts
             if k:
                 out.setdefault("next_stages", []).append(entry)
             else:
                 out["stage"] = entry
-        if self.stage is not None:
-            tr, s = self.stage, self.stage.stage
-            st = {"sun": s.sun.pitch_radius, "ring": s.ring.pitch_radius,
-                  "planet": s.planet.pitch_radius, "centre": s.centre_distance,
-                  "angles": list(s.planet_angles_value),
-                  "teeth": (s.sun_teeth, s.planet_teeth, s.ring_teeth),
-                  "output": next(m for m in ("sun", "ring", "carrier")
-                                 if m not in (tr.operating.fixed, tr.operating.input)),
-                  "input": tr.operating.input, "fixed": tr.operating.fixed,
-                  "shafts": {m: self.shaft_label(stage_prefix(0, len(self.stages)) + m)
-                             for m in ("sun", "ring", "carrier")
-                             if m != tr.operating.fixed}}
-        drawings = []  # (shafts, gears, links) of each chain, in power-flow order
+            at_members += [{"name": shafts[m], "gears": [], "members": [pre + m],
+                            "speed_rpm": abs(tr.speeds[m]) * 30 / math.pi,
+                            "torque_Nm": abs(tr.torques[m])} for m in ends.values()]
+            sts.append({"sun": s.sun.pitch_radius, "ring": s.ring.pitch_radius,
+                        "planet": s.planet.pitch_radius, "centre": s.centre_distance,
+                        "angles": list(s.planet_angles_value),
+                        "teeth": (s.sun_teeth, s.planet_teeth, s.ring_teeth), **ends,
+                        "fixed": op.fixed, "shafts": shafts,
+                        **({"title": f"planetary stage {k + 1}"} if n > 1 else {})})
+        drawings, rows = [], []  # of each chain, in power-flow order: (shafts, gears, links)
         names = self._chain_mesh_names()
         for train in self.chains:
             fl = train.flow
             first = len(out["meshes"])  # the meshes' names run through the chains
-            for sh in fl.shafts:
-                i = train.gear_index(sh.gears[0])
-                out["shafts"].append({"name": sh.name, "gears": list(sh.gears),
-                                      "speed_rpm": train.speed(i) * 30 / math.pi,
-                                      "torque_Nm": train.torque(i)})
+            rows.append([{"name": sh.name, "gears": list(sh.gears),
+                          "speed_rpm": train.speed(i) * 30 / math.pi,
+                          "torque_Nm": train.torque(i)}
+                         for sh in fl.shafts for i in [train.gear_index(sh.gears[0])]])
             for m, p in enumerate(train.pairs):
                 out["meshes"].append({"mesh": names[len(out["meshes"])],
                                       "driver": p.driver.name, "driven": p.driven.name,
@@ -619,11 +631,55 @@ class Gearbox:
                 [(g.name, fl.shaft_of[g.name], g.pitch_radius, g.teeth) for g in train.gears],
                 [(p.driver.name, p.driven.name, names[first + m])
                  for m, p in enumerate(train.pairs)]))
+        seen: dict[str, dict] = {}  # every shaft once, in power-flow order
+        for row in ((rows[0] if self.input_train is not None else []) + at_members
+                    + (rows[-1] if self.train is not None else [])):
+            if row["name"] in seen:  # a member's and a gear's, or two stages' members
+                for key in ("gears", "members"):
+                    seen[row["name"]][key] = seen[row["name"]].get(key, []) + row.get(key, [])
+            else:
+                seen[row["name"]] = row
+        out["shafts"] = list(seen.values())
         downstream = drawings[-1] if self.train is not None else ([], [], [])
         upstream = drawings[0] if self.input_train is not None else None
         out["plan"] = {"shafts": downstream[0], "gears": downstream[1],
-                       "links": downstream[2], "stage": st, "upstream": upstream}
+                       "links": downstream[2], "stage": sts or None, "upstream": upstream}
         return out
+
+    def gear_mesh(self, mesh: int, parameter: str = "mesh") -> tuple[GearTrain, int, str]:
+        """Mesh ``mesh`` of the external gears, counted as :meth:`layout` and
+        :meth:`simulate` name them (with a stage, the gears driving it first).
+
+        Parameters
+        ----------
+        mesh : int
+            From 0 (mesh I).
+        parameter : str, optional
+            Named in the refusal (``"--mesh"``).
+
+        Returns
+        -------
+        train : GearTrain
+            The gears holding it.
+        index : int
+            Its index in ``train``.
+        name : str
+            Its name (``"I"``, ...).
+
+        Raises
+        ------
+        InputError
+            No such mesh.
+        """
+        names, k = self._chain_mesh_names(), mesh
+        n = len(names)
+        require(isinstance(mesh, int) and 0 <= mesh < n, parameter, mesh,
+                f"must be in 0 .. {n - 1} ({n} meshes)")
+        for t in self.chains:
+            if k < len(t.pairs):
+                return t, k, names[mesh]
+            k -= len(t.pairs)
+        raise AssertionError(mesh)  # the names count every chain's meshes
 
     def _chain_mesh_names(self) -> tuple[str, ...]:
         """Names of the gears' meshes (those of a stage's result when there is a stage)."""

@@ -27,7 +27,10 @@ stage (the member on the shaft is its input, the other turning member its output
 next shaft, until nothing is left. A stage's held, input and output members follow from
 where its members sit; a shaft's ``torsional_stiffness`` is the shaft between what it
 carries (between two stages' members, or a member and a gear; default as
-:mod:`gearsim.dynamics.compose`). The gears before the first stage, the stages in series
+:mod:`gearsim.dynamics.compose`), its ``bearing_stiffness`` the bearing of its gears and
+members (as :meth:`~gearsim.model.Gearbox.with_bearing`; a member's own in
+``[stages.members]`` wins); the other keys of a shaft of members only are refused (their
+mass and inertia are ``[stages.members]`` keys). The gears before the first stage, the stages in series
 and the gears after the last stage are then built as the ``[input_chain]``,
 ``[[stages]]`` and ``[chain]`` of :mod:`gearsim.model.planetary` (the same
 :class:`~gearsim.model.Gearbox`, the same numbers); a refusal names the element as it is
@@ -53,12 +56,18 @@ from gearsim.model.damage import array_of_tables
 from gearsim.model.gearbox import Gearbox
 from gearsim.model.graph_toml import HOUSING, MEMBERS
 from gearsim.model.planetary import parse_planetary
+from gearsim.sections import as_written, convert
+from gearsim.system.graph import Shaft
 
 __all__ = ["GRAPH_TOP_KEYS", "HOUSING", "is_graph_with_stages", "parse_graph_stages"]
 
 GRAPH_TOP_KEYS = ("name", "material", "common", "shafts", "gears", "meshes", "stages",
                   "operating", "stiffness", "cracks", "faults", "modifications", "sensor",
                   "dynamics", "analysis")
+#: The keys of a ``[[shafts]]`` table (of every gearbox of shafts) and their kinds.
+SHAFT_KEYS = {"name": "str", "mass": "mass", "inertia": "inertia",
+              "torsional_stiffness": "torsional_stiffness", "bearing_stiffness": "stiffness",
+              "axial_stiffness": "stiffness", "power_share": "dimensionless"}
 #: Sections a stage-form file has and this one does not (where they go here).
 MOVED = {"stage": "[[stages]] with each member's shaft", "members": "[stages.members]",
          "chain": "[[gears]] and [[meshes]]", "input_chain": "[[gears]] and [[meshes]]"}
@@ -196,6 +205,8 @@ def _translate(doc: dict[str, Any]
     for i, n in enumerate(names):
         if not on[n] and not members[n]:
             raise InputError(f"shafts[{i}]", n, "carries no gear and no stage member")
+        if members[n]:
+            _member_shaft(shafts[i], i, n, members[n], bool(on[n]))
     # the power path from the input shaft
     path: list[tuple] = []
     used_parts, used_stages = set(), set()
@@ -266,6 +277,31 @@ def _translate(doc: dict[str, Any]
     return (*_stage_form(g, path), placed)
 
 
+def _member_shaft(t: dict[str, Any], i: int, name: str, held: list[tuple[int, str]],
+                  gears: bool) -> None:
+    """Check shaft ``i``, which carries the stage members ``held`` (``(stage, member)``)
+    and, with ``gears``, gears: its keys as any shaft's (:data:`SHAFT_KEYS`, the bounds
+    of :class:`~gearsim.system.graph.Shaft`); of members only, refuse the keys that have
+    no meaning there (the members' own are ``[stages.members]``)."""
+    kw = {k: v for k, v in convert(t, SHAFT_KEYS, f"shafts[{i}]").items() if k != "name"}
+    with as_written(t, f"shafts.{name}", SHAFT_KEYS, sources=[(f"shafts[{i}]", t)]):
+        Shaft(name=name, gears=(name,), **kw)
+    if gears:  # the gears' shaft, with them; its bearing also its member's
+        return
+    what = " and ".join(f"the {m} of stages[{k}]" for k, m in held)
+    for key in kw:
+        if key == "torsional_stiffness" and len(held) == 1:
+            raise InputError(f"shafts[{i}].{key}", t[key], f"the shaft carries {what} "
+                             "only: nothing for it to twist between (it joins two stages' "
+                             "members, or a member and gears)")
+        if key not in ("torsional_stiffness", "bearing_stiffness"):
+            m = held[0][1]
+            raise InputError(f"shafts[{i}].{key}", t[key], f"is not read on a shaft of "
+                             f"stage members only ({what}): a member's mass, inertia and "
+                             f"bearing are [stages.members] keys ({m}_mass, {m}_inertia, "
+                             f"{m}_bearing); it has no axial bearing or power share")
+
+
 class _Graph(NamedTuple):
     """A gearbox file of shafts and stages as read: its tables, the names of its shafts
     and gears, the gears on each shaft, the shafts each mesh joins and the member each
@@ -296,6 +332,11 @@ def _stage_form(g: _Graph, path: list[tuple]
     for n, step in enumerate(p for p in path if p[0] == "stage"):
         _, k, m, shaft = step
         raw = {key: v for key, v in stages[k - 1].items() if key not in MEMBERS}
+        own = {f"{x}_bearing": g.shafts[index[s]]["bearing_stiffness"] for x in MEMBERS
+               if (s := stages[k - 1][x]) != HOUSING
+               and "bearing_stiffness" in g.shafts[index[s]]}
+        if own and isinstance(raw.get("members", {}), dict):  # a shaft's bearing is its
+            raw["members"] = {**own, **raw.get("members", {})}  # members' (their own wins)
         where = f"stages[{len(stage_tabs) + 1}]"
         back[where] = f"stages[{k}]"
         if n == 0:  # the first stage's own tables are the document's

@@ -169,7 +169,7 @@ def _stage(ax, stage: dict) -> None:
         cx, cy = stage["centre"] * mm * np.cos(psi), stage["centre"] * mm * np.sin(psi)
         ax.plot(cx + stage["planet"] * mm * np.cos(phi), cy + stage["planet"] * mm
                 * np.sin(phi), "k--", lw=0.8, label=f"planets (z {zp})" if j == 0 else None)
-    ax.set_title("planetary stage")
+    ax.set_title(stage.get("title", "planetary stage"))
     ax.legend(fontsize=7, loc="lower left")
 
 
@@ -177,7 +177,7 @@ def _stage(ax, stage: dict) -> None:
 def plot_layout(shafts: Sequence[tuple[str, tuple[float, float]]],
                 gears: Sequence[tuple[str, int, float, int]],
                 meshes: Sequence[tuple[str, str, str]], *, title: str = "",
-                stage: dict | None = None, upstream: tuple | None = None,
+                stage: dict | Sequence[dict] | None = None, upstream: tuple | None = None,
                 fig: Figure | None = None) -> Figure:
     """Plan and side views of a gearbox: gears on their shafts, meshes labelled.
 
@@ -187,8 +187,9 @@ def plot_layout(shafts: Sequence[tuple[str, tuple[float, float]]],
     shaft a line at its distance along the power path (:func:`developed_heights`), each
     gear a bar of its pitch diameter in its plane (:func:`axial_stations`), so coaxial
     shafts and the gears of a compound shaft stand apart. A planetary stage is
-    drawn in a panel of its own (sun, planets on the carrier circle, ring), in
-    power-flow order between the parallel shafts that drive it and those it drives.
+    drawn in a panel of its own (sun, planets on the carrier circle, ring), stages in
+    series one after the other, in power-flow order between the parallel shafts that
+    drive them and those they drive.
 
     Parameters
     ----------
@@ -201,12 +202,12 @@ def plot_layout(shafts: Sequence[tuple[str, tuple[float, float]]],
         Driver, driven gear name and the mesh label.
     title : str, optional
         Figure title.
-    stage : dict, optional
-        ``sun``, ``ring`` and ``planet`` pitch radii [m], ``centre`` (carrier radius,
-        [m]), ``angles`` (planet angles [rad]) and ``teeth`` (z_s, z_p, z_r); optional
-        ``input`` and ``output`` (the members on the joining shafts), ``fixed`` (the
-        held member) and ``shafts`` (member -> the shaft it sits on), named in the
-        legend.
+    stage : dict or sequence of dict, optional
+        A stage, or the stages in series: ``sun``, ``ring`` and ``planet`` pitch radii
+        [m], ``centre`` (carrier radius, [m]), ``angles`` (planet angles [rad]) and
+        ``teeth`` (z_s, z_p, z_r); optional ``input`` and ``output`` (the members on the
+        joining shafts), ``fixed`` (the held member), ``shafts`` (member -> the shaft it
+        sits on), named in the legend, and ``title`` of its panel.
     upstream : tuple, optional
         ``(shafts, gears, meshes)`` of gears driving the stage, as above.
     fig : matplotlib.figure.Figure, optional
@@ -218,12 +219,12 @@ def plot_layout(shafts: Sequence[tuple[str, tuple[float, float]]],
         One column per part in power-flow order: plan view (mm, equal aspect) above the
         side view of the parallel shafts.
     """
+    stages = [stage] if isinstance(stage, dict) else list(stage or ())
     panels: list[tuple[str, object]] = []
     if upstream is not None:
         panels.append(("up", upstream))
-    if stage:
-        panels.append(("stage", stage))
-    if gears or not stage:
+    panels += [("stage", st) for st in stages]
+    if gears or not stages:
         panels.append(("down", (shafts, gears, meshes)))
     fig = figure_or_new(fig, 5.0 * len(panels) + 2.0, 10.0)
     axes = fig.subplots(2, len(panels), squeeze=False,
@@ -235,14 +236,15 @@ def plot_layout(shafts: Sequence[tuple[str, tuple[float, float]]],
         else:
             _chain(ax, *part)
             _side(side, *part)
-            member = (stage or {}).get("input" if kind == "up" else "output")
-            ax.set_title(title if not stage else "parallel shafts" if member is None else
+            member = (stages[0] if kind == "up" else stages[-1]).get(
+                "input" if kind == "up" else "output") if stages else None
+            ax.set_title(title if not stages else "parallel shafts" if member is None else
                          f"parallel shafts ({'driving' if kind == 'up' else 'driven by'} the "
                          f"{member})")
             side.set_title("side view: gears in their planes along the shafts", fontsize=9)
         ax.set_aspect("equal")
         ax.set_xlabel("x [mm]")
     axes[0][0].set_ylabel("y [mm]")
-    if stage:
+    if stages:
         fig.suptitle(title)
     return fig

@@ -1,21 +1,25 @@
-"""Figures of a planetary stage: the phased sun-planet and ring-planet mesh stiffnesses."""
+"""Figures of a planetary stage: the phased sun-planet and ring-planet mesh stiffnesses
+(and those of a gearbox's stages and gears)."""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from gearsim.errors import require
+from gearsim.viz.stiffness import plot_train_stiffness
 from gearsim.viz.style import figure_or_new, styled
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
     from gearsim.system.planetary import PlanetaryTrain
+    from gearsim.system.stiffness import TrainStiffness
 
-__all__ = ["plot_stage_meshes"]
+__all__ = ["plot_gearbox_meshes", "plot_stage_meshes"]
 
 #: Line styles of the planets, in turn.
 LINE_STYLES = ("-", "--", ":", "-.")
@@ -69,4 +73,42 @@ def plot_stage_meshes(train: PlanetaryTrain, cycles: float | None = None, *,
                ncols=min(n, 6), fontsize="small")
     fig.suptitle(f"{train.name}\nphased mesh stiffness, f_m = {fm:.5g} Hz", fontsize="medium")
     axes[1].set_xlabel("mesh cycles c = f_m t")
+    return fig
+
+
+
+@styled
+def plot_gearbox_meshes(parts: Sequence[PlanetaryTrain | TrainStiffness],
+                        names: Sequence[str] = (), *, fig: Figure | None = None) -> Figure:
+    """Stiffness of every mesh of a gearbox with planetary stages, one row a part in
+    power-flow order: a stage's phased tables (:func:`plot_stage_meshes`), a chain of
+    gears' TVMS (:func:`gearsim.viz.stiffness.plot_train_stiffness`).
+
+    Parameters
+    ----------
+    parts : sequence of PlanetaryTrain or TrainStiffness
+        The stages and the stiffness of the gears beside them, in power-flow order.
+    names : sequence of str, optional
+        The gears' meshes' names, numbered through the chains (default their own).
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw into; default a new one.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        A lone stage: the figure of :func:`plot_stage_meshes`.
+    """
+    gears = [hasattr(p, "results") for p in parts]  # a TrainStiffness (viz imports no system)
+    if len(parts) == 1 and not gears[0]:
+        return plot_stage_meshes(parts[0], fig=fig)
+    heights = [3.6 * len(p.train.pairs) if g else 5.0 for p, g in zip(parts, gears, strict=True)]
+    fig = figure_or_new(fig, 12.0, sum(heights))
+    subs = fig.subfigures(len(parts), 1, squeeze=False, height_ratios=heights)[:, 0]
+    k = 0
+    for sub, p, g in zip(subs, parts, gears, strict=True):
+        if g:
+            plot_train_stiffness(p, fig=sub, names=names[k:k + len(p.train.pairs)])
+            k += len(p.train.pairs)
+        else:
+            plot_stage_meshes(p, fig=sub)
     return fig

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -55,20 +55,22 @@ def plot(ts: TrainStiffness, mesh: int | None = None, *, ax: Axes | None = None,
     return plot_mesh_tvms(ts, mesh, ax=ax)
 
 
-def _tvms_panel(ax: Axes, pair: Any, r: Any, **line: Any) -> None:
-    """Draw the TVMS ``r`` of mesh ``pair`` against its driver's rotation, labelled.
+def _tvms_panel(ax: Axes, pair: Any, r: Any, name: str | None = None, **line: Any) -> None:
+    """Draw the TVMS ``r`` of mesh ``pair`` (named ``name``, default its own) against its
+    driver's rotation, labelled.
 
     ``line`` goes to ``ax.plot`` (``label``, ``color``).
     """
     ax.plot(np.degrees(r.theta1), r.k / 1e9, lw=1.0, **line)
     ax.set_xlabel(f"rotation of {pair.driver.name} [deg]")
     ax.set_ylabel("mesh stiffness [GN/m]")
-    ax.set_title(f"mesh {pair.name}: {pair.driver.name} -> {pair.driven.name}")
+    ax.set_title(f"mesh {name or pair.name}: {pair.driver.name} -> {pair.driven.name}")
     ax.legend(loc="lower right")
 
 
 @styled
-def plot_train_stiffness(ts: TrainStiffness, *, fig: Figure | None = None) -> Figure:
+def plot_train_stiffness(ts: TrainStiffness, *, fig: Figure | None = None,
+                         names: Sequence[str] = ()) -> Figure:
     """TVMS of every mesh over one revolution of its driver, with the load sharing.
 
     Parameters
@@ -77,6 +79,8 @@ def plot_train_stiffness(ts: TrainStiffness, *, fig: Figure | None = None) -> Fi
         Stiffness of every mesh of a train.
     fig : matplotlib.figure.Figure, optional
         Figure to draw into (one row of two panels per mesh); default a new one.
+    names : sequence of str, optional
+        The meshes' names (the gearbox's, beside a planetary stage); default their own.
 
     Returns
     -------
@@ -88,7 +92,8 @@ def plot_train_stiffness(ts: TrainStiffness, *, fig: Figure | None = None) -> Fi
     axes = fig.subplots(n, 2, squeeze=False)
     for i, pair in enumerate(ts.train.pairs):
         r = ts.results[(i, 1)]
-        _tvms_panel(axes[i, 0], pair, r, label="total")
+        name = names[i] if names else pair.name
+        _tvms_panel(axes[i, 0], pair, r, name, label="total")
         ax = axes[i, 1]
         npc = r.attrs["positions_per_cycle"]
         sel = slice(0, 3 * npc)
@@ -96,7 +101,7 @@ def plot_train_stiffness(ts: TrainStiffness, *, fig: Figure | None = None) -> Fi
             ax.plot(r.cycles[sel], r.load_share[sel, m], lw=1.0, label=f"pair {m}")
         ax.set_xlabel("mesh cycles [-]")
         ax.set_ylabel("load share [-]")
-        ax.set_title(f"mesh {pair.name}: load sharing (3 cycles)")
+        ax.set_title(f"mesh {name}: load sharing (3 cycles)")
         ax.legend(loc="upper right", fontsize=8, ncol=2)
     return fig
 

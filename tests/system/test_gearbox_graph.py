@@ -303,3 +303,25 @@ def test_study_signals_name_the_shafts_of_a_graph(box):
     names = box.signals()
     assert "acceleration[intermediate,y]" in names and box.default_signal == "acceleration[input,y]"
     assert not any("intermediate-pinion" in n for n in names)
+
+
+def test_every_name_a_configuration_gives_is_a_record_a_study_can_select():
+    """A shaft named with a space and a shaft twisting between its gears: every record
+    :meth:`signals` lists is selectable from the run (before: ``acceleration[in shaft,y]``,
+    the study's default record, and ``shaft_torque[mid:p2-g1]`` were refused as not
+    variables of the run, so a sweep refused its own default); the spring's static
+    torque by hand: the input's 100 N m times 48/24 leaves the middle gear g1 on shaft
+    mid, of which p3 passes on 0.6 (its power share), 120 N m."""
+    from branching_boxes import SHAFT_SPLIT
+
+    gb = loads(SHAFT_SPLIT.replace('"input"', '"in shaft"')).replace(
+        dynamics={"duration": 0.25, "fs": 2e4})
+    names = gb.signals()
+    assert gb.default_signal == "acceleration[in shaft,y]" and gb.default_signal in names
+    springs = [n for n in names if n.startswith("shaft_torque")]
+    assert springs == ["shaft_torque[mid:p2-g1]", "shaft_torque[mid:g1-p3]"]
+    ds = gb.simulate()
+    for n in names:
+        assert np.all(np.isfinite(gb.select(ds, n))), n
+    assert np.mean(gb.select(ds, "shaft_torque[mid:g1-p3]")) == pytest.approx(
+        120.0, rel=1e-3)

@@ -52,7 +52,10 @@ from gearsim.system.train import GearTrain, Operating
 __all__ = ["Gearbox", "GearboxStiffness"]
 
 _BEARING_MEMBERS = ("sun", "planet", "ring", "carrier")
-_SIGNAL = re.compile(r"\s*(\w+)\s*(?:\[\s*([\w-]+)\s*(?:,\s*(\w+)\s*)?\])?\s*")
+#: A record's name: ``variable`` or ``variable[label]`` / ``variable[label,axis]``; a
+#: label is any name a configuration may give (letters, digits, ``_ - . :`` and inner
+#: spaces: a shaft ``"in shaft"``, a spring ``m:c-d``).
+_SIGNAL = re.compile(r"\s*(\w+)\s*(?:\[\s*([\w.:-]+(?: +[\w.:-]+)*)\s*(?:,\s*(\w+)\s*)?\])?\s*")
 
 
 @dataclass(frozen=True)
@@ -759,7 +762,8 @@ class Gearbox:
             model: x, y, z; the seed's 3-DOF model: y; the torsional model has no
             bearing coordinates, so none), then, but for the seed's model,
             ``angular_acceleration[rotation]`` of each rotation coordinate (a shaft, or a
-            gear of a shaft that twists between its gears). A stage: ``sensor`` (the ring's fixed
+            gear of a shaft that twists between its gears) and ``shaft_torque[shaft:a-b]``
+            of each such shaft's spring between its gears a and b. A stage: ``sensor`` (the ring's fixed
             transducer), ``mesh_force[sun-planet-1]``, ``mesh_force[ring-planet-1]``,
             ... and ``ring_acceleration[x]``, ``ring_acceleration[y]``; with gears also
             ``chain_mesh_force[I]``, ..., ``shaft_torque`` (the shaft between the stage and
@@ -801,7 +805,11 @@ class Gearbox:
         axes = LTA_AXES if model == "lta" else ("y",) if model == "seed" else ()
         for var in ("bearing_force", "acceleration"):
             out += [f"{var}[{sh.name},{a}]" for sh in self.train.flow.shafts for a in axes]
-        return out + [f"angular_acceleration[{r}]" for r in self._rotations()]
+        out += [f"angular_acceleration[{r}]" for r in self._rotations()]
+        return out + ([] if model == "seed" else [  # the springs of twisting shafts
+            f"shaft_torque[{sh.name}:{a}-{b}]" for sh in self.train.flow.shafts
+            if sh.torsional_stiffness is not None
+            for a, b in zip(sh.gears, sh.gears[1:], strict=False)])
 
     def _rotations(self) -> list[str]:
         """Labels of the rotation coordinates of a gear train's model (none: seed's)."""

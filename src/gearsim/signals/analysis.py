@@ -41,6 +41,7 @@ from gearsim.signals._checks import (
     as_signal,
     check_fs,
     check_positive,
+    check_resolution,
     check_speed_source,
     check_teeth,
 )
@@ -58,7 +59,7 @@ from gearsim.signals.sidebands import (
     mesh_harmonics,
     sideband_families,
 )
-from gearsim.signals.spectrum import Spectrum, Tone, amplitude_spectrum
+from gearsim.signals.spectrum import WINDOWS, Spectrum, Tone, amplitude_spectrum
 from gearsim.signals.timedomain import (
     Impacts,
     TimeStats,
@@ -647,6 +648,9 @@ def analyze(
     # the shafts whose sidebands are measured around each mesh frequency: every shaft of
     # a simple train; of a compound train, the two shafts of each stage
     stage_shafts = [{k: kin.shafts[k] for k in st.shafts} for st in kin.stages]
+    # the slowest shaft of every stage sets the record length, named at once
+    check_resolution(a.size, fs, {f"shaft {k}": v for k, v in kin.shafts.items()},
+                     bins_needed=2 * WINDOWS[opt.window], window=opt.window)
     for mesh_f, shafts in ([(st.mesh_frequency, sh) for st, sh in zip(kin.stages, stage_shafts,
                                                                        strict=True)]
                            or [(f_m, kin.shafts)]):

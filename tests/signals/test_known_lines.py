@@ -1,0 +1,43 @@
+"""Lines the kinematics know are never read for one another, and a record too short is
+told the length that suffices at once.
+
+Three tester findings: a three-stage record lengthened to the stated minimum was refused
+again with a longer one (the first unmet sideband spacing was named, not the binding
+one); stage 1's third mesh harmonic (1425 Hz) was read from stage 3's 23rd (1426.198 Hz)
+in a record of 0.25 Hz bins; a healthy planetary stage's planet-pass line (30 Hz) was
+read as its planet-fault line (26.667 Hz) in a 0.4 s record of 2.5 Hz bins.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+
+from gearsim.errors import InputError
+from gearsim.signals.analysis import analyze
+
+#: 19/71, 23/67, 27/61 at 25 Hz: shafts 25, 6.690, 2.2966 and 1.01653 Hz; meshes 475,
+#: 153.873 and 62.0086 Hz.
+STAGES = ((19, 71), (23, 67), (27, 61))
+F_IN, FS = 25.0, 5000.0
+F_OUT = F_IN * 19 * 23 * 27 / (71 * 67 * 61)  # 1.01653 Hz
+
+
+def _tones(duration: float, lines: dict[float, float]) -> np.ndarray:
+    t = np.arange(round(duration * FS)) / FS
+    return sum(a * np.cos(2 * np.pi * f * t) for f, a in lines.items())
+
+
+def test_a_short_record_is_told_the_length_that_suffices():
+    # the output shaft's sidebands need 4 Hann bins: 4 / 1.01653 Hz = 3.935 s; before,
+    # a 1 s record was told 1.742 s (stage 2's 2.2966 Hz shaft) and refused again there
+    with pytest.raises(InputError) as exc:
+        analyze(_tones(1.0, {475.0: 1.0}), FS, shaft_frequency=F_IN, stages=STAGES)
+    need = float(re.search(r"must be >= ([\d.]+) s", str(exc.value)).group(1))
+    assert need == pytest.approx(4.0 / F_OUT, abs=1e-3)
+    res = analyze(_tones(math.ceil(need * FS) / FS, {475.0: 1.0}), FS, shaft_frequency=F_IN,
+                  stages=STAGES)
+    assert len(res.stages) == 3

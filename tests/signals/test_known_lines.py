@@ -24,6 +24,7 @@ from gearsim.signals.analysis import analyze
 STAGES = ((19, 71), (23, 67), (27, 61))
 F_IN, FS = 25.0, 5000.0
 F_OUT = F_IN * 19 * 23 * 27 / (71 * 67 * 61)  # 1.01653 Hz
+F_M3 = F_IN * 19 / 71 * 23 / 67 * 27  # 62.0086 Hz
 
 
 def _tones(duration: float, lines: dict[float, float]) -> np.ndarray:
@@ -41,3 +42,16 @@ def test_a_short_record_is_told_the_length_that_suffices():
     res = analyze(_tones(math.ceil(need * FS) / FS, {475.0: 1.0}), FS, shaft_frequency=F_IN,
                   stages=STAGES)
     assert len(res.stages) == 3
+
+
+def test_a_harmonic_is_not_read_from_another_stages_line_beside_it():
+    # stage 1's 3 f_m = 1425 Hz (amplitude 0.8) and stage 3's 23 f_m = 1426.198 Hz
+    # (amplitude 2): 1.198 Hz = 4.8 bins of 0.25 Hz apart, resolved by the Hann window
+    lines = {475.0: 1.0, 1425.0: 0.8, 23 * F_M3: 2.0}
+    res = analyze(_tones(4.0, lines), FS, shaft_frequency=F_IN, stages=STAGES)
+    third = res.stages[0].harmonics[2]
+    assert third.frequency == pytest.approx(1425.0, abs=0.05)
+    assert third.amplitude == pytest.approx(0.8, rel=0.01)
+    # the sideband families read the same line
+    fam = next(f for f in res.stages[0].families if f.order == 3)
+    assert fam.mesh.amplitude == pytest.approx(0.8, rel=0.01)

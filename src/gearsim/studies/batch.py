@@ -227,7 +227,7 @@ def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho,
              "units": rec.units.get(c),
              "tacho": own[c][1] if c in own else data.get(tacho),
              "own_tacho": own[c][0] if c in own else None, "speed_change": change,
-             "reference": _reference_shaft(c, meta), **_part_of(c, meta),
+             "shafts": _shafts(c, meta), **_part_of(c, meta),
              "dropped": str(rec.dropped[c]) if c in rec.dropped else None} for c in chosen]
 
 
@@ -255,16 +255,35 @@ def _part(channel: str, parts: Mapping) -> tuple[str, Mapping]:
                                                    len(parts["stages"]))]
 
 
+def _shafts(channel: str, meta: Mapping) -> list[str]:
+    """The shafts of the part of a gearsim result ``channel`` is a record of, by the names
+    of their tachos, the reference first: a gear train's in power-flow order, the gears'
+    beside a stage, a stage's reference member alone; empty for another file (or a stage
+    result written before its stages named their tachos)."""
+    if parts := meta.get("parts"):
+        kind, part = _part(channel, parts)
+        return list(part["shafts"]) if kind == "chain" else [part["tacho"]] \
+            if part.get("tacho") else []
+    return list(meta.get("tacho_shafts") or ())
+
+
 def _reference_shaft(channel: str, meta: Mapping) -> str | None:
     """The shaft a record of a gearsim result is analysed at, by the name of its tacho
     (``tacho[shaft=NAME]``): a gear train's input, the first shaft of the gears beside a
-    stage, a stage's reference member; ``None`` for another file (or a stage result
-    written before its stages named their tachos)."""
-    if parts := meta.get("parts"):
-        kind, part = _part(channel, parts)
-        return part["shafts"][0] if kind == "chain" else part.get("tacho")
-    shafts = meta.get("tacho_shafts")
-    return shafts[0] if shafts else None
+    stage, a stage's reference member; ``None`` for another file (:func:`_shafts`)."""
+    return next(iter(_shafts(channel, meta)), None)
+
+
+def _name_shafts(skipped: list[dict], names: Sequence[str]) -> None:
+    """The skip reasons with the analysis' shaft labels (``shaft1``, ``shaft shaft3``, in
+    :func:`~gearsim.signals.analysis.kinematics`' order) as the result's shaft names
+    ``names`` (``shaft mast``), where known."""
+    def name(m: re.Match) -> str:
+        j = int(m[1]) - 1
+        return f"shaft {names[j]}" if j < len(names) else m[0]
+
+    for s in skipped:
+        s["reason"] = re.sub(r"\b(?:shaft )?shaft(\d+)\b", name, s["reason"])
 
 
 def _check_tacho_shaft(tacho: str | None, channel: str, meta: Mapping) -> None:
@@ -452,6 +471,16 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
             continue
         if run:
             _run_skips(rec, ch, spec)
+        elif spec is None and (pl := ch.get("planetary")):  # a ring that turns
+            rec.skipped.append({"tier": "planetary", "reason": "reads a sensor on a held ring; "
+                                f"this stage's ring turns at {abs(pl['ring_frequency']):.5g} "
+                                "Hz" + (" (its carrier held)" if pl["carrier_frequency"] == 0
+                                        else "")})
+        if file_teeth:  # the result's shaft names: its path's, else the reference's
+            n = len(train["stages"]) + 1 if train.get("stages") else len(train["teeth"])
+            names = ch["shafts"] if route is None and len(ch["shafts"]) == n else \
+                ch["shafts"][:1]
+            _name_shafts(rec.skipped, names)
         if not keep_analysis:
             rec = {"record": rec.to_dict(), "features": rec.features()}
         out.append(rec)
@@ -467,7 +496,7 @@ def _run_skips(rec: Any, ch: dict, spec: Any) -> None:
     if not ch.get("own_tacho"):
         nominal = f"{ch['rpm']:.6g} rpm" if ch.get("rpm") else "speed"
         why = (f"{ch['speed_change']}, and the tacho of its reference shaft "
-               f"{ch.get('reference') or ''} holds too few pulses in it (3 needed) to follow "
+               f"{(ch['shafts'] or [''])[0]} holds too few pulses in it (3 needed) to follow "
                f"that: the file's nominal {nominal} is not used; {again}")
         for s in rec.skipped:
             if s["tier"] == "shaft":

@@ -192,3 +192,31 @@ def test_analysis_options_refused_under_their_own_names(tmp_path, capsys, args, 
     err = capsys.readouterr().err.strip()
     assert err.startswith(f"gearsim: error: {option} = ") and "\n" not in err
     assert not out.exists()
+
+
+def test_compare_takes_a_gearsim_results_speed_and_teeth(tmp_path, monkeypatch, capsys):
+    """Without --shaft-rpm and --teeth, compare takes the simulated gearsim result's
+    reference shaft and gear (its shaft_frequency and analysis_teeth attributes), as
+    analyze does; a file without them is refused naming compare's own options (before:
+    '--shaft-rpm/--tacho = neither', an option compare does not have)."""
+    p = _write_nc(tmp_path / "sim.nc", impacts=False)
+    with xr.open_dataset(p) as ds:
+        ds = ds.load()
+    ds.attrs |= {"shaft_frequency": [F_R, F_R * 39 / 59], "analysis_teeth": [39, 59]}
+    ds.to_netcdf(tmp_path / "result.nc", engine="h5netcdf")
+    args = ["compare", tmp_path / "result.nc", p, "--channel-sim", "mesh_force_1",
+            "--channel-meas", "mesh_force_1", "--sidebands", 1, "--json"]
+    code, out, err = _run(monkeypatch, capsys, *args)
+    assert code == 0, err
+    own = json.loads(out)
+    assert own["mesh_frequency_hz"] == pytest.approx(1900 / 60 * 39)  # 1235 Hz
+    assert own["speed_teeth_provenance"] == "file"
+    code, out, err = _run(monkeypatch, capsys, *args, "--shaft-rpm", RPM, "--teeth", 39)
+    assert code == 0, err
+    assert json.loads(out)["orders"] == own["orders"]
+    code, _, err = _run(monkeypatch, capsys, "compare", p, p, "--channel-sim", "mesh_force_1",
+                        "--channel-meas", "mesh_force_1")
+    _assert_one_line_exit_2(code, err, "--shaft-rpm/--teeth = neither: give both")
+    assert "--tacho" not in err
+    code, _, err = _run(monkeypatch, capsys, *args, "--teeth", 39)
+    _assert_one_line_exit_2(code, err, "--shaft-rpm/--teeth = one of them: give both")

@@ -130,3 +130,38 @@ def test_a_constant_speed_result_keeps_the_files_speed(reducer):
     (row,), _ = analyze_file(reducer, channels=["acceleration[input,y]"])
     assert "tacho" not in row["record"]["source"]
     assert row["record"]["speed_hz"] == pytest.approx(30.0, rel=1e-12)
+
+
+@pytest.fixture(scope="module")
+def slow_run_up(tmp_path_factory):
+    """The NREL GRC stage (carrier = input, 22.1 rpm) run up from 11.05 to 22.1 rpm over
+    6 s; its 3 s record (after the transient) holds one carrier pulse."""
+    path = tmp_path_factory.mktemp("tacho") / "slow_run_up.nc"
+    gb = gs.example("nrel-grc")
+    speed, _ = gb.operating()
+    write_results(gb.replace(dynamics={"duration": 3.0, "speed_times": [0.0, 6.0],
+                                       "speed_values": [0.5 * speed, speed]}).simulate(),
+                  path)
+    return str(path)
+
+
+def test_a_slow_members_run_up_is_not_analysed_at_the_nominal_speed(slow_run_up):
+    """The carrier's tacho cannot follow the speed (one pulse in the record): the
+    record is not analysed at the nominal 22.1 rpm (before: speed 0.3683 Hz, "file",
+    and a planetary tier at that constant speed, without a word); the shaft, gear and
+    planetary tiers are skipped, saying how the speed changes."""
+    (row,), problems = analyze_file(slow_run_up, channels=["sensor"])
+    assert not problems
+    rec = row["record"]
+    assert rec["speed_hz"] is None and "planetary" not in rec["tiers"]
+    with xr.open_dataset(slow_run_up) as ds:  # 22.1 rpm x (0.5 + t / 12 s), linear
+        t0, t1 = float(ds["time"][0]), float(ds["time"][-1])
+    why = {s["tier"]: s["reason"] for s in rec["skipped"]}
+    said = (f"the run's input speed goes from {22.1 * (0.5 + t0 / 12):.5g} to "
+            f"{22.1 * (0.5 + t1 / 12):.5g} rpm over the record")
+    assert why["shaft"].startswith(said) and "nominal 22.1 rpm is not used" in why["shaft"]
+    assert said in why["planetary"] and "gear" in why
+    # a speed given is used, the planetary tier's carrier too
+    (given,), _ = analyze_file(slow_run_up, channels=["sensor"], speed=0.3)
+    assert given["record"]["speed_hz"] == 0.3
+    assert given["record"]["tiers"]["planetary"]["frequencies"]["carrier"] == 0.3

@@ -581,8 +581,9 @@ def _one_with_baseline(path: str, baseline: Path | None, options: dict):
 def compare(
     simulated: Annotated[Path, typer.Argument(help="simulated record (e.g. gearsim NetCDF)")],
     measured: Annotated[Path, typer.Argument(help="measured record")],
-    shaft_rpm: Annotated[float | None, typer.Option(help="speed of the faulty gear's shaft [rpm]")]
-    = None,
+    shaft_rpm: Annotated[float | None, typer.Option(
+        help="speed of the faulty gear's shaft [rpm] (default: a gearsim SIMULATED's "
+             "reference shaft, with --teeth its gear's)")] = None,
     teeth: Annotated[int | None, typer.Option(help="teeth of the faulty gear")] = None,
     channel_sim: Annotated[str | None, typer.Option(help="channel of the simulated file")] = None,
     channel_meas: Annotated[str | None, typer.Option(help="channel of the measured file")] = None,
@@ -600,19 +601,32 @@ def compare(
     """Sideband amplitudes near n f_m, simulated versus measured, with % errors (seed Table 2)."""
     from gearsim.io.jsonout import strict_json
     from gearsim.io.measured import read_signal
+    from gearsim.signals._checks import check_positive
     from gearsim.signals.compare import compare_sidebands
+    from gearsim.studies.batch import _part_of
     from gearsim.viz import check_plot_file, save
     from gearsim.viz.signals import plot_comparison
 
     if plot is not None:  # every output target is checked before any work
         plot = check_plot_file(plot, "--plot")
-    _speed(shaft_rpm, None)
-    if teeth is None or teeth < 1:
-        raise InputError("--teeth", teeth, "must be given as an integer >= 1")
+    if (shaft_rpm is None) != (teeth is None):
+        raise InputError("--shaft-rpm/--teeth", "one of them", "give both (the faulty gear's "
+                         "shaft speed and teeth), or neither to take a gearsim result's")
+    if shaft_rpm is not None:
+        check_positive("--shaft-rpm", shaft_rpm)
+    if teeth is not None and teeth < 1:
+        raise InputError("--teeth", teeth, "must be an integer >= 1")
     if not 1 <= max_order <= MAX_ORDER:
         raise InputError("--max-order", max_order, f"must be 1 to {MAX_ORDER}")
     s = read_signal(simulated, channel=channel_sim, fs=fs_sim)
     m = read_signal(measured, channel=channel_meas, fs=fs_meas)
+    given = shaft_rpm is not None
+    if not given:  # the result's reference shaft and its gear, as analyze takes them
+        own = _part_of(s.channel, s.metadata)
+        if not (own["rpm"] and own["teeth"]):
+            raise InputError("--shaft-rpm/--teeth", "neither", f"give both: {s.path} "
+                             "carries no speed and teeth (not a gearsim result)")
+        shaft_rpm, teeth = own["rpm"], own["teeth"][0]
     f_r = shaft_rpm / 60.0
     c = compare_sidebands(
         s.data, s.fs, m.data, m.fs, mesh_frequency=f_r * teeth, shaft_frequency=f_r,
@@ -620,7 +634,8 @@ def compare(
         normalize=normalize, shaft="shaft1",
     )
     d = c.to_dict() | {
-        "mesh_frequency_hz": f_r * teeth, "shaft_frequency_hz": f_r,
+        "mesh_frequency_hz": f_r * teeth, "shaft_frequency_hz": f_r, "teeth": teeth,
+        "speed_teeth_provenance": "given" if given else "file",
         "simulated": {"file": s.path, "channel": s.channel, "fs_hz": s.fs},
         "measured": {"file": m.path, "channel": m.channel, "fs_hz": m.fs},
     }
@@ -629,8 +644,9 @@ def compare(
     if json_:
         typer.echo(strict_json(d, indent=1))
         return
-    typer.echo(f"sidebands n f_m +- k f_r, f_m = {f_r * teeth:.6g} Hz, f_r = {f_r:.5g} Hz, "
-               f"normalize = {normalize}; error = |sim - meas| / meas")
+    typer.echo(f"sidebands n f_m +- k f_r, f_m = {f_r * teeth:.6g} Hz, f_r = {f_r:.5g} Hz"
+               f"{'' if given else ' (file)'}, normalize = {normalize}; error = |sim - meas| "
+               "/ meas")
     typer.echo(f"{'order':>5} {'sim mean':>12} {'meas mean':>12} {'error %':>9}")
     for row in d["orders"]:
         typer.echo(f"{row['order']:>5} {row['simulated_mean']:>12.5g} {row['measured_mean']:>12.5g}"

@@ -592,6 +592,8 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
                                             strict=True) if _period_varies(x)]
         if varying:
             meta["varying_tachos"] = varying
+    if (change := _speed_change(ds, meta.get("varying_tachos"))) is not None:
+        meta["speed_change"] = change
     if "teeth" in meta:  # a compound train's stages ("32/80,48/64"), else its configuration
         if (stages := _stages_attr(ds.attrs.get("analysis_stages"))) is not None:
             meta["stages"] = stages
@@ -634,6 +636,29 @@ def _period_varies(pulses: np.ndarray) -> bool:
         return False
     iv = np.diff(rises)
     return float(iv.max() - iv.min()) > max(2.0, RUN_UP_TOL * float(iv.mean()))
+
+
+def _speed_change(ds, varying: list[str] | None) -> str | None:
+    """How the speed of a gearsim run changes over its record, in words; None when it
+    does not (by :data:`RUN_UP_TOL`): from the run's speed profile (the ``dynamics``
+    attribute's ``speed_times``, ``speed_values`` [rad/s], linear between its points,
+    at the record's times), else from the shafts whose tacho period varies."""
+    import json
+
+    try:
+        dyn = json.loads(ds.attrs["dynamics"])
+        t, w = np.asarray(dyn["speed_times"], float), np.asarray(dyn["speed_values"], float)
+        if t.ndim != 1 or t.shape != w.shape or t.size == 0:
+            raise ValueError("no speed profile")
+        t0, t1 = float(ds["time"].values[0]), float(ds["time"].values[-1])
+        w = np.interp(np.r_[t0, t[(t > t0) & (t < t1)], t1], t, w) * 30.0 / math.pi
+        if np.ptp(w) > RUN_UP_TOL * np.mean(w):
+            return (f"the run's input speed goes from {w[0]:.5g} to {w[-1]:.5g} rpm over "
+                    "the record")
+    except (KeyError, TypeError, ValueError, IndexError):
+        pass
+    return f"the tacho period of shaft {varying[0]} changes over the record" if varying \
+        else None
 
 
 def _parts_attr(a: Mapping) -> dict | None:

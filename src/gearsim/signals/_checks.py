@@ -116,18 +116,20 @@ def check_resolution(
 
     A line spacing ``df_line`` is resolved when it spans at least ``bins_needed`` frequency
     bins of width ``fs / n_samples``, i.e. when the record lasts at least
-    ``bins_needed / df_line`` seconds.
+    ``bins_needed / df_line`` seconds. The refusal names the smallest spacing, whose
+    length is the one that suffices for all (not the first unmet one: a record lengthened
+    to that was refused again with a longer need).
     """
     duration = n_samples / fs
-    for label, spacing in spacings.items():
-        need = bins_needed / spacing
-        if duration < need:
-            raise InputError(
-                "record duration",
-                f"{duration:.4g} s",
-                f"must be >= {need:.4g} s to separate sidebands spaced {spacing:.4g} Hz "
-                f"({label}) with a {window} window ({bins_needed:g} bins per spacing)",
-            )
+    label, spacing = min(spacings.items(), key=lambda kv: kv[1])
+    need = bins_needed / spacing
+    if duration < need:
+        raise InputError(
+            "record duration",
+            f"{duration:.4g} s",
+            f"must be >= {need:.4g} s to separate sidebands spaced {spacing:.4g} Hz "
+            f"({label}) with a {window} window ({bins_needed:g} bins per spacing)",
+        )
 
 
 def check_int(name: str, value: object, *, minimum: int, allow: tuple[int, ...] = (),

@@ -41,6 +41,7 @@ from gearsim.signals._checks import (
     as_signal,
     check_fs,
     check_positive,
+    check_resolution,
     check_speed_source,
     check_teeth,
 )
@@ -58,7 +59,7 @@ from gearsim.signals.sidebands import (
     mesh_harmonics,
     sideband_families,
 )
-from gearsim.signals.spectrum import Spectrum, Tone, amplitude_spectrum
+from gearsim.signals.spectrum import WINDOWS, Spectrum, Tone, amplitude_spectrum
 from gearsim.signals.timedomain import (
     Impacts,
     TimeStats,
@@ -647,6 +648,9 @@ def analyze(
     # the shafts whose sidebands are measured around each mesh frequency: every shaft of
     # a simple train; of a compound train, the two shafts of each stage
     stage_shafts = [{k: kin.shafts[k] for k in st.shafts} for st in kin.stages]
+    # the slowest shaft of every stage sets the record length, named at once
+    check_resolution(a.size, fs, {f"shaft {k}": v for k, v in kin.shafts.items()},
+                     bins_needed=2 * WINDOWS[opt.window], window=opt.window)
     for mesh_f, shafts in ([(st.mesh_frequency, sh) for st, sh in zip(kin.stages, stage_shafts,
                                                                        strict=True)]
                            or [(f_m, kin.shafts)]):
@@ -769,15 +773,18 @@ def _stage_spectrum(kin: Kinematics, shafts: list[dict[str, float]], spec: Spect
                     orders: Sequence[int], n_sidebands: int,
                     ) -> list[tuple[list[Tone], list[SidebandFamily]]]:
     """Mesh harmonics and sideband families (of its two shafts, ``shafts[k]``) of every
-    stage; a line of another stage within the resolution makes a sideband not
-    ``isolated``."""
+    stage; the lines of the other stages (their requested lines and every mesh harmonic
+    below Nyquist) are never taken for one of this stage's, and one within the
+    resolution makes a sideband not ``isolated``."""
     out = []
     for st, sh in zip(kin.stages, shafts, strict=True):
         others = [line for o, osh in zip(kin.stages, shafts, strict=True) if o is not st
-                  for line in _lines(o.mesh_frequency, osh, orders, n_sidebands)]
+                  for line in _lines(o.mesh_frequency, osh, orders, n_sidebands)
+                  + list(o.mesh_frequency * np.arange(1, 0.5 * spec.fs // o.mesh_frequency
+                                                      + 1))]
         out.append((
             mesh_harmonics(spec, mesh_frequency=st.mesh_frequency, orders=orders,
-                           search=SEARCH_FRACTION * min(sh.values())),
+                           search=SEARCH_FRACTION * min(sh.values()), avoid=others),
             sideband_families(spec, mesh_frequency=st.mesh_frequency, shafts=sh,
                               orders=orders, n_sidebands=n_sidebands, other_lines=others),
         ))

@@ -20,7 +20,10 @@ held, three groups of quantities are computed from one record:
    ``f_m / z_p`` (one flank) and twice it (both flanks), and ``N f_c`` (a ring-tooth
    fault, which coincides with the planet-pass frequency of a healthy stage). Each line is
    the largest amplitude within one bin of the frequency, and its level is given against
-   the median of the envelope spectrum from ``f / 2`` to ``3 f / 2`` (dB).
+   the median of the envelope spectrum from ``f / 2`` to ``3 f / 2`` (dB). A line closer
+   than ``2 LOBE`` bins to another of them or to a harmonic of the planet pass is not
+   read (skipped, naming the record length that separates them): its bins would hold the
+   other line (a healthy stage's planet pass read as a planet fault).
 3. **Separated averages** of every planet and of the sun (McFadden 1991;
    :mod:`gearsim.signals.planet_tsa`), Hann windows of ``gcd(z_r, z_p)`` teeth (the
    fewest that reach every planet tooth), when the record holds the carrier revolutions
@@ -72,6 +75,9 @@ SPAN = 8
 EMPTY = 1e-12
 #: Mesh harmonics read (fewer when m f_m + SPAN f_c passes the Nyquist frequency).
 HARMONICS = 2
+#: Main-lobe half width of the Hann window [bins]: two known envelope lines closer than
+#: 2 LOBE bins share bins, and neither is read.
+LOBE = 2
 
 
 @dataclass(frozen=True)
@@ -176,11 +182,24 @@ def _fault_lines(a: np.ndarray, fs: float, fr: Any, skipped: list) -> dict | Non
     lines = {"sun_fault": fr.sun_fault, "planet_fault": fr.planet_fault,
              "planet_fault_both_flanks": 2.0 * fr.planet_fault,
              "ring_fault_planet_pass": fr.ring_fault}
+    # the known lines: these and the harmonics of the planet pass N f_c (a healthy
+    # stage's envelope); a line is read only where its +-1 bin stay out of their main lobes
+    known = {**lines, **{f"{j} x planet pass": j * fr.ring_fault
+                         for j in range(2, int(f[-1] / fr.ring_fault) + 1)}}
     out: dict[str, Any] = {"band_hz": [float(lo), float(hi)], "lines": {}}
     for name, fq in lines.items():
         if not 2 * df <= fq < 0.66 * f[-1]:
             skipped.append({"tier": f"planetary.envelope.{name}", "reason": f"{fq:.4g} Hz is "
                             f"not resolved by the record (bin {df:.3g} Hz) or above the band"})
+            continue
+        near_by = min(((abs(g - fq), n) for n, g in known.items() if abs(g - fq) > 1e-9 * fq),
+                      default=(math.inf, ""))
+        if near_by[0] < 2 * LOBE * df:  # would be read from the other line's main lobe
+            skipped.append({"tier": f"planetary.envelope.{name}", "reason": f"{fq:.4g} Hz "
+                            f"lies {near_by[0]:.4g} Hz from {near_by[1]} "
+                            f"({known[near_by[1]]:.4g} Hz): the record "
+                            f"{a.size / fs:.4g} s must be >= {2 * LOBE / near_by[0]:.4g} s to "
+                            f"separate them ({2 * LOBE} Hann bins)"})
             continue
         k = int(round(fq / df))
         line = float(amp[max(k - 1, 0):k + 2].max())

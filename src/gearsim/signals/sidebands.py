@@ -307,12 +307,14 @@ def check_sideband_request(
 
 
 def mesh_harmonics(
-    spec: Spectrum, *, mesh_frequency: float, orders: Sequence[int], search: float
+    spec: Spectrum, *, mesh_frequency: float, orders: Sequence[int], search: float,
+    avoid: Sequence[float] = (),
 ) -> list[Tone]:
     """Tones at ``n f_m`` for each ``n`` in ``orders`` (search half width in Hz).
 
     Each is estimated by :func:`gearsim.signals.spectrum.tone` (largest bin within
-    ``+- search`` of ``n f_m``, scalloping-corrected).
+    ``+- search`` of ``n f_m``, short of the main lobe of any line of ``avoid``,
+    scalloping-corrected).
 
     Parameters
     ----------
@@ -324,6 +326,8 @@ def mesh_harmonics(
         Mesh harmonics ``n``; ``n f_m`` must not exceed ``fs/2``.
     search : float
         Half width of the search band around each harmonic (Hz), > 0.
+    avoid : sequence of float, optional
+        Frequencies (Hz) of known lines of other meshes, never taken for a harmonic.
 
     Returns
     -------
@@ -344,7 +348,7 @@ def mesh_harmonics(
     >>> mesh_harmonics(spec, mesh_frequency=100.0, orders=[1], search=2.5)
     [Tone(frequency=100.0, amplitude=3.0)]
     """
-    return [tone(spec, n * mesh_frequency, search=search) for n in orders]
+    return [tone(spec, n * mesh_frequency, search=search, avoid=avoid) for n in orders]
 
 
 def sideband_families(
@@ -360,7 +364,9 @@ def sideband_families(
 
     Each line is estimated by :func:`gearsim.signals.spectrum.tone` within
     ``+- SEARCH_FRACTION * f_r`` of its nominal frequency (mesh harmonics within
-    ``+- SEARCH_FRACTION * min f_r``).
+    ``+- SEARCH_FRACTION * min f_r``), never reaching into the main lobe of a line of
+    ``other_lines`` (a line of another stage 1.2 Hz away was taken for the mesh harmonic
+    in a record of 0.25 Hz bins).
 
     Parameters
     ----------
@@ -376,7 +382,8 @@ def sideband_families(
         ``K``, sidebands per side.
     other_lines : sequence of float, optional
         Frequencies (Hz) of lines of other meshes (e.g. the other stages of a compound
-        train): a sideband within the resolution of one is flagged not ``isolated``.
+        train): never taken for a line of this mesh, and a sideband within the
+        resolution of one is flagged not ``isolated``.
 
     Returns
     -------
@@ -401,14 +408,15 @@ def sideband_families(
     for n in orders:
         for fr in shafts.values():
             all_lines.extend(n * mesh_frequency + k * fr)
-    all_lines.extend(float(f) for f in other_lines)
-    all_lines_arr = np.sort(np.asarray(all_lines))
+    others = np.asarray(other_lines, dtype=float)
+    all_lines_arr = np.sort(np.concatenate([all_lines, others]))
     out: list[SidebandFamily] = []
     for n in orders:
-        mesh = tone(spec, n * mesh_frequency, search=SEARCH_FRACTION * f_min)
+        mesh = tone(spec, n * mesh_frequency, search=SEARCH_FRACTION * f_min, avoid=others)
         for name, fr in shafts.items():
             freq = n * mesh_frequency + k * fr
-            amps = np.array([tone(spec, f, search=SEARCH_FRACTION * fr).amplitude for f in freq])
+            amps = np.array([tone(spec, f, search=SEARCH_FRACTION * fr, avoid=others).amplitude
+                             for f in freq])
             # Count lines within the resolution; the line itself is always one of them.
             lo = np.searchsorted(all_lines_arr, freq - resolution, side="left")
             hi = np.searchsorted(all_lines_arr, freq + resolution, side="right")

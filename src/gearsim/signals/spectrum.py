@@ -178,7 +178,7 @@ def _interpolate(spec: Spectrum, k: int) -> tuple[float, float]:
     return sign * d, float(b / gain)
 
 
-def tone(spec: Spectrum, frequency: float, *, search: float) -> Tone:
+def tone(spec: Spectrum, frequency: float, *, search: float, avoid=()) -> Tone:
     r"""Estimate the tone nearest ``frequency`` within ``+- search`` Hz.
 
     Takes the largest bin in the search band and removes the scalloping loss by the
@@ -197,6 +197,11 @@ def tone(spec: Spectrum, frequency: float, *, search: float) -> Tone:
         Expected tone frequency (Hz), below Nyquist.
     search : float
         Half width of the search band (Hz), at least half a bin.
+    avoid : sequence of float, optional
+        Frequencies (Hz) of other known lines (of the same or another mesh): the band is
+        narrowed to end the window's main-lobe half width ``L`` bins short of the
+        nearest, so that no bin of it lies in that line's main lobe; with no room left
+        (the record cannot separate the two) the nominal bin is read.
 
     Returns
     -------
@@ -209,6 +214,10 @@ def tone(spec: Spectrum, frequency: float, *, search: float) -> Tone:
         If ``search`` is not > 0 or ``frequency`` lies outside ``[0, fs/2]``.
     """
     check_positive("search", search)
+    gap = np.abs(np.asarray(avoid, dtype=float) - frequency)
+    gap = gap[gap > 1e-6 * spec.df]  # the line itself (or one at its frequency) aside
+    if gap.size:
+        search = min(search, float(gap.min()) - spec.lobe_bins * spec.df)
     nyq = 0.5 * spec.fs
     if not 0.0 <= frequency <= nyq:
         raise InputError("frequency", f"{frequency:g} Hz", f"must lie in [0, {nyq:g}] Hz")

@@ -197,7 +197,8 @@ def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho,
     ``stages`` from the file: a gearsim result's input speed and tooth counts; ``config``
     the configuration of a result written before results held their stages); ``fs``
     None when neither the file nor the user gives a rate; a run-up's own tachos
-    (:func:`_own_tachos`) only with ``own_tachos`` (no speed given by the user)."""
+    (:func:`_own_tachos`) and how its speed changes (``speed_change``, the reader's)
+    only with ``own_tachos`` (no speed given by the user)."""
     from gearsim.io.measured import read_record
     from gearsim.io.record import raise_all
 
@@ -220,11 +221,13 @@ def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho,
     for c in chosen:
         _check_tacho_shaft(tacho, c, meta)
     own = _own_tachos(path, chosen, meta, fs, fmt) if tacho is None and own_tachos else {}
+    change = meta.get("speed_change") if tacho is None and own_tachos else None
     return [{"channel": c, "data": data[c], "fs": rec.fs,
              "fs_source": {"file": "file", "user": "given"}.get(rec.fs_source),
              "units": rec.units.get(c),
              "tacho": own[c][1] if c in own else data.get(tacho),
-             "own_tacho": own[c][0] if c in own else None, **_part_of(c, meta),
+             "own_tacho": own[c][0] if c in own else None, "speed_change": change,
+             "shafts": _shafts(c, meta), **_part_of(c, meta),
              "dropped": str(rec.dropped[c]) if c in rec.dropped else None} for c in chosen]
 
 
@@ -252,16 +255,35 @@ def _part(channel: str, parts: Mapping) -> tuple[str, Mapping]:
                                                    len(parts["stages"]))]
 
 
+def _shafts(channel: str, meta: Mapping) -> list[str]:
+    """The shafts of the part of a gearsim result ``channel`` is a record of, by the names
+    of their tachos, the reference first: a gear train's in power-flow order, the gears'
+    beside a stage, a stage's reference member alone; empty for another file (or a stage
+    result written before its stages named their tachos)."""
+    if parts := meta.get("parts"):
+        kind, part = _part(channel, parts)
+        return list(part["shafts"]) if kind == "chain" else [part["tacho"]] \
+            if part.get("tacho") else []
+    return list(meta.get("tacho_shafts") or ())
+
+
 def _reference_shaft(channel: str, meta: Mapping) -> str | None:
     """The shaft a record of a gearsim result is analysed at, by the name of its tacho
     (``tacho[shaft=NAME]``): a gear train's input, the first shaft of the gears beside a
-    stage, a stage's reference member; ``None`` for another file (or a stage result
-    written before its stages named their tachos)."""
-    if parts := meta.get("parts"):
-        kind, part = _part(channel, parts)
-        return part["shafts"][0] if kind == "chain" else part.get("tacho")
-    shafts = meta.get("tacho_shafts")
-    return shafts[0] if shafts else None
+    stage, a stage's reference member; ``None`` for another file (:func:`_shafts`)."""
+    return next(iter(_shafts(channel, meta)), None)
+
+
+def _name_shafts(skipped: list[dict], names: Sequence[str]) -> None:
+    """The skip reasons with the analysis' shaft labels (``shaft1``, ``shaft shaft3``, in
+    :func:`~gearsim.signals.analysis.kinematics`' order) as the result's shaft names
+    ``names`` (``shaft mast``), where known."""
+    def name(m: re.Match) -> str:
+        j = int(m[1]) - 1
+        return f"shaft {names[j]}" if j < len(names) else m[0]
+
+    for s in skipped:
+        s["reason"] = re.sub(r"\b(?:shaft )?shaft(\d+)\b", name, s["reason"])
 
 
 def _check_tacho_shaft(tacho: str | None, channel: str, meta: Mapping) -> None:
@@ -411,8 +433,12 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
     # (of the part of the gearbox each channel is a record of: _part_of)
     own = teeth is None and stages is None and any(ch.get("teeth") for ch in chans)
     for ch in chans:
+        # a run whose speed changes over the record, no speed given: never its nominal
+        # speed; its reference shaft's own tacho, or no speed (shaft and gear tiers
+        # skipped) when that tacho holds too few pulses to follow it
+        run = ch.get("speed_change")
         file_rpm = ch.get("rpm") if speed is None and tacho is None and speed_search is None \
-            and ch.get("own_tacho") is None else None
+            and not run else None
         file_teeth = ch.get("teeth") if own else None
         own_stages = _file_stages(ch) if file_teeth else None
         route = _path_kinematics(ch["config"], ch["channel"]) if file_teeth and isinstance(
@@ -429,23 +455,55 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
         if ch.get("dropped"):
             src["dropped"] = ch["dropped"]
         try:
-            spec = _stage_spec(stage, ch, speed, said.get("stage"))
-            ch_speed = None if ch.get("own_tacho") else speed  # the run-up's tacho
+            spec = _stage_spec(stage, ch, speed if stage is not None or given else None,
+                               said.get("stage"))
+            ch_speed = None if run else speed  # the run-up's tacho, or none
             rec = analyze_record(
                 ch["data"], ch["fs"], speed=file_rpm / 60.0 if file_rpm else ch_speed,
                 speed_provenance="file" if file_rpm else said.get("speed"),
                 tacho=ch["tacho"], pulses_per_rev=pulses_per_rev, speed_search=speed_search,
                 **train, teeth_provenance="file" if file_teeth else said.get("teeth"),
                 settings=settings, fs_provenance=ch["fs_source"],
-                source=src, units=ch["units"], stage=spec,
+                source=src, units=ch["units"], stage=None if run else spec,
             )
         except InputError as exc:
             problems.append(_problem(f"{path} [{ch['channel']}]", exc))
             continue
+        if run:
+            _run_skips(rec, ch, spec)
+        elif spec is None and (pl := ch.get("planetary")):  # a ring that turns
+            rec.skipped.append({"tier": "planetary", "reason": "reads a sensor on a held ring; "
+                                f"this stage's ring turns at {abs(pl['ring_frequency']):.5g} "
+                                "Hz" + (" (its carrier held)" if pl["carrier_frequency"] == 0
+                                        else "")})
+        if file_teeth:  # the result's shaft names: its path's, else the reference's
+            n = len(train["stages"]) + 1 if train.get("stages") else len(train["teeth"])
+            names = ch["shafts"] if route is None and len(ch["shafts"]) == n else \
+                ch["shafts"][:1]
+            _name_shafts(rec.skipped, names)
         if not keep_analysis:
             rec = {"record": rec.to_dict(), "features": rec.features()}
         out.append(rec)
     return out, problems
+
+
+def _run_skips(rec: Any, ch: dict, spec: Any) -> None:
+    """The reasons a record of a run whose speed changes (``ch["speed_change"]``) has no
+    shaft and gear tiers (its reference shaft's tacho holds too few pulses to follow the
+    speed; the file's nominal speed is not used) and no planetary tier (a
+    constant-speed analysis; ``spec``, the stage it would have read, not given)."""
+    again = "give --shaft-rpm to analyse it at one speed"
+    if not ch.get("own_tacho"):
+        nominal = f"{ch['rpm']:.6g} rpm" if ch.get("rpm") else "speed"
+        why = (f"{ch['speed_change']}, and the tacho of its reference shaft "
+               f"{(ch['shafts'] or [''])[0]} holds too few pulses in it (3 needed) to follow "
+               f"that: the file's nominal {nominal} is not used; {again}")
+        for s in rec.skipped:
+            if s["tier"] == "shaft":
+                s["reason"] = why
+    if spec is not None:
+        rec.skipped.append({"tier": "planetary", "reason": f"a constant-speed analysis, and "
+                            f"{ch['speed_change']}; {again} (the carrier's)"})
 
 
 def _file_stages(ch: dict) -> tuple[tuple[int, int], ...] | None:
@@ -490,7 +548,7 @@ def _stage_spec(stage: Sequence[int] | None, ch: dict, speed: float | None,
                 provenance: str | None = None):
     """The planetary tier's stage: given (``--stage`` or a configuration, ``provenance``;
     the speed is the carrier's) or the file's (a gearsim stage result with the ring
-    held); None when neither applies."""
+    held; at ``speed`` when given, the carrier's); None when neither applies."""
     from gearsim.signals.planetary_tier import StageSpec
 
     if stage is not None:
@@ -504,7 +562,7 @@ def _stage_spec(stage: Sequence[int] | None, ch: dict, speed: float | None,
     if not meta or meta["ring_frequency"] != 0.0 or meta["carrier_frequency"] <= 0:
         return None
     return StageSpec(meta["z_sun"], meta["z_planet"], meta["z_ring"], meta["planets"],
-                     carrier_frequency=meta["carrier_frequency"],
+                     carrier_frequency=speed or meta["carrier_frequency"],
                      carrier_phase=meta["carrier_phase"], sensor_angle=meta["sensor_angle"],
                      provenance="file")
 

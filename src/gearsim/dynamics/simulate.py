@@ -1238,7 +1238,10 @@ def _dataset(train, settings, model: DynamicModel, lin: LinearRecords, t, z, *, 
         # that a results file is analysed with its stages without its configuration
         **({"analysis_stages": ",".join(f"{d}/{n}" for d, n in stages)}
            if (stages := train.compound_stages()) is not None else {}),
-        "static_force": [float(x) for x in model.static_force],
+        # the meshes' [N]; the shaft springs' torques [N m] are static_shaft_torque
+        "static_force": [float(x) for x in model.static_force[:len(train.pairs)]],
+        **({"static_shaft_torque": [float(model.static_force[r]) for r in springs]}
+           if springs else {}),
         "natural_frequencies": [float(x) for x in md.frequencies],
         "cracks": "; ".join(f"{c.gear} tooth {c.tooth} {c.flank} depth {c.depth:g} m angle "
                             f"{math.degrees(c.angle):g} deg" for c in train.cracks) or "none",

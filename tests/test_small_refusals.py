@@ -138,3 +138,18 @@ def test_interference_names_the_shift_as_written():
         "37.5 mm) interferes with the fillet of output-gear: contact would reach radius ")
     assert "below its form radius" in str(err.value) and "\n" not in str(err.value)
 
+
+def test_model_range_warning_points_at_the_callers_line():
+    """The Sainsot range warning of a 21-tooth 10 deg helical pinion (theta_f 0.14 rad)
+    is shown at the line that asked for the stiffness, not inside functools."""
+    import warnings
+
+    text = _reducer("teeth = 32", 'teeth = 21\nface_width = "13.7 mm"').replace(
+        "teeth = 80", 'teeth = 80\nface_width = "13.7 mm"')
+    train = gs.loads(text).train
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        train.mesh_stiffness(0)
+    ours = [w for w in caught if issubclass(w.category, gs.errors.ModelRangeWarning)]
+    assert ours and all(w.filename == __file__ for w in ours), [
+        (w.filename, w.lineno) for w in caught]

@@ -83,3 +83,73 @@ def test_analysis_refuses_tooth_counts_no_gear_has(kw, parameter):
         kinematics(shaft_frequency=30.0, **kw)
     assert f"[1, {MAX_TEETH}]" in err.value.limit
 
+
+
+def _reducer(old: str, new: str) -> str:
+    from gearsim.model import example_text
+
+    text = example_text("two-stage-reducer")
+    assert old in text
+    return text.replace(old, new)
+
+
+PINION = 'name = "intermediate-pinion"\nshaft = "intermediate"\nteeth = 48'
+OUTPUT = 'name = "output-gear"\nshaft = "output"\nteeth = 64'
+
+
+@pytest.mark.parametrize("text,line", [
+    # the gear's own range, not the mesh's equality with a sign-flipped module
+    (_reducer(PINION, PINION + '\nnormal_module = "-1.5 mm"'),
+     "gears[2].normal_module = -1.5 mm: must be >= 1e-05 m"),
+    # two gears of one shaft: that, whatever their modules
+    (_reducer(PINION, PINION + '\nnormal_module = "2 mm"').replace(
+        'gears = ["intermediate-pinion", "output-gear"]',
+        'gears = ["intermediate-gear", "intermediate-pinion"]'),
+     "meshes[1].gears = ['intermediate-gear', 'intermediate-pinion']: both sit on shaft "
+     "'intermediate'"),
+    (_reducer('name = "output"', 'name = "intermediate"').replace(
+        'shaft = "output"', 'shaft = "intermediate"'),
+     "shafts[2].name = intermediate: is also shafts[1].name: names must be unique"),
+    (_reducer('"output-gear"', '"intermediate-pinion"').replace(
+        'gears = ["intermediate-pinion", "output-gear"]',
+        'gears = ["intermediate-pinion", "intermediate-pinion"]'),
+     "gears[3].name = intermediate-pinion: is also gears[2].name: names must be unique"),
+])
+def test_graph_refusals_name_what_is_wrong(text, line, tmp_path, capsys):
+    """probe-a #10: each was refused in one line naming something else (the mesh's module
+    equality, a gear on two shafts, a mesh of unknown gears)."""
+    from gearsim import cli
+
+    path = tmp_path / "box.toml"
+    path.write_text(text)
+    assert cli.run(["layout", str(path)]) == 2
+    assert capsys.readouterr().err.strip().splitlines() == [f"gearsim: error: {line}"]
+
+
+def test_interference_names_the_shift_as_written():
+    """A shift of 1.9 on the 64-tooth gear raises its form circle above the reach of the
+    48-tooth pinion's tip, 1.5 mm x 48 / 2 + 1.5 mm = 37.5 mm (before: "II:
+    intermediate-pinion.tip_radius = 0.0375: interferes ...", a float in metres naming a
+    key no file has)."""
+    with pytest.raises(InputError) as err:
+        gs.loads(_reducer(OUTPUT, OUTPUT + "\nprofile_shift = 1.9"))
+    assert str(err.value).startswith(
+        "gears[3].profile_shift = 1.9: in mesh II the tip of intermediate-pinion (radius "
+        "37.5 mm) interferes with the fillet of output-gear: contact would reach radius ")
+    assert "below its form radius" in str(err.value) and "\n" not in str(err.value)
+
+
+def test_model_range_warning_points_at_the_callers_line():
+    """The Sainsot range warning of a 21-tooth 10 deg helical pinion (theta_f 0.14 rad)
+    is shown at the line that asked for the stiffness, not inside functools."""
+    import warnings
+
+    text = _reducer("teeth = 32", 'teeth = 21\nface_width = "13.7 mm"').replace(
+        "teeth = 80", 'teeth = 80\nface_width = "13.7 mm"')
+    train = gs.loads(text).train
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        train.mesh_stiffness(0)
+    ours = [w for w in caught if issubclass(w.category, gs.errors.ModelRangeWarning)]
+    assert ours and all(w.filename == __file__ for w in ours), [
+        (w.filename, w.lineno) for w in caught]

@@ -73,8 +73,10 @@ def _refused(capsys, tmp_path, text, *extra, out="S.nc"):
     (('noise = [0.0]', 'noise = [nan]'), "parameters.noise[0] = nan"),
     (('noise = [0.0]', 'noise = [-0.5]'), "parameters.noise[0] = -0.5: must be >= 0"),
     (('noise = [0.0]', 'noise = [0.0]\nspeed = ["0 rpm"]'), "parameters.speed[0] = 0 rpm"),
+    # at 10 rpm the analysis needs 4 Hann bins / (10/60 Hz) = 24 s, more than one
+    # revolution of the slowest gear (19.2308 s, refused first until 2026: probe-b #11)
     (('noise = [0.0]', 'noise = [0.0]\nspeed = ["10 rpm"]'),
-     "study.dynamics.duration = 0.3 s: must be >= 19.2308 s"),
+     "study.dynamics.duration = 0.3 s: must be >= 24 s for the analysis of every case"),
     (('noise = [0.0]', 'noise = [0.0]\nbearing_stiffness = ["0 N/m"]'),
      "parameters.bearing_stiffness[0] = 0 N/m"),
     (('torque = ["2000 N*m", "4876 N*m"]', 'torque = ["2000 N*m", "-1 N*m"]'),
@@ -362,7 +364,7 @@ def test_aliasing_at_the_highest_speed_is_refused_before_any_case(tmp_path):
     the study's first speed (1900 rpm, 4 f_m = 4.94 kHz) alone would be fine."""
     study = tmp_path / "alias.toml"
     study.write_text('[study]\nconfig = "idler-table1"\n[study.dynamics]\n'
-                     'duration = "0.2 s"\nfs = "15 kHz"\n[parameters]\n'
+                     'duration = "0.5 s"\nfs = "15 kHz"\n[parameters]\n'
                      'flank = ["none", "working"]\nspeed = ["1900 rpm", "3000 rpm"]\n')
     out = tmp_path / "s.nc"
     assert cli.run(["sweep", str(study), "--out", str(out), "--no-progress"]) == 2
@@ -391,3 +393,22 @@ def test_compound_train_duration_covers_its_slowest_shaft(capsys, tmp_path):
             .replace('crack_depth = ["2 mm"]\n', "").replace(
                 'flank = ["none", "working", "non-working"]', 'flank = ["none"]'))
     assert f"must be >= {need:.6g} s" in _refused(capsys, tmp_path, text)
+
+
+def test_duration_refused_with_one_revolution_where_that_binds(capsys, tmp_path):
+    """Boxcar window, the input shaft analysed alone: the analysis needs 2 / f_1 = 66.7 ms
+    at 1800 rpm, one revolution of the output shaft (0.3 f_1, 9 Hz) 111.1 ms: the one
+    limit given is the revolution."""
+    from gearsim.model import example_text
+
+    (tmp_path / "box.toml").write_text(example_text("two-stage-reducer") + (
+        '\n[analysis]\nwindow = "boxcar"\n'))
+    text = (SMALL.replace('config = "idler-table1"', 'config = "box.toml"')
+            .replace('duration = "0.3 s"', 'duration = "0.08 s"')
+            .replace('torque = ["2000 N*m", "4876 N*m"]', 'torque = ["100 N*m"]')
+            .replace('crack_depth = ["2 mm"]\n', "").replace(
+                'flank = ["none", "working", "non-working"]', 'flank = ["none"]'))
+    assert _refused(capsys, tmp_path, text) == (
+        "gearsim: error: study.dynamics.duration = 0.08 s: must be >= 0.111111 s (one "
+        "revolution of the output, the slowest shaft, at the lowest speed of the study, "
+        "1800 rpm)")

@@ -186,9 +186,16 @@ def test_bad_stage_study_refused(folder, body, signal, parameter):
     assert "\n" not in str(err.value)
 
 
-def test_duration_below_one_carrier_revolution(folder):
-    with pytest.raises(InputError, match="one revolution of the carrier") as err:
-        _study(folder, '[study.dynamics]\nduration = "0.03 s"\n[parameters]\nnoise = [0.0]\n')
+@pytest.mark.parametrize("duration", ["0.03 s", "0.1 s"])
+def test_duration_refused_with_the_binding_limit(folder, duration):
+    """Below one carrier revolution (1 / f_c = 36 ms, f_c = 100 Hz 30 / 108) or above it:
+    the one limit is what the analysis needs, 4 Hann bins per carrier sideband spacing,
+    4 / f_c = 0.144 s (until 2026 0.03 s was refused with the revolution first: probe-b
+    #11)."""
+    with pytest.raises(InputError, match=r"must be >= 0\.144 s for the analysis of every "
+                       r"case at the lowest speed of the study, 6000 rpm") as err:
+        _study(folder, f'[study.dynamics]\nduration = "{duration}"\n[parameters]\n'
+               'noise = [0.0]\n')
     assert err.value.parameter == "study.dynamics.duration"
 
 

@@ -23,6 +23,7 @@ from gearsim.dynamics.layout import layout
 from gearsim.dynamics.modal import modes
 from gearsim.dynamics.simulate import build_model, summary
 from gearsim.geometry.planetary import PlanetaryStage
+from gearsim.io.results import read_results
 from gearsim.model import example_text, loads
 
 #: Assembly checks (the same sums and eigenvalues in another order): round-off.
@@ -329,6 +330,15 @@ def test_gearsim_analyze_of_a_branching_result_takes_the_records_path(tmp_path, 
     cfg.write_text(SHAFT_SPLIT)
     assert cli_run(["simulate", str(cfg), "--duration", "1", "--out", str(out)]) == 0
     capsys.readouterr()
+    # the mesh forces [N] alone in static_force (before: the shaft springs' torques [N m]
+    # after them, probe-a #8), the springs' torques by hand (0.4 and 0.6 of 200 N m) in
+    # their own attribute, one per spring
+    rb = {g: loads(SHAFT_SPLIT).train.gear(g).base_radius for g in ("p1", "p2", "p3")}
+    ds = read_results(out)
+    np.testing.assert_allclose(ds.attrs["static_force"], [
+        100 / rb["p1"], 0.4 * 200 / rb["p2"], 0.6 * 200 / rb["p3"]], rtol=1e-12)
+    np.testing.assert_allclose(ds.attrs["static_shaft_torque"], [80.0, 120.0], rtol=1e-12)
+    assert list(ds["spring"].values) == ["mid:p2-g1", "mid:g1-p3"]
     assert cli_run(["analyze", str(out), "--channel", "acceleration[shaft=out-b,axis=y]"]) == 0
     text = capsys.readouterr().out
     assert "stages 24/48, 25/40 (file)" in text

@@ -141,6 +141,32 @@ def test_cli_refuses_a_decreasing_profile_in_one_line(tmp_path, gearsim_here):
     assert not out.exists()
 
 
+def test_cli_refuses_a_speed_step_within_one_integration_step(tmp_path, gearsim_here):
+    """A speed table that changes within less than dynamics.step (10 us): 600 -> 1800 rpm
+    in 1 ns is 1.3e11 rad/s^2, which the run cannot follow (it diverged, exit 1, probe-a
+    #9); refused in one line naming the entry and the bound 0 + 10 us. One step apart, or
+    a hold of the same speed closer than a step, is accepted."""
+    from gearsim.model import example_text
+
+    cfg = tmp_path / "box.toml"
+    cfg.write_text(example_text("two-stage-reducer").replace(
+        '[dynamics]\nfs = "20 kHz"', '[dynamics]\nfs = "20 kHz"\nspeed_times = [0.0, 1e-9]\n'
+        'speed_values = ["600 rpm", "1800 rpm"]'))
+    out = tmp_path / "run.nc"
+    r = gearsim_here("simulate", cfg, "--out", out)
+    assert r.returncode == 2 and r.stderr.strip().splitlines() == [
+        "gearsim: error: dynamics.speed_times[1] = 1e-09 s: must be >= speed_times[0] + "
+        "dynamics.step = 1e-05 s: the speed changes within less than one integration step, "
+        "an acceleration the run cannot follow"], r.stderr
+    assert not out.exists()
+    DynamicsSettings(speed_times=(0.0, 1e-5), speed_values=(60.0, 180.0))
+    DynamicsSettings(speed_times=(0.0, 1e-9, 1.0), speed_values=(60.0, 60.0, 180.0))
+    with pytest.raises(InputError, match=r"speed_times\[2\] = 0.5 s: must be >= speed_times"
+                       r"\[1\] \+ dynamics.step = 0.51 s"):
+        DynamicsSettings(speed_times=(0.0, 0.49, 0.5), speed_values=(60.0, 60.0, 180.0),
+                         step=0.02)
+
+
 def test_analyze_with_the_own_tacho_reports_each_stage_mesh_orders(runup, tmp_path,
                                                                    gearsim_here):
     """gearsim analyze of a run-up result: with its own tacho channel the order spectrum

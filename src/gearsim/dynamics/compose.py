@@ -66,6 +66,7 @@ import numpy as np
 from gearsim.dynamics.lta import build_lta
 from gearsim.dynamics.model import DynamicModel, nominal_inertia, static_equilibrium
 from gearsim.dynamics.settings import DynamicsSettings
+from gearsim.dynamics.simulate import check_twist, check_twists
 from gearsim.dynamics.stage import StageDynamics, build_stage_model, model_radii, simulate_stage
 from gearsim.dynamics.tables import MeshTable, mesh_tables
 from gearsim.errors import InputError, require
@@ -248,7 +249,8 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain | None,
         first), ``shaft_stiffness``, ``member``, ``dofs``, ``mesh_frequency``);
         ``chains``, one dict per chain (``chain``, ``side``, ``rows`` (its meshes),
         ``shaft_row``, ``shaft_stiffness``, ``member``, ``dofs``, ``bearing_dofs``,
-        ``axes``, ``shafts``, ``mesh_frequency``); and, of the first chain,
+        ``axes``, ``shafts``, ``mesh_frequency``); each shaft's ``twist`` (the names of
+        its k_t and of the shaft, for messages); and, of the first chain,
         ``chain_rows``, ``shaft_row``, ``chain_mesh_frequency``, ``shaft_stiffness``,
         ``chain_side``.
 
@@ -278,14 +280,15 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain | None,
                                  "member": train.operating.input, "dofs": (0, model.n_dof),
                                  "mesh_frequency": train.mesh_frequency},)
     for k, nxt in enumerate(stages, 1):
-        model = _join_stage(model, trains[k - 1], prefix[k - 1], nxt, prefix[k], settings)
+        model = _join_stage(model, trains[k - 1], prefix[k - 1], nxt, prefix[k], settings,
+                            f"stages[{k + 1}].shaft_stiffness")
     if chain is not None:
         at = -1 if side == "output" else 0
         model = _join_chain(model, trains[at], prefix[at], chain, side, shaft_stiffness,
                             settings)
     if input_chain is not None:
         model = _join_chain(model, train, prefix[0], input_chain, "input",
-                            input_shaft_stiffness, settings)
+                            input_shaft_stiffness, settings, "input_chain.shaft_stiffness")
     return model
 
 
@@ -466,10 +469,11 @@ def _check_operating(got_op, want, what: str, hint: str) -> None:
 
 
 def _join_chain(base: DynamicModel, train: PlanetaryTrain, prefix: str, chain: GearTrain,
-                side: str, shaft_stiffness: float | None,
-                settings: DynamicsSettings) -> DynamicModel:
+                side: str, shaft_stiffness: float | None, settings: DynamicsSettings,
+                parameter: str = "chain.shaft_stiffness") -> DynamicModel:
     """``base`` and ``chain`` joined by a shaft on the output (``side = "output"``) or
-    input member of the stage ``train`` (names ``prefix``-ed in ``base``)."""
+    input member of the stage ``train`` (names ``prefix``-ed in ``base``; ``parameter``:
+    the shaft's k_t)."""
     if side == "output":
         _check_operating(chain.operating, chain_operating(train), "chain",
                          "the stage output's {:.10g} (use chain_operating)")
@@ -486,14 +490,15 @@ def _join_chain(base: DynamicModel, train: PlanetaryTrain, prefix: str, chain: G
     next_mesh = 0 if side == "output" else len(chain.pairs) - 1
     if shaft_stiffness is None:
         shaft_stiffness = SHAFT_FACTOR * cm_.tables[next_mesh].mean * gear.base_radius ** 2
-    kt = _check_shaft(shaft_stiffness, "chain.shaft_stiffness")
+    kt = _check_shaft(shaft_stiffness, parameter)
     n1, r1 = base.n_dof, base.n_mesh
     rows = r1 + cm_.n_mesh + 1
     chain_rows = tuple(range(r1, r1 + len(chain.pairs)))  # its meshes (then its springs)
     entry = {"chain": chain, "side": side, "rows": chain_rows, "shaft_row": rows - 1,
              "shaft_stiffness": kt, "member": member, "dofs": (n1, n1 + cm_.n_dof),
              "bearing_dofs": cm_.bearing_dofs + n1, "axes": cm_.axes,
-             "shafts": cm_.gear_names, "mesh_frequency": chain.mesh_frequency}
+             "shafts": cm_.gear_names, "mesh_frequency": chain.mesh_frequency,
+             "twist": (parameter, chain.flow.shafts[chain.flow.shaft_of[gear.name]].name)}
     info = {"chains": (*base.info.get("chains", ()), entry),
             "output_member": base.info.get("output_member", output_member(train))}
     if "chain_rows" not in base.info:  # the first chain joined, under its own keys
@@ -511,9 +516,10 @@ def _join_chain(base: DynamicModel, train: PlanetaryTrain, prefix: str, chain: G
 
 
 def _join_stage(base: DynamicModel, prev: PlanetaryTrain, prev_prefix: str, nxt: NextStage,
-                prefix: str, settings: DynamicsSettings) -> DynamicModel:
+                prefix: str, settings: DynamicsSettings, parameter: str) -> DynamicModel:
     """``base`` and the stage ``nxt`` joined by a shaft from the output member of the
-    stage ``prev`` (the last of ``base``) to ``nxt``'s input member."""
+    stage ``prev`` (the last of ``base``) to ``nxt``'s input member (``parameter``: the
+    shaft's k_t)."""
     op = nxt.train.operating
     _check_operating(op, next_operating(prev, op.fixed, op.input), "stages",
                      "the previous stage output's {:.10g} (use next_operating)")
@@ -523,13 +529,14 @@ def _join_stage(base: DynamicModel, prev: PlanetaryTrain, prev_prefix: str, nxt:
     if kt is None:  # ten times the torsional stiffness of its sun meshes about the sun
         lp = part.info["lin_parker"]
         kt = SHAFT_FACTOR * lp.planets * lp.sun_mesh * nxt.train.stage.sun.base_radius ** 2
-    kt = _check_shaft(kt, "stages.shaft_stiffness")
+    kt = _check_shaft(kt, parameter)
     out = output_member(prev)
     r1, n1 = base.n_mesh, base.n_dof
     rows = tuple(r1 + r for r in part.info["mesh_rows"])
     entry = {"train": nxt.train, "prefix": prefix, "rows": rows,
              "shaft_row": r1 + part.n_mesh, "shaft_stiffness": kt, "member": op.input,
-             "dofs": (n1, n1 + part.n_dof), "mesh_frequency": nxt.train.mesh_frequency}
+             "dofs": (n1, n1 + part.n_dof), "mesh_frequency": nxt.train.mesh_frequency,
+             "twist": (parameter, stage_shaft_name(prev_prefix, prev, prefix, nxt.train))}
     info = {"stages": (*base.info["stages"], entry),
             "mesh_rows": base.info["mesh_rows"] + rows,
             "row_names": (base.info["row_names"] + part.info["row_names"]
@@ -671,8 +678,9 @@ def simulate_stage_chain(train: PlanetaryTrain, chain: GearTrain | None,
     Raises
     ------
     InputError
-        If fs does not exceed twice the highest mesh frequency, or as
-        :func:`build_stage_chain_model`.
+        If fs does not exceed twice the highest mesh frequency, a shaft is twisted past
+        ``Q_LIMIT`` by its static torque (:func:`gearsim.dynamics.simulate.check_twist`,
+        after the model is built, before the run), or as :func:`build_stage_chain_model`.
     SimulationError
         If the integration diverges.
     """
@@ -686,9 +694,14 @@ def simulate_stage_chain(train: PlanetaryTrain, chain: GearTrain | None,
                          f"must be > {2 * f_hi:.6g} Hz, twice the highest mesh frequency "
                          f"(stage{'s' if stages else ''} {f_stage:.6g} Hz, gears "
                          f"{f_chain:.6g} Hz), else the record is aliased")
+    for c in chains:
+        check_twists(c)
     model = build_stage_chain_model(train, chain, dyn, settings,
                                     shaft_stiffness=shaft_stiffness, side=side,
                                     input_chain=input_chain,
                                     input_shaft_stiffness=input_shaft_stiffness,
                                     stages=stages)
+    # the shafts between the parts, twisted by their static torques (before the run)
+    for e in (*model.info.get("stages", ())[1:], *model.info.get("chains", ())):
+        check_twist(model.static_force[e["shaft_row"]], e["shaft_stiffness"], *e["twist"])
     return simulate_stage(train, dyn, settings, model=model)

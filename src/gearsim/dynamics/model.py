@@ -86,7 +86,8 @@ class DynamicModel:
     dte_offset : ndarray, shape (n_mesh,)
         Added to V_i . q to give the reported dynamic transmission error [m].
     static_force : ndarray, shape (n_mesh,)
-        Static transverse mesh force T_i / r_bi [N].
+        Static load of each row of ``V``: a mesh's transverse force T_i / r_bi [N], a
+        shaft spring's torque [N m], 0 on a bearing row.
     bearing_dofs : ndarray of int, shape (n_gears, n_axes)
         Index of the coordinate of each gear's bearing along each axis.
     axes : tuple of str

@@ -137,9 +137,10 @@ class DynamicsSettings:
         errors always runs so.
     speed_times, speed_values
         Input speed profile: times [s] (>= 0, increasing, from the start of the run,
-        transient included) and speeds [rad/s] (>= 0, finite), linear between points and
-        held outside (two points: a run-up or coast-down); ``None``: the operating speed
-        throughout. The mesh-cycle coordinates follow the input shaft's angle.
+        transient included; where the speed changes, at least ``step`` apart) and speeds
+        [rad/s] (>= 0, finite), linear between points and held outside (two points: a
+        run-up or coast-down); ``None``: the operating speed throughout. The mesh-cycle
+        coordinates follow the input shaft's angle.
     load_times, load_values
         Load profile: times [s] and factors on the operating torque (input and load
         torques alike, in [0, 10]), linear between points; ``None``: 1.
@@ -201,6 +202,12 @@ class DynamicsSettings:
                 "scale (docs/dynamics.md section 2)")
         require(_number(self.step) and MIN_STEP <= self.step <= MAX_STEP, f"{p}.step",
                 self.step, f"must be a finite number in [{MIN_STEP:g}, {MAX_STEP:g}] s")
+        t, w = self.speed_times or (), self.speed_values or ()
+        for k in range(1, len(t)):  # a change of speed the integration step can follow
+            require(t[k] - t[k - 1] >= self.step or w[k] == w[k - 1], f"{p}.speed_times[{k}]",
+                    f"{t[k]:g} s", f"must be >= speed_times[{k - 1}] + dynamics.step = "
+                    f"{t[k - 1] + self.step:g} s: the speed changes within less than one "
+                    "integration step, an acceleration the run cannot follow")
         require(_number(self.duration) and 0 < self.duration <= MAX_DURATION,
                 f"{p}.duration", self.duration,
                 f"must be a finite number in (0, {MAX_DURATION:g}] s")

@@ -21,6 +21,8 @@ Checks before running
 First, from the settings and the train alone (:func:`check_cost`, before the model is
 built, so a refusal takes milliseconds):
 
+* no shaft twisted past :data:`Q_LIMIT` by its static torque, T / k_t (:func:`check_twist`:
+  the run would stop at its first step, whatever the step);
 * the duration must cover one revolution of the slowest gear;
 * no aliasing: ``fs > 2 n f_m`` with n the highest mesh harmonic the record is for
   (``harmonics``: 1 for the API, the highest ``[analysis] orders`` for ``gearsim
@@ -51,7 +53,7 @@ import numpy as np
 from gearsim._version import __version__
 from gearsim.dynamics import _kernels
 from gearsim.dynamics.layout import idlers
-from gearsim.dynamics.lta import build_lta
+from gearsim.dynamics.lta import _segment_torque, build_lta
 from gearsim.dynamics.modal import decay_time, modes, stable_step
 from gearsim.dynamics.model import DynamicModel
 from gearsim.dynamics.seed3dof import build_seed
@@ -64,7 +66,8 @@ from gearsim.system.train import GearTrain
 __all__ = ["FORCE_ENV", "MAX_STEPS", "MEMORY_FRACTION", "LinearRecords", "Raw", "RunCost",
            "anti_alias_taps",
            "build_model",
-           "check_cost", "cost_bounds_lifted", "integration_step", "linear_records",
+           "check_cost", "check_twist", "check_twists", "cost_bounds_lifted", "integration_step",
+           "linear_records",
            "nominal_acceleration_load",
            "physical_memory", "record", "reference_mesh_forces", "reference_rhs", "run_kernel",
            "settings_of", "simulate", "simulate_record", "summary", "tacho_variable"]
@@ -573,6 +576,57 @@ def check_cost(train: GearTrain, settings: DynamicsSettings | None = None, *,
     return cost
 
 
+def check_twist(torque: float, kt: object, parameter: str, shaft: str) -> None:
+    """Refuse a shaft that its static torque twists past :data:`Q_LIMIT`.
+
+    A run starts from the static equilibrium, in which a shaft of torsional stiffness
+    k_t carrying the torque T is twisted by T / k_t [rad]; past ``Q_LIMIT`` the kernel
+    stops at its first step as diverged, whatever the step.
+
+    Parameters
+    ----------
+    torque : float
+        Static torque T of the shaft [N m].
+    kt : float or None
+        Its torsional stiffness k_t [N m/rad]; ``None`` (rigid) or not a number > 0 (left
+        to the bounds check): nothing to check.
+    parameter : str
+        The name of k_t for the message.
+    shaft : str
+        The shaft's name.
+
+    Raises
+    ------
+    InputError
+        T / k_t > ``Q_LIMIT``.
+    """
+    t = abs(torque)
+    if isinstance(kt, (int, float)) and kt > 0 and t > Q_LIMIT * kt:
+        raise InputError(parameter, f"{kt:.6g} N*m/rad", f"twists shaft {shaft} by {t / kt:.4g} "
+                         f"rad under its static torque of {t:.6g} N*m, beyond the {Q_LIMIT:g} rad "
+                         f"at which a run stops as diverged: give at least {t / Q_LIMIT:.6g} "
+                         "N*m/rad")
+
+
+def check_twists(train: GearTrain) -> None:
+    """:func:`check_twist` of each shaft segment of ``train`` between two of its gears.
+
+    Parameters
+    ----------
+    train : GearTrain
+        The train in operation.
+
+    Raises
+    ------
+    InputError
+        A segment twisted past ``Q_LIMIT`` (``shafts.<name>.torsional_stiffness``).
+    """
+    for sh in train.flow.shafts:
+        for a in sh.gears[:-1]:
+            check_twist(_segment_torque(train, a), sh.torsional_stiffness,
+                        f"shafts.{sh.name}.torsional_stiffness", sh.name)
+
+
 def check_inputs(train: GearTrain, settings: DynamicsSettings, model: DynamicModel) -> float:
     """Refuse an unstable step; return the step used [s] (after :func:`check_cost`)."""
     dt, _ = integration_step(settings)
@@ -638,6 +692,7 @@ def _prepare(train: GearTrain, settings: DynamicsSettings | None,
              ) -> tuple[DynamicsSettings, DynamicModel, float, int, float]:
     """Checks, model, step and transient of a run (:func:`simulate`, :func:`simulate_record`)."""
     settings = settings_of(train, settings)
+    check_twists(train)
     check_cost(train, settings, harmonics=harmonics, force=force)
     model = model or build_model(train, settings, tables=tables)
     if check_step:
@@ -1183,7 +1238,10 @@ def _dataset(train, settings, model: DynamicModel, lin: LinearRecords, t, z, *, 
         # that a results file is analysed with its stages without its configuration
         **({"analysis_stages": ",".join(f"{d}/{n}" for d, n in stages)}
            if (stages := train.compound_stages()) is not None else {}),
-        "static_force": [float(x) for x in model.static_force],
+        # the meshes' [N]; the shaft springs' torques [N m] are static_shaft_torque
+        "static_force": [float(x) for x in model.static_force[:len(train.pairs)]],
+        **({"static_shaft_torque": [float(model.static_force[r]) for r in springs]}
+           if springs else {}),
         "natural_frequencies": [float(x) for x in md.frequencies],
         "cracks": "; ".join(f"{c.gear} tooth {c.tooth} {c.flank} depth {c.depth:g} m angle "
                             f"{math.degrees(c.angle):g} deg" for c in train.cracks) or "none",

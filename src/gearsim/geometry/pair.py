@@ -12,8 +12,8 @@ import math
 from dataclasses import dataclass
 from functools import cached_property
 
-from gearsim.errors import InputError, require
-from gearsim.geometry.gear import Gear, inv, inv_inverse
+from gearsim.errors import require
+from gearsim.geometry.gear import MAX_MODULE, MIN_MODULE, Gear, inv, inv_inverse
 from gearsim.geometry.profile import ToothProfile
 
 __all__ = ["GearPair", "require_same_rack"]
@@ -49,6 +49,9 @@ def require_same_rack(first: str, module1: float, angle1: float, second: str,
     ...
     gearsim.errors.InputError: gear.normal_pressure_angle = 25 deg: must equal pinion...
     """
+    if not all(MIN_MODULE <= m < MAX_MODULE for m in (module1, module2)) or not all(
+            math.radians(5) <= a <= math.radians(35) for a in (angle1, angle2)):
+        return  # a value out of its range: the gear's own check names it
     at = f"{mesh}: " if mesh else ""
     why = "(meshing gears need equal normal module and pressure angle)"
     require(math.isclose(module1, module2, rel_tol=1e-9), f"{at}{second}.normal_module",
@@ -128,19 +131,22 @@ class GearPair:
                 "(opposite hands) for external helical gears in mesh")
         # interference: the active path must start above each gear's form circle
         lf1 = self.roll_length_at(g1, self.profile1.form_radius)
-        if self.start_of_contact < lf1 - 1e-12:
-            raise InputError(
-                f"{n}: {g2.name}.tip_radius", g2.tip_radius,
-                f"interferes with the fillet of {g1.name}: contact would start at radius "
-                f"{self.radius_on_driver(self.start_of_contact):.6g} m, below its form radius "
-                f"{self.profile1.form_radius:.6g} m (reduce the addendum or shift the profile)")
         lf2 = self.line_length - self.roll_length_at(g2, self.profile2.form_radius)
-        if self.end_of_contact > lf2 + 1e-12:
-            raise InputError(
-                f"{n}: {g1.name}.tip_radius", g1.tip_radius,
-                f"interferes with the fillet of {g2.name}: contact would end at radius "
-                f"{self.radius_on_driven(self.end_of_contact):.6g} m, below its form radius "
-                f"{self.profile2.form_radius:.6g} m (reduce the addendum or shift the profile)")
+        for tip, other, r, form, bad in (
+                (g2, g1, self.radius_on_driver(self.start_of_contact), self.profile1.form_radius,
+                 self.start_of_contact < lf1 - 1e-12),
+                (g1, g2, self.radius_on_driven(self.end_of_contact), self.profile2.form_radius,
+                 self.end_of_contact > lf2 + 1e-12)):
+            # the value written that raised the form circle or the tip: a positive shift
+            # of the other gear, else of this one, else this one's addendum
+            by, key = ((other, "profile_shift") if other.profile_shift > 0 else
+                       (tip, "profile_shift") if tip.profile_shift > 0 else
+                       (tip, "addendum_coefficient"))
+            require(not bad, f"{by.name}.{key}", getattr(by, key), f"in mesh {n} the tip of "
+                    f"{tip.name} (radius {tip.tip_radius * 1e3:.6g} mm) interferes with the "
+                    f"fillet of {other.name}: contact would reach radius {r * 1e3:.6g} mm, "
+                    f"below its form radius {form * 1e3:.6g} mm (reduce the addendum or the "
+                    "profile shift)")
         eps = self.transverse_contact_ratio + self.overlap_ratio
         require(self.transverse_contact_ratio > 0 and eps >= 1.0, f"{n}: contact ratio",
                 round(eps, 4), "total contact ratio eps_alpha + eps_beta must be >= 1")

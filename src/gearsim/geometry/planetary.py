@@ -248,15 +248,17 @@ class PlanetaryStage:
         else:
             require(len(psi) == self.planets, "stage.planet_angles", len(psi),
                     f"must give one angle per planet ({self.planets})")
-            require(psi[0] == 0.0, "stage.planet_angles[0]", float(psi[0]), "must be 0 (planet 1)")
+            shown = [f"{math.degrees(p):.6g} deg" for p in psi]
+            require(psi[0] == 0.0, "stage.planet_angles", shown, "the first (planet 1) must be 0")
             require(bool(np.all(np.diff(psi) > 0.0)) and psi[-1] < 2.0 * math.pi,
                     "stage.planet_angles", tuple(float(p) for p in psi),
                     "must increase strictly within [0, 2 pi)")
             for n, p in enumerate(psi):
                 k = (zs + zr) * p / (2.0 * math.pi)
-                require(abs(k - round(k)) < ASSEMBLY_TOLERANCE, f"stage.planet_angles[{n}]",
-                        f"{math.degrees(p):.6g} deg",
-                        f"cannot be assembled: (z_s + z_r) psi / 2 pi = {k:.6g} must be an integer")
+                require(abs(k - round(k)) < ASSEMBLY_TOLERANCE, "stage.planet_angles", shown,
+                        f"planet {n + 1} at {math.degrees(p):.10g} deg cannot be assembled: "
+                        f"(z_s + z_r) psi / 2 pi = {k:.10g} must be an integer within "
+                        f"{ASSEMBLY_TOLERANCE:g} (nearest: {360 * round(k) / (zs + zr):.10g} deg)")
         if self.planets > 1:
             gaps = np.diff(np.append(psi, psi[0] + 2.0 * math.pi))
             gap = float(gaps.min())

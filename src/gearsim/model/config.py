@@ -34,6 +34,7 @@ from __future__ import annotations
 import dataclasses
 import tomllib
 from collections.abc import Callable, Sequence
+from contextlib import ExitStack
 from pathlib import Path
 from types import SimpleNamespace
 from typing import Any
@@ -174,6 +175,7 @@ def parse(doc: dict[str, Any]) -> Gearbox:
                              "[[meshes]]; a chain has neither")
         kw["helix_angle"] = abs(kw.get("helix_angle", 0.0))
         kws.append(kw)
+    _unique([kw["name"] for kw in kws], "gears")
     shafts, meshes, own_mesh = _graph(doc, kws) if graph else ((), (), {})
     signs = _hands(doc, kws, shafts, meshes)
     gears = []
@@ -207,7 +209,12 @@ def parse(doc: dict[str, Any]) -> Gearbox:
           "faults": parse_faults(doc.get("faults", [])),
           "modifications": parse_modifications(doc.get("modifications", []))}
     try:
-        train = GearTrain(cracks=tuple(cracks), **kw)
+        with ExitStack() as stack:  # a mesh's refusal of a gear's value: as written
+            for i, (g, table) in enumerate(zip(kws, gear_tables, strict=True)):
+                stack.enter_context(as_written(None, g["name"], GEAR_KEYS, default=f"gears[{i}]",
+                                               sources=[("common", raw_common),
+                                                        (f"gears[{i}]", table)]))
+            train = GearTrain(cracks=tuple(cracks), **kw)
     except InputError as exc:  # a crack that does not fit: name the [[cracks]] table
         if not exc.parameter.startswith("crack.") or not cracks:
             raise
@@ -267,6 +274,7 @@ def _graph(doc: dict[str, Any], kws: list[dict[str, Any]]
                              "[[meshes]] (or neither: a chain)")
     specs = [convert(t, SHAFT_KEYS, f"shafts[{i}]") for i, t in enumerate(shafts_raw)]
     names = [sp.get("name", f"shaft{i + 1}") for i, sp in enumerate(specs)]
+    _unique(names, "shafts")
     for i, kw in enumerate(kws):
         if kw["shaft"] not in names:
             raise InputError(f"gears[{i}].shaft", kw["shaft"],
@@ -289,10 +297,20 @@ def _graph(doc: dict[str, Any], kws: list[dict[str, Any]]
                              + ", ".join(gear_names))
         kw = convert({k: v for k, v in table.items() if k != "gears"}, MESH_KEYS, at)
         first, second = (kws[gear_names.index(g)] for g in pair)
+        require(first["shaft"] != second["shaft"], f"{at}.gears", pair,
+                f"both sit on shaft {first['shaft']!r}")
         require_same_rack(pair[0], *_rack(first), pair[1], *_rack(second), mesh=at)
         own[frozenset(pair)] = {k: (kw.pop(k), at) for k in PER_MESH if k in kw}
         meshes.append(MeshSpec(gears=tuple(pair), **kw))
     return tuple(shafts), tuple(meshes), own
+
+
+def _unique(names: list[str], key: str) -> None:
+    """Refuse a name that ``[[key]]`` gives twice, naming its second table."""
+    for i, n in enumerate(names):
+        if n in names[:i]:
+            raise InputError(f"{key}[{i}].name", n, f"is also {key}[{names.index(n)}].name: "
+                             "names must be unique")
 
 
 def _hands(doc: dict[str, Any], kws: list[dict[str, Any]], shafts: tuple[Shaft, ...],

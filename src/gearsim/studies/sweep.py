@@ -699,14 +699,27 @@ def check_study(study: Study) -> None:
             gb.at(speed=speed, torque=value)
         except InputError as exc:
             raise InputError(where, raw, exc.limit) from None
+    from gearsim.signals._checks import WINDOWS
+    from gearsim.signals.analysis import kinematics
+
     rpm = 30.0 / math.pi
     slowest = gb.at(speed=min(speeds), torque=torque)
     member, f_slow = slowest.slowest_shaft()
     duration = gb.dynamics.duration
-    if duration < (1 - 1e-9) / f_slow:
-        raise InputError("study.dynamics.duration", f"{duration:g} s",
-                         f"must be >= {1 / f_slow:.6g} s (one revolution of the {member}, the "
-                         f"slowest shaft, at the lowest speed, {min(speeds) * rpm:.6g} rpm)")
+    # a run covers one revolution of the slowest shaft; the analysis of every case needs
+    # two revolutions of the reference shaft (TSA) and 2 L window bins per sideband
+    # spacing of each analysed shaft: the larger is the limit
+    ref = slowest.reference(study.shafts, study.signal)[0]
+    kin = kinematics(**slowest.analysis_train(study.shafts, study.signal))
+    window = gb.analysis.window
+    need = max(2.0 / kin.reference_frequency, 2 * WINDOWS[window] / min(kin.shafts.values()))
+    at = f"the lowest speed of the study, {min(speeds) * rpm:.6g} rpm"
+    require(duration >= max(need, 1 / f_slow) * (1 - 1e-9), "study.dynamics.duration",
+            f"{duration:g} s", f"must be >= {1 / f_slow:.6g} s (one revolution of the {member}, "
+            f"the slowest shaft, at {at})" if need < 1 / f_slow else
+            f"must be >= {need:.6g} s for the analysis of every case at {at} (two "
+            f"revolutions of {ref}, {2 * WINDOWS[window]} {window} bins per sideband spacing "
+            f"of the slowest analysed shaft, {min(kin.shafts.values()):.4g} Hz)")
     # aliasing and run cost of the most demanding case (highest speed): refused here,
     # not case by case inside the cluster
     fastest = gb.at(speed=max(speeds), torque=torque)
@@ -719,22 +732,6 @@ def check_study(study: Study) -> None:
             name = "study." + name
         raise InputError(name, exc.value, f"{exc.limit} (at the highest speed of the study, "
                          f"{max(speeds) * rpm:.6g} rpm)") from None
-    from gearsim.signals._checks import WINDOWS
-    from gearsim.signals.analysis import kinematics
-
-    # the analysis of every case needs two revolutions of the reference shaft (TSA) and
-    # 2 L window bins per sideband spacing of each analysed shaft
-    ref = slowest.reference(study.shafts, study.signal)[0]
-    kin = kinematics(**slowest.analysis_train(study.shafts, study.signal))
-    f_in = kin.reference_frequency
-    window = gb.analysis.window
-    need = max(2.0 / f_in, 2 * WINDOWS[window] / min(kin.shafts.values()))
-    if duration < need * (1 - 1e-9):
-        raise InputError("study.dynamics.duration", f"{duration:g} s",
-                         f"must be >= {need:.6g} s for the analysis of every case at the lowest "
-                         f"speed of the study, {min(speeds) * rpm:.6g} rpm (two revolutions of "
-                         f"{ref}, {2 * WINDOWS[window]} {window} bins per sideband spacing "
-                         f"of the slowest analysed shaft, {min(kin.shafts.values()):.4g} Hz)")
     kin = kinematics(**fastest.analysis_train(study.shafts, study.signal))
     f_mesh = max([kin.mesh_frequency, *(st.mesh_frequency for st in kin.stages)])
     f_top = n * f_mesh + gb.analysis.n_sidebands * max(kin.shafts.values())

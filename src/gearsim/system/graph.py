@@ -339,6 +339,8 @@ def power_flow(gears: dict, shafts: tuple[Shaft, ...], meshes: tuple[MeshSpec, .
     >>> flow.meshes, [str(r) for r in flow.ratio], flow.sense
     ((('p1', 'g1'), ('p2', 'g2')), ['1', '2/5', '3/10'], (1, -1, 1))
     """
+    names = [s.name for s in shafts]
+    require(len(set(names)) == len(names), "shafts.name", names, "names must be unique")
     shaft_of: dict[str, int] = {}
     for s_i, s in enumerate(shafts):
         for g in s.gears:
@@ -350,8 +352,6 @@ def power_flow(gears: dict, shafts: tuple[Shaft, ...], meshes: tuple[MeshSpec, .
             shaft_of[g] = s_i
     for g in gears:
         require(g in shaft_of, f"gears.{g}.shaft", "missing", "every gear sits on a shaft")
-    names = [s.name for s in shafts]
-    require(len(set(names)) == len(names), "shafts.name", names, "names must be unique")
     for m_i, m in enumerate(meshes):
         for g in m.gears:
             require(g in gears, f"meshes[{m_i}].gears", list(m.gears),

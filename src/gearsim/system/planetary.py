@@ -84,11 +84,8 @@ from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.stiffness.source import ToothCrack
 from gearsim.system.faults import mesh_flanks
 from gearsim.system.train import (  # the operating point's bounds are the gear trains'
-    MAX_SPEED,
-    MAX_TORQUE,
-    MIN_SPEED,
-    MIN_TORQUE,
     GearTrain,
+    Operating,
     body_coupling,
     tooth_compliance,
 )
@@ -151,12 +148,7 @@ class StageOperating:
                 'must be "sun", "ring" or "carrier"')
         require(self.input != self.fixed, "operating.input", self.input,
                 f"must differ from the held member (operating.fixed = {self.fixed!r})")
-        for name, v, low, top, unit in (("speed", self.speed, MIN_SPEED, MAX_SPEED, "rad/s"),
-                                        ("torque", self.torque, MIN_TORQUE, MAX_TORQUE,
-                                         "N*m")):
-            require(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
-                    and low <= v <= top, f"operating.{name}", v,
-                    f"must be a finite number in [{low:g}, {top:g}] {unit}")
+        Operating(speed=self.speed, torque=self.torque)  # the gear trains' checks
 
 
 @dataclass(frozen=True)
@@ -299,7 +291,7 @@ class PlanetaryTrain:
                 require(False, "crack.gear", c.gear,
                         f"no such planet: the stage has {n} planets (planet-1 .. planet-{n})")
             require(c.gear in names, "crack.gear", c.gear,
-                    f"must be sun or planet-1 .. planet-{n}")
+                    f"must be sun, ring or planet-1 .. planet-{n}")
             if c.gear == "ring":
                 require(c.flank == "working", "crack.flank", c.flank,
                         "a ring crack is modelled on the flank the planets load (its "

@@ -153,3 +153,15 @@ def test_model_range_warning_points_at_the_callers_line():
     ours = [w for w in caught if issubclass(w.category, gs.errors.ModelRangeWarning)]
     assert ours and all(w.filename == __file__ for w in ours), [
         (w.filename, w.lineno) for w in caught]
+
+
+def test_an_integer_written_as_a_string_keeps_its_quotes():
+    """``teeth = "32"`` was refused as ``teeth = 32: must be an integer``, which reads as
+    a contradiction; the value is shown as written, with the reason."""
+    from gearsim.model import example_text
+
+    text = example_text("two-stage-reducer").replace("teeth = 32\n", 'teeth = "32"\n', 1)
+    with pytest.raises(InputError) as exc:
+        gs.loads(text)
+    assert str(exc.value) == ("gears[0].teeth = '32': must be an integer (written as a "
+                              "string: leave out the quotes)")

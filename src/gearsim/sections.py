@@ -60,7 +60,10 @@ def convert_value(value: Any, kind: str, name: str) -> Any:
         return value
     if kind == "int":
         if isinstance(value, bool) or not isinstance(value, int):
-            raise InputError(name, value, "must be an integer")
+            raise InputError(name, repr(value) if isinstance(value, str) else value,
+                             "must be an integer" + (" (written as a string: leave out "
+                                                     "the quotes)" if isinstance(value, str)
+                                                     else ""))
         return value
     if kind == "bool":
         if not isinstance(value, bool):

@@ -46,6 +46,7 @@ import functools
 import math
 import os
 import re
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -59,7 +60,7 @@ from gearsim.dynamics.model import DynamicModel
 from gearsim.dynamics.seed3dof import build_seed
 from gearsim.dynamics.settings import DynamicsSettings
 from gearsim.dynamics.tables import MeshTable, mesh_tables
-from gearsim.errors import InputError, SimulationError
+from gearsim.errors import InputError, ModelRangeWarning, SimulationError
 from gearsim.system.toml import train_to_toml
 from gearsim.system.train import GearTrain
 
@@ -76,6 +77,14 @@ __all__ = ["FORCE_ENV", "MAX_STEPS", "MEMORY_FRACTION", "LinearRecords", "Raw", 
 Q_LIMIT = 1.0
 #: FIR half length per unit oversampling factor, and Kaiser beta (see module docstring).
 FIR_HALF_PER_R = 12
+#: Largest spectral line of a mesh force's internal record in the top quarter below the
+#: internal Nyquist r fs / 2, as a share of its largest line in the output band (0, 0.45
+#: fs], above which the run warns that content above r fs / 2 has likely folded into the
+#: record (the kernel samples, it does not average). Measured with the examples'
+#: settings: 0.0014-0.22 (their aliasing 0.03-0.65 %, docs/dynamics.md 5); a 24/36/96
+#: stage driving a 90/23 pair at fs 2 kHz, r = 2: 2.0, its two largest lines aliases
+#: (0.12 at fs 8 kHz).
+ALIAS_SHARE = 0.5
 FIR_BETA = 8.0
 FIR_CUTOFF = 0.45  # of fs
 
@@ -854,6 +863,8 @@ def record(model: DynamicModel, settings: DynamicsSettings, *, dt: float, m: int
     raw = run_kernel(model, dt=dt, n_steps=g.n_steps, rec_start=g.rec_start, rec_every=m,
                      n_rec=g.n_rec, channels=channels if r > 1 else None)
     n, nv = raw.q.shape[1], raw.v.shape[1]
+    if r > 1 and raw.f.shape[1] and raw.f.shape[0] > 8:
+        _warn_folding(raw.f, settings)
     if r > 1:
         y = _kernels.fir_decimate(anti_alias_taps(r, settings.fs), raw.channels, r, g.first,
                                   g.n_out).T
@@ -862,6 +873,27 @@ def record(model: DynamicModel, settings: DynamicsSettings, *, dt: float, m: int
         # unfiltered: the records themselves, one row per sample (C order)
         q, v, f = (np.ascontiguousarray(a) for a in (raw.q, raw.v, raw.f))
     return g.t, q, v, f, g.transient
+
+
+def _warn_folding(f: np.ndarray, settings: DynamicsSettings) -> None:
+    """Warn (:class:`ModelRangeWarning`) when a mesh force's internal record (rate r fs)
+    holds a line in its top quarter below r fs / 2 larger than :data:`ALIAS_SHARE` of
+    its largest line in the output band: content above r fs / 2 then has likely folded
+    into the record before the filter (Hann-windowed amplitude spectra, mean removed)."""
+    fs, r = settings.fs, settings.oversample
+    x = f - f.mean(axis=0)
+    a = np.abs(np.fft.rfft(x * np.hanning(x.shape[0])[:, None], axis=0))
+    freq = np.fft.rfftfreq(x.shape[0], 1.0 / (r * fs))
+    band = a[(freq > 0) & (freq <= 0.45 * fs)].max(axis=0)
+    top = a[freq >= 0.375 * r * fs].max(axis=0)
+    share = np.max(top / np.where(band > 0, band, np.inf))
+    if share > ALIAS_SHARE:
+        warnings.warn(f"anti-aliasing of the record: a mesh force holds {share:.3g} times its "
+                      f"largest line near the internal Nyquist frequency {r * fs / 2:g} Hz "
+                      f"(dynamics.oversample = {r} x fs = {fs:g} Hz): content above it has "
+                      "likely folded into the record; raise dynamics.oversample until the "
+                      "spectrum stops changing (docs/dynamics.md 5)", ModelRangeWarning,
+                      stacklevel=3)
 
 
 @dataclass(frozen=True)

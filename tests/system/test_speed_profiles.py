@@ -232,3 +232,15 @@ def test_the_seed_model_follows_a_run_up():
 def test_the_seed_model_refuses_a_load_profile():
     with pytest.raises(InputError, match=r"dynamics.load_times = \[0.0, 1.0\]: needs model"):
         DynamicsSettings(model="seed", load_times=(0.0, 1.0), load_values=(0.5, 1.0))
+
+
+def test_the_summary_compares_the_mean_force_with_the_load_it_was_given(box):
+    """Load rising from 0.5 to 1.5 over 1 s at constant speed, a record from 0.5 to 1 s
+    (after a 0.5 s transient): lambda = 0.5 + t averages 1.25 over it (the record's
+    samples: to 1e-3), and the mean mesh force is that times the static force within
+    1 %; before, the summary set it against the operating load's static force (+25 %)."""
+    gb = box.replace(dynamics={"duration": 0.5, "transient": 0.5, "load_times": [0.0, 1.0],
+                               "load_values": [0.5, 1.5]})
+    for m in gb.summary(gb.simulate())["meshes"]:
+        assert m["load_factor"] == pytest.approx(1.25, abs=1e-3)
+        assert abs(m["mean_error"]) < 0.01, m

@@ -69,6 +69,8 @@ def simulate(
     for key in ("meshes", "chain_meshes"):
         for m in s.get(key, []):
             err = (f", {100 * m['mean_error']:+.3f} %" if "mean_error" in m else "")
+            if m.get("load_factor", 1.0) != 1.0:  # a load profile: its mean over the record
+                err = f" x mean load factor {m['load_factor']:.4g}{err}"
             peak = f", peak {m['peak']:.6g} N" if "peak" in m else ""
             typer.echo(f"{'chain ' if key == 'chain_meshes' else ''}mesh {m['mesh']}: mean "
                        f"{m['mean']:.6g} N (static {m['static_force']:.6g} N{err}), RMS "

@@ -43,6 +43,7 @@ produced.
 from __future__ import annotations
 
 import functools
+import json
 import math
 import os
 import re
@@ -678,7 +679,8 @@ def simulate(train: GearTrain, settings: DynamicsSettings | None = None, *,
         ``mesh_force_i`` (transverse line-of-action force, N), ``dte_i`` (m), ``ste_i``
         (m), ``bearing_force`` (N, gear x axis), ``acceleration`` (m/s^2, gear x axis),
         for the LTA model also ``angular_acceleration`` (rad/s^2); coordinate ``time``
-        (s); attributes ``fs``, ``model``, ``config`` (TOML), ``gearsim_version``, ...
+        (s); attributes ``fs``, ``model``, ``config`` (TOML), ``dynamics`` (the run's
+        options, JSON, SI), ``gearsim_version``, ...
 
     Raises
     ------
@@ -1278,7 +1280,7 @@ def _dataset(train, settings, model: DynamicModel, lin: LinearRecords, t, z, *, 
         "cracks": "; ".join(f"{c.gear} tooth {c.tooth} {c.flank} depth {c.depth:g} m angle "
                             f"{math.degrees(c.angle):g} deg" for c in train.cracks) or "none",
         "config": train_to_toml(train, settings.to_dict()),
-        "gearsim_version": __version__,
+        "gearsim_version": __version__, "dynamics": json.dumps(settings.to_dict()),
         "anti_aliasing": (f"FIR Kaiser({FIR_BETA}) {2 * FIR_HALF_PER_R * settings.oversample + 1}"
                           f" taps, cut-off {FIR_CUTOFF} fs, from {settings.oversample} fs"
                           if settings.oversample > 1 else "none (instantaneous samples)"),
@@ -1306,10 +1308,15 @@ def summary(ds) -> dict:
         ``model``, ``fs`` [Hz], ``step`` [s], ``duration`` (samples / fs) [s], ``cracks``
         and ``meshes``: per mesh ``mesh`` (1-based), ``mean``, ``rms`` (of the force
         itself), ``peak`` (max abs), ``rms_fluctuation`` (standard deviation),
-        ``static_force`` [N] and ``mean_error`` = (mean - static) / static [-].
+        ``static_force`` [N] (at the operating load), ``load_factor`` (the load profile's
+        lambda(t) averaged over the record, 1 without one: the mean force it loads) and
+        ``mean_error`` = (mean - lambda static) / (lambda static) [-].
     """
     meshes = []
     i = 1
+    run = json.loads(ds.attrs.get("dynamics", "{}"))
+    lam = (1.0 if run.get("load_times") is None else float(np.mean(np.interp(
+        ds["time"].values, run["load_times"], run["load_values"]))))
     while f"mesh_force_{i}" in ds:
         x = np.asarray(ds[f"mesh_force_{i}"].values)
         fs_ = float(ds[f"mesh_force_{i}"].attrs["static_force"])
@@ -1318,7 +1325,8 @@ def summary(ds) -> dict:
             "mesh": i, "mean": mean, "rms": float(np.sqrt(np.mean(x ** 2))),
             "peak": float(np.max(np.abs(x))),
             "rms_fluctuation": float(np.std(x)),
-            "static_force": fs_, "mean_error": (mean - fs_) / fs_,
+            "static_force": fs_, "load_factor": lam,
+            "mean_error": (mean - lam * fs_) / (lam * fs_),
         })
         i += 1
     return {"model": ds.attrs["model"], "fs": ds.attrs["fs"], "step": ds.attrs["step"],

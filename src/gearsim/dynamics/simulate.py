@@ -82,10 +82,17 @@ FIR_HALF_PER_R = 12
 #: internal Nyquist r fs / 2, as a share of its largest line in the output band (0, 0.45
 #: fs], above which the run warns that content above r fs / 2 has likely folded into the
 #: record (the kernel samples, it does not average). Measured with the examples'
-#: settings: 0.0014-0.22 (their aliasing 0.03-0.65 %, docs/dynamics.md 5); a 24/36/96
+#: settings: 0.0014-0.13 (their aliasing 0.04-2.5 %, docs/dynamics.md 5); a 24/36/96
 #: stage driving a 90/23 pair at fs 2 kHz, r = 2: 2.0, its two largest lines aliases
 #: (0.12 at fs 8 kHz).
 ALIAS_SHARE = 0.5
+#: Internal samples the check of :data:`ALIAS_SHARE` reads (the last ones): 2^15, 0.33 s
+#: at 100 kHz, lines 3 Hz apart; about 1 ms a mesh.
+FOLD_BLOCK = 2 ** 15
+#: Lines below this share of a force's mean are round-off, not content (a stage of
+#: constant mesh stiffnesses: 1e-16 of its mean force; the mesh harmonics of nrel-grc's
+#: stage, the smallest of the examples': 8e-5).
+FOLD_FLOOR = 1e-9
 FIR_BETA = 8.0
 FIR_CUTOFF = 0.45  # of fs
 
@@ -881,13 +888,18 @@ def _warn_folding(f: np.ndarray, settings: DynamicsSettings) -> None:
     """Warn (:class:`ModelRangeWarning`) when a mesh force's internal record (rate r fs)
     holds a line in its top quarter below r fs / 2 larger than :data:`ALIAS_SHARE` of
     its largest line in the output band: content above r fs / 2 then has likely folded
-    into the record before the filter (Hann-windowed amplitude spectra, mean removed)."""
+    into the record before the filter (Hann-windowed amplitude spectra, mean removed, of
+    the last :data:`FOLD_BLOCK` internal samples: the run's fastest part of a run-up, at
+    a cost bounded whatever the duration)."""
     fs, r = settings.fs, settings.oversample
-    x = f - f.mean(axis=0)
+    x = np.array(f[-FOLD_BLOCK:], order="F")
+    mean = x.mean(axis=0)
+    x -= mean
     a = np.abs(np.fft.rfft(x * np.hanning(x.shape[0])[:, None], axis=0))
     freq = np.fft.rfftfreq(x.shape[0], 1.0 / (r * fs))
     band = a[(freq > 0) & (freq <= 0.45 * fs)].max(axis=0)
     top = a[freq >= 0.375 * r * fs].max(axis=0)
+    top[top * 2.0 / x.shape[0] <= FOLD_FLOOR * np.abs(mean)] = 0.0  # round-off, not content
     share = np.max(top / np.where(band > 0, band, np.inf))
     if share > ALIAS_SHARE:
         warnings.warn(f"anti-aliasing of the record: a mesh force holds {share:.3g} times its "

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+import threading
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
@@ -59,6 +60,10 @@ __all__ = [
     "sector_outline_check",
     "split_along_crack",
 ]
+
+#: One gmsh session at a time in a process (:func:`gmsh_session`; re-entrant: a session
+#: inside a session uses the open one).
+_GMSH_LOCK = threading.RLock()
 
 #: Spline control points per fillet and per involute of each flank.
 N_FILLET = 24
@@ -686,18 +691,23 @@ def gmsh_session(model: str = "gearsim-fem") -> Iterator[object]:
     """
     import gmsh
 
-    own = not gmsh.isInitialized()
-    if own:
-        gmsh.initialize(readConfigFiles=False)
-    gmsh.option.setNumber("General.Terminal", 0)
-    gmsh.option.setNumber("General.Verbosity", 0)
-    gmsh.model.add(model)
-    try:
-        yield gmsh
-    finally:
-        gmsh.model.remove()
+    # gmsh is one state per process, not thread-safe: one session at a time (a Dask
+    # worker's threads); not interruptible, whose SIGINT handler Python allows in the main
+    # thread only (before: "signal only works in main thread" in a worker, and the crack
+    # correction fell back to Q = 1)
+    with _GMSH_LOCK:
+        own = not gmsh.isInitialized()
         if own:
-            gmsh.finalize()
+            gmsh.initialize(readConfigFiles=False, interruptible=False)
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.option.setNumber("General.Verbosity", 0)
+        gmsh.model.add(model)
+        try:
+            yield gmsh
+        finally:
+            gmsh.model.remove()
+            if own:
+                gmsh.finalize()
 
 
 def _distinct(piece: np.ndarray) -> np.ndarray:

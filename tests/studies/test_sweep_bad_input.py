@@ -412,3 +412,24 @@ def test_duration_refused_with_one_revolution_where_that_binds(capsys, tmp_path)
         "gearsim: error: study.dynamics.duration = 0.08 s: must be >= 0.111111 s (one "
         "revolution of the output, the slowest shaft, at the lowest speed of the study, "
         "1800 rpm)")
+
+
+def test_sweep_report_into_a_folder_of_other_files_is_refused_and_keeps_them(capsys, tmp_path,
+                                                                           monkeypatch):
+    """The report's folder is replaced whole: a folder holding the store itself (or any
+    other file) is refused before any work, and keeps its files (before: exit 0 with the
+    store and the notes deleted); so is the working folder (before: an internal error
+    after the report was computed); an earlier report's folder is replaced."""
+    store = _store(tmp_path / "s.nc")
+    (tmp_path / "notes.txt").write_text("mine")
+    _report_refused(capsys, store, tmp_path,
+                    f"--out = {tmp_path}: holds 'notes.txt' and 1 more, not written by this "
+                    "command; the output folder is replaced as a whole: give a new or empty "
+                    "folder")
+    assert (tmp_path / "notes.txt").read_text() == "mine" and store.exists()
+    monkeypatch.chdir(tmp_path)
+    code, _, err = _cli(capsys, "sweep-report", store, "--out", ".")
+    assert code == 2 and "is the working folder" in err
+    rep = tmp_path / "rep"
+    assert _cli(capsys, "sweep-report", store, "--out", rep)[0] == 0
+    assert _cli(capsys, "sweep-report", store, "--out", rep)[0] == 0  # its own files

@@ -38,7 +38,7 @@ def sweep(
     speed, torque, bearing stiffness, noise) on Dask; resumes from OUT.parts/ after an
     interruption."""
     from gearsim.io.targets import check_output_file, check_output_folder
-    from gearsim.studies.diagnostic import CLASSES, FAULT_CLASSES
+    from gearsim.studies.diagnostic import CLASSES, FAULT_CLASSES, REPORT_NAMES
     from gearsim.studies.sweep import expand, load_study
     from gearsim.studies.sweep_run import (
         check_batch,
@@ -58,7 +58,7 @@ def sweep(
         check_scheduler(scheduler)
     check_output_file(out, "--out", (".nc",))
     if report is not None:
-        check_output_folder(report, "--report")
+        check_output_folder(report, "--report", owned=REPORT_NAMES.__contains__)
         what, order = ("fault", FAULT_CLASSES) if "fault" in st.parameters else ("flank",
                                                                                 CLASSES)
         n = Counter((getattr(c, what), c.noise) for c in expand(st))

@@ -43,10 +43,13 @@ from gearsim.studies.sweep_case import FEATURE_GROUPS
 from gearsim.viz import save
 from gearsim.viz.sweep import plot_diagnostic
 
-__all__ = ["CLASSES", "FAULT_CLASSES", "FOLDS", "STORE_ATTRS", "STORE_VARIABLES",
+__all__ = ["CLASSES", "FAULT_CLASSES", "FOLDS", "REPORT_NAMES", "STORE_ATTRS", "STORE_VARIABLES",
            "class_labels", "columns_matrix", "diagnostic_report", "feature_matrix",
            "indicator_auc", "open_store", "separability", "separability_report",
            "separability_table"]
+
+#: The files of a separability report (its folder holds these only).
+REPORT_NAMES = ("separability.csv", "separability.json", "separability.png")
 
 #: Class labels of a store without faults: its ``flank`` coordinate.
 CLASSES = ("none", "working", "non-working")
@@ -475,7 +478,9 @@ def diagnostic_report(store: str | Path, out: str | Path, *,
     UserWarning
         When some rows cannot be scored (a subset with fewer than two cases of a class).
     """
-    out = check_output_folder(out, out_parameter)
+    # a folder holding anything else, or the working folder, is refused: it is replaced
+    # whole (before: sweep-report --out DIR deleted DIR's files, the store reported on too)
+    out = check_output_folder(out, out_parameter, owned=REPORT_NAMES.__contains__)
     store = Path(store)
     ds = open_store(store)
     ok = ds["status"].values == "ok"
@@ -523,7 +528,7 @@ def diagnostic_report(store: str | Path, out: str | Path, *,
            "rows": [{k: (None if isinstance(v, float) and not math.isfinite(v) else v)
                      for k, v in r.items()} for r in rows]}
     fig = plot_diagnostic(rows, present, title=ds.attrs.get("title", "parameter study"))
-    names = ("separability.csv", "separability.json", "separability.png")
+    names = REPORT_NAMES
     with atomic_folder(out) as tmp:
         (tmp / names[0]).write_text(csv)
         (tmp / names[1]).write_text(json.dumps(doc, indent=2))

@@ -412,12 +412,17 @@ def analyze(
         problems.append(f"--workers = {workers}: must be <= {len(names)}, the files to "
                         "analyse (a worker more would have nothing to do)")
         n_options += 1  # an option's problem: no file is read
-    lab = None
+    lab, more = None, []  # labels from names or a CSV are known before any file is read
     if label_pattern is not None:
-        lab, more = _collect(problems, bt.labels_from_pattern, names, label_pattern) or ({}, [])
-        problems += more
+        lab = (_collect(more, bt.labels_from_pattern, names, label_pattern) or ({},))[0]
     elif labels is not None:
-        lab = _collect(problems, bt.labels_from_csv, labels)
+        lab = _collect(more, bt.labels_from_csv, labels)
+    if lab is not None and names and not more:
+        more += _label_problems(names, lab, *(("--label-pattern", label_pattern, "do not "
+                                "match") if label_pattern is not None else
+                                ("--labels", labels, "have no label")))
+    problems += more
+    n_options += len(more)
     single = len(names) == 1 and (channel is None or len(channel) == 1)
     if (baseline is not None or plot is not None) and len(names) > 1:
         problems.append(f"--baseline/--plot: need exactly one record; {len(names)} files "
@@ -505,6 +510,23 @@ def analyze(
     if plot_path is not None:
         typer.echo("figures: " + (", ".join(figures) if figures else
                                   "none (the gear tier was skipped)"))
+
+
+def _label_problems(names: list[str], lab: dict, option: str, given: Any,
+                    verb: str) -> list[str]:
+    """At most one line: the files of ``names`` no label of ``lab`` names (by path or
+    name; labels per channel count for the file), or a single class among them."""
+    per = {f: {v for k, v in lab.items() if (k[0] if isinstance(k, tuple) else k)
+               in (f, Path(f).name)} for f in names}
+    missing = [Path(f).name for f, v in per.items() if not v]
+    if missing:
+        return [f"{option} = {given}: {len(missing)} of {len(names)} files {verb}: "
+                + ", ".join(missing[:3]) + (", ..." if len(missing) > 3 else "")]
+    classes = sorted(set().union(*per.values()))
+    if len(classes) < 2:
+        return [f"{option} = {given}: one class ({', '.join(classes)}) for the {len(names)} "
+                "files: needs at least two classes to score separability"]
+    return []
 
 
 def _text_of(d: dict) -> str:

@@ -209,7 +209,7 @@ def test_compare_takes_a_gearsim_results_speed_and_teeth(tmp_path, monkeypatch, 
     code, out, err = _run(monkeypatch, capsys, *args)
     assert code == 0, err
     own = json.loads(out)
-    assert own["mesh_frequency_hz"] == pytest.approx(1900 / 60 * 39)  # 1235 Hz
+    assert own["simulated"]["mesh_frequency_hz"] == pytest.approx(1900 / 60 * 39)  # 1235 Hz
     assert own["speed_teeth_provenance"] == "file"
     code, out, err = _run(monkeypatch, capsys, *args, "--shaft-rpm", RPM, "--teeth", 39)
     assert code == 0, err
@@ -220,3 +220,44 @@ def test_compare_takes_a_gearsim_results_speed_and_teeth(tmp_path, monkeypatch, 
     assert "--tacho" not in err
     code, _, err = _run(monkeypatch, capsys, *args, "--teeth", 39)
     _assert_one_line_exit_2(code, err, "--shaft-rpm/--teeth = one of them: give both")
+
+
+def test_compare_reads_each_record_at_its_own_speed(tmp_path, monkeypatch, capsys):
+    """A gearsim result at 30 Hz (Z = 32, f_m 960 Hz, sidebands 0.10 of the mesh line)
+    against a record at 29.675 Hz (f_m 949.6 Hz, sidebands 0.12): with MEASURED's speed
+    given or searched, every error is |0.10 - 0.12| / 0.12 = 16.7 % and the JSON holds
+    both mesh lines; with none, MEASURED's mesh line disagrees with SIMULATED's speed and
+    the run is refused in one line (before: read at 30 Hz, errors of about 99 %)."""
+    fs, t = 12_800.0, np.arange(25_600) / 12_800.0
+
+    def sig(f_r, mesh, rel, seed):
+        sb = {(n, k): mesh * rel / n for n in (1, 2) for k in (-2, -1, 1, 2)}
+        return gear_signal(fs=fs, duration=2.0, shaft_frequency=f_r, teeth=32, seed=seed,
+                           mesh_amplitudes={1: mesh, 2: 0.5 * mesh}, sidebands=sb,
+                           noise=1e-3)
+
+    xr.Dataset({"a": ("time", sig(30.0, 1.0, 0.10, 1))}, coords={"time": t},
+               attrs={"fs": fs, "shaft_frequency": [30.0], "analysis_teeth": [32]}
+               ).to_netcdf(tmp_path / "sim.nc", engine="h5netcdf")
+    wavfile.write(tmp_path / "meas.wav", int(fs), sig(29.675, 0.5, 0.12, 2).astype(np.float32))
+    args = ["compare", tmp_path / "sim.nc", tmp_path / "meas.wav", "--channel-sim", "a",
+            "--sidebands", 2, "--json"]
+    for extra in (["--shaft-rpm-meas", 60 * 29.675], ["--speed-search-meas", "20,40"]):
+        code, out, err = _run(monkeypatch, capsys, *args, *extra)
+        assert code == 0, err
+        d = json.loads(out)
+        assert [r["mean_error_percent"] for r in d["orders"]] == pytest.approx(
+            [100 * 0.02 / 0.12] * 2, abs=2.0)
+        assert d["measured"]["mesh_frequency_hz"] == pytest.approx(32 * 29.675, abs=0.05)
+        assert [r["amplitude"] for r in d["mesh"]["measured"]] == pytest.approx(
+            [0.5, 0.25], rel=0.01)
+        assert [r["amplitude"] for r in d["mesh"]["simulated"]] == pytest.approx(
+            [1.0, 0.5], rel=0.01)
+    code, _, err = _run(monkeypatch, capsys, *args)
+    _assert_one_line_exit_2(code, err, "--shaft-rpm-meas = not given: MEASURED read at "
+                            "SIMULATED's speed: given speed 30 Hz disagrees")
+    code, _, err = _run(monkeypatch, capsys, *args, "--shaft-rpm", 60 * 29.675, "--teeth", 32)
+    _assert_one_line_exit_2(code, err, "simulated mesh line = 1 f_m = 949.6 Hz: no line "
+                            "above the noise floor")
+    code, _, err = _run(monkeypatch, capsys, *args, "--speed-search-meas", "40,20")
+    _assert_one_line_exit_2(code, err, "--speed-search-meas = 40,20: must be")

@@ -115,6 +115,35 @@ def test_cli_more_workers_than_files_one_line_nothing_read(tmp_path, monkeypatch
     assert not (tmp_path / "t.csv").exists() and not (tmp_path / "t.csv.parts").exists()
 
 
+@pytest.mark.parametrize("names, labels, expected", [
+    (["b30.csv", "h30.csv", "x1.csv", "x2.csv", "x3.csv", "x4.csv"], "^(b|h)30",
+     "--label-pattern = ^(b|h)30: 4 of 6 files do not match: x1.csv, x2.csv, x3.csv, ..."),
+    (["h30.csv", "h31.csv"], "^(h)3", "--label-pattern = ^(h)3: one class (h) for the 2 "
+     "files: needs at least two classes to score separability"),
+    (["b30.csv", "h30.csv"], "file,channel,label\nb30.csv,,b\nh30.csv,a1,b\n",
+     "--labels = LAB: one class (b) for the 2 files: needs at least two classes to score "
+     "separability"),
+    (["b30.csv", "h30.csv"], "file,label\nb30.csv,b\n",
+     "--labels = LAB: 1 of 2 files have no label: h30.csv")])
+def test_cli_label_problems_refused_before_any_file_is_read(tmp_path, monkeypatch, capsys,
+                                                            names, labels, expected):
+    """Labels from names or a CSV are known before any file is read: one short line, exit
+    2, no OUT.parts made, although no file is even a record (before: the whole batch was
+    analysed first, then 'input = N problems', each file's mismatch once per channel)."""
+    for n in names:
+        (tmp_path / n).write_text("not a record\n")
+    option = ["--label-pattern", labels]
+    if labels.startswith("file,"):  # a labels CSV, by name and by channel
+        (tmp_path / "lab.csv").write_text(labels)
+        option = ["--labels", tmp_path / "lab.csv"]
+        expected = expected.replace("LAB", str(tmp_path / "lab.csv"))
+    code, _, err = _run(monkeypatch, capsys, "analyze", *(tmp_path / n for n in names),
+                        *option, "--out", tmp_path / "t.csv")
+    assert code == 2
+    assert err.strip() == f"gearsim: error: {expected}"
+    assert not (tmp_path / "t.csv.parts").exists()
+
+
 def test_cli_csv_table_columns_with_units(tmp_path, monkeypatch, capsys):
     _write(tmp_path, n_files=2, channels=2, gz_every=0)
     code, _, err = _run(monkeypatch, capsys, "analyze", tmp_path / "*.csv", "--out",

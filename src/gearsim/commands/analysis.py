@@ -110,7 +110,8 @@ def _stages(text: str | None, problems: list[str]) -> tuple[tuple[int, int], ...
     return tuple(pairs)
 
 
-def _speed_search(text: str | None, problems: list[str]) -> tuple[float, float] | None:
+def _speed_search(text: str | None, problems: list[str],
+                  name: str = "--speed-search") -> tuple[float, float] | None:
     """``LO,HI`` with an optional unit to ``(lo, hi)`` in Hz: bare numbers are Hz (the unit
     of the API); ``Hz`` (``hertz``, ``1/s``) or ``rpm`` (``r/min``, ``rev/min``,
     ``revolutions_per_minute``, as pint spells them) after HI applies to both, after
@@ -132,12 +133,12 @@ def _speed_search(text: str | None, problems: list[str]) -> tuple[float, float] 
             parts = []
             break
     if len(parts) != 2:
-        problems.append(f"--speed-search = {text}: {form}")
+        problems.append(f"{name} = {text}: {form}")
         return None
     (lo, u_lo), (hi, u_hi) = parts
     lo, hi = lo * (u_lo or u_hi or 1.0), hi * (u_hi or u_lo or 1.0)
     if not MIN_SEARCH_HZ <= lo < hi < float("inf"):  # LO 5e-324 Hz overflowed the estimator
-        problems.append(f"--speed-search = {text}: must be {MIN_SEARCH_HZ:g} Hz <= LO < HI "
+        problems.append(f"{name} = {text}: must be {MIN_SEARCH_HZ:g} Hz <= LO < HI "
                         f"({lo:g}, {hi:g} Hz)")
         return None
     return lo, hi
@@ -411,12 +412,17 @@ def analyze(
         problems.append(f"--workers = {workers}: must be <= {len(names)}, the files to "
                         "analyse (a worker more would have nothing to do)")
         n_options += 1  # an option's problem: no file is read
-    lab = None
+    lab, more = None, []  # labels from names or a CSV are known before any file is read
     if label_pattern is not None:
-        lab, more = _collect(problems, bt.labels_from_pattern, names, label_pattern) or ({}, [])
-        problems += more
+        lab = (_collect(more, bt.labels_from_pattern, names, label_pattern) or ({},))[0]
     elif labels is not None:
-        lab = _collect(problems, bt.labels_from_csv, labels)
+        lab = _collect(more, bt.labels_from_csv, labels)
+    if lab is not None and names and not more:
+        more += _label_problems(names, lab, *(("--label-pattern", label_pattern, "do not "
+                                "match") if label_pattern is not None else
+                                ("--labels", labels, "have no label")))
+    problems += more
+    n_options += len(more)
     single = len(names) == 1 and (channel is None or len(channel) == 1)
     if (baseline is not None or plot is not None) and len(names) > 1:
         problems.append(f"--baseline/--plot: need exactly one record; {len(names)} files "
@@ -506,6 +512,23 @@ def analyze(
                                   "none (the gear tier was skipped)"))
 
 
+def _label_problems(names: list[str], lab: dict, option: str, given: Any,
+                    verb: str) -> list[str]:
+    """At most one line: the files of ``names`` no label of ``lab`` names (by path or
+    name; labels per channel count for the file), or a single class among them."""
+    per = {f: {v for k, v in lab.items() if (k[0] if isinstance(k, tuple) else k)
+               in (f, Path(f).name)} for f in names}
+    missing = [Path(f).name for f, v in per.items() if not v]
+    if missing:
+        return [f"{option} = {given}: {len(missing)} of {len(names)} files {verb}: "
+                + ", ".join(missing[:3]) + (", ..." if len(missing) > 3 else "")]
+    classes = sorted(set().union(*per.values()))
+    if len(classes) < 2:
+        return [f"{option} = {given}: one class ({', '.join(classes)}) for the {len(names)} "
+                "files: needs at least two classes to score separability"]
+    return []
+
+
 def _text_of(d: dict) -> str:
     """Text of a record dict (records from Dask workers come back as dicts)."""
     from gearsim.signals.tiers import RecordAnalysis
@@ -582,9 +605,16 @@ def compare(
     simulated: Annotated[Path, typer.Argument(help="simulated record (e.g. gearsim NetCDF)")],
     measured: Annotated[Path, typer.Argument(help="measured record")],
     shaft_rpm: Annotated[float | None, typer.Option(
-        help="speed of the faulty gear's shaft [rpm] (default: a gearsim SIMULATED's "
-             "reference shaft, with --teeth its gear's)")] = None,
+        help="speed of the faulty gear's shaft in SIMULATED [rpm] (default: a gearsim "
+             "SIMULATED's reference shaft, with --teeth its gear's); MEASURED's too unless "
+             "--shaft-rpm-meas or --speed-search-meas")] = None,
     teeth: Annotated[int | None, typer.Option(help="teeth of the faulty gear")] = None,
+    shaft_rpm_meas: Annotated[float | None, typer.Option(
+        help="speed of that shaft in MEASURED [rpm] (default: SIMULATED's, checked "
+             "against MEASURED's mesh line)")] = None,
+    speed_search_meas: Annotated[str | None, typer.Option(
+        help="estimate that shaft's speed from MEASURED within LO,HI [Hz, or with a unit: "
+             "1200,2400rpm], as analyze --speed-search")] = None,
     channel_sim: Annotated[str | None, typer.Option(help="channel of the simulated file")] = None,
     channel_meas: Annotated[str | None, typer.Option(help="channel of the measured file")] = None,
     fs_sim: Annotated[float | None, typer.Option(help="fs of the simulated file [Hz]")] = None,
@@ -593,17 +623,18 @@ def compare(
     sidebands: Annotated[int, typer.Option(help="sidebands per side")] = 6,
     window: Annotated[str, typer.Option(help="hann, flattop or boxcar")] = "hann",
     normalize: Annotated[str, typer.Option(
-        help="'mesh': amplitudes relative to n f_m of the same signal; 'none': absolute")]
-    = "mesh",
+        help="'mesh': amplitudes relative to n f_m of the same signal (a line above the "
+             "noise floor); 'none': absolute")] = "mesh",
     plot: Annotated[str | None, typer.Option(help="figure file (.png, .pdf, .svg)")] = None,
     json_: Annotated[bool, typer.Option("--json", help="print the JSON table")] = False,
 ) -> None:
     """Sideband amplitudes near n f_m, simulated versus measured, with % errors (seed Table 2)."""
     from gearsim.io.jsonout import strict_json
     from gearsim.io.measured import read_signal
+    from gearsim.signals import speed as sp
     from gearsim.signals._checks import check_positive
     from gearsim.signals.compare import compare_sidebands
-    from gearsim.studies.batch import _part_of
+    from gearsim.studies.batch import _part_of, problems_error
     from gearsim.viz import check_plot_file, save
     from gearsim.viz.signals import plot_comparison
 
@@ -614,6 +645,15 @@ def compare(
                          "shaft speed and teeth), or neither to take a gearsim result's")
     if shaft_rpm is not None:
         check_positive("--shaft-rpm", shaft_rpm)
+    if shaft_rpm_meas is not None and speed_search_meas is not None:
+        raise InputError("--shaft-rpm-meas/--speed-search-meas", "both", "give at most one "
+                         "source of MEASURED's speed")
+    if shaft_rpm_meas is not None:
+        check_positive("--shaft-rpm-meas", shaft_rpm_meas)
+    problems: list[str] = []
+    search = _speed_search(speed_search_meas, problems, "--speed-search-meas")
+    if problems:
+        raise problems_error(problems)
     if teeth is not None and teeth < 1:
         raise InputError("--teeth", teeth, "must be an integer >= 1")
     if not 1 <= max_order <= MAX_ORDER:
@@ -627,17 +667,48 @@ def compare(
             raise InputError("--shaft-rpm/--teeth", "neither", f"give both: {s.path} "
                              "carries no speed and teeth (not a gearsim result)")
         shaft_rpm, teeth = own["rpm"], own["teeth"][0]
-    f_r = shaft_rpm / 60.0
-    c = compare_sidebands(
-        s.data, s.fs, m.data, m.fs, mesh_frequency=f_r * teeth, shaft_frequency=f_r,
-        orders=tuple(range(1, max_order + 1)), n_sidebands=sidebands, window=window,
-        normalize=normalize, shaft="shaft1",
-    )
+    f_r = f_meas = shaft_rpm / 60.0
+    meas_prov = "given"
+    if shaft_rpm_meas is not None:
+        f_meas = shaft_rpm_meas / 60.0
+    elif search is not None:  # the constant-speed estimate, as analyze --speed-search
+        est = sp.estimate_constant_speed(
+            m.data, m.fs, search=sp.check_speed_search(m.data.size, m.fs, search,
+                                                       name="--speed-search-meas"))
+        if est.confidence < sp.MIN_CONFIDENCE:
+            raise InputError("--speed-search-meas", speed_search_meas, f"the estimate "
+                             f"{est.frequency:.6g} Hz has confidence {est.confidence:.2f} < "
+                             f"{sp.MIN_CONFIDENCE}: narrow it or give --shaft-rpm-meas")
+        f_meas, meas_prov = est.frequency, "estimate"
+    else:  # MEASURED at SIMULATED's speed: refused where its mesh line says otherwise
+        meas_prov = "simulated"
+        try:
+            warn = sp.check_given_speed(m.data, m.fs, f_r, order=teeth)
+        except InputError:
+            warn = None  # no line to check against: the mesh-line test below decides
+        if warn:
+            raise InputError("--shaft-rpm-meas", "not given", f"MEASURED read at SIMULATED's "
+                             f"speed: {warn}: give --shaft-rpm-meas or --speed-search-meas")
+    try:
+        c = compare_sidebands(
+            s.data, s.fs, m.data, m.fs, mesh_frequency=f_r * teeth, shaft_frequency=f_r,
+            measured_shaft_frequency=f_meas, orders=tuple(range(1, max_order + 1)),
+            n_sidebands=sidebands, window=window, normalize=normalize, shaft="shaft1",
+        )
+    except InputError as exc:
+        if not exc.parameter.endswith("mesh line"):
+            raise
+        raise InputError(exc.parameter, exc.value, exc.limit + (
+            " (--shaft-rpm is SIMULATED's speed; MEASURED's is --shaft-rpm-meas)"
+            if exc.parameter[0] == "s" else " (give --shaft-rpm-meas or --speed-search-meas)"
+        )) from None
     d = c.to_dict() | {
-        "mesh_frequency_hz": f_r * teeth, "shaft_frequency_hz": f_r, "teeth": teeth,
-        "speed_teeth_provenance": "given" if given else "file",
-        "simulated": {"file": s.path, "channel": s.channel, "fs_hz": s.fs},
-        "measured": {"file": m.path, "channel": m.channel, "fs_hz": m.fs},
+        "teeth": teeth, "speed_teeth_provenance": "given" if given else "file",
+        "simulated": {"file": s.path, "channel": s.channel, "fs_hz": s.fs,
+                      "shaft_frequency_hz": f_r, "mesh_frequency_hz": f_r * teeth},
+        "measured": {"file": m.path, "channel": m.channel, "fs_hz": m.fs,
+                     "shaft_frequency_hz": f_meas, "mesh_frequency_hz": f_meas * teeth,
+                     "speed_provenance": meas_prov},
     }
     if plot is not None:
         d["figure"] = str(save(plot_comparison(c), plot, parameter="--plot"))
@@ -645,7 +716,8 @@ def compare(
         typer.echo(strict_json(d, indent=1))
         return
     typer.echo(f"sidebands n f_m +- k f_r, f_m = {f_r * teeth:.6g} Hz, f_r = {f_r:.5g} Hz"
-               f"{'' if given else ' (file)'}, normalize = {normalize}; error = |sim - meas| "
+               f"{'' if given else ' (file)'}; measured f_m = {f_meas * teeth:.6g} Hz, f_r = "
+               f"{f_meas:.5g} Hz ({meas_prov}); normalize = {normalize}; error = |sim - meas| "
                "/ meas")
     typer.echo(f"{'order':>5} {'sim mean':>12} {'meas mean':>12} {'error %':>9}")
     for row in d["orders"]:

@@ -12,6 +12,12 @@ absolute terms, so by default every amplitude is first divided by the amplitude 
 own mesh harmonic (relative sideband level, dimensionless); ``normalize="none"`` compares
 absolute amplitudes of signals of the same quantity.
 
+Each signal is read at its own speed (``measured_shaft_frequency``: a simulation at 30 Hz
+and a record at 29.675 Hz put 1 f_m 10.4 Hz apart, beyond the search window of a line),
+and with ``normalize="mesh"`` a mesh harmonic that does not stand out of its local noise
+floor (:func:`~gearsim.signals.periodicity.line_significance` within the search window,
+p >= :data:`MESH_ALPHA`) is refused: dividing by noise gave errors of 99 % to 7e11 %.
+
 References
 ----------
 .. [Seed] Shi, Li & Zhou, *Actuators* 14 (2025) 292, sec. 4 and Table 2.
@@ -19,18 +25,23 @@ References
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
 
 from gearsim.errors import InputError
 from gearsim.signals._checks import as_signal, check_fs, check_positive
-from gearsim.signals.sidebands import sideband_families
+from gearsim.signals.periodicity import line_significance, periodogram
+from gearsim.signals.sidebands import SEARCH_FRACTION, sideband_families
 from gearsim.signals.spectrum import amplitude_spectrum
 
-__all__ = ["SidebandComparison", "compare_sidebands", "percentage_error"]
+__all__ = ["MESH_ALPHA", "SidebandComparison", "compare_sidebands", "percentage_error"]
+
+#: False-alarm probability below which a mesh line counts as present (normalize="mesh").
+MESH_ALPHA = 1e-3
 
 
 def percentage_error(simulated: np.ndarray, measured: np.ndarray) -> np.ndarray:
@@ -87,6 +98,10 @@ class SidebandComparison:
         ``"mesh"`` or ``"none"``.
     shaft : str
         Shaft whose sidebands are compared.
+    mesh : dict
+        ``"simulated"`` and ``"measured"``: per harmonic, the mesh line used to normalise
+        (``frequency_hz``, ``amplitude`` in signal units, line-to-floor ``snr``,
+        ``p_value``) and the signal's ``shaft_frequency_hz``.
     """
 
     orders: tuple[int, ...]
@@ -97,6 +112,7 @@ class SidebandComparison:
     mean_error_percent: np.ndarray
     normalize: str
     shaft: str
+    mesh: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         """JSON-serialisable table.
@@ -121,7 +137,8 @@ class SidebandComparison:
                 "measured_mean": float(self.measured[i].mean()),
                 "mean_error_percent": float(self.mean_error_percent[i]),
             })
-        return {"shaft": self.shaft, "normalize": self.normalize, "orders": rows}
+        return {"shaft": self.shaft, "normalize": self.normalize, "orders": rows,
+                "mesh": self.mesh}
 
 
 def compare_sidebands(
@@ -137,6 +154,7 @@ def compare_sidebands(
     window: str = "hann",
     normalize: Literal["mesh", "none"] = "mesh",
     shaft: str = "faulty",
+    measured_shaft_frequency: float | None = None,
 ) -> SidebandComparison:
     """Compare sideband amplitudes near ``n f_m`` of a simulated and a measured signal.
 
@@ -151,9 +169,9 @@ def compare_sidebands(
     fs_measured : float
         Sampling rate of ``measured`` (Hz).
     mesh_frequency : float
-        ``f_m`` (Hz), the same operating point for both.
+        ``f_m`` (Hz) of ``simulated``.
     shaft_frequency : float
-        ``f_r`` of the faulty gear's shaft (Hz): the sideband spacing compared.
+        ``f_r`` of the faulty gear's shaft (Hz) in ``simulated``: the sideband spacing.
     orders : sequence of int
         Mesh harmonics; (1, 2) as in the seed's Table 2.
     n_sidebands : int
@@ -164,6 +182,9 @@ def compare_sidebands(
         Divide amplitudes by the mesh-harmonic amplitude of the same signal, or not.
     shaft : str
         Label of the shaft in the output.
+    measured_shaft_frequency : float, optional
+        ``f_r`` (Hz) of that shaft in ``measured``, default ``shaft_frequency``; its mesh
+        frequency is ``mesh_frequency`` scaled by the same ratio (same teeth).
 
     Returns
     -------
@@ -176,37 +197,49 @@ def compare_sidebands(
         If ``normalize`` is not ``"mesh"`` or ``"none"``, a signal or sampling rate is
         invalid, the request fails :func:`gearsim.signals.sidebands.check_sideband_request`
         for either signal (Nyquist, record length), or, with ``normalize="mesh"``, a mesh
-        harmonic has zero amplitude.
+        harmonic is not above the signal's local noise floor (p >= :data:`MESH_ALPHA`
+        within ``+- SEARCH_FRACTION f_r``), e.g. when the record is not at the given speed.
     """
     if normalize not in ("mesh", "none"):
         raise InputError("normalize", normalize, "must be 'mesh' or 'none'")
-    check_positive("shaft_frequency", shaft_frequency)
-    fams = {}
-    inputs = (("simulated", simulated, fs_simulated), ("measured", measured, fs_measured))
-    for label, x, fs in inputs:
+    f_sim = check_positive("shaft_frequency", shaft_frequency)
+    f_meas = f_sim if measured_shaft_frequency is None else check_positive(
+        "measured_shaft_frequency", measured_shaft_frequency)
+    tables, mesh = {}, {}
+    inputs = (("simulated", simulated, fs_simulated, f_sim),
+              ("measured", measured, fs_measured, f_meas))
+    for label, x, fs, f_r in inputs:
         a = as_signal(x, name=label)
         fs = check_fs(fs)
-        spec = amplitude_spectrum(a, fs, window=window)
-        fams[label] = sideband_families(
-            spec, mesh_frequency=mesh_frequency, shafts={shaft: shaft_frequency},
-            orders=orders, n_sidebands=n_sidebands,
+        f_m = mesh_frequency * f_r / f_sim
+        fams = sideband_families(
+            amplitude_spectrum(a, fs, window=window), mesh_frequency=f_m,
+            shafts={shaft: f_r}, orders=orders, n_sidebands=n_sidebands,
         )
-    tables = {}
-    for label, fl in fams.items():
-        rows = []
-        for fam in fl:
+        power, df = periodogram(a), fs / a.size
+        rows, mesh[label] = [], []
+        for fam in fams:  # the mesh line against the floor, within the tone's search window
+            t = line_significance(power, fam.order * f_m / df,
+                                  search_bins=math.ceil(SEARCH_FRACTION * f_r / df))
+            mesh[label].append({"order": fam.order, "frequency_hz": fam.mesh.frequency,
+                                "amplitude": fam.mesh.amplitude, "snr": t.snr,
+                                "p_value": t.p_value, "shaft_frequency_hz": f_r})
             amp = fam.amplitude
             if normalize == "mesh":
-                if not fam.mesh.amplitude > 0:
-                    raise InputError(f"{label} mesh amplitude", fam.mesh.amplitude,
-                                     f"must be > 0 at order {fam.order} to normalise")
+                if not (fam.mesh.amplitude > 0 and t.p_value < MESH_ALPHA):
+                    raise InputError(
+                        f"{label} mesh line", f"{fam.order} f_m = {fam.order * f_m:.6g} Hz",
+                        f"no line above the noise floor within +-{SEARCH_FRACTION * f_r:.3g}"
+                        f" Hz (SNR {t.snr:.3g}, p = {t.p_value:.2g} >= {MESH_ALPHA:g}) to "
+                        f"normalise by: is {f_r:.6g} Hz this record's shaft speed?")
                 amp = amp / fam.mesh.amplitude
             rows.append(amp)
         tables[label] = np.vstack(rows)
+        k = fams[0].k
     sim, meas = tables["simulated"], tables["measured"]
     return SidebandComparison(
-        orders=tuple(int(n) for n in orders), k=fams["simulated"][0].k, simulated=sim,
+        orders=tuple(int(n) for n in orders), k=k, simulated=sim,
         measured=meas, error_percent=percentage_error(sim, meas),
         mean_error_percent=percentage_error(sim.mean(axis=1), meas.mean(axis=1)),
-        normalize=normalize, shaft=shaft,
+        normalize=normalize, shaft=shaft, mesh=mesh,
     )

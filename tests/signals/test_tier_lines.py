@@ -14,6 +14,37 @@ def _tones(n, lines):
     return sum(a * np.cos(2 * np.pi * f * t) for f, a in lines)
 
 
+def test_weak_order_1_beside_a_strong_line_20_percent_below():
+    # 10 s at 1 kHz (0.1 Hz bins, every line on a bin: the Hann window reads it exactly):
+    # the shaft's 1x of 0.3 at 10 Hz beside a line of 3 at 8 Hz; a carrier of 200 Hz
+    # modulated by m1 = 0.05 at 10 Hz and m2 = 0.5 at 8 Hz. The squared envelope
+    # |sum A_i e^(i w_i t)|^2 holds 2 A_i A_j at every difference w_i - w_j: at 10 Hz
+    # 2 m1 = 0.1 from the carrier and 2 x 0.3 x 0.2 = 0.12 from the 10 and 20 Hz tones
+    # (0.22); at 8 Hz 2 m2 = 1
+    n = 10_000
+    t = np.arange(n) / FS
+    am = (1 + 0.05 * np.cos(2 * np.pi * 10 * t) + 0.5 * np.cos(2 * np.pi * 8 * t))
+    x = _tones(n, [(10.0, 0.3), (8.0, 3.0), (20.0, 0.2)]) + am * np.cos(2 * np.pi * 200 * t)
+    sh = analyze_record(x, FS, speed=10.0).tiers["shaft"]
+    o = {r["order"]: r for r in sh["orders"]}
+    assert o[1]["frequency_hz"] == pytest.approx(10.0, abs=0.1)
+    assert o[1]["amplitude"] == pytest.approx(0.3, rel=1e-6)
+    assert o[2]["amplitude"] == pytest.approx(0.2, rel=1e-6)
+    e = sh["envelope"]["orders"][0]
+    assert (e["order"], e["frequency_hz"]) == (1, pytest.approx(10.0, abs=0.1))
+    assert e["amplitude"] == pytest.approx(0.22, rel=1e-6)
+
+
+def test_order_read_short_of_another_shafts_line():
+    # 1.5 s: bins of 2/3 Hz; teeth 20/25 put shaft 2 at 8 Hz, 3 bins below the 1x at
+    # 10 Hz: a window of the Hann main lobe (+-2 bins) would reach bin 13 (half the 8 Hz
+    # line, 1.5); it ends one main lobe short of 8 Hz and reads 0.3 at 10 Hz
+    x = _tones(1500, [(10.0, 0.3), (8.0, 3.0)])
+    o = analyze_record(x, FS, speed=10.0, teeth=(20, 25)).tiers["shaft"]["orders"][0]
+    assert o["frequency_hz"] == pytest.approx(10.0, abs=1e-9)
+    assert o["amplitude"] == pytest.approx(0.3, rel=1e-9)
+
+
 def test_envelope_orders_blind_to_a_sensor_bias():
     # a bias c adds 2 c x to |x + c + iH|^2: with c = 100 the 30 Hz line of 0.3 (3x)
     # would show as 60 in the envelope; with the mean removed the record and the record

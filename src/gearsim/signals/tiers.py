@@ -659,11 +659,27 @@ def _order_lines(a, fs, profile) -> dict[str, Any]:
             "lines": [{"order": float(orders[i]), "amplitude": float(amp[i])} for i in top]}
 
 
+def _other_orders(f_r, teeth, stages, top) -> list[float]:
+    """Orders (Hz) up to ``top f_r`` of the train's shafts other than the reference one
+    (shaft frequencies by :func:`~gearsim.signals.analysis.kinematics`); none without
+    teeth or stages."""
+    if not teeth:
+        return []
+    from gearsim.signals.analysis import kinematics
+
+    kin = kinematics(shaft_frequency=f_r, stages=stages) if stages else \
+        kinematics(shaft_frequency=f_r, teeth=teeth)
+    return [m * f for f in kin.shafts.values() if abs(f - f_r) > 1e-9 * f_r
+            for m in range(1, int(top * f_r / f) + 1)]
+
+
 def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
-                amp=None) -> dict[str, Any]:
+                amp=None, stages=None) -> dict[str, Any]:
+    from gearsim.signals.spectrum import Spectrum, tone
+
     out: dict[str, Any] = {"rests_on": rests, "shaft_frequency_hz": f_r,
                            "shaft_rpm": 60.0 * f_r}
-    if profile is not None and hasattr(profile, "frequency"):
+    if profile is not None:
         fr = np.asarray(profile.frequency, dtype=float)
         out["speed_range_hz"] = [float(fr.min()), float(fr.max())]
         tt = _optional("ordertrack", "tracked_tsa")
@@ -682,30 +698,29 @@ def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
     n = a.size
     if amp is None:
         amp = _hann_amplitude(a)
-    df = fs / n
-    rows = []
-    for k in SHAFT_ORDERS:
-        f = k * f_r
-        if f >= 0.5 * fs:
-            break
-        lo, hi = max(1, int((f - 0.25 * f_r) / df)), min(amp.size - 1, int((f + 0.25 * f_r) / df))
-        i = lo + int(np.argmax(amp[lo:hi + 1])) if hi >= lo else int(round(f / df))
-        rows.append({"order": k, "frequency_hz": float(i * df), "amplitude": float(amp[i])})
-    out["orders"] = rows
+    # order k is read within the window's main lobe of k f_r, widened to the speed's own
+    # spread (a tracked or tacho profile), never reaching into the main lobe of another
+    # shaft's order (the train's other shafts, as the teeth or stages know them)
+    spread = 0.0 if profile is None else float(np.max(np.abs(fr - f_r)))
+    avoid = _other_orders(f_r, teeth, stages, max(SHAFT_ORDERS) + 1.0)
+
+    def read(spec) -> list[dict[str, Any]]:
+        rows = []
+        for k in SHAFT_ORDERS:
+            if k * f_r >= 0.5 * fs:
+                break
+            t = tone(spec, k * f_r, search=max(spec.lobe_bins * spec.df, k * spread),
+                     avoid=avoid)
+            rows.append({"order": k, "frequency_hz": t.frequency, "amplitude": t.amplitude})
+        return rows
+
+    out["orders"] = read(Spectrum(np.arange(amp.size) * (fs / n), amp, "hann", fs, n))
     env = _tool("envelope", "envelope_spectrum", "shaft.envelope", skipped)
     if env is not None:
         try:
             es = env(a, fs)
-            ef = np.asarray(es.frequency, dtype=float)
-            ea = np.asarray(es.amplitude, dtype=float)
-            erows = []
-            for k in SHAFT_ORDERS:
-                sel = np.abs(ef - k * f_r) <= 0.25 * f_r
-                if sel.any():
-                    j = np.flatnonzero(sel)[np.argmax(ea[sel])]
-                    erows.append({"order": k, "frequency_hz": float(ef[j]),
-                                  "amplitude": float(ea[j])})
-            out["envelope"] = {"orders": erows}
+            out["envelope"] = {"orders": read(Spectrum(es.frequency, es.amplitude, es.window,
+                                                       fs, n))}
         except (InputError, AttributeError, TypeError) as exc:
             skipped.append({"tier": "shaft.envelope", "reason": _first_line(exc)})
     cep = _tool("cepstrum", "real_cepstrum", "shaft.cepstrum", skipped)
@@ -1056,7 +1071,7 @@ def analyze_record(
                 f_r = None
             else:
                 rec.tiers["shaft"] = _shaft_tier(a, fs, f_r, rests, skipped, profile, zs,
-                                                   amp)
+                                                   amp, stages=pairs)
         else:
             skipped.append({"tier": "gear", "reason": "needs a shaft speed (see shaft)"})
     rec.timings["shaft"] = time.perf_counter() - t0

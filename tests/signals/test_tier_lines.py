@@ -1,6 +1,8 @@
 """Lines the shaft tier reads: order k of the shaft within the main lobe of k f_r (or the
 speed's own spread), never another shaft's line; the envelope blind to a sensor bias."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -60,3 +62,20 @@ def test_envelope_orders_blind_to_a_sensor_bias():
         assert r1["amplitude"] == pytest.approx(r0["amplitude"], rel=1e-9, abs=1e-9)
     # no two lines 30 Hz apart: the 3x is noise, against 2 c 0.3 = 60 with the bias kept
     assert env[0][2]["amplitude"] < 1.0
+
+
+def test_dropped_samples_reported_as_an_object_and_a_text_line(tmp_path, capsys):
+    from gearsim import cli
+
+    # 1000 samples, NaN in the first 3 and the last 2: 5 dropped, file samples 3..997 kept
+    x = _tones(1000, [(10.0, 1.0)])
+    x[:3] = x[-2:] = np.nan
+    p = tmp_path / "nan.csv"
+    p.write_text("# fs = 1000\nacc\n" + "\n".join(f"{v:.17g}" for v in x) + "\n")
+    assert cli.run(["analyze", str(p), "--drop-nonfinite", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)["records"][0]["source"]["dropped"]
+    assert d == {"count": 5, "nonfinite": 5, "first": 0, "last": 999, "kept": [3, 998]}
+    assert cli.run(["analyze", str(p), "--drop-nonfinite"]) == 0
+    out = capsys.readouterr().out
+    assert "995 samples" in out
+    assert "dropped 5 samples (5 non-finite) at the ends, file samples 0..999: kept 3..997" in out

@@ -367,6 +367,11 @@ class RecordAnalysis:
         elif self.teeth:
             rests.append(f"teeth {', '.join(map(str, self.teeth))} ({self.teeth_provenance})")
         lines.append("  rests on: " + "; ".join(rests))
+        d = src.get("dropped")
+        if isinstance(d, dict):  # io.record.DroppedSamples.to_dict()
+            lines.append(f"  dropped {d['count']} samples ({d['nonfinite']} non-finite) at "
+                         f"the ends, file samples {d['first']}..{d['last']}: kept "
+                         f"{d['kept'][0]}..{d['kept'][1] - 1}")
         st = self.tiers.get("statistics")
         if st:
             def g(k: str, fmt: str = ".4g") -> str:

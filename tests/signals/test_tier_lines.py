@@ -79,3 +79,21 @@ def test_dropped_samples_reported_as_an_object_and_a_text_line(tmp_path, capsys)
     out = capsys.readouterr().out
     assert "995 samples" in out
     assert "dropped 5 samples (5 non-finite) at the ends, file samples 0..999: kept 3..997" in out
+
+
+def test_speed_disagreement_is_a_warning_and_the_given_speed_is_used(tmp_path, capsys):
+    from gearsim import cli
+
+    # mesh of 10 teeth at 10 Hz (100 Hz), given 10.2 Hz: 10/10.2 - 1 = -1.96 %, far
+    # beyond the check's 0.2 %; every tier still runs at 10.2 Hz, as said, with a warning
+    x = _tones(10_000, [(100.0, 1.0), (90.0, 0.1), (110.0, 0.1), (10.0, 0.2)])
+    r = analyze_record(x, FS, speed=10.2, teeth=(10, 20))
+    assert not any(s["tier"] == "shaft.speed_check" for s in r.skipped)
+    (w,) = r.to_dict()["warnings"]
+    assert "given speed 10.2 Hz" in w and "-1.96" in w and " 10 Hz" in w
+    assert r.tiers["gear"]["analysis"]["train"]["mesh_frequency_hz"] == pytest.approx(102.0)
+    p = tmp_path / "r.csv"
+    p.write_text("# fs = 1000\nacc\n" + "\n".join(f"{v:.17g}" for v in x) + "\n")
+    assert cli.run(["analyze", str(p), "--shaft-rpm", "612", "--teeth", "10", "20"]) == 0
+    out = capsys.readouterr().out
+    assert "WARNING: given speed 10.2 Hz" in out and "skipped shaft.speed_check" not in out

@@ -210,6 +210,9 @@ class RecordAnalysis:
         A compound train: ``(driving teeth, driven teeth)`` of each stage in power-flow
         order (:func:`gearsim.signals.analysis.kinematics`); ``teeth`` then lists the
         stages' pairs in order. None for a simple train.
+    warnings : list of str
+        What the tiers computed rests on and the record contradicts (a given speed the
+        signal disagrees with: every tier still uses the speed given).
     """
 
     n_samples: int
@@ -226,6 +229,7 @@ class RecordAnalysis:
     analysis: Any = None
     timings: dict[str, float] = field(default_factory=dict)
     stages: tuple[tuple[int, int], ...] | None = None
+    warnings: list[str] = field(default_factory=list)
 
     @property
     def frequency_unit(self) -> str:
@@ -326,7 +330,7 @@ class RecordAnalysis:
             ``source``, ``n_samples``, ``fs_hz`` and its provenance, ``speed_hz``,
             ``speed_rpm`` and provenance, ``teeth`` and provenance (with ``stages``, the
             ``[driving, driven]`` teeth of each stage, for a compound train),
-            ``frequency_unit``, ``tiers``, ``skipped``, ``timings_s``.
+            ``frequency_unit``, ``tiers``, ``skipped``, ``warnings``, ``timings_s``.
         """
         return {
             "source": dict(self.source), "units": self.units, "n_samples": self.n_samples,
@@ -340,7 +344,7 @@ class RecordAnalysis:
             **({"stages": [list(p) for p in self.stages]} if self.stages else {}),
             "frequency_unit": self.frequency_unit,
             "tiers": self.tiers, "skipped": list(self.skipped),
-            "timings_s": dict(self.timings),
+            "warnings": list(self.warnings), "timings_s": dict(self.timings),
         }
 
     def text(self) -> str:
@@ -367,6 +371,7 @@ class RecordAnalysis:
         elif self.teeth:
             rests.append(f"teeth {', '.join(map(str, self.teeth))} ({self.teeth_provenance})")
         lines.append("  rests on: " + "; ".join(rests))
+        lines += [f"  WARNING: {w}" for w in self.warnings]
         d = src.get("dropped")
         if isinstance(d, dict):  # io.record.DroppedSamples.to_dict()
             lines.append(f"  dropped {d['count']} samples ({d['nonfinite']} non-finite) at "
@@ -583,7 +588,7 @@ def _kurtogram(a: np.ndarray, fs: float | None, skipped: list) -> dict | None:
             "kurtosis": _f(best.kurtosis), "level": _f(best.level)}
 
 
-def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov):
+def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warnings):
     """(speed Hz, provenance, profile or None, SpeedEstimate or None); speed None with a
     skip reason when it cannot be had."""
     from gearsim.signals import speed as sp
@@ -596,8 +601,10 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov):
                 warn = sp.check_given_speed(a, fs, float(speed), order=order)
             except InputError as exc:
                 warn = f"not checked: {_first_line(exc)}"
-            if warn:
-                skipped.append({"tier": "shaft.speed_check", "reason": str(warn)})
+            if warn and warn.startswith("not checked"):
+                skipped.append({"tier": "shaft.speed_check", "reason": warn})
+            elif warn:  # every tier uses the speed given: a warning, not a skip
+                warnings.append(f"{warn}; every tier uses the given speed")
         return float(speed), prov or "given", None, None
     if tacho is not None:
         tach = as_signal(tacho, name="tacho")
@@ -1060,7 +1067,8 @@ def analyze_record(
     else:
         order = zs[0] if zs else 1
         f_r, prov_speed, profile, est_speed = _resolve_speed(a, fs, speed, tacho, ppr, speed_search,
-                                                             order, skipped, speed_provenance)
+                                                             order, skipped, speed_provenance,
+                                                             rec.warnings)
         if est_speed is not None:
             rec.tiers.setdefault("estimates", {})["speed"] = est_speed.to_dict()
         if f_r is not None:

@@ -97,3 +97,17 @@ def test_speed_disagreement_is_a_warning_and_the_given_speed_is_used(tmp_path, c
     assert cli.run(["analyze", str(p), "--shaft-rpm", "612", "--teeth", "10", "20"]) == 0
     out = capsys.readouterr().out
     assert "WARNING: given speed 10.2 Hz" in out and "skipped shaft.speed_check" not in out
+
+
+def test_baseline_shorter_than_two_revolutions_is_not_used():
+    # 10 Hz shaft: 2 revolutions are 0.2 s = 200 samples; a baseline of 150 samples
+    # (1.5 revolutions) gives no ratios and no NA4 from it, with the reason
+    x = _tones(10_000, [(100.0, 1.0), (90.0, 0.1), (110.0, 0.1)])
+    x += 0.01 * np.random.default_rng(0).standard_normal(x.size)
+    r = analyze_record(x, FS, speed=10.0, teeth=(10, 20), baseline=x[:150])
+    assert "ratios_to_baseline" not in r.tiers["gear"]["analysis"]
+    (why,) = [s["reason"] for s in r.skipped if s["tier"] == "gear.baseline"]
+    assert why == ("baseline 0.15 s is shorter than 2 revolutions of the measured shaft "
+                   "(0.2 s)")
+    ok = analyze_record(x, FS, speed=10.0, teeth=(10, 20), baseline=x[:200])
+    assert "ratios_to_baseline" in ok.tiers["gear"]["analysis"]

@@ -1139,6 +1139,12 @@ def analyze_record(
                 import dataclasses
 
                 settings = dataclasses.replace(settings, pulses_per_rev=ppr)
+            n_b = None if baseline is None else np.size(baseline)
+            if n_b is not None and n_b / fs < MIN_REVOLUTIONS / f_r:  # the record's rule
+                skipped.append({"tier": "gear.baseline", "reason": f"baseline {n_b / fs:.4g} "
+                                f"s is shorter than {MIN_REVOLUTIONS:g} revolutions of the "
+                                f"measured shaft ({MIN_REVOLUTIONS / f_r:.4g} s)"})
+                baseline = baseline_tacho = None
             g, full = _gear_tier(a, fs, f_r, zs, pulses_tacho, settings, rests, skipped,
                                  baseline, baseline_tacho, stages=pairs)
             if g is not None:

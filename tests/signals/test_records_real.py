@@ -92,3 +92,20 @@ def test_shaft_orders_of_h30hz0_read_at_the_shaft_not_at_shaft_2():
         assert [r["order"] for r in rows] == [1, 2, 3]
         for r in rows:
             assert abs(r["frequency_hz"] - r["order"] * 29.754) < df, rows
+
+
+def test_b30hz50_made_to_drift_has_no_gear_tier_at_its_mean_speed():
+    # the tester's construction: b30hz50 a1 cut into 8 pieces, piece i resampled by
+    # 100/(100 + i), so that played at 12.8 kHz the shaft steps from 29.68 Hz up by
+    # 7 % (x 107/100) to 31.75 Hz; before, the gear tier ran at the mean 30.69 Hz
+    # (mesh amplitude 0.137 for 1.77, SER 13.2 for 2.38, FM0 16.1 for 5.75)
+    from scipy.signal import resample_poly
+
+    x = np.concatenate([resample_poly(p, 100, 100 + i) for i, p in
+                        enumerate(np.array_split(_columns("b30hz50")["a1"], 8))])
+    r = analyze_record(x, 12800.0, speed_search=(20.0, 40.0), stages=[(32, 80), (48, 64)])
+    lo, hi = r.tiers["shaft"]["speed_range_hz"]
+    assert lo < 29.68 * 1.01 and hi > 29.68 * 1.07 * 0.99
+    assert "gear" not in r.tiers
+    (why,) = [s["reason"] for s in r.skipped if s["tier"] == "gear"]
+    assert f"varies from {lo:.5g} to {hi:.5g} Hz" in why

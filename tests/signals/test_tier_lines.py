@@ -111,3 +111,26 @@ def test_baseline_shorter_than_two_revolutions_is_not_used():
                    "(0.2 s)")
     ok = analyze_record(x, FS, speed=10.0, teeth=(10, 20), baseline=x[:200])
     assert "ratios_to_baseline" in ok.tiers["gear"]["analysis"]
+
+
+@pytest.mark.parametrize("rise", [0.0, 0.1])
+def test_gear_tier_skipped_when_the_tracked_speed_varies(rise):
+    # 20 teeth on a shaft at 10 + rise t Hz for 10 s: with rise 0.1 Hz/s the speed goes
+    # from 10 to 11 Hz (10 % of its mean 10.5 Hz, beyond the run-up rule's 1 %); the
+    # gear tier at one speed would smear the mesh line over 200..220 Hz: skipped, naming
+    # the range; at a constant speed it runs
+    fs = 2000.0
+    t = np.arange(int(10 * fs)) / fs
+    ph = 2 * np.pi * np.cumsum(10.0 + rise * t) / fs
+    x = (np.cos(20 * ph) + 0.3 * np.cos(ph) + 0.1 * np.cos(19 * ph) + 0.1 * np.cos(21 * ph)
+         + 0.05 * np.random.default_rng(0).standard_normal(t.size))
+    r = analyze_record(x, fs, speed_search=(8.0, 14.0), teeth=(20, 40))
+    if rise == 0.0:
+        assert "gear" in r.tiers and "speed_range_hz" not in r.tiers["shaft"]
+        return
+    lo, hi = r.tiers["shaft"]["speed_range_hz"]
+    assert (lo, hi) == (pytest.approx(10.0, rel=0.01), pytest.approx(11.0, rel=0.01))
+    assert "gear" not in r.tiers
+    (why,) = [s["reason"] for s in r.skipped if s["tier"] == "gear"]
+    assert f"varies from {lo:.5g} to {hi:.5g} Hz" in why
+    assert f"mean of {lo:.5g} to {hi:.5g} Hz" in r.text()

@@ -363,8 +363,10 @@ class RecordAnalysis:
         rests = [f"fs {self.fs:g} Hz ({self.fs_provenance})" if self.fs
                  else "fs unknown (frequencies in cycles/sample)"]
         if self.speed is not None:
+            span = self.tiers.get("shaft", {}).get("speed_range_hz")
             rests.append(f"speed {60 * self.speed:.6g} rpm = {self.speed:.6g} Hz "
-                         f"({self.speed_provenance})")
+                         f"({self.speed_provenance}" + (f"; mean of {span[0]:.5g} to "
+                                                        f"{span[1]:.5g} Hz)" if span else ")"))
         if self.stages:
             rests.append("stages " + ", ".join(f"{d}/{n}" for d, n in self.stages)
                          + f" ({self.teeth_provenance})")
@@ -650,6 +652,19 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warni
         skipped.append({"tier": "shaft", "reason": why})
         return None, None, None, None
     return est.frequency, "estimate", None, est
+
+
+def _speed_varies(span, tacho) -> str | None:
+    """Why the gear tier is skipped for a speed tracked from the signal whose range
+    ``span`` [Hz] exceeds :data:`gearsim.io.measured.RUN_UP_TOL` of its mean (the
+    run-up rule), else None. A tacho's record keeps its gear tier (TSA by the pulses)."""
+    from gearsim.io.measured import RUN_UP_TOL
+
+    if span is None or tacho is not None or span[1] - span[0] <= RUN_UP_TOL * sum(span) / 2:
+        return None
+    return (f"the speed tracked from the signal varies from {span[0]:.5g} to {span[1]:.5g} "
+            f"Hz (more than {100 * RUN_UP_TOL:g} %): the spectrum's lines and the TSA at "
+            "one speed would be smeared (give a tacho, --tacho, for a TSA by its pulses)")
 
 
 def _order_lines(a, fs, profile) -> dict[str, Any]:
@@ -1058,8 +1073,7 @@ def analyze_record(
     rec.timings["spectrum"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    f_r = est_speed = None
-    pulses_tacho = None
+    f_r = est_speed = pulses_tacho = None
     if fs is None:
         for tier in ("shaft", "gear"):
             skipped.append({"tier": tier, "reason": "needs a sampling rate (give --fs, or a "
@@ -1119,8 +1133,11 @@ def analyze_record(
                 skipped.append({"tier": "estimate.teeth", "reason": f"confidence "
                                 f"{est_z.confidence:.2f} < {TEETH_CONFIDENCE} (give --teeth)"})
     if f_r is not None:
+        varies = _speed_varies(rec.tiers["shaft"].get("speed_range_hz"), tacho)
         if not zs:
             skipped.append({"tier": "gear", "reason": "needs tooth counts (give --teeth)"})
+        elif varies:
+            skipped.append({"tier": "gear", "reason": varies})
         else:
             f_m = zs[0] * f_r
             if prov_teeth != "estimate" and f_m >= 0.5 * fs:

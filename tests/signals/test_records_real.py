@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from gearsim import cli
+from gearsim.signals.tiers import analyze_record
 
 DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "spectraquest-gfd"
 FOUR = ("h30hz0", "h30hz90", "b30hz0", "b30hz90")
@@ -77,3 +78,34 @@ def test_batch_of_all_twenty_files_with_labels_from_names(tmp_path, capsys):
     assert all(float(r["mesh_frequency_hz [Hz]"]) == 960.0 for r in rows)
     sep = json.loads((rep / "separability.json").read_text())
     assert sep["counts"] == {"b": 40, "h": 40}
+
+
+def test_shaft_orders_of_h30hz0_read_at_the_shaft_not_at_shaft_2():
+    # the shaft at 29.754 Hz (speed search); shaft 2 (32/80) at 11.90 Hz has its 2x at
+    # 23.80 Hz, inside the former +-25 % window (+-7.4 Hz) where its envelope line
+    # (15.5, against 4.2 at 29.7 Hz) was taken for order 1
+    x = _columns("h30hz0")["a1"]
+    sh = analyze_record(x, 12800.0, speed_search=(20.0, 40.0),
+                        stages=[(32, 80), (48, 64)]).tiers["shaft"]
+    df = 12800.0 / x.size
+    for rows in (sh["orders"], sh["envelope"]["orders"]):
+        assert [r["order"] for r in rows] == [1, 2, 3]
+        for r in rows:
+            assert abs(r["frequency_hz"] - r["order"] * 29.754) < df, rows
+
+
+def test_b30hz50_made_to_drift_has_no_gear_tier_at_its_mean_speed():
+    # the tester's construction: b30hz50 a1 cut into 8 pieces, piece i resampled by
+    # 100/(100 + i), so that played at 12.8 kHz the shaft steps from 29.68 Hz up by
+    # 7 % (x 107/100) to 31.75 Hz; before, the gear tier ran at the mean 30.69 Hz
+    # (mesh amplitude 0.137 for 1.77, SER 13.2 for 2.38, FM0 16.1 for 5.75)
+    from scipy.signal import resample_poly
+
+    x = np.concatenate([resample_poly(p, 100, 100 + i) for i, p in
+                        enumerate(np.array_split(_columns("b30hz50")["a1"], 8))])
+    r = analyze_record(x, 12800.0, speed_search=(20.0, 40.0), stages=[(32, 80), (48, 64)])
+    lo, hi = r.tiers["shaft"]["speed_range_hz"]
+    assert lo < 29.68 * 1.01 and hi > 29.68 * 1.07 * 0.99
+    assert "gear" not in r.tiers
+    (why,) = [s["reason"] for s in r.skipped if s["tier"] == "gear"]
+    assert f"varies from {lo:.5g} to {hi:.5g} Hz" in why

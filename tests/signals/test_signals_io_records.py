@@ -171,9 +171,9 @@ def test_delimiters_and_decimal_comma(tmp_path, data):
     p = tmp_path / "euro.csv"
     p.write_text("Zeit [s];Beschl. [m/s^2]\n0;1,25\n0,001;-2,5\n0,002;3\n")
     r = read_record(p)
-    assert r.channels == ("Beschl. [m/s^2]",)
-    assert_array_equal(r.data["Beschl. [m/s^2]"], [1.25, -2.5, 3.0])
-    assert r.units == {"Beschl. [m/s^2]": "m/s^2"}
+    assert r.channels == ("Beschl.",)
+    assert_array_equal(r.data["Beschl."], [1.25, -2.5, 3.0])
+    assert r.units == {"Beschl.": "m/s^2"}
     assert r.fs == pytest.approx(1000.0)
 
 
@@ -386,3 +386,15 @@ def test_analyze_tacho_as_the_only_channel_refused(tmp_path, capsys, data):
     assert code == 2 and text == ""
     assert err == "gearsim: error: --tacho = tacho: is the only channel of one.csv: no " \
         "vibration channel is left to analyse"
+
+
+def test_unit_in_the_header_is_not_part_of_the_channel_name(tmp_path):
+    # "a1 [g]" and "a2 (V)" are channels a1 and a2 in g and V; the time column "t [ms]"
+    # in milliseconds gives fs = 1 / 0.5 ms = 2000 Hz
+    p = tmp_path / "units.csv"
+    p.write_text("t [ms],a1 [g],a2 (V)\n0,1,4\n0.5,2,5\n1.0,3,6\n")
+    r = read_record(p)
+    assert r.channels == ("a1", "a2")
+    assert_array_equal(r.data["a1"], [1.0, 2.0, 3.0])
+    assert r.units == {"a1": "g", "a2": "V"}
+    assert r.fs == pytest.approx(2000.0)

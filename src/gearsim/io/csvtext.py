@@ -16,7 +16,8 @@ What is recognised, from the text itself:
   number (an empty field counts as a missing number), otherwise it is the first data row
   and the columns are named ``"0", "1", ...``. Without one, a last comment line just
   above the data with as many fields (``np.savetxt`` writes ``# time,acc``) is the
-  header. A header name ``acc [m/s^2]`` or ``acc (g)`` gives the column's units;
+  header. A header name ``acc [m/s^2]`` or ``acc (g)`` is the column ``acc`` in those
+  units (``acc[label]``, no space, keeps its name);
 * **missing values**: an empty field, ``NaN``, ``NA``, a row cut short (the missing
   fields) are NaN; a blank line between data rows is refused (a missing sample that
   would otherwise shift the rest of the record).
@@ -257,12 +258,16 @@ def parse_table(text: str, shown: str) -> TextTable:
     if len(names) != columns.shape[1]:
         raise _fail(shown, f"the header names {len(names)} columns {names} but the data rows "
                     f"hold {columns.shape[1]}")
-    names = _unique([n or str(j) for j, n in enumerate(names)])
-    units: dict[str, str] = {}
+    # "a1 [g]" or "a1 (g)": channel a1 in g (a unit after a space: "var[label]" keeps
+    # its name, the labels of gearsim's records)
+    found = []
     for n in names:
         m = _UNIT_IN_NAME.match(n)
-        if m and m.group(1) and m.group(2):
-            units[n] = m.group(2)
+        ok = bool(m and m.group(1) and m.group(2))
+        found.append((m.group(1) if ok and n[len(m.group(1))].isspace() else n,
+                      m.group(2) if ok else None))
+    names = _unique([n or str(j) for j, (n, _) in enumerate(found)])
+    units: dict[str, str] = {n: u for n, (_, u) in zip(names, found, strict=True) if u}
     given = meta.get("units", meta.get("unit"))
     if isinstance(given, str) and given:
         parts = _split(given, sep if sep != "whitespace" else ",")

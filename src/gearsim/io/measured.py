@@ -206,14 +206,13 @@ def _fs_from_time(path: Path, t: np.ndarray) -> float:
 def _time_scale(name: str, units: dict[str, str]) -> float | None:
     """Seconds per unit of a time column, or None when ``name`` is not a time column."""
     low = name.strip().lower()
+    scale = _TIME_UNITS.get(str(units.get(name, "")).strip().lower())  # "t [ms]": in ms
+    if scale is not None and re.sub(r"\s*[\[(].*$", "", low) in ("time", "t", "zeit"):
+        return scale
     if low in _TIME_NAMES:
         return 1.0
     m = re.match(r"^(time|t|zeit)[ _]?\[?\(?\s*(s|sec|ms|us|µs|μs)\s*\]?\)?$", low)
-    if m:
-        return _TIME_UNITS[m.group(2)]
-    if name in units and re.sub(r"\s*[\[(].*$", "", low) in ("time", "t", "zeit"):
-        return _TIME_UNITS.get(units[name].strip().lower())
-    return None
+    return _TIME_UNITS[m.group(2)] if m else None
 
 
 def _read_csv(text: str, shown: Path) -> _Raw:

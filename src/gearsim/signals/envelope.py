@@ -172,8 +172,10 @@ def squared_envelope(
 ) -> np.ndarray:
     r"""Squared envelope :math:`|x_b + i\,\mathcal{H}\{x_b\}|^2` of the band ``band``.
 
-    ``x_b`` is ``x`` band-passed by :func:`band_pass` (the whole record when ``band`` is
-    None); the analytic signal is :func:`scipy.signal.hilbert`. For
+    ``x_b`` is ``x`` minus its mean, band-passed by :func:`band_pass` (the whole record
+    when ``band`` is None); the analytic signal is :func:`scipy.signal.hilbert`. The mean
+    is removed first: a sensor's bias ``c`` would add ``2 c x`` to the squared envelope,
+    the raw spectrum of ``x`` scaled by the bias. For
     :math:`x = A\cos(2\pi f t)` inside the band the squared envelope is :math:`A^2`.
 
     Parameters
@@ -213,6 +215,7 @@ def squared_envelope(
     a = as_signal(x)
     fs = check_fs(fs)
     lo, hi = _check_band(band, fs, a.size)
+    a = a - a.mean()
     xb = a if band is None else band_pass(a, fs, (lo, hi))
     z = hilbert(xb)
     return z.real**2 + z.imag**2
@@ -230,7 +233,8 @@ def envelope_spectrum(
     .. math:: SES(f) = \left|\mathcal{F}\{ w\,(e - \bar e) \}\right|\ \text{(amplitude-
        corrected)}, \qquad e = |x_b + i\,\mathcal{H}\{x_b\}|^2
 
-    Steps (Randall & Antoni 2011): band-pass by FFT masking (:func:`band_pass`),
+    Steps (Randall & Antoni 2011): mean removed, band-pass by FFT masking
+    (:func:`band_pass`),
     analytic signal (:func:`scipy.signal.hilbert`), squared magnitude, mean removed,
     one-sided amplitude spectrum (:func:`gearsim.signals.spectrum.amplitude_spectrum`).
     Impacts repeating at ``f_r`` that excite a resonance inside the band show as lines at

@@ -210,6 +210,9 @@ class RecordAnalysis:
         A compound train: ``(driving teeth, driven teeth)`` of each stage in power-flow
         order (:func:`gearsim.signals.analysis.kinematics`); ``teeth`` then lists the
         stages' pairs in order. None for a simple train.
+    warnings : list of str
+        What the tiers computed rests on and the record contradicts (a given speed the
+        signal disagrees with: every tier still uses the speed given).
     """
 
     n_samples: int
@@ -226,6 +229,7 @@ class RecordAnalysis:
     analysis: Any = None
     timings: dict[str, float] = field(default_factory=dict)
     stages: tuple[tuple[int, int], ...] | None = None
+    warnings: list[str] = field(default_factory=list)
 
     @property
     def frequency_unit(self) -> str:
@@ -326,7 +330,7 @@ class RecordAnalysis:
             ``source``, ``n_samples``, ``fs_hz`` and its provenance, ``speed_hz``,
             ``speed_rpm`` and provenance, ``teeth`` and provenance (with ``stages``, the
             ``[driving, driven]`` teeth of each stage, for a compound train),
-            ``frequency_unit``, ``tiers``, ``skipped``, ``timings_s``.
+            ``frequency_unit``, ``tiers``, ``skipped``, ``warnings``, ``timings_s``.
         """
         return {
             "source": dict(self.source), "units": self.units, "n_samples": self.n_samples,
@@ -340,7 +344,7 @@ class RecordAnalysis:
             **({"stages": [list(p) for p in self.stages]} if self.stages else {}),
             "frequency_unit": self.frequency_unit,
             "tiers": self.tiers, "skipped": list(self.skipped),
-            "timings_s": dict(self.timings),
+            "warnings": list(self.warnings), "timings_s": dict(self.timings),
         }
 
     def text(self) -> str:
@@ -359,14 +363,22 @@ class RecordAnalysis:
         rests = [f"fs {self.fs:g} Hz ({self.fs_provenance})" if self.fs
                  else "fs unknown (frequencies in cycles/sample)"]
         if self.speed is not None:
+            span = self.tiers.get("shaft", {}).get("speed_range_hz")
             rests.append(f"speed {60 * self.speed:.6g} rpm = {self.speed:.6g} Hz "
-                         f"({self.speed_provenance})")
+                         f"({self.speed_provenance}" + (f"; mean of {span[0]:.5g} to "
+                                                        f"{span[1]:.5g} Hz)" if span else ")"))
         if self.stages:
             rests.append("stages " + ", ".join(f"{d}/{n}" for d, n in self.stages)
                          + f" ({self.teeth_provenance})")
         elif self.teeth:
             rests.append(f"teeth {', '.join(map(str, self.teeth))} ({self.teeth_provenance})")
         lines.append("  rests on: " + "; ".join(rests))
+        lines += [f"  WARNING: {w}" for w in self.warnings]
+        d = src.get("dropped")
+        if isinstance(d, dict):  # io.record.DroppedSamples.to_dict()
+            lines.append(f"  dropped {d['count']} samples ({d['nonfinite']} non-finite) at "
+                         f"the ends, file samples {d['first']}..{d['last']}: kept "
+                         f"{d['kept'][0]}..{d['kept'][1] - 1}")
         st = self.tiers.get("statistics")
         if st:
             def g(k: str, fmt: str = ".4g") -> str:
@@ -578,7 +590,7 @@ def _kurtogram(a: np.ndarray, fs: float | None, skipped: list) -> dict | None:
             "kurtosis": _f(best.kurtosis), "level": _f(best.level)}
 
 
-def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov):
+def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warnings):
     """(speed Hz, provenance, profile or None, SpeedEstimate or None); speed None with a
     skip reason when it cannot be had."""
     from gearsim.signals import speed as sp
@@ -591,8 +603,10 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov):
                 warn = sp.check_given_speed(a, fs, float(speed), order=order)
             except InputError as exc:
                 warn = f"not checked: {_first_line(exc)}"
-            if warn:
-                skipped.append({"tier": "shaft.speed_check", "reason": str(warn)})
+            if warn and warn.startswith("not checked"):
+                skipped.append({"tier": "shaft.speed_check", "reason": warn})
+            elif warn:  # every tier uses the speed given: a warning, not a skip
+                warnings.append(f"{warn}; every tier uses the given speed")
         return float(speed), prov or "given", None, None
     if tacho is not None:
         tach = as_signal(tacho, name="tacho")
@@ -640,6 +654,19 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov):
     return est.frequency, "estimate", None, est
 
 
+def _speed_varies(span, tacho) -> str | None:
+    """Why the gear tier is skipped for a speed tracked from the signal whose range
+    ``span`` [Hz] exceeds :data:`gearsim.io.measured.RUN_UP_TOL` of its mean (the
+    run-up rule), else None. A tacho's record keeps its gear tier (TSA by the pulses)."""
+    from gearsim.io.measured import RUN_UP_TOL
+
+    if span is None or tacho is not None or span[1] - span[0] <= RUN_UP_TOL * sum(span) / 2:
+        return None
+    return (f"the speed tracked from the signal varies from {span[0]:.5g} to {span[1]:.5g} "
+            f"Hz (more than {100 * RUN_UP_TOL:g} %): the spectrum's lines and the TSA at "
+            "one speed would be smeared (give a tacho, --tacho, for a TSA by its pulses)")
+
+
 def _order_lines(a, fs, profile) -> dict[str, Any]:
     """Strongest lines of the order spectrum of the order-tracked record (orders of the
     tracked shaft: every stage's mesh shows at its own order, z times its speed ratio)."""
@@ -659,11 +686,27 @@ def _order_lines(a, fs, profile) -> dict[str, Any]:
             "lines": [{"order": float(orders[i]), "amplitude": float(amp[i])} for i in top]}
 
 
+def _other_orders(f_r, teeth, stages, top) -> list[float]:
+    """Orders (Hz) up to ``top f_r`` of the train's shafts other than the reference one
+    (shaft frequencies by :func:`~gearsim.signals.analysis.kinematics`); none without
+    teeth or stages."""
+    if not teeth:
+        return []
+    from gearsim.signals.analysis import kinematics
+
+    kin = kinematics(shaft_frequency=f_r, stages=stages) if stages else \
+        kinematics(shaft_frequency=f_r, teeth=teeth)
+    return [m * f for f in kin.shafts.values() if abs(f - f_r) > 1e-9 * f_r
+            for m in range(1, int(top * f_r / f) + 1)]
+
+
 def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
-                amp=None) -> dict[str, Any]:
+                amp=None, stages=None) -> dict[str, Any]:
+    from gearsim.signals.spectrum import Spectrum, tone
+
     out: dict[str, Any] = {"rests_on": rests, "shaft_frequency_hz": f_r,
                            "shaft_rpm": 60.0 * f_r}
-    if profile is not None and hasattr(profile, "frequency"):
+    if profile is not None:
         fr = np.asarray(profile.frequency, dtype=float)
         out["speed_range_hz"] = [float(fr.min()), float(fr.max())]
         tt = _optional("ordertrack", "tracked_tsa")
@@ -682,30 +725,29 @@ def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
     n = a.size
     if amp is None:
         amp = _hann_amplitude(a)
-    df = fs / n
-    rows = []
-    for k in SHAFT_ORDERS:
-        f = k * f_r
-        if f >= 0.5 * fs:
-            break
-        lo, hi = max(1, int((f - 0.25 * f_r) / df)), min(amp.size - 1, int((f + 0.25 * f_r) / df))
-        i = lo + int(np.argmax(amp[lo:hi + 1])) if hi >= lo else int(round(f / df))
-        rows.append({"order": k, "frequency_hz": float(i * df), "amplitude": float(amp[i])})
-    out["orders"] = rows
+    # order k is read within the window's main lobe of k f_r, widened to the speed's own
+    # spread (a tracked or tacho profile), never reaching into the main lobe of another
+    # shaft's order (the train's other shafts, as the teeth or stages know them)
+    spread = 0.0 if profile is None else float(np.max(np.abs(fr - f_r)))
+    avoid = _other_orders(f_r, teeth, stages, max(SHAFT_ORDERS) + 1.0)
+
+    def read(spec) -> list[dict[str, Any]]:
+        rows = []
+        for k in SHAFT_ORDERS:
+            if k * f_r >= 0.5 * fs:
+                break
+            t = tone(spec, k * f_r, search=max(spec.lobe_bins * spec.df, k * spread),
+                     avoid=avoid)
+            rows.append({"order": k, "frequency_hz": t.frequency, "amplitude": t.amplitude})
+        return rows
+
+    out["orders"] = read(Spectrum(np.arange(amp.size) * (fs / n), amp, "hann", fs, n))
     env = _tool("envelope", "envelope_spectrum", "shaft.envelope", skipped)
     if env is not None:
         try:
             es = env(a, fs)
-            ef = np.asarray(es.frequency, dtype=float)
-            ea = np.asarray(es.amplitude, dtype=float)
-            erows = []
-            for k in SHAFT_ORDERS:
-                sel = np.abs(ef - k * f_r) <= 0.25 * f_r
-                if sel.any():
-                    j = np.flatnonzero(sel)[np.argmax(ea[sel])]
-                    erows.append({"order": k, "frequency_hz": float(ef[j]),
-                                  "amplitude": float(ea[j])})
-            out["envelope"] = {"orders": erows}
+            out["envelope"] = {"orders": read(Spectrum(es.frequency, es.amplitude, es.window,
+                                                       fs, n))}
         except (InputError, AttributeError, TypeError) as exc:
             skipped.append({"tier": "shaft.envelope", "reason": _first_line(exc)})
     cep = _tool("cepstrum", "real_cepstrum", "shaft.cepstrum", skipped)
@@ -1031,8 +1073,7 @@ def analyze_record(
     rec.timings["spectrum"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    f_r = est_speed = None
-    pulses_tacho = None
+    f_r = est_speed = pulses_tacho = None
     if fs is None:
         for tier in ("shaft", "gear"):
             skipped.append({"tier": tier, "reason": "needs a sampling rate (give --fs, or a "
@@ -1040,7 +1081,8 @@ def analyze_record(
     else:
         order = zs[0] if zs else 1
         f_r, prov_speed, profile, est_speed = _resolve_speed(a, fs, speed, tacho, ppr, speed_search,
-                                                             order, skipped, speed_provenance)
+                                                             order, skipped, speed_provenance,
+                                                             rec.warnings)
         if est_speed is not None:
             rec.tiers.setdefault("estimates", {})["speed"] = est_speed.to_dict()
         if f_r is not None:
@@ -1056,7 +1098,7 @@ def analyze_record(
                 f_r = None
             else:
                 rec.tiers["shaft"] = _shaft_tier(a, fs, f_r, rests, skipped, profile, zs,
-                                                   amp)
+                                                   amp, stages=pairs)
         else:
             skipped.append({"tier": "gear", "reason": "needs a shaft speed (see shaft)"})
     rec.timings["shaft"] = time.perf_counter() - t0
@@ -1091,8 +1133,11 @@ def analyze_record(
                 skipped.append({"tier": "estimate.teeth", "reason": f"confidence "
                                 f"{est_z.confidence:.2f} < {TEETH_CONFIDENCE} (give --teeth)"})
     if f_r is not None:
+        varies = _speed_varies(rec.tiers["shaft"].get("speed_range_hz"), tacho)
         if not zs:
             skipped.append({"tier": "gear", "reason": "needs tooth counts (give --teeth)"})
+        elif varies:
+            skipped.append({"tier": "gear", "reason": varies})
         else:
             f_m = zs[0] * f_r
             if prov_teeth != "estimate" and f_m >= 0.5 * fs:
@@ -1111,6 +1156,12 @@ def analyze_record(
                 import dataclasses
 
                 settings = dataclasses.replace(settings, pulses_per_rev=ppr)
+            n_b = None if baseline is None else np.size(baseline)
+            if n_b is not None and n_b / fs < MIN_REVOLUTIONS / f_r:  # the record's rule
+                skipped.append({"tier": "gear.baseline", "reason": f"baseline {n_b / fs:.4g} "
+                                f"s is shorter than {MIN_REVOLUTIONS:g} revolutions of the "
+                                f"measured shaft ({MIN_REVOLUTIONS / f_r:.4g} s)"})
+                baseline = baseline_tacho = None
             g, full = _gear_tier(a, fs, f_r, zs, pulses_tacho, settings, rests, skipped,
                                  baseline, baseline_tacho, stages=pairs)
             if g is not None:

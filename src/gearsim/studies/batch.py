@@ -228,7 +228,7 @@ def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho,
              "tacho": own[c][1] if c in own else data.get(tacho),
              "own_tacho": own[c][0] if c in own else None, "speed_change": change,
              "shafts": _shafts(c, meta), **_part_of(c, meta),
-             "dropped": str(rec.dropped[c]) if c in rec.dropped else None} for c in chosen]
+             "dropped": rec.dropped[c].to_dict() if c in rec.dropped else None} for c in chosen]
 
 
 def _labels(channel: str) -> list[str]:

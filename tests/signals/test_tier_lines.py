@@ -1,0 +1,136 @@
+"""Lines the shaft tier reads: order k of the shaft within the main lobe of k f_r (or the
+speed's own spread), never another shaft's line; the envelope blind to a sensor bias."""
+
+import json
+
+import numpy as np
+import pytest
+
+from gearsim.signals.tiers import analyze_record
+
+FS = 1000.0
+
+
+def _tones(n, lines):
+    t = np.arange(n) / FS
+    return sum(a * np.cos(2 * np.pi * f * t) for f, a in lines)
+
+
+def test_weak_order_1_beside_a_strong_line_20_percent_below():
+    # 10 s at 1 kHz (0.1 Hz bins, every line on a bin: the Hann window reads it exactly):
+    # the shaft's 1x of 0.3 at 10 Hz beside a line of 3 at 8 Hz; a carrier of 200 Hz
+    # modulated by m1 = 0.05 at 10 Hz and m2 = 0.5 at 8 Hz. The squared envelope
+    # |sum A_i e^(i w_i t)|^2 holds 2 A_i A_j at every difference w_i - w_j: at 10 Hz
+    # 2 m1 = 0.1 from the carrier and 2 x 0.3 x 0.2 = 0.12 from the 10 and 20 Hz tones
+    # (0.22); at 8 Hz 2 m2 = 1
+    n = 10_000
+    t = np.arange(n) / FS
+    am = (1 + 0.05 * np.cos(2 * np.pi * 10 * t) + 0.5 * np.cos(2 * np.pi * 8 * t))
+    x = _tones(n, [(10.0, 0.3), (8.0, 3.0), (20.0, 0.2)]) + am * np.cos(2 * np.pi * 200 * t)
+    sh = analyze_record(x, FS, speed=10.0).tiers["shaft"]
+    o = {r["order"]: r for r in sh["orders"]}
+    assert o[1]["frequency_hz"] == pytest.approx(10.0, abs=0.1)
+    assert o[1]["amplitude"] == pytest.approx(0.3, rel=1e-6)
+    assert o[2]["amplitude"] == pytest.approx(0.2, rel=1e-6)
+    e = sh["envelope"]["orders"][0]
+    assert (e["order"], e["frequency_hz"]) == (1, pytest.approx(10.0, abs=0.1))
+    assert e["amplitude"] == pytest.approx(0.22, rel=1e-6)
+
+
+def test_order_read_short_of_another_shafts_line():
+    # 1.5 s: bins of 2/3 Hz; teeth 20/25 put shaft 2 at 8 Hz, 3 bins below the 1x at
+    # 10 Hz: a window of the Hann main lobe (+-2 bins) would reach bin 13 (half the 8 Hz
+    # line, 1.5); it ends one main lobe short of 8 Hz and reads 0.3 at 10 Hz
+    x = _tones(1500, [(10.0, 0.3), (8.0, 3.0)])
+    o = analyze_record(x, FS, speed=10.0, teeth=(20, 25)).tiers["shaft"]["orders"][0]
+    assert o["frequency_hz"] == pytest.approx(10.0, abs=1e-9)
+    assert o["amplitude"] == pytest.approx(0.3, rel=1e-9)
+
+
+def test_envelope_orders_blind_to_a_sensor_bias():
+    # a bias c adds 2 c x to |x + c + iH|^2: with c = 100 the 30 Hz line of 0.3 (3x)
+    # would show as 60 in the envelope; with the mean removed the record and the record
+    # + 100 give the same envelope orders (to round-off)
+    rng = np.random.default_rng(4)
+    n = 10_000
+    t = np.arange(n) / FS
+    x = _tones(n, [(10.0, 0.3), (30.0, 0.3)]) + (1 + 0.2 * np.cos(2 * np.pi * 10 * t)) * \
+        np.cos(2 * np.pi * 200 * t) + 0.05 * rng.standard_normal(n)
+    env = [analyze_record(x + c, FS, speed=10.0).tiers["shaft"]["envelope"]["orders"]
+           for c in (0.0, 100.0)]
+    for r0, r1 in zip(*env, strict=True):
+        assert r1["amplitude"] == pytest.approx(r0["amplitude"], rel=1e-9, abs=1e-9)
+    # no two lines 30 Hz apart: the 3x is noise, against 2 c 0.3 = 60 with the bias kept
+    assert env[0][2]["amplitude"] < 1.0
+
+
+def test_dropped_samples_reported_as_an_object_and_a_text_line(tmp_path, capsys):
+    from gearsim import cli
+
+    # 1000 samples, NaN in the first 3 and the last 2: 5 dropped, file samples 3..997 kept
+    x = _tones(1000, [(10.0, 1.0)])
+    x[:3] = x[-2:] = np.nan
+    p = tmp_path / "nan.csv"
+    p.write_text("# fs = 1000\nacc\n" + "\n".join(f"{v:.17g}" for v in x) + "\n")
+    assert cli.run(["analyze", str(p), "--drop-nonfinite", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)["records"][0]["source"]["dropped"]
+    assert d == {"count": 5, "nonfinite": 5, "first": 0, "last": 999, "kept": [3, 998]}
+    assert cli.run(["analyze", str(p), "--drop-nonfinite"]) == 0
+    out = capsys.readouterr().out
+    assert "995 samples" in out
+    assert "dropped 5 samples (5 non-finite) at the ends, file samples 0..999: kept 3..997" in out
+
+
+def test_speed_disagreement_is_a_warning_and_the_given_speed_is_used(tmp_path, capsys):
+    from gearsim import cli
+
+    # mesh of 10 teeth at 10 Hz (100 Hz), given 10.2 Hz: 10/10.2 - 1 = -1.96 %, far
+    # beyond the check's 0.2 %; every tier still runs at 10.2 Hz, as said, with a warning
+    x = _tones(10_000, [(100.0, 1.0), (90.0, 0.1), (110.0, 0.1), (10.0, 0.2)])
+    r = analyze_record(x, FS, speed=10.2, teeth=(10, 20))
+    assert not any(s["tier"] == "shaft.speed_check" for s in r.skipped)
+    (w,) = r.to_dict()["warnings"]
+    assert "given speed 10.2 Hz" in w and "-1.96" in w and " 10 Hz" in w
+    assert r.tiers["gear"]["analysis"]["train"]["mesh_frequency_hz"] == pytest.approx(102.0)
+    p = tmp_path / "r.csv"
+    p.write_text("# fs = 1000\nacc\n" + "\n".join(f"{v:.17g}" for v in x) + "\n")
+    assert cli.run(["analyze", str(p), "--shaft-rpm", "612", "--teeth", "10", "20"]) == 0
+    out = capsys.readouterr().out
+    assert "WARNING: given speed 10.2 Hz" in out and "skipped shaft.speed_check" not in out
+
+
+def test_baseline_shorter_than_two_revolutions_is_not_used():
+    # 10 Hz shaft: 2 revolutions are 0.2 s = 200 samples; a baseline of 150 samples
+    # (1.5 revolutions) gives no ratios and no NA4 from it, with the reason
+    x = _tones(10_000, [(100.0, 1.0), (90.0, 0.1), (110.0, 0.1)])
+    x += 0.01 * np.random.default_rng(0).standard_normal(x.size)
+    r = analyze_record(x, FS, speed=10.0, teeth=(10, 20), baseline=x[:150])
+    assert "ratios_to_baseline" not in r.tiers["gear"]["analysis"]
+    (why,) = [s["reason"] for s in r.skipped if s["tier"] == "gear.baseline"]
+    assert why == ("baseline 0.15 s is shorter than 2 revolutions of the measured shaft "
+                   "(0.2 s)")
+    ok = analyze_record(x, FS, speed=10.0, teeth=(10, 20), baseline=x[:200])
+    assert "ratios_to_baseline" in ok.tiers["gear"]["analysis"]
+
+
+@pytest.mark.parametrize("rise", [0.0, 0.1])
+def test_gear_tier_skipped_when_the_tracked_speed_varies(rise):
+    # 20 teeth on a shaft at 10 + rise t Hz for 10 s: with rise 0.1 Hz/s the speed goes
+    # from 10 to 11 Hz (10 % of its mean 10.5 Hz, beyond the run-up rule's 1 %); the
+    # gear tier at one speed would smear the mesh line over 200..220 Hz: skipped, naming
+    # the range; at a constant speed it runs
+    fs = 2000.0
+    t = np.arange(int(10 * fs)) / fs
+    ph = 2 * np.pi * np.cumsum(10.0 + rise * t) / fs
+    x = (np.cos(20 * ph) + 0.3 * np.cos(ph) + 0.1 * np.cos(19 * ph) + 0.1 * np.cos(21 * ph)
+         + 0.05 * np.random.default_rng(0).standard_normal(t.size))
+    r = analyze_record(x, fs, speed_search=(8.0, 14.0), teeth=(20, 40))
+    if rise == 0.0:
+        assert "gear" in r.tiers and "speed_range_hz" not in r.tiers["shaft"]
+        return
+    lo, hi = r.tiers["shaft"]["speed_range_hz"]
+    assert (lo, hi) == (pytest.approx(10.0, rel=0.01), pytest.approx(11.0, rel=0.01))
+    assert "gear" not in r.tiers
+    (why,) = [s["reason"] for s in r.skipped if s["tier"] == "gear"]
+    assert f"varies from {lo:.5g} to {hi:.5g} Hz" in why
+    assert f"mean of {lo:.5g} to {hi:.5g} Hz" in r.text()

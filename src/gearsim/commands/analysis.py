@@ -540,7 +540,7 @@ def _text_of(d: dict) -> str:
                        teeth_provenance=d["teeth_provenance"], tiers=d["tiers"],
                        skipped=d["skipped"], source=d["source"], units=d["units"],
                        stages=tuple(tuple(p) for p in d["stages"]) if d.get("stages")
-                       else None)
+                       else None, warnings=list(d.get("warnings", [])))
     return r.text()
 
 

@@ -195,6 +195,7 @@ def test_trends_and_alarms_per_condition(box, records):
     ({"speeds": [2e5]}, r"speeds = 200000.0: must be in \[0.001, 100000\] rad/s"),
     ({"speeds": [1e-300]}, r"speeds = 1e-300: must be in \[0.001, 100000\] rad/s"),
     ({"speeds": [1e5]}, "speeds = 100000.0: its record is refused: dynamics.fs"),
+    ({"duration": 0.01}, r"^duration = 0.01: must be >= 0.101215 s"),  # 60 / (1900 * 39/125)
 ])
 def test_operating_conditions_refused(box, kw, match):
     from gearsim.studies.life import operating_conditions
@@ -259,6 +260,11 @@ def no_life(monkeypatch):
     (("--speeds", "2e5 rad/s"), "--speeds = 2e5 rad/s: 2e5 rad/s: must be in [0.001, 100000] rad/s"),
     (("--speeds", "1e5 rad/s"), "--speeds = 1e5 rad/s: 1e5 rad/s: its record is refused: "
                                 "dynamics.fs"),
+    # one revolution of the 125-tooth output: 60 s / (1900 rpm * 39 / 125), twice at 950 rpm
+    (("--duration", "0.01"), "--duration = 0.01: must be >= 0.101215 s (one revolution"),
+    (("--duration", "0.15", "--speeds", "950,1900 rpm"),
+     "--duration = 0.15: must be >= 0.202429 s (one revolution of the slowest gear, output) "
+     "at 950 rpm"),
     (("--workers", "0"), "--workers = 0: must be an integer >= 1"),
     (("--scheduler", "not a url"), "--scheduler = not a url: must be a scheduler address"),
     (("--scheduler", "localhost:99999"), "--scheduler = localhost:99999: port must be in 1-65535"),

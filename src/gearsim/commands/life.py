@@ -84,7 +84,8 @@ def _quantities(text: str, kind: str, option: str) -> list[tuple[str, float]]:
 
 def _conditions(gb, loads: str | None, speeds: str | None, duration: float | None):
     """The records' loads [N m] and speeds [rad/s] of ``--loads``/``--speeds``, checked
-    item by item (:func:`gearsim.studies.life.operating_conditions`)."""
+    item by item (:func:`gearsim.studies.life.operating_conditions`), and ``--duration``
+    against the records at every speed (default the config's)."""
     from gearsim.studies.life import operating_conditions
 
     out = []
@@ -98,11 +99,16 @@ def _conditions(gb, loads: str | None, speeds: str | None, duration: float | Non
             try:
                 operating_conditions(gb, **{name: [v]}, duration=duration)
             except InputError as exc:
+                if exc.parameter == "duration":
+                    raise InputError("--duration", duration, f"{exc.limit} at {item}") from None
                 raise InputError(option, text, f"{item}: {exc.limit}") from None
         vals = [v for _, v in items]
         if len(set(vals)) != len(vals):
             raise InputError(option, text, "must not repeat a value")
         out.append(vals)
+    if speeds is None:  # the records at the config's speed
+        with as_options({"duration": "--duration"}):
+            operating_conditions(gb, duration=duration)
     return out[0], out[1]
 
 

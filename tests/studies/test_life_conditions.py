@@ -250,11 +250,13 @@ def no_life(monkeypatch):
     (("--loads", "100,inf N*m"), "--loads = 100,inf N*m: inf N*m: must be a finite number"),
     (("--loads", "100,2e10 N*m"), "--loads = 100,2e10 N*m: 2e10 N*m: must be in [1e-06, 1e+09] N*m"),
     (("--loads", "1e-12 N*m"), "--loads = 1e-12 N*m: 1e-12 N*m: must be >= 1e-09 N*m"),
-    (("--loads", "100,200"), "--loads = 100,200: 100: give a unit"),
+    (("--loads", "40,60"), "--loads = 40,60: 40: give a unit after the last value, e.g. "
+                           "'40,60 N*m'"),  # not the hint of a bare TOML number
     (("--loads", "100,,200 N*m"), "--loads = 100,,200 N*m: must list values without empty"),
     (("--loads", "2000 N*m,2 kN*m"), "--loads = 2000 N*m,2 kN*m: must not repeat a value"),
     (("--loads", "5 m"), "--loads = 5 m: 5 m: has units of [length]"),
-    (("--speeds", "1900"), "--speeds = 1900: 1900: give a unit"),
+    (("--speeds", "1900"), "--speeds = 1900: 1900: give a unit after the last value, e.g. "
+                           "'1900 rpm'"),
     (("--speeds", "1500,nan rpm"), "--speeds = 1500,nan rpm: nan rpm: must be a finite"),
     (("--speeds", "-5 rpm"), "--speeds = -5 rpm: -5 rpm: must be a finite number > 0 rad/s"),
     (("--speeds", "2e5 rad/s"), "--speeds = 2e5 rad/s: 2e5 rad/s: must be in [0.001, 100000] rad/s"),

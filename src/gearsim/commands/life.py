@@ -70,6 +70,9 @@ def _quantities(text: str, kind: str, option: str) -> list[tuple[str, float]]:
     unit = m.group(1).strip() if m is not None else ""
     out = []
     for p in parts:
+        if bare(p) and not unit:  # to_si's hint of a bare TOML number does not hold here
+            raise InputError(option, text, f"{p}: give a unit after the last value, e.g. "
+                             f"'{text} {'N*m' if kind == 'torque' else 'rpm'}'")
         item = f"{p} {unit}" if bare(p) and unit else p
         try:
             v = to_si(item, kind, option)

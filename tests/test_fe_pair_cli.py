@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 
 import pytest
 
@@ -57,3 +58,92 @@ def test_bad_input_is_one_line(args, name, capsys):
     assert run(["fe-pair", "spur-19-48", *args]) == 2
     err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
     assert len(err) == 1 and err[0].startswith(f"gearsim: error: {name} = ")
+
+
+#: A spur 23/77 pair (m 2.5 mm, 20 deg, 35 mm) driving a 27/35/97 x 4 stage (sun in).
+GEARS_BEFORE_STAGE = """
+name = "gears before a stage"
+[material]
+youngs_modulus = "206 GPa"
+poisson_ratio = 0.3
+density = "7850 kg/m^3"
+[common]
+normal_module = "2.5 mm"
+face_width = "35 mm"
+[[shafts]]
+name = "engine"
+[[shafts]]
+name = "sun-shaft"
+[[shafts]]
+name = "mast"
+[[gears]]
+name = "engine-pinion"
+shaft = "engine"
+teeth = 23
+[[gears]]
+name = "bull-gear"
+shaft = "sun-shaft"
+teeth = 77
+[[meshes]]
+gears = ["engine-pinion", "bull-gear"]
+[[stages]]
+sun = "sun-shaft"
+ring = "housing"
+carrier = "mast"
+sun_teeth = 27
+planet_teeth = 35
+ring_teeth = 97
+planets = 4
+normal_module = "3 mm"
+face_width = "40 mm"
+ring_addendum_coefficient = 0.8
+[operating]
+speed = "4000 rpm"
+torque = "200 N*m"
+"""
+
+
+@pytest.mark.parametrize("verb", [["fe-check", "--points", "3"], ["fe-pair"]])
+def test_a_stage_without_gears_is_refused_in_one_line(verb, gearsim_here):
+    res = gearsim_here(verb[0], "nrel-grc", *verb[1:], "--level", "0")
+    err = [ln for ln in res.stderr.splitlines() if ln.strip()]
+    assert res.returncode == 2 and len(err) == 1
+    assert err[0].startswith("gearsim: error: config = nrel-grc: has a planetary stage")
+
+
+def test_the_gears_beside_a_stage(tmp_path, gearsim_here):
+    """The mesh ahead of a stage (mesh I as layout names it): k = F / TE with the input
+    torque 200 N m over r_b1 = 28.75 cos 20 deg mm; fe-check of the bull gear from where
+    the pinion's tip (r_a1 = 31.25 mm) meets the line of action (a = 125 mm) to its tip
+    (r_a2 = 98.75 mm)."""
+    cfg = tmp_path / "box.toml"
+    cfg.write_text(GEARS_BEFORE_STAGE)
+    res = gearsim_here("fe-pair", cfg, "--positions", "0.25", "--level", "0", "--json")
+    assert res.returncode == 0, res.stderr
+    rep = json.loads(res.stdout)
+    rb1 = 28.75e-3 * math.cos(math.radians(20))
+    assert rep["mesh"] == "I" and rep["torque_N_m"] == pytest.approx(200.0, rel=1e-12)
+    row = rep["positions"][0]
+    assert row["stiffness_N_per_m"] == pytest.approx(200.0 / rb1 / row["transmission_error_m"],
+                                                     rel=1e-9)
+    assert gearsim_here("fe-pair", cfg, "--mesh", "1").stderr.startswith(
+        "gearsim: error: --mesh = 1: must be in 0 .. 0")
+    res = gearsim_here("fe-check", cfg, "--gear", "bull-gear", "--points", "3", "--level",
+                       "0", "--json")
+    assert res.returncode == 0, res.stderr
+    rb2, ra2 = 96.25e-3 * math.cos(math.radians(20)), 98.75e-3
+    l0 = 125e-3 * math.sin(math.radians(20)) - math.sqrt(31.25e-3**2 - rb1**2)
+    l1 = math.sqrt(ra2**2 - rb2**2)  # points equally spaced in roll length
+    assert json.loads(res.stdout)["radius_m"] == pytest.approx(
+        [math.hypot(rb2, v) for v in (l0, (l0 + l1) / 2, l1)], rel=1e-9)
+    assert gearsim_here("fe-check", cfg, "--gear", "sun", "--level", "0").stderr.startswith(
+        "gearsim: error: --gear = sun: must be one of the external gears")
+
+
+def test_a_chain_after_a_stage_takes_the_stage_output_torque(gearsim_here):
+    """wind-turbine-grc: --torque 1e5 N m on the carrier (ring held) reaches the sun, and
+    the 82-tooth gear of mesh I on its shaft, as 1e5 * 21 / (21 + 99) N m."""
+    res = gearsim_here("fe-pair", "wind-turbine-grc", "--torque", "1e5 N*m", "--positions",
+                       "0.25", "--level", "0", "--json")
+    assert res.returncode == 0, res.stderr
+    assert json.loads(res.stdout)["torque_N_m"] == pytest.approx(1e5 * 21 / 120, rel=1e-9)

@@ -172,3 +172,25 @@ def test_fem_mesh_convergence_rate(table1):
     assert np.all((rate >= 1.5) & (rate <= 3.5)), f"observed orders {rate}"
     extrapolated = c[2] + d12 / (2.0 ** rate - 1.0)
     assert np.all(np.abs(c[2] / extrapolated - 1.0) < 5e-3)
+
+
+def test_fem_contact_radii_of_each_gear_of_a_graph_train():
+    """Two-stage reducer (m 1.5 mm, 20 deg, standard): every gear's path in its own mesh,
+    by hand on the line of action. Mesh II (48/64, a = 84 mm): the pinion from
+    sqrt(r_b1^2 + (a sin 20 - sqrt(r_a2^2 - r_b2^2))^2) = 34.842 mm to its tip 37.5 mm
+    (r_b1 = 33.83 mm); the 64-tooth gear from 46.818 mm to 49.5 mm. Mesh I (32/80)."""
+    from gearsim.model import load
+
+    train = load("two-stage-reducer").train
+    al = np.radians(20.0)
+    for names, (z1, z2) in ((("input-pinion", "intermediate-gear"), (32, 80)),
+                            (("intermediate-pinion", "output-gear"), (48, 64))):
+        r = 0.75e-3 * np.array([z1, z2])
+        rb, ra, line = r * np.cos(al), r + 1.5e-3, r.sum() * np.sin(al)
+        for i, name in enumerate(names):
+            lo = np.hypot(rb[i], line - np.sqrt(ra[1 - i] ** 2 - rb[1 - i] ** 2))
+            got = contact_radii(train, name, 3)
+            assert_allclose(got[[0, -1]], [lo, ra[i]], rtol=1e-9, err_msg=name)
+    got = contact_radii(train, "intermediate-pinion", 3)
+    assert_allclose(got[[0, -1]], [34.842e-3, 37.5e-3], atol=1e-6)
+    assert_allclose(train.gear("intermediate-pinion").base_radius, 33.829e-3, atol=1e-6)

@@ -195,6 +195,7 @@ def test_trends_and_alarms_per_condition(box, records):
     ({"speeds": [2e5]}, r"speeds = 200000.0: must be in \[0.001, 100000\] rad/s"),
     ({"speeds": [1e-300]}, r"speeds = 1e-300: must be in \[0.001, 100000\] rad/s"),
     ({"speeds": [1e5]}, "speeds = 100000.0: its record is refused: dynamics.fs"),
+    ({"duration": 0.01}, r"^duration = 0.01: must be >= 0.101215 s"),  # 60 / (1900 * 39/125)
 ])
 def test_operating_conditions_refused(box, kw, match):
     from gearsim.studies.life import operating_conditions
@@ -249,16 +250,23 @@ def no_life(monkeypatch):
     (("--loads", "100,inf N*m"), "--loads = 100,inf N*m: inf N*m: must be a finite number"),
     (("--loads", "100,2e10 N*m"), "--loads = 100,2e10 N*m: 2e10 N*m: must be in [1e-06, 1e+09] N*m"),
     (("--loads", "1e-12 N*m"), "--loads = 1e-12 N*m: 1e-12 N*m: must be >= 1e-09 N*m"),
-    (("--loads", "100,200"), "--loads = 100,200: 100: give a unit"),
+    (("--loads", "40,60"), "--loads = 40,60: 40: give a unit after the last value, e.g. "
+                           "'40,60 N*m'"),  # not the hint of a bare TOML number
     (("--loads", "100,,200 N*m"), "--loads = 100,,200 N*m: must list values without empty"),
     (("--loads", "2000 N*m,2 kN*m"), "--loads = 2000 N*m,2 kN*m: must not repeat a value"),
     (("--loads", "5 m"), "--loads = 5 m: 5 m: has units of [length]"),
-    (("--speeds", "1900"), "--speeds = 1900: 1900: give a unit"),
+    (("--speeds", "1900"), "--speeds = 1900: 1900: give a unit after the last value, e.g. "
+                           "'1900 rpm'"),
     (("--speeds", "1500,nan rpm"), "--speeds = 1500,nan rpm: nan rpm: must be a finite"),
     (("--speeds", "-5 rpm"), "--speeds = -5 rpm: -5 rpm: must be a finite number > 0 rad/s"),
     (("--speeds", "2e5 rad/s"), "--speeds = 2e5 rad/s: 2e5 rad/s: must be in [0.001, 100000] rad/s"),
     (("--speeds", "1e5 rad/s"), "--speeds = 1e5 rad/s: 1e5 rad/s: its record is refused: "
                                 "dynamics.fs"),
+    # one revolution of the 125-tooth output: 60 s / (1900 rpm * 39 / 125), twice at 950 rpm
+    (("--duration", "0.01"), "--duration = 0.01: must be >= 0.101215 s (one revolution"),
+    (("--duration", "0.15", "--speeds", "950,1900 rpm"),
+     "--duration = 0.15: must be >= 0.202429 s (one revolution of the slowest gear, output) "
+     "at 950 rpm"),
     (("--workers", "0"), "--workers = 0: must be an integer >= 1"),
     (("--scheduler", "not a url"), "--scheduler = not a url: must be a scheduler address"),
     (("--scheduler", "localhost:99999"), "--scheduler = localhost:99999: port must be in 1-65535"),

@@ -275,3 +275,35 @@ def test_fault_magnitudes_section(study):
         if r["impact_percent"] is not None:
             assert r["reaches_impact"] == (r["impact_percent"] >= 203.1)
         assert r["reaches_rms"] == (r["rms_percent"] >= 132.4)
+
+
+def test_sensitivity_drops_compare_like_with_like():
+    """Two-stage reducer (calibrated stiffness in its config, PE in the sensitivity): a
+    1 um crack costs no stiffness (it reported 6.8 %, the calibrated-to-PE difference),
+    and the drops at 0.5 mm equal those of two TVMS tables of the PE model read from
+    TOML (the config with the PE tooth, its contact and coupling kept; healthy, and with
+    the crack written out: input-pinion, tooth 0, 45 deg, the crack reproduce puts on a
+    config without one)."""
+    from importlib.resources import files
+
+    from gearsim.model import loads
+    from gearsim.studies.reproduce import compute_reproduction
+
+    rep = compute_reproduction(ReproduceOptions(
+        config="two-stage-reducer", fe=False, revolutions=14, fault_severities=(),
+        depth=0.5e-3, depths=(1e-6, 0.5e-3)))
+    rows = {(r["case"], r["depth_m"]): r for r in rep.sensitivity}
+    keys = ("tvms_mean_drop_percent", "tvms_min_drop_percent", "tvms_max_local_drop_percent")
+    for case in ("working", "non-working", "open"):
+        assert [rows[case, 1e-6][k] for k in keys] == pytest.approx([0, 0, 0], abs=1e-3)
+    text = (files("gearsim.data") / "two-stage-reducer.toml").read_text().replace(
+        'closure = "contact"',
+        'closure = "contact"\nsource = "pe"\ncontact = "line"\ncoupling = "fe"')
+    crack = ('\n[[cracks]]\ngear = "input-pinion"\ntooth = 0\ndepth = "0.5 mm"\n'
+             'angle = "45 deg"\nflank = "working"\n')
+    k_h, k = (loads(t).mesh_stiffness(0, revolution_of=1)["k"].values
+              for t in (text, text + crack))
+    drops = [100 * (k_h.mean() - k.mean()) / k_h.mean(),
+             100 * (k_h.min() - k.min()) / k_h.min(), 100 * np.max((k_h - k) / k_h)]
+    assert [rows["working", 0.5e-3][k] for k in keys] == pytest.approx(drops, rel=1e-9)
+    assert drops[0] < 0.1 and 1 < drops[1] < 2  # the probe's 0.048 % and 1.51 %

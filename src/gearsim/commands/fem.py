@@ -14,6 +14,18 @@ from gearsim.commands._options import as_options, with_torque
 __all__ = ["fe_check_command", "fe_pair_command", "register"]
 
 
+def _gearbox(config: str, purpose: str):
+    """The gearbox of ``config``, refused without a gear chain (beside a planetary stage:
+    the gears driving it, then those it drives, :attr:`gearsim.model.Gearbox.chains`)."""
+    from gearsim.errors import require
+    from gearsim.model import load
+
+    gb = load(config)
+    require(bool(gb.chains), "config", config, f"has a planetary stage and no gear chain; "
+            f"{purpose}")
+    return gb
+
+
 def _figure_file(name: str) -> bool:
     """A figure ``fe-check`` writes (the other ones are kept when the folder is replaced)."""
     return name.startswith("fe_check_") and name.endswith(".png")
@@ -48,7 +60,9 @@ def fe_check_command(
     config : str
         TOML file or built-in example name.
     gear : str, optional
-        Gear to check; default the first cracked gear, else the first gear.
+        Gear to check, of the external gears (beside a planetary stage, those driving or
+        driven by it; a config without any is refused); default the first cracked gear,
+        else the first gear.
     crack : str
         ``"none"``, ``"working"`` or ``"non-working"``; depth and angle from the
         config's crack on that gear.
@@ -73,15 +87,20 @@ def fe_check_command(
         An unknown gear, crack or closure, too many points, a bad config or an
         unwritable ``--plot`` folder (exit status 2 in the CLI).
     """
+    from gearsim.errors import InputError
     from gearsim.fem.check import fe_check
     from gearsim.io.targets import atomic_folder, check_output_folder
-    from gearsim.model import load
     from gearsim.viz import save
 
     folder = None
     if plot is not None:  # every output target is checked before any work
         folder = check_output_folder(plot, "--plot", owned=_figure_file)
-    train = load(config).train
+    chains = _gearbox(config, "fe-check takes a gear of external gears").chains
+    names = [g.name for t in chains for g in t.gears]
+    if gear is not None and gear not in names:
+        raise InputError("--gear", gear, f"must be one of the external gears {names}")
+    train = next((t for t in chains if gear in [g.name for g in t.gears]
+                  or gear is None and t.cracks), chains[0])
     with as_options({"fem.level": "--level", "points": "--points"}):
         result = fe_check(train, gear, crack=crack, closure=closure, level=level,
                           points=points)
@@ -134,7 +153,8 @@ def _positions(text: str) -> list[float]:
 
 def fe_pair_command(
     config: Annotated[str, typer.Argument(help="TOML file or built-in example name")],
-    mesh: Annotated[int, typer.Option(help="mesh index (0 = mesh I)")] = 0,
+    mesh: Annotated[int, typer.Option(help="mesh index (0 = mesh I), as gearsim layout "
+                                           "names the meshes")] = 0,
     positions: Annotated[str, typer.Option(
         help="N positions u = (i + 1/2)/N, or a comma list of mesh-cycle fractions in [0, 1)")]
     = "8",
@@ -159,7 +179,8 @@ def fe_pair_command(
     config : str
         TOML file or built-in example name (its cracks are ignored: healthy gears).
     mesh : int
-        Mesh index.
+        Mesh index of the external gears as ``gearsim layout`` names them (beside a
+        planetary stage the gears driving it first, :meth:`gearsim.model.Gearbox.gear_mesh`).
     positions : str
         A count N or a comma list of mesh-cycle fractions in [0, 1).
     torque : str, optional
@@ -179,18 +200,14 @@ def fe_pair_command(
 
     import numpy as np
 
-    from gearsim.errors import InputError
     from gearsim.fem.pair import FEPairModel
-    from gearsim.model import load
     from gearsim.stiffness.settings import MODELS
     from gearsim.studies.fe_pair_check import section_tvms
 
     u = _positions(positions)
-    train = load(config).train.with_cracks(())
-    n = len(train.pairs)
-    if not 0 <= mesh < n:
-        raise InputError("--mesh", mesh, f"must be in 0 .. {n - 1} ({n} meshes)")
-    train = with_torque(train, torque)
+    gb = with_torque(_gearbox(config, "fe-pair takes a mesh of external gears"), torque)
+    train, mesh, mesh_name = gb.gear_mesh(mesh, "--mesh")
+    train = train.with_cracks(())
     pair = train.pairs[mesh]
     with as_options({"fem.level": "--level", "level": "--level", "torque": "--torque"}):
         model = FEPairModel(pair, torque=train.mesh_torque(mesh), level=level,
@@ -215,11 +232,11 @@ def fe_pair_command(
             "root_stress_driven_Pa": [float(v) for v in r.root_stress_driven],
             **{f"k_{c}_N_per_m": float(v[i]) for c, v in curves.items()}})
     if json_:
-        typer.echo(json.dumps({"mesh": pair.name, "torque_N_m": train.mesh_torque(mesh),
+        typer.echo(json.dumps({"mesh": mesh_name, "torque_N_m": train.mesh_torque(mesh),
                                "level": model.level, "h_contact_m": model.h_contact,
                                "positions": rows}, indent=2))
         return
-    typer.echo(f"mesh {pair.name} ({pair.driver.name} -> {pair.driven.name}), transverse "
+    typer.echo(f"mesh {mesh_name} ({pair.driver.name} -> {pair.driven.name}), transverse "
                f"section; driver torque {train.mesh_torque(mesh):.6g} N m; FE level {model.level} "
                f"(contact elements {model.h_contact * 1e6:.3g} um)")
     typer.echo(f"{'u':>6} {'k_FE GN/m':>10} {'TE um':>8} {'shares':>14} {'b um':>12} "

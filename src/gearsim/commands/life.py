@@ -70,6 +70,9 @@ def _quantities(text: str, kind: str, option: str) -> list[tuple[str, float]]:
     unit = m.group(1).strip() if m is not None else ""
     out = []
     for p in parts:
+        if bare(p) and not unit:  # to_si's hint of a bare TOML number does not hold here
+            raise InputError(option, text, f"{p}: give a unit after the last value, e.g. "
+                             f"'{text} {'N*m' if kind == 'torque' else 'rpm'}'")
         item = f"{p} {unit}" if bare(p) and unit else p
         try:
             v = to_si(item, kind, option)
@@ -84,7 +87,8 @@ def _quantities(text: str, kind: str, option: str) -> list[tuple[str, float]]:
 
 def _conditions(gb, loads: str | None, speeds: str | None, duration: float | None):
     """The records' loads [N m] and speeds [rad/s] of ``--loads``/``--speeds``, checked
-    item by item (:func:`gearsim.studies.life.operating_conditions`)."""
+    item by item (:func:`gearsim.studies.life.operating_conditions`), and ``--duration``
+    against the records at every speed (default the config's)."""
     from gearsim.studies.life import operating_conditions
 
     out = []
@@ -98,11 +102,16 @@ def _conditions(gb, loads: str | None, speeds: str | None, duration: float | Non
             try:
                 operating_conditions(gb, **{name: [v]}, duration=duration)
             except InputError as exc:
+                if exc.parameter == "duration":
+                    raise InputError("--duration", duration, f"{exc.limit} at {item}") from None
                 raise InputError(option, text, f"{item}: {exc.limit}") from None
         vals = [v for _, v in items]
         if len(set(vals)) != len(vals):
             raise InputError(option, text, "must not repeat a value")
         out.append(vals)
+    if speeds is None:  # the records at the config's speed
+        with as_options({"duration": "--duration"}):
+            operating_conditions(gb, duration=duration)
     return out[0], out[1]
 
 

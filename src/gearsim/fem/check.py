@@ -142,7 +142,9 @@ class FECheck:
 def contact_radii(train, gear_name: str, n: int) -> np.ndarray:
     """Contact radii of a gear over its path of contact in its first mesh.
 
-    Equally spaced in roll length from the start of active profile to the tip.
+    The first mesh of the power flow the gear takes part in (the one loading its working
+    flank, :meth:`gearsim.system.graph.PowerFlow.meshes_of`), as its driver or driven
+    gear. Equally spaced in roll length from the start of active profile to the tip.
 
     Parameters
     ----------
@@ -169,11 +171,10 @@ def contact_radii(train, gear_name: str, n: int) -> np.ndarray:
         raise InputError("--points", n, f"must be <= {MAX_POINTS}: each point is one FE "
                          f"solve, and {MAX_POINTS} points already resolve the path of "
                          "contact finer than the FE mesh")
-    gi = train.gear_index(gear_name)
-    mesh = 0 if gi == 0 else gi - 1
+    mesh, role = train.flow.meshes_of(gear_name)[0]
     pair = train.pairs[mesh]
-    gear = train.gears[gi]
-    if gi == mesh:  # driver
+    gear = train.gear(gear_name)
+    if role == 1:  # driver
         r_lo = pair.radius_on_driver(pair.start_of_contact)
     else:
         r_lo = pair.radius_on_driven(pair.end_of_contact)

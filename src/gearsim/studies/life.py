@@ -838,7 +838,8 @@ def operating_conditions(gb: Gearbox, loads: Sequence[float] | None = None,
     InputError
         ``loads`` or ``speeds``: empty, repeated, not finite, <= 0 or above the model's
         ceiling; a speed whose record the simulation refuses (``dynamics.fs`` aliasing,
-        cost bounds; the limit of that check, the parameter ``speeds``).
+        cost bounds; the limit of that check, the parameter ``speeds``); ``duration``
+        shorter than a record needs at the slowest speed.
     """
     from gearsim.system import Operating
 
@@ -865,6 +866,8 @@ def operating_conditions(gb: Gearbox, loads: Sequence[float] | None = None,
             dataclasses.replace(box, dynamics=dataclasses.replace(
                 box.dynamics, duration=d)).check_run()
         except InputError as exc:
+            if duration is not None and exc.parameter == "dynamics.duration":
+                raise InputError("duration", duration, exc.limit) from None
             raise InputError("speeds", float(s), f"its record is refused: {exc}") from None
     return out[0], out[1]
 

@@ -429,8 +429,9 @@ def run_reproduction(out: str | Path, options: ReproduceOptions | None = None, *
 def _sensitivity(base: GearTrain, opt: ReproduceOptions, settings: DynamicsSettings,
                  healthy: CaseRun, eps: float, say: Callable[[str], None],
                  force: bool | None = None) -> list[dict[str, Any]]:
-    """Claims measures and TVMS drop versus crack depth (PE route)."""
-    k_h = base.with_cracks(()).mesh_stiffness(0, revolution_of=1).k
+    """Claims measures and TVMS drop versus crack depth (PE route: the cracked trains
+    against the healthy PE case ``healthy``, simulation and stiffness alike)."""
+    k_h = healthy.train.mesh_stiffness(0, revolution_of=1).k
     rows = []
     variants = SENSITIVITY
     for d in opt.depths:

@@ -348,8 +348,8 @@ def _parse_chain(raw: Any, material: Any, op: Operating, parse: Callable, table:
             if isinstance(t, dict) and k in t:
                 raise InputError(f"{table}.{where}.{k}", t[k], "is read for a gearbox of "
                                  "parallel shafts only: beside a planetary stage the gears "
-                                 f"take {k} from [dynamics] (one backlash for every mesh, "
-                                 "the stages' included)")
+                                 f"take {k} from [dynamics] (one value for every "
+                                 "mesh or gear, the stages' included)")
     sub = {k: v for k, v in raw.items() if k != "shaft_stiffness"}
     sub.setdefault("name", table.replace("_", " "))
     sub["material"] = material

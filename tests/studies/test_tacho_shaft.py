@@ -10,6 +10,8 @@ reducer's input record with the intermediate shaft's tacho had stage 1 at 384 Hz
 
 from __future__ import annotations
 
+import math
+
 import pytest
 import xarray as xr
 
@@ -165,3 +167,19 @@ def test_a_slow_members_run_up_is_not_analysed_at_the_nominal_speed(slow_run_up)
     (given,), _ = analyze_file(slow_run_up, channels=["sensor"], speed=0.3)
     assert given["record"]["speed_hz"] == 0.3
     assert given["record"]["tiers"]["planetary"]["frequencies"]["carrier"] == 0.3
+
+
+def test_a_steady_speed_off_the_operating_one_is_read_from_the_tacho(tmp_path):
+    """A speed table that holds 1.2 times the operating speed (36 Hz, not the reducer's
+    30 Hz) over the whole record: the file's speeds are at the operating point, so the
+    record is read with its own tacho (36 Hz within 1 %); before, at 30 Hz without a
+    word (every line of the analysis 20 % off)."""
+    path = tmp_path / "steady.nc"
+    w = 2 * math.pi * 36.0
+    write_results(gs.example("two-stage-reducer").replace(
+        dynamics={"duration": 0.6, "fs": 10e3, "speed_times": [0.0, 1e-3],
+                  "speed_values": [w, w]}).simulate(), path)
+    (row,), problems = analyze_file(str(path), channels=["acceleration[input,y]"])
+    assert not problems
+    assert row["record"]["source"]["tacho"] == "tacho[shaft=input]"
+    assert row["record"]["speed_hz"] == pytest.approx(36.0, rel=0.01)

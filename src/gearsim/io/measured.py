@@ -593,6 +593,9 @@ def _read_netcdf(path: Path, shown: Path) -> _Raw:
             meta["varying_tachos"] = varying
     if (change := _speed_change(ds, meta.get("varying_tachos"))) is not None:
         meta["speed_change"] = change
+        if "tacho_shafts" in meta and not meta.get("varying_tachos"):
+            # a steady speed off the nominal one: every shaft's tacho follows the run
+            meta["varying_tachos"] = list(meta["tacho_shafts"])
     if "teeth" in meta:  # a compound train's stages ("32/80,48/64"), else its configuration
         if (stages := _stages_attr(ds.attrs.get("analysis_stages"))) is not None:
             meta["stages"] = stages
@@ -654,10 +657,27 @@ def _speed_change(ds, varying: list[str] | None) -> str | None:
         if np.ptp(w) > RUN_UP_TOL * np.mean(w):
             return (f"the run's input speed goes from {w[0]:.5g} to {w[-1]:.5g} rpm over "
                     "the record")
+        # steady over the record, but not at the operating speed the file's speeds are
+        nominal = _operating_rpm(ds.attrs.get("config"))
+        if nominal is not None and abs(np.mean(w) - nominal) > RUN_UP_TOL * nominal:
+            return (f"the run's input speed is {np.mean(w):.5g} rpm over the record, not the "
+                    f"operating {nominal:.5g} rpm at which the file gives its speeds")
     except (KeyError, TypeError, ValueError, IndexError):
         pass
     return f"the tacho period of shaft {varying[0]} changes over the record" if varying \
         else None
+
+
+def _operating_rpm(config: object) -> float | None:
+    """The operating (nominal) input speed [rpm] of a gearsim result's configuration
+    (``[operating] speed``, ``"... rad/s"`` as results write it); None when absent."""
+    import tomllib
+
+    try:
+        value, unit = str(tomllib.loads(str(config))["operating"]["speed"]).split()
+        return float(value) * 30.0 / math.pi if unit == "rad/s" else None
+    except (tomllib.TOMLDecodeError, KeyError, TypeError, ValueError):
+        return None
 
 
 def _parts_attr(a: Mapping) -> dict | None:

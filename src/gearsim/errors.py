@@ -7,9 +7,17 @@ prints that line and exits with status 2 instead of showing a traceback.
 
 from __future__ import annotations
 
+import functools
+import os
+import sys
+import warnings
 from typing import Any
 
-__all__ = ["InputError", "ModelRangeWarning", "SimulationError", "require"]
+__all__ = ["InputError", "ModelRangeWarning", "SimulationError", "require", "warn_model_range"]
+
+#: Files whose frames :func:`warn_model_range` skips to reach the caller's line: the
+#: package's and functools' (``cached_property``).
+_INSIDE = (os.path.dirname(__file__), functools.__file__)
 
 
 class InputError(ValueError):
@@ -41,6 +49,21 @@ class ModelRangeWarning(UserWarning):
     range [0.01, 0.12] rad``. The command-line interface prints it as one line
     ``gearsim: warning: ...`` on standard error.
     """
+
+
+def warn_model_range(message: str) -> None:
+    """Warn :class:`ModelRangeWarning` at the caller's line: the first frame outside
+    gearsim and functools (the cached properties computing a model), not inside them.
+
+    Parameters
+    ----------
+    message : str
+        One line: the model, the item, the quantity, its value and the range.
+    """
+    level, frame = 1, sys._getframe(0)
+    while frame is not None and frame.f_code.co_filename.startswith(_INSIDE):
+        level, frame = level + 1, frame.f_back
+    warnings.warn(message, ModelRangeWarning, stacklevel=level)
 
 
 class SimulationError(RuntimeError):

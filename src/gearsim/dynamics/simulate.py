@@ -47,7 +47,6 @@ import json
 import math
 import os
 import re
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -61,7 +60,7 @@ from gearsim.dynamics.model import DynamicModel
 from gearsim.dynamics.seed3dof import build_seed
 from gearsim.dynamics.settings import DynamicsSettings
 from gearsim.dynamics.tables import MeshTable, mesh_tables
-from gearsim.errors import InputError, ModelRangeWarning, SimulationError
+from gearsim.errors import InputError, SimulationError, warn_model_range
 from gearsim.system.toml import train_to_toml
 from gearsim.system.train import GearTrain
 
@@ -874,8 +873,7 @@ def record(model: DynamicModel, settings: DynamicsSettings, *, dt: float, m: int
     raw = run_kernel(model, dt=dt, n_steps=g.n_steps, rec_start=g.rec_start, rec_every=m,
                      n_rec=g.n_rec, channels=channels if r > 1 else None)
     n, nv = raw.q.shape[1], raw.v.shape[1]
-    if r > 1 and raw.f.shape[1] and raw.f.shape[0] > 8:
-        _warn_folding(raw.f, settings)
+    _warn_folding(raw.f, settings)
     if r > 1:
         y = _kernels.fir_decimate(anti_alias_taps(r, settings.fs), raw.channels, r, g.first,
                                   g.n_out).T
@@ -894,6 +892,8 @@ def _warn_folding(f: np.ndarray, settings: DynamicsSettings) -> None:
     the last :data:`FOLD_BLOCK` internal samples: the run's fastest part of a run-up, at
     a cost bounded whatever the duration)."""
     fs, r = settings.fs, settings.oversample
+    if r == 1 or f.shape[1] == 0 or f.shape[0] <= 8:  # nothing filtered, or nothing to read
+        return
     x = np.array(f[-FOLD_BLOCK:], order="F")
     mean = x.mean(axis=0)
     x -= mean
@@ -904,12 +904,11 @@ def _warn_folding(f: np.ndarray, settings: DynamicsSettings) -> None:
     top[top * 2.0 / x.shape[0] <= FOLD_FLOOR * np.abs(mean)] = 0.0  # round-off, not content
     share = np.max(top / np.where(band > 0, band, np.inf))
     if share > ALIAS_SHARE:
-        warnings.warn(f"anti-aliasing of the record: a mesh force holds {share:.3g} times its "
-                      f"largest line near the internal Nyquist frequency {r * fs / 2:g} Hz "
-                      f"(dynamics.oversample = {r} x fs = {fs:g} Hz): content above it has "
-                      "likely folded into the record; raise dynamics.oversample until the "
-                      "spectrum stops changing (docs/dynamics.md 5)", ModelRangeWarning,
-                      stacklevel=3)
+        warn_model_range(f"anti-aliasing of the record: a mesh force holds {share:.3g} times "
+                         f"its largest line near the internal Nyquist frequency {r * fs / 2:g} "
+                         f"Hz (dynamics.oversample = {r} x fs = {fs:g} Hz): content above it "
+                         "has likely folded into the record; raise dynamics.oversample until "
+                         "the spectrum stops changing (docs/dynamics.md 5)")
 
 
 @dataclass(frozen=True)
@@ -1152,8 +1151,7 @@ def _run_linear(model: DynamicModel, settings: DynamicsSettings, lin: LinearReco
     r = settings.oversample
     raw = run_kernel(model, dt=dt, n_steps=g.n_steps, rec_start=g.rec_start, rec_every=m,
                      n_rec=g.n_rec, channels=lin.channels)
-    if r > 1 and raw.f.shape[1] and raw.f.shape[0] > 8:  # as record() does
-        _warn_folding(raw.f, settings)
+    _warn_folding(raw.f, settings)
     taps = anti_alias_taps(r, settings.fs) if r > 1 else np.ones(1)
     if lin.extra:
         tau, _, taudd, lam = model.nominal(g.t)

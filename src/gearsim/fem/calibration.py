@@ -99,7 +99,6 @@ from __future__ import annotations
 
 import contextlib
 import math
-import warnings
 import zipfile
 from pathlib import Path
 
@@ -107,7 +106,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline, RectBivariateSpline
 
 from gearsim._version import __version__
-from gearsim.errors import InputError, ModelRangeWarning, SimulationError, require
+from gearsim.errors import InputError, SimulationError, require, warn_model_range
 from gearsim.fem.coupling import fe_neighbour_coupling
 from gearsim.fem.geometry import SectorOptions, element_size
 from gearsim.fem.ring import (
@@ -659,10 +658,10 @@ class CalibratedCompliance:
                     gear, crack.crack, crack.side, closure=settings.closure,
                     plane=settings.plane, level=self.level)
             except (InputError, SimulationError) as exc:  # the FE tooth refuses the family
-                warnings.warn(ModelRangeWarning(
+                warn_model_range(
                     f"crack correction of gear {gear.name}: the FE tooth does not take the "
                     f"crack at {math.degrees(crack.crack.angle):.4g} deg ({exc}); the crack "
-                    "stays the PE section reduction (Q = 1)"), stacklevel=3)
+                    "stays the PE section reduction (Q = 1)")
                 _CRACK_MEMO[key] = None
             else:
                 q = np.concatenate([[0.0], depths])

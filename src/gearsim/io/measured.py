@@ -71,10 +71,12 @@ impulses.
 from __future__ import annotations
 
 import itertools
+import json
 import logging
 import math
 import re
 import tempfile
+import tomllib
 import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -645,8 +647,6 @@ def _speed_change(ds, varying: list[str] | None) -> str | None:
     does not (by :data:`RUN_UP_TOL`): from the run's speed profile (the ``dynamics``
     attribute's ``speed_times``, ``speed_values`` [rad/s], linear between its points,
     at the record's times), else from the shafts whose tacho period varies."""
-    import json
-
     try:
         dyn = json.loads(ds.attrs["dynamics"])
         t, w = np.asarray(dyn["speed_times"], float), np.asarray(dyn["speed_values"], float)
@@ -671,8 +671,6 @@ def _speed_change(ds, varying: list[str] | None) -> str | None:
 def _operating_rpm(config: object) -> float | None:
     """The operating (nominal) input speed [rpm] of a gearsim result's configuration
     (``[operating] speed``, ``"... rad/s"`` as results write it); None when absent."""
-    import tomllib
-
     try:
         value, unit = str(tomllib.loads(str(config))["operating"]["speed"]).split()
         return float(value) * 30.0 / math.pi if unit == "rad/s" else None
@@ -685,8 +683,6 @@ def _parts_attr(a: Mapping) -> dict | None:
     stage's and each gear chain's kinematics for the analysis of its records; the
     sensor's angle [rad] added to each stage); None when absent or not of that form
     (the record is then analysed as a plain one)."""
-    import json
-
     try:
         parts = json.loads(a["analysis_parts"])
         for st in parts["stages"]:

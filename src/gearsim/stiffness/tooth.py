@@ -21,18 +21,14 @@ References
 
 from __future__ import annotations
 
-import functools
 import math
-import os
-import sys
-import warnings
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
 
 import numba
 import numpy as np
 
-from gearsim.errors import ModelRangeWarning, require
+from gearsim.errors import require, warn_model_range
 from gearsim.geometry.gear import Gear, Material
 from gearsim.geometry.profile import ToothProfile
 from gearsim.stiffness import _kernels as K
@@ -65,9 +61,6 @@ SAINSOT: dict[str, tuple[float, float, float, float, float, float]] = {
 #: "Sainsot foundation coefficients"). Outside it the fit is extrapolated: a
 #: :class:`gearsim.errors.ModelRangeWarning` names the gear and the quantity.
 SAINSOT_RANGE = {"h_f": (1.4, 7.0), "theta_f": (0.01, 0.12)}
-#: Files whose frames a warning skips to reach the caller's line: the package's and
-#: functools' (``cached_property``).
-_INSIDE = (os.path.dirname(os.path.dirname(__file__)), functools.__file__)
 
 
 def sainsot_range_check(name: str, h_f: float, theta_f: float) -> list[str]:
@@ -104,13 +97,8 @@ def sainsot_range_check(name: str, h_f: float, theta_f: float) -> list[str]:
         if not lo <= value <= hi:
             out.append(f"Sainsot foundation of gear {name}: {key} = {value:.4g}{unit} outside "
                        f"the fitted range [{lo:g}, {hi:g}]{unit} (the fit is extrapolated)")
-    # shown at the caller's line: the first frame outside gearsim and functools (the
-    # cached properties computing the stiffness), not inside them
-    level, frame = 1, sys._getframe(0)
-    while frame is not None and frame.f_code.co_filename.startswith(_INSIDE):
-        level, frame = level + 1, frame.f_back
     for msg in out:
-        warnings.warn(msg, ModelRangeWarning, stacklevel=level)
+        warn_model_range(msg)
     return out
 
 

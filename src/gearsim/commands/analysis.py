@@ -634,7 +634,7 @@ def compare(
     from gearsim.signals import speed as sp
     from gearsim.signals._checks import check_positive
     from gearsim.signals.compare import compare_sidebands
-    from gearsim.studies.batch import _part_of, problems_error
+    from gearsim.studies.batch import part_of, problems_error
     from gearsim.viz import check_plot_file, save
     from gearsim.viz.signals import plot_comparison
 
@@ -662,7 +662,7 @@ def compare(
     m = read_signal(measured, channel=channel_meas, fs=fs_meas)
     given = shaft_rpm is not None
     if not given:  # the result's reference shaft and its gear, as analyze takes them
-        own = _part_of(s.channel, s.metadata)
+        own = part_of(s.channel, s.metadata)
         if not (own["rpm"] and own["teeth"]):
             raise InputError("--shaft-rpm/--teeth", "neither", f"give both: {s.path} "
                              "carries no speed and teeth (not a gearsim result)")

@@ -54,6 +54,7 @@ __all__ = [
     "expand_inputs",
     "labels_from_csv",
     "labels_from_pattern",
+    "part_of",
     "part_key",
     "records_table",
     "run_batch",
@@ -227,7 +228,7 @@ def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho,
              "units": rec.units.get(c),
              "tacho": own[c][1] if c in own else data.get(tacho),
              "own_tacho": own[c][0] if c in own else None, "speed_change": change,
-             "shafts": _shafts(c, meta), **_part_of(c, meta),
+             "shafts": _shafts(c, meta), **part_of(c, meta),
              "dropped": rec.dropped[c].to_dict() if c in rec.dropped else None} for c in chosen]
 
 
@@ -329,7 +330,7 @@ def _own_tachos(path: str, chosen: list[str], meta: Mapping, fs, fmt) -> dict[st
     return {c: (f"tacho[shaft={r}]", rec.data[f"tacho[shaft={r}]"]) for c, r in refs.items()}
 
 
-def _part_of(channel: str, meta: Mapping) -> dict:
+def part_of(channel: str, meta: Mapping) -> dict:
     """What a gearsim result says of the part of the gearbox ``channel`` is a record of:
     ``{"planetary", "rpm", "teeth", "stages", "config"}``. Of a stage result (its
     ``analysis_parts``), a record of stage k
@@ -337,7 +338,20 @@ def _part_of(channel: str, meta: Mapping) -> dict:
     description and reference member's speed and teeth, a record of a gear chain beside
     the stages (:func:`~gearsim.dynamics.compose.chain_of_record`) that chain's first
     shaft, teeth and stages, as :meth:`gearsim.model.Gearbox.reference` chooses; any
-    record of another result the file's speed and teeth."""
+    record of another result the file's speed and teeth.
+
+    Parameters
+    ----------
+    channel : str
+        The record's name in the file.
+    meta : Mapping
+        The file's metadata (:func:`gearsim.io.measured.read_record`).
+
+    Returns
+    -------
+    dict
+        ``planetary``, ``rpm`` [rpm] or None, ``teeth``, ``stages``, ``config``.
+    """
     parts = meta.get("parts")
     if not parts:
         rpm = meta.get("rpm")
@@ -430,7 +444,7 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
         return [], [_problem(path, exc)]
     out, problems = [], []
     # a gearsim result brings its tooth counts, and a compound train's its stages
-    # (of the part of the gearbox each channel is a record of: _part_of)
+    # (of the part of the gearbox each channel is a record of: part_of)
     own = teeth is None and stages is None and any(ch.get("teeth") for ch in chans)
     for ch in chans:
         # a run whose speed changes over the record, no speed given: never its nominal

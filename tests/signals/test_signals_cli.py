@@ -3,6 +3,7 @@
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -261,3 +262,26 @@ def test_compare_reads_each_record_at_its_own_speed(tmp_path, monkeypatch, capsy
                             "above the noise floor")
     code, _, err = _run(monkeypatch, capsys, *args, "--speed-search-meas", "40,20")
     _assert_one_line_exit_2(code, err, "--speed-search-meas = 40,20: must be")
+
+
+@pytest.mark.parametrize("value", ["inf", "nan", "0", "-30", "1e300", "1e-300"])
+@pytest.mark.parametrize("verb,option", [("analyze", "--shaft-rpm"),
+                                         ("compare", "--shaft-rpm"),
+                                         ("compare", "--shaft-rpm-meas")])
+def test_shaft_speeds_refused_in_one_line_before_the_records_are_read(tmp_path, capsys, verb,
+                                                                       option, value):
+    """A shaft speed must be finite, > 0 and within a gear train's operating speeds
+    ([0.00955, 954930] rpm, 1e-3 to 1e5 rad/s); before, analyze's 1e300 rpm read every
+    channel and refused each (33 problems in one 'line'), compare's after both records.
+    The records here are not records: the refusal comes before any is read."""
+    from gearsim import cli
+
+    recs = [str(tmp_path / "a.csv"), str(tmp_path / "b.csv")]
+    for r in recs:
+        Path(r).write_text("not a record\n")
+    args = ([verb, recs[0], option, value] if verb == "analyze" else
+            [verb, *recs, option, value, *(["--teeth", "32"] if option == "--shaft-rpm"
+                                           else [])])
+    assert cli.run(args) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"gearsim: error: {option} = ") and "\n" not in err, err

@@ -50,6 +50,23 @@ def _speed(shaft_rpm: float | None, tacho: str | None) -> None:
     from gearsim.signals._checks import check_speed_source
 
     check_speed_source(shaft_rpm, tacho, names=("--shaft-rpm", "--tacho"), unit="rpm")
+    if shaft_rpm is not None:
+        _rpm("--shaft-rpm", shaft_rpm)
+
+
+def _rpm(name: str, rpm: float) -> float:
+    """A shaft speed option [rpm], finite, > 0 and within the operating speeds a gear
+    train takes (:data:`gearsim.system.train.MIN_SPEED`, ``MAX_SPEED``), before any
+    record is read; returned in Hz."""
+    from gearsim.signals._checks import check_positive
+    from gearsim.system.train import MAX_SPEED, MIN_SPEED
+
+    check_positive(name, rpm)
+    lo, hi = MIN_SPEED * 30.0 / math.pi, MAX_SPEED * 30.0 / math.pi
+    if not lo <= rpm <= hi:
+        raise InputError(name, rpm, f"must be in [{lo:.3g}, {hi:.0f}] rpm, the operating "
+                         "speeds of a gear train")
+    return rpm / 60.0
 
 
 def _teeth(values: list[str] | None, extra: list[str], problems: list[str]) -> tuple[int, ...] | None:
@@ -632,7 +649,6 @@ def compare(
     from gearsim.io.jsonout import strict_json
     from gearsim.io.measured import read_signal
     from gearsim.signals import speed as sp
-    from gearsim.signals._checks import check_positive
     from gearsim.signals.compare import compare_sidebands
     from gearsim.studies.batch import part_of, problems_error
     from gearsim.viz import check_plot_file, save
@@ -644,12 +660,12 @@ def compare(
         raise InputError("--shaft-rpm/--teeth", "one of them", "give both (the faulty gear's "
                          "shaft speed and teeth), or neither to take a gearsim result's")
     if shaft_rpm is not None:
-        check_positive("--shaft-rpm", shaft_rpm)
+        _rpm("--shaft-rpm", shaft_rpm)
     if shaft_rpm_meas is not None and speed_search_meas is not None:
         raise InputError("--shaft-rpm-meas/--speed-search-meas", "both", "give at most one "
                          "source of MEASURED's speed")
     if shaft_rpm_meas is not None:
-        check_positive("--shaft-rpm-meas", shaft_rpm_meas)
+        _rpm("--shaft-rpm-meas", shaft_rpm_meas)
     problems: list[str] = []
     search = _speed_search(speed_search_meas, problems, "--speed-search-meas")
     if problems:

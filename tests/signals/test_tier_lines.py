@@ -114,23 +114,30 @@ def test_baseline_shorter_than_two_revolutions_is_not_used():
 
 
 @pytest.mark.parametrize("rise", [0.0, 0.1])
-def test_gear_tier_skipped_when_the_tracked_speed_varies(rise):
+def test_gear_tier_in_the_order_domain_when_the_tracked_speed_varies(rise):
     # 20 teeth on a shaft at 10 + rise t Hz for 10 s: with rise 0.1 Hz/s the speed goes
-    # from 10 to 11 Hz (10 % of its mean 10.5 Hz, beyond the run-up rule's 1 %); the
-    # gear tier at one speed would smear the mesh line over 200..220 Hz: skipped, naming
-    # the range; at a constant speed it runs
+    # from 10 to 11 Hz (10 % of its mean 10.5 Hz, beyond the run-up rule's 1 %); at one
+    # speed the mesh line would be smeared over 200..220 Hz: the gear tier reads the
+    # record resampled at equal angle steps of the mean speed, where the mesh tone of
+    # amplitude 1 is at order 20 and its sidebands (0.1) at 19 and 21; at a constant
+    # speed it runs on the record itself
     fs = 2000.0
     t = np.arange(int(10 * fs)) / fs
     ph = 2 * np.pi * np.cumsum(10.0 + rise * t) / fs
     x = (np.cos(20 * ph) + 0.3 * np.cos(ph) + 0.1 * np.cos(19 * ph) + 0.1 * np.cos(21 * ph)
          + 0.05 * np.random.default_rng(0).standard_normal(t.size))
     r = analyze_record(x, fs, speed_search=(8.0, 14.0), teeth=(20, 40))
+    h = r.tiers["gear"]["analysis"]["mesh_harmonics"][0]
+    assert h["amplitude"] == pytest.approx(1.0, rel=0.01)
     if rise == 0.0:
-        assert "gear" in r.tiers and "speed_range_hz" not in r.tiers["shaft"]
+        assert "speed_range_hz" not in r.tiers["shaft"] and "order_domain" not in r.tiers["gear"]
         return
     lo, hi = r.tiers["shaft"]["speed_range_hz"]
     assert (lo, hi) == (pytest.approx(10.0, rel=0.01), pytest.approx(11.0, rel=0.01))
-    assert "gear" not in r.tiers
-    (why,) = [s["reason"] for s in r.skipped if s["tier"] == "gear"]
-    assert f"varies from {lo:.5g} to {hi:.5g} Hz" in why
+    f = r.tiers["gear"]["order_domain"]["mean_speed_hz"]
+    assert f == pytest.approx(10.5, rel=2e-3)
+    assert h["frequency_hz"] == pytest.approx(20 * f, rel=1e-4)
+    (sb,) = r.tiers["gear"]["analysis"]["sidebands"][:1]
+    assert [sb["amplitude"][sb["k"].index(k)] for k in (-1, 1)] == [
+        pytest.approx(0.1, rel=0.05)] * 2
     assert f"mean of {lo:.5g} to {hi:.5g} Hz" in r.text()

@@ -207,7 +207,8 @@ class DynamicsSettings:
             require(t[k] - t[k - 1] >= self.step or w[k] == w[k - 1], f"{p}.speed_times[{k}]",
                     f"{t[k]:g} s", f"must be >= speed_times[{k - 1}] + dynamics.step = "
                     f"{t[k - 1] + self.step:g} s: the speed changes within less than one "
-                    "integration step, an acceleration the run cannot follow")
+                    "integration step, an acceleration the run cannot follow (or write a smaller "
+                    "[dynamics] step)")
         require(_number(self.duration) and 0 < self.duration <= MAX_DURATION,
                 f"{p}.duration", self.duration,
                 f"must be a finite number in (0, {MAX_DURATION:g}] s")

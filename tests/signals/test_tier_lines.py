@@ -135,6 +135,7 @@ def test_gear_tier_in_the_order_domain_when_the_tracked_speed_varies(rise):
     lo, hi = r.tiers["shaft"]["speed_range_hz"]
     assert (lo, hi) == (pytest.approx(10.0, rel=0.01), pytest.approx(11.0, rel=0.01))
     f = r.tiers["gear"]["order_domain"]["mean_speed_hz"]
+    assert f"(order domain: resampled at equal angle steps of {f:.6g} Hz)" in r.text()
     assert f == pytest.approx(10.5, rel=2e-3)
     assert h["frequency_hz"] == pytest.approx(20 * f, rel=1e-4)
     (sb,) = r.tiers["gear"]["analysis"]["sidebands"][:1]

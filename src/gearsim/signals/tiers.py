@@ -431,8 +431,11 @@ class RecordAnalysis:
             stages = full.get("stages", [])
             first = (f" (stage 1, {stages[0]['teeth'][0]}/{stages[0]['teeth'][1]})"
                      if stages else "")
+            od = g_.get("order_domain")
+            od = (f" (order domain: resampled at equal angle steps of {od['mean_speed_hz']:.6g}"
+                  " Hz)" if od else "")
             lines.append(f"  gear [teeth {r['teeth']}, speed {r['speed']}, fs {r['fs']}]: "
-                         f"f_m {full['train']['mesh_frequency_hz']:.6g} Hz{first}")
+                         f"f_m {full['train']['mesh_frequency_hz']:.6g} Hz{first}{od}")
             lines += _harmonic_lines(full["mesh_harmonics"], full["sidebands"], u, "    ")
             for st in stages[1:]:  # a compound train: a line per further stage
                 lines.append(f"    gear stage {st['stage']} ({st['teeth'][0]}/"

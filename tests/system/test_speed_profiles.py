@@ -244,3 +244,14 @@ def test_the_summary_compares_the_mean_force_with_the_load_it_was_given(box):
     for m in gb.summary(gb.simulate())["meshes"]:
         assert m["load_factor"] == pytest.approx(1.25, abs=1e-3)
         assert abs(m["mean_error"]) < 0.01, m
+
+
+def test_a_load_profile_of_zeros_has_no_relative_error(box):
+    """No load over the record: the mean mesh force is the unloaded gears' (near 0 N
+    against static forces of kN), and the summary leaves the relative error out (it
+    divided by lambda static = 0: an internal error after the run, probe round 8 #2)."""
+    gb = box.replace(dynamics={"duration": 0.12, "transient": 0.05, "load_times": [0.0, 1.0],
+                               "load_values": [0.0, 0.0]})
+    for m in gb.summary(gb.simulate())["meshes"]:
+        assert m["load_factor"] == 0.0 and "mean_error" not in m
+        assert abs(m["mean"]) < 1e-3 * m["static_force"], m

@@ -1324,7 +1324,8 @@ def summary(ds) -> dict:
         itself), ``peak`` (max abs), ``rms_fluctuation`` (standard deviation),
         ``static_force`` [N] (at the operating load), ``load_factor`` (the load profile's
         lambda(t) averaged over the record, 1 without one: the mean force it loads) and
-        ``mean_error`` = (mean - lambda static) / (lambda static) [-].
+        ``mean_error`` = (mean - lambda static) / (lambda static) [-] (left out when
+        lambda static is 0: a load profile of zeros).
     """
     meshes = []
     i = 1
@@ -1340,7 +1341,8 @@ def summary(ds) -> dict:
             "peak": float(np.max(np.abs(x))),
             "rms_fluctuation": float(np.std(x)),
             "static_force": fs_, "load_factor": lam,
-            "mean_error": (mean - lam * fs_) / (lam * fs_),
+            # no load over the record (a profile of zeros): no relative error
+            **({"mean_error": (mean - lam * fs_) / (lam * fs_)} if lam * fs_ != 0 else {}),
         })
         i += 1
     return {"model": ds.attrs["model"], "fs": ds.attrs["fs"], "step": ds.attrs["step"],

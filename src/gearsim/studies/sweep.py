@@ -81,6 +81,7 @@ from typing import Any
 
 import numpy as np
 
+from gearsim.dynamics.settings import MODELS
 from gearsim.errors import InputError, require
 from gearsim.model import Gearbox, loads
 from gearsim.model.config import EXAMPLES, example_text, read_file_or_builtin
@@ -494,11 +495,6 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
     replicates = st.get("replicates", 1)
     require(isinstance(replicates, int) and not isinstance(replicates, bool)
             and replicates >= 1, "study.replicates", replicates, "must be an integer >= 1")
-    signal = st.get("signal")
-    if signal is None:  # the gearbox's first record: what a test rig measures
-        signal = loads(config_text).default_signal
-    require(isinstance(signal, str) and len(signal) > 0, "study.signal", signal,
-            "must be a variable name, optionally with [shaft,axis]")
     shafts = st.get("shafts", "all")
     require(shafts in ("all", "reference"), "study.shafts", shafts,
             'must be "all" or "reference"')
@@ -508,6 +504,14 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
     dyn_raw = st.get("dynamics", {})
     require(isinstance(dyn_raw, dict), "study.dynamics", dyn_raw, "must be a table")
     dynamics = convert(dyn_raw, DYNAMICS_OVERRIDES, "study.dynamics")
+    signal = st.get("signal")
+    if signal is None:  # the gearbox's first record in the study's model: what a rig measures
+        gb = loads(config_text)
+        if dynamics.get("model") in MODELS:  # else refused, named, when the study is checked
+            gb = gb.replace(dynamics={"model": dynamics["model"]})
+        signal = gb.default_signal
+    require(isinstance(signal, str) and len(signal) > 0, "study.signal", signal,
+            "must be a variable name, optionally with [shaft,axis]")
     params_raw = doc.get("parameters", {})
     require(isinstance(params_raw, dict), "parameters", params_raw, "must be a table")
     parameters: dict[str, Any] = {}
@@ -646,9 +650,25 @@ def check_study(study: Study) -> None:
         raise InputError("study.dynamics", dict(study.dynamics), str(exc)) from None
     choices = gb.signals()
     if gb.signal_key(study.signal) not in choices:
-        shown = ", ".join(choices[:6]) + ", ..." if len(choices) > 6 else ", ".join(choices)
+        # the names of the signal's own family (acceleration[...]) in full, else the
+        # first few and every family
+        family = [c for c in choices if c.split("[")[0] == study.signal.split("[")[0]]
+        families = dict.fromkeys(c.split("[")[0] + "[...]" for c in choices if "[" in c)
+        shown = (", ".join(family) if family else ", ".join(choices[:6]) + ", ..."
+                 + (" and the families " + ", ".join(families) if families else ""))
         raise InputError("study.signal", study.signal,
-                         f"not a variable of the simulation; give one of {shown}")
+                         f"not a variable of the {gb.dynamics.model} simulation; give one "
+                         f"of {shown}")
+    require(not ("speed" in study.parameters and gb.dynamics.speed_times is not None),
+            "parameters.speed", _raw_parameter(study, "speed"), "changes nothing: the "
+            "configuration's speed profile ([dynamics] speed_times, speed_values) sets the "
+            "speed of every case (remove it to vary the speed)")
+    bearings = [n for n in study.parameters
+                if n == "bearing_stiffness" or NAMED_BEARING.fullmatch(n)]
+    if bearings and gb.dynamics.model == "torsional":
+        raise InputError(f"parameters.{bearings[0]}", _raw_parameter(study, bearings[0]),
+                         "changes nothing: the torsional model has no bearing coordinates "
+                         "(dynamics.model = \"torsional\")")
     if "bearing_stiffness" in study.parameters:
         require(gb.default_bearings, "parameters.bearing_stiffness",
                 _raw_parameter(study, "bearing_stiffness"), "changes nothing: every bearing "
@@ -693,12 +713,12 @@ def check_study(study: Study) -> None:
     speed, torque = gb.operating()
     speeds = ([v for _, _, v in _points(study, "speed")] if "speed" in study.parameters
               else [speed])
-    torques = _points(study, "torque") if "torque" in study.parameters else []
-    for where, raw, value in torques:
-        try:
-            gb.at(speed=speed, torque=value)
-        except InputError as exc:
-            raise InputError(where, raw, exc.limit) from None
+    for key in ("speed", "torque"):  # each value named as written
+        for where, raw, value in (_points(study, key) if key in study.parameters else []):
+            try:
+                gb.at(**{"speed": speed, "torque": torque, key: value})
+            except InputError as exc:
+                raise InputError(where, raw, exc.limit) from None
     from gearsim.signals._checks import WINDOWS
     from gearsim.signals.analysis import kinematics
 

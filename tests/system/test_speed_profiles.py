@@ -157,7 +157,7 @@ def test_cli_refuses_a_speed_step_within_one_integration_step(tmp_path, gearsim_
     assert r.returncode == 2 and r.stderr.strip().splitlines() == [
         "gearsim: error: dynamics.speed_times[1] = 1e-09 s: must be >= speed_times[0] + "
         "dynamics.step = 1e-05 s: the speed changes within less than one integration step, "
-        "an acceleration the run cannot follow"], r.stderr
+        "an acceleration the run cannot follow (or write a smaller [dynamics] step)"], r.stderr
     assert not out.exists()
     DynamicsSettings(speed_times=(0.0, 1e-5), speed_values=(60.0, 180.0))
     DynamicsSettings(speed_times=(0.0, 1e-9, 1.0), speed_values=(60.0, 60.0, 180.0))
@@ -255,3 +255,19 @@ def test_a_load_profile_of_zeros_has_no_relative_error(box):
     for m in gb.summary(gb.simulate())["meshes"]:
         assert m["load_factor"] == 0.0 and "mean_error" not in m
         assert abs(m["mean"]) < 1e-3 * m["static_force"], m
+
+
+@pytest.mark.parametrize("rpm_held", [0.0, 1.0])
+def test_a_profile_that_does_not_turn_the_slowest_gear_once_is_refused(box, rpm_held):
+    """The constant-speed rule (one revolution of the slowest gear over the record) at the
+    profile's speeds: held at 0 or 1 rpm over the record (0.1 to 1.1 s) the reducer's
+    output turns 0 and 1/60 x 32/80 x 48/64 = 0.005 times; before, both ran (probe round
+    8 #9)."""
+    w = rpm_held * math.pi / 30
+    gb = box.replace(dynamics={"duration": 1.0, "transient": 0.1, "speed_times": [0.0, 2.0],
+                               "speed_values": [w, w]})
+    hand = rpm_held / 60 * 1.0 * 32 / 80 * 48 / 64
+    with pytest.raises(InputError, match=rf"dynamics.speed_values = .*: turn the slowest "
+                       rf"gear, output-gear, {hand:.3g} revolutions over the record \(0.1 "
+                       r"to 1.1 s\): must turn it at least once"):
+        gb.simulate()

@@ -553,6 +553,17 @@ def check_cost(train: GearTrain, settings: DynamicsSettings | None = None, *,
         raise InputError("dynamics.transient", transient,
                          "must be finite; the default (12 decay times of the slowest mode) "
                          "is infinite for an undamped system: give the transient")
+    if s.speed_times is not None:  # the revolutions a speed profile turns over the record
+        t = np.linspace(transient, transient + s.duration, 2001)
+        w = np.interp(t, s.speed_times, s.speed_values)
+        rev = float(np.sum((w[1:] + w[:-1]) * np.diff(t))) / (2.0 * t_rev
+                                                               * train.operating.speed)
+        if rev < 1.0 - 1e-9:
+            raise InputError("dynamics.speed_values", [f"{v * 30 / math.pi:g} rpm"
+                                                       for v in s.speed_values],
+                             f"turn the slowest gear, {train.gears[slow].name}, "
+                             f"{rev:.3g} revolutions over the record ({transient:g} to "
+                             f"{transient + s.duration:g} s): must turn it at least once")
     dt, _ = integration_step(s)
     r = s.oversample
     half = FIR_HALF_PER_R * r if r > 1 else 0

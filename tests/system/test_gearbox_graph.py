@@ -199,6 +199,10 @@ def _edit(old: str, new: str) -> str:
      r"meshes\[2\]\.gears .*loop of meshes \(its torques are statically indeterminate\)"),
     (_edit('[[shafts]]\nname = "c"', '[[shafts]]\nname = "c"\ntorsional_stiffness = 1e300'),
      r"shafts\[2\]\.torsional_stiffness = 1e\+300: must be in"),
+    # a shaft of one gear has nothing to twist between (it was ignored: probe round 8 #4)
+    (_edit('[[shafts]]\nname = "c"', '[[shafts]]\nname = "c"\ntorsional_stiffness = 1e3'),
+     r"shafts\[2\]\.torsional_stiffness = 1000.0: nothing to twist between: the shaft carries "
+     r"one gear"),
     (_edit('[[shafts]]\nname = "c"', '[[shafts]]\nname = "c"\nmass = "-3 kg"'),
      r"shafts\[2\]\.mass = -3 kg: must be in \[0, 1e\+06\]"),
     (_edit('[[meshes]]\ngears = ["p1", "g1"]', '[[meshes]]\ngears = ["p1", "x"]'),

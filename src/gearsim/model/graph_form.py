@@ -285,7 +285,7 @@ def _member_shaft(t: dict[str, Any], i: int, name: str, held: list[tuple[int, st
     no meaning there (the members' own are ``[stages.members]``)."""
     kw = {k: v for k, v in convert(t, SHAFT_KEYS, f"shafts[{i}]").items() if k != "name"}
     with as_written(t, f"shafts.{name}", SHAFT_KEYS, sources=[(f"shafts[{i}]", t)]):
-        Shaft(name=name, gears=(name,), **kw)
+        Shaft(name=name, gears=(name, f"{name}'"), **kw)  # two bodies: a member and more
     if gears:  # the gears' shaft, with them; its bearing also its member's
         return
     what = " and ".join(f"the {m} of stages[{k}]" for k, m in held)

@@ -102,7 +102,8 @@ class Shaft:
     Raises
     ------
     InputError
-        A value outside its range, no gear, or a gear listed twice.
+        A value outside its range, no gear, a gear listed twice, or a torsional
+        stiffness on a shaft of one gear.
     """
 
     name: str
@@ -128,6 +129,9 @@ class Shaft:
         require(kt is None or (_number(kt) and MIN_SHAFT_STIFFNESS <= kt <= MAX_SHAFT_STIFFNESS),
                 f"{p}.torsional_stiffness", kt,
                 f"must be in [{MIN_SHAFT_STIFFNESS:g}, {MAX_SHAFT_STIFFNESS:g}] N*m/rad")
+        require(kt is None or len(self.gears) >= 2, f"{p}.torsional_stiffness", kt,
+                f"nothing to twist between: the shaft carries one gear ({self.gears[0]}); "
+                "the stiffness joins consecutive gears of a shaft")
         for key in ("bearing_stiffness", "axial_stiffness"):
             v = getattr(self, key)
             require(v is None or (_number(v) and MIN_BEARING_STIFFNESS <= v <= MAX_BEARING_STIFFNESS),

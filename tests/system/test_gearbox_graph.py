@@ -187,6 +187,14 @@ def _edit(old: str, new: str) -> str:
            'normal_module = "3 mm"'), r"meshes\[1\]: g2\.normal_module = 3 mm: must equal"),
     (_edit('name = "g2"\nshaft = "c"\nteeth = 44', 'name = "g2"\nshaft = "c"\nteeth = 44\n'
            'normal_pressure_angle = "25 deg"'), r"g2\.normal_pressure_angle = 25 deg"),
+    # named as written, the value as written (was "II: g2.helix_angle = 12 deg: must
+    # equal p2.helix_angle = -10 deg": probe round 8 #6)
+    (_edit('name = "g2"\nshaft = "c"\nteeth = 44', 'name = "g2"\nshaft = "c"\nteeth = 44\n'
+           'helix_angle = "12 deg"').replace('name = "p2"\nshaft = "b"\nteeth = 22',
+                                             'name = "p2"\nshaft = "b"\nteeth = 22\n'
+                                             'helix_angle = "10 deg"'),
+     r"^gears\[3\]\.helix_angle = 12 deg: must equal the helix angle of p2 \(10 deg\), its "
+     r"mate in meshes\[1\]$"),
     (_edit('[[meshes]]\ngears = ["p2", "g2"]', ""), r"gears\.p2 = meshes nothing"),
     (BASE + '[[shafts]]\nname = "d"\n[[gears]]\nname = "q"\nshaft = "d"\nteeth = 30\n'
      '[[meshes]]\ngears = ["p1", "q"]\nangle = "180 deg"\n',

@@ -32,6 +32,7 @@ every value; the result is a :class:`gearsim.model.Gearbox`.
 from __future__ import annotations
 
 import dataclasses
+import math
 import tomllib
 from collections.abc import Callable, Sequence
 from contextlib import ExitStack
@@ -300,6 +301,11 @@ def _graph(doc: dict[str, Any], kws: list[dict[str, Any]]
         require(first["shaft"] != second["shaft"], f"{at}.gears", pair,
                 f"both sit on shaft {first['shaft']!r}")
         require_same_rack(pair[0], *_rack(first), pair[1], *_rack(second), mesh=at)
+        b1, b2 = (abs(kw.get("helix_angle", 0.0)) for kw in (first, second))
+        j = gear_names.index(pair[1])
+        require(math.isclose(b1, b2, rel_tol=1e-9, abs_tol=1e-12), f"gears[{j}].helix_angle",
+                f"{math.degrees(b2):.6g} deg", f"must equal the helix angle of {pair[0]} "
+                f"({math.degrees(b1):.6g} deg), its mate in {at}")
         own[frozenset(pair)] = {k: (kw.pop(k), at) for k in PER_MESH if k in kw}
         meshes.append(MeshSpec(gears=tuple(pair), **kw))
     return tuple(shafts), tuple(meshes), own

@@ -232,15 +232,6 @@ def test_bad_graph_is_one_line_naming_the_element(tmp_path, capsys, edit, parame
         assert line.startswith(f"gearsim: error: {parameter} = {value}:"), line
 
 
-def test_gears_between_two_stages_are_refused_in_one_line():
-    """Stage 1's carrier drives gears (30/20) whose shaft drives stage 2's sun."""
-    text = CHAINS_GRAPH.replace('sun = "between"', 'sun = "mid"') + PTO.format(
-        on="between").replace('"pto"', '"mid"')
-    with pytest.raises(gs.InputError, match="gears between two planetary stages") as err:
-        loads(text)
-    assert err.value.parameter == "gears"
-
-
 def test_stage_form_geometry_refusal_names_the_key_as_written():
     staged = CHAINS_STAGE_FORM.replace('normal_module = "4 mm"', 'normal_module = "-4 mm"')
     with pytest.raises(gs.InputError) as err:

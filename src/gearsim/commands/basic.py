@@ -109,9 +109,9 @@ def stiffness(
                    f"{m['k_min'] / 1e9:.4f}, max {m['k_max'] / 1e9:.4f}; {extra}; mean / "
                    f"ISO 6336 c_ga b = {m['ratio_to_iso6336']:.3f}")
 
-    for m in summary.get("input_chain", {}).get("meshes", []):
-        show(f"input chain mesh {m['mesh']}", m)
     for pre, st in stages:
+        for m in st.get("input_chain", {}).get("meshes", []):  # the gears driving it
+            show(f"{'input ' if st is summary else ''}chain mesh {m['mesh']}", m)
         if "phasing" in st:
             title = f"{pre[:-1]} ({st['name']})" if pre else st["name"]
             typer.echo(f"{title}: f_m {st['mesh_frequency']:.6g} Hz, "

@@ -41,6 +41,13 @@ torque (:func:`next_operating`), its rows read their tables at rate f_m,k+1 / f_
 function, ``_join``, joins a part (a chain's or a stage's model) to the model built so
 far through such a shaft; the parts only say which coordinates the shaft turns.
 
+Gears between two stages (``NextStage.input_train``: stage k's output drives a chain whose
+last gear drives stage k+1) are two such joins: the chain to stage k's output member as a
+chain the stage drives (at :func:`chain_operating` of stage k), then stage k+1 to the
+chain's last gear as a stage an input chain drives, tau = k_t (theta_N - s_i u_i / r_i)
+(stage k+1 at :func:`stage_operating` of the chain). Default k_t of the two shafts: as
+the chains', ten times the torsional stiffness of the chain's first (last) mesh.
+
 The chain runs at the stage's output speed and torque (:func:`chain_operating`); its
 other options (layout, bearings, profile modification, runout, cracks and faults of its
 gears) are its own. The default shaft is stiff: ten times the torsional stiffness of the
@@ -78,7 +85,7 @@ from gearsim.system.train import Operating
 __all__ = ["SHAFT_FACTOR", "SIDES", "STAGE_ONLY", "NextStage", "build_stage_chain_model",
            "chain_of_record", "chain_operating", "next_operating", "output_member", "simulate_stage_chain",
            "stage_of_label", "stage_operating", "stage_prefix", "stage_settings",
-           "stage_shaft_name"]
+           "stage_shaft_names"]
 
 #: Where the chain sits: driven by the stage's output ("output") or driving its input.
 SIDES = ("output", "input")
@@ -108,13 +115,24 @@ class NextStage:
         sensor of a result is the first stage's).
     shaft_stiffness : float or None
         k_t [N m/rad] of the shaft from the previous stage's output member to this
-        stage's input member; ``None``: ``SHAFT_FACTOR`` N k_sp r_b,s^2 of this stage
-        (ten times the torsional stiffness of its sun meshes about the sun).
+        stage's input member (to ``input_train``'s first gear when it has one);
+        ``None``: ``SHAFT_FACTOR`` N k_sp r_b,s^2 of this stage (ten times the torsional
+        stiffness of its sun meshes about the sun; with ``input_train`` as
+        :func:`build_stage_chain_model`'s ``chain`` on the output side).
+    input_train : GearTrain or None
+        Gears between the previous stage and this one: at the previous stage output's
+        speed and torque (:func:`chain_operating`), their last gear driving this stage's
+        input member (the stage at :func:`stage_operating` of them).
+    input_shaft_stiffness : float or None
+        k_t [N m/rad] of the shaft from ``input_train``'s last gear to this stage's
+        input member; ``None``: as :func:`build_stage_chain_model`'s ``input_chain``.
     """
 
     train: PlanetaryTrain
     members: StageDynamics = field(default_factory=StageDynamics)
     shaft_stiffness: float | None = None
+    input_train: GearTrain | None = None
+    input_shaft_stiffness: float | None = None
 
 
 def output_member(train: PlanetaryTrain) -> str:
@@ -234,8 +252,9 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain | None,
         k_t [N m/rad] of ``input_chain``'s shaft (default as ``shaft_stiffness``).
     stages
         Further stages in series, each driven by the previous stage's output member
-        through its shaft (:class:`NextStage`). With any, the coordinates, gear names and
-        rows of stage k are prefixed ``stage<k>-`` (:func:`stage_prefix`).
+        through its shaft, or through the gears between (:class:`NextStage`). With any,
+        the coordinates, gear names and rows of stage k are prefixed ``stage<k>-``
+        (:func:`stage_prefix`).
 
     Returns
     -------
@@ -247,7 +266,8 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain | None,
         ``stages`` (with further stages), one dict per stage (``train``, ``prefix``,
         ``rows`` (its meshes), ``shaft_row`` (from the previous stage; None for the
         first), ``shaft_stiffness``, ``member``, ``dofs``, ``mesh_frequency``);
-        ``chains``, one dict per chain (``chain``, ``side``, ``rows`` (its meshes),
+        ``chains``, one dict per chain in the order joined (``chain``, ``side``
+        (``"between"`` for gears between two stages), ``rows`` (its meshes),
         ``shaft_row``, ``shaft_stiffness``, ``member``, ``dofs``, ``bearing_dofs``,
         ``axes``, ``shafts``, ``mesh_frequency``); each shaft's ``twist`` (the names of
         its k_t and of the shaft, for messages); and, of the first chain,
@@ -281,7 +301,7 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain | None,
                                  "mesh_frequency": train.mesh_frequency},)
     for k, nxt in enumerate(stages, 1):
         model = _join_stage(model, trains[k - 1], prefix[k - 1], nxt, prefix[k], settings,
-                            f"stages[{k + 1}].shaft_stiffness")
+                            f"stages[{k + 1}]")
     if chain is not None:
         at = -1 if side == "output" else 0
         model = _join_chain(model, trains[at], prefix[at], chain, side, shaft_stiffness,
@@ -340,14 +360,14 @@ def stage_of_label(label: str, n: int) -> int:
 
 
 def chain_of_record(variable: str, label: str | None, shafts: list[list[str]],
-                    meshes: list[list[str]]) -> int | None:
+                    meshes: list[list[str]], between: Sequence[bool] = ()) -> int | None:
     """Index of the gear chain beside the stages that a record of a stage result belongs
     to, or None for a record of the stages.
 
-    ``input_shaft_torque`` is the first chain's (the gears driving the stages),
-    ``shaft_torque`` the last one's (the shaft between the stages and the gears they
-    drive, or those driving them when there is no other); ``chain_acceleration`` the
-    chain holding its shaft, ``chain_mesh_force`` the chain holding its mesh.
+    ``input_shaft_torque`` is the first chain's at an end (the gears driving the
+    stages), ``shaft_torque`` the last one's (the shaft between the stages and the gears
+    they drive, or those driving them when there is no other); ``chain_acceleration``
+    the chain holding its shaft, ``chain_mesh_force`` the chain holding its mesh.
 
     Parameters
     ----------
@@ -357,6 +377,8 @@ def chain_of_record(variable: str, label: str | None, shafts: list[list[str]],
         Its label (a mesh ``II`` or a shaft name).
     shafts, meshes : list of list of str
         Each chain's shaft and mesh names, in power-flow order.
+    between : sequence of bool, optional
+        Of each chain, whether it sits between two stages (default: none does).
 
     Returns
     -------
@@ -369,36 +391,42 @@ def chain_of_record(variable: str, label: str | None, shafts: list[list[str]],
     >>> chain_of_record("mesh_force", "sun-planet-1", [["a", "b"]], [["I"]]) is None
     True
     """
-    if not shafts:
-        return None
-    if variable == "input_shaft_torque":
-        return 0
-    if variable == "shaft_torque":
-        return len(shafts) - 1
+    ends = [k for k in range(len(shafts)) if not (between and between[k])]
+    if variable in ("input_shaft_torque", "shaft_torque"):
+        return (ends[0] if variable == "input_shaft_torque" else ends[-1]) if ends else None
     held = {"chain_acceleration": shafts, "chain_mesh_force": meshes}.get(variable)
     if held is None:
         return None
     return next((k for k, names in enumerate(held) if label in names), None)
 
 
-def stage_shaft_name(prev_prefix: str, prev: PlanetaryTrain, prefix: str,
-                     train: PlanetaryTrain) -> str:
-    """Name of the shaft from the stage ``prev``'s output member to ``train``'s input.
+def stage_shaft_names(prev_prefix: str, prev: PlanetaryTrain, prefix: str,
+                      nxt: NextStage) -> tuple[str, ...]:
+    """Names of the shafts from the stage ``prev``'s output member to ``nxt``'s input.
 
     Parameters
     ----------
     prev_prefix, prefix : str
         The two stages' name prefixes (:func:`stage_prefix`).
-    prev, train : PlanetaryTrain
-        The driving and the driven stage.
+    prev : PlanetaryTrain
+        The driving stage.
+    nxt : NextStage
+        The driven stage (and the gears between, if any).
 
     Returns
     -------
-    str
-        ``shaft-<prev_prefix><output member>-<prefix><input member>``:
-        ``shaft-stage1-carrier-stage2-sun``.
+    tuple of str
+        ``shaft-<prev_prefix><output member>-<prefix><input member>``
+        (``shaft-stage1-carrier-stage2-sun``); with gears between, the shaft from the
+        member to their first gear and the one from their last gear to the member
+        (``shaft-stage1-sun-g23``, ``shaft-g57-stage2-sun``).
     """
-    return f"shaft-{prev_prefix}{output_member(prev)}-{prefix}{train.operating.input}"
+    up, down, ch = (f"{prev_prefix}{output_member(prev)}",
+                    f"{prefix}{nxt.train.operating.input}", nxt.input_train)
+    if ch is None:
+        return (f"shaft-{up}-{down}",)
+    return (f"shaft-{up}-{ch.gears[0].name}",
+            f"shaft-{ch.gear(ch.flow.meshes[-1][1]).name}-{down}")
 
 
 def next_operating(prev: PlanetaryTrain, fixed: str, driven: str) -> StageOperating:
@@ -471,10 +499,12 @@ def _check_operating(got_op, want, what: str, hint: str) -> None:
 def _join_chain(base: DynamicModel, train: PlanetaryTrain, prefix: str, chain: GearTrain,
                 side: str, shaft_stiffness: float | None, settings: DynamicsSettings,
                 parameter: str = "chain.shaft_stiffness") -> DynamicModel:
-    """``base`` and ``chain`` joined by a shaft on the output (``side = "output"``) or
-    input member of the stage ``train`` (names ``prefix``-ed in ``base``; ``parameter``:
-    the shaft's k_t)."""
-    if side == "output":
+    """``base`` and ``chain`` joined by a shaft on the output (``side = "output"``, or
+    ``"between"``: gears that drive the next stage, :func:`_join_stage`) or input member
+    of the stage ``train`` (names ``prefix``-ed in ``base``; ``parameter``: the shaft's
+    k_t)."""
+    out = side != "input"
+    if out:
         _check_operating(chain.operating, chain_operating(train), "chain",
                          "the stage output's {:.10g} (use chain_operating)")
     else:
@@ -485,9 +515,9 @@ def _join_chain(base: DynamicModel, train: PlanetaryTrain, prefix: str, chain: G
     # own ``contacts``), as a gear train's run (gearsim.dynamics.simulate.build_model)
     cm_ = build_lta(chain, settings, tables=mesh_tables(chain, contacts=settings.contact_mesh))
     # the member on the shaft and the chain's gear on it (its first or its last)
-    member = output_member(train) if side == "output" else train.operating.input
-    gear = chain.gears[0] if side == "output" else chain.gear(chain.flow.meshes[-1][1])
-    next_mesh = 0 if side == "output" else len(chain.pairs) - 1
+    member = output_member(train) if out else train.operating.input
+    gear = chain.gears[0] if out else chain.gear(chain.flow.meshes[-1][1])
+    next_mesh = 0 if out else len(chain.pairs) - 1
     if shaft_stiffness is None:
         shaft_stiffness = SHAFT_FACTOR * cm_.tables[next_mesh].mean * gear.base_radius ** 2
     kt = _check_shaft(shaft_stiffness, parameter)
@@ -501,51 +531,67 @@ def _join_chain(base: DynamicModel, train: PlanetaryTrain, prefix: str, chain: G
              "twist": (parameter, chain.flow.shafts[chain.flow.shaft_of[gear.name]].name)}
     info = {"chains": (*base.info.get("chains", ()), entry),
             "output_member": base.info.get("output_member", output_member(train))}
-    if "chain_rows" not in base.info:  # the first chain joined, under its own keys
+    if side == "between":  # rows named for the stages joined after it (a shaft by its ends)
+        info["row_names"] = (base.info["row_names"] + tuple(
+            f"{chain.name}:{i}" for i in range(cm_.n_mesh))
+                             + (f"shaft-{prefix}{member}-{gear.name}",))
+    elif "chain_rows" not in base.info:  # the first chain at an end, under its own keys
         info.update({"chain_rows": chain_rows, "shaft_row": rows - 1,
                      "chain_mesh_names": tuple(p.name for p in chain.pairs), "chain": chain,
                      "chain_mesh_frequency": chain.mesh_frequency, "shaft_stiffness": kt,
                      "chain_side": side, "chain_dofs": entry["dofs"], "shaft_member": member,
                      "chain_name": chain.name, "chain_bearing_dofs": entry["bearing_dofs"],
                      "chain_axes": cm_.axes, "chain_shafts": cm_.gear_names})
-    i_in = None if side == "output" else _rotation(cm_, chain, chain.gears[0])
-    return _join(base, cm_, _member(base, prefix, train, member, side),
+    i_in = None if out else _rotation(cm_, chain, chain.gears[0])
+    return _join(base, cm_, _member(base, prefix, train, member, "output" if out else side),
                  (_rotation(cm_, chain, gear), 1.0, gear.polar_inertia), kt,
-                 abs(train.torques[member]), settings, downstream=side == "output",
+                 abs(train.torques[member]), settings, downstream=out,
                  part_input=i_in, info=info)
 
 
 def _join_stage(base: DynamicModel, prev: PlanetaryTrain, prev_prefix: str, nxt: NextStage,
-                prefix: str, settings: DynamicsSettings, parameter: str) -> DynamicModel:
+                prefix: str, settings: DynamicsSettings, where: str) -> DynamicModel:
     """``base`` and the stage ``nxt`` joined by a shaft from the output member of the
-    stage ``prev`` (the last of ``base``) to ``nxt``'s input member (``parameter``: the
-    shaft's k_t)."""
-    op = nxt.train.operating
-    _check_operating(op, next_operating(prev, op.fixed, op.input), "stages",
-                     "the previous stage output's {:.10g} (use next_operating)")
+    stage ``prev`` (the last of ``base``) to ``nxt``'s input member, or from the last
+    gear of ``nxt.input_train``, joined to ``prev`` first (:func:`_join_chain`);
+    ``where``: ``nxt``'s table (``stages[k]``), naming the shafts' k_t."""
+    op, chain = nxt.train.operating, nxt.input_train
+    out = output_member(prev)
+    if chain is None:
+        _check_operating(op, next_operating(prev, op.fixed, op.input), "stages",
+                         "the previous stage output's {:.10g} (use next_operating)")
+        kt, parameter = nxt.shaft_stiffness, f"{where}.shaft_stiffness"
+        at_base, torque = _member(base, prev_prefix, prev, out, "output"), abs(prev.torques[out])
+    else:  # the gears between: driven by prev's output, driving nxt
+        base = _join_chain(base, prev, prev_prefix, chain, "between", nxt.shaft_stiffness,
+                           settings, f"{where}.shaft_stiffness")
+        _check_operating(op, stage_operating(chain, op.fixed, op.input), "stages",
+                         "the chain output's {:.10g} (use stage_operating)")
+        gear = chain.gear(chain.flow.meshes[-1][1])
+        kt, parameter = nxt.input_shaft_stiffness, f"{where}.input_chain.shaft_stiffness"
+        if kt is None:  # as an input chain's: ten times its last mesh's about its gear
+            kt = (SHAFT_FACTOR * base.tables[base.info["chains"][-1]["rows"][-1]].mean
+                  * gear.base_radius ** 2)
+        at_base, torque = (_rotation(base, chain, gear), 1.0, gear.polar_inertia), op.torque
     part = _prefixed(build_stage_model(nxt.train, nxt.members, stage_settings(settings)),
                      prefix)
-    kt = nxt.shaft_stiffness
     if kt is None:  # ten times the torsional stiffness of its sun meshes about the sun
         lp = part.info["lin_parker"]
         kt = SHAFT_FACTOR * lp.planets * lp.sun_mesh * nxt.train.stage.sun.base_radius ** 2
     kt = _check_shaft(kt, parameter)
-    out = output_member(prev)
+    name = stage_shaft_names(prev_prefix, prev, prefix, nxt)[-1]
     r1, n1 = base.n_mesh, base.n_dof
     rows = tuple(r1 + r for r in part.info["mesh_rows"])
     entry = {"train": nxt.train, "prefix": prefix, "rows": rows,
              "shaft_row": r1 + part.n_mesh, "shaft_stiffness": kt, "member": op.input,
              "dofs": (n1, n1 + part.n_dof), "mesh_frequency": nxt.train.mesh_frequency,
-             "twist": (parameter, stage_shaft_name(prev_prefix, prev, prefix, nxt.train))}
+             "twist": (parameter, name)}
     info = {"stages": (*base.info["stages"], entry),
             "mesh_rows": base.info["mesh_rows"] + rows,
-            "row_names": (base.info["row_names"] + part.info["row_names"]
-                          + (stage_shaft_name(prev_prefix, prev, prefix, nxt.train),)),
+            "row_names": base.info["row_names"] + part.info["row_names"] + (name,),
             "output_member": output_member(nxt.train)}
-    return _join(base, part, _member(base, prev_prefix, prev, out, "output"),
-                 _member(part, prefix, nxt.train, op.input, "input"), kt,
-                 abs(prev.torques[out]), settings, downstream=True, part_input=None,
-                 info=info)
+    return _join(base, part, at_base, _member(part, prefix, nxt.train, op.input, "input"),
+                 kt, torque, settings, downstream=True, part_input=None, info=info)
 
 
 def _stack(a: np.ndarray | None, b: np.ndarray | None, r1: int, r2: int) -> np.ndarray | None:
@@ -669,11 +715,12 @@ def simulate_stage_chain(train: PlanetaryTrain, chain: GearTrain | None,
         As :func:`gearsim.dynamics.stage.simulate_stage` (stage meshes, coordinates of
         all parts, ring sensor) plus ``chain_mesh_force`` (time, chain_mesh) [N],
         ``chain_acceleration`` (time, chain_shaft, chain_axis) [m/s^2] and
-        ``shaft_torque`` (time) [N m] (with two chains also ``input_shaft_torque``);
-        attributes ``chain_mesh_frequency``, ``shaft_stiffness``, ``output_member``,
-        ``chain_side``, ``shaft_member``, ``static_shaft_torque``; with further stages
-        their meshes in ``mesh_force`` and ``stage_shaft_torque`` (time, stage_shaft)
-        [N m] (:func:`gearsim.dynamics.stage.simulate_stage`).
+        ``shaft_torque`` (time) [N m] (with two chains at the ends also
+        ``input_shaft_torque``); attributes ``chain_mesh_frequency``, ``shaft_stiffness``,
+        ``output_member``, ``chain_side``, ``shaft_member``, ``static_shaft_torque``; with
+        further stages their meshes in ``mesh_force`` and ``stage_shaft_torque`` (time,
+        stage_shaft) [N m], gears between two stages in the ``chain_`` records and their
+        two shafts in ``stage_shaft_torque`` (:func:`gearsim.dynamics.stage.simulate_stage`).
 
     Raises
     ------
@@ -685,7 +732,8 @@ def simulate_stage_chain(train: PlanetaryTrain, chain: GearTrain | None,
         If the integration diverges.
     """
     settings = settings or DynamicsSettings()
-    chains = [c for c in (input_chain, chain) if c is not None]
+    chains = [c for c in (input_chain, *(s.input_train for s in stages), chain)
+              if c is not None]
     f_chain = max((f for c in chains for f in c.mesh_frequencies), default=0.0)
     f_stage = max(t.mesh_frequency for t in (train, *(s.train for s in stages)))
     f_hi = max(f_stage, f_chain)

@@ -535,8 +535,10 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
         ``mesh_force`` (``stage1-sun-planet-1``, ...), ``stage_shaft_torque`` (time,
         stage_shaft) [N m] and attributes ``stage_mesh_frequency`` [Hz],
         ``stage_sun_torque``, ``stage_carrier_torque`` [N m] (physical, each stage),
-        ``stage_static_mesh_force`` [N], ``static_stage_shaft_torque`` [N m]; the sensor,
-        ring acceleration, carrier angle and f_m are the first stage's.
+        ``stage_static_mesh_force`` [N], ``static_stage_shaft_torque`` [N m] (the shafts
+        driving each later stage first, then those from a stage's output member to gears
+        between two stages); the sensor, ring acceleration, carrier angle and f_m are the
+        first stage's.
 
     Raises
     ------
@@ -611,17 +613,20 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     extra_coords: dict = {}
     extra_attrs: dict = {}
     # the chains beside the stage (gearsim.dynamics.compose), in power-flow order: the
-    # gears driving the stage, then those it drives
+    # gears driving the stages, those between two stages, then those the stages drive
     chains = sorted(model.info.get("chains", ()), key=lambda e: e["side"] != "input")
+    ends = [e for e in chains if e["side"] != "between"]
     if chains:
         crow = [r for e in chains for r in e["rows"]]
         extra["chain_mesh_force"] = (("time", "chain_mesh"), f[:, crow], {"units": "N"})
-        # the shaft of the gears the stage drives (else of those driving it); a stage
-        # between two chains also has its input shaft
-        main = chains[-1]
-        extra["shaft_torque"] = ("time", f[:, main["shaft_row"]], {"units": "N*m"})
-        if len(chains) > 1:
-            extra["input_shaft_torque"] = ("time", f[:, chains[0]["shaft_row"]],
+        # the shaft of the gears the stages drive (else of those driving them); stages
+        # between two chains also have their input shaft (gears between two stages: in
+        # stage_shaft_torque)
+        main = (ends or chains)[-1]
+        if ends:
+            extra["shaft_torque"] = ("time", f[:, main["shaft_row"]], {"units": "N*m"})
+        if len(ends) > 1:
+            extra["input_shaft_torque"] = ("time", f[:, ends[0]["shaft_row"]],
                                            {"units": "N*m"})
         bd = np.concatenate([e["bearing_dofs"] for e in chains])
         acc_c = (model.fext[bd] - model.kb[bd] * q[:, bd] - model.cb[bd] * v[:, bd]
@@ -634,20 +639,20 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
         extra_attrs = {"chain_mesh_frequency": main["mesh_frequency"],
                        "chain_mesh_frequencies": [float(x) for e in chains
                                                   for x in e["chain"].mesh_frequencies],
-                       "shaft_stiffness": main["shaft_stiffness"],
                        "output_member": model.info["output_member"],
                        "input_member": train.operating.input,
-                       # the gears drive the stage ("input"), are driven ("output") or
-                       # both; shaft_torque is the shaft on shaft_member
-                       "chain_side": "both" if len(chains) > 1 else main["side"],
-                       "shaft_member": main["member"],
                        "chain_name": " + ".join(e["chain"].name for e in chains),
                        "chain_static_mesh_force": [float(model.static_force[i])
-                                                   for i in crow],
-                       "static_shaft_torque": float(model.static_force[main["shaft_row"]])}
-        if len(chains) > 1:
+                                                   for i in crow]}
+        if ends:  # the gears drive the stages ("input"), are driven ("output") or both;
+            # shaft_torque is the shaft on shaft_member
+            extra_attrs |= {"shaft_stiffness": main["shaft_stiffness"],
+                            "chain_side": "both" if len(ends) > 1 else main["side"],
+                            "shaft_member": main["member"],
+                            "static_shaft_torque": float(model.static_force[main["shaft_row"]])}
+        if len(ends) > 1:
             extra_attrs["static_input_shaft_torque"] = float(
-                model.static_force[chains[0]["shaft_row"]])
+                model.static_force[ends[0]["shaft_row"]])
         # what the shaft and gear tiers of the analysis need, under the names of a gear
         # train's result: the gears' speeds [Hz], reference = the first chain's first
         # shaft (the gearbox input, or the stage's output), and their teeth or stages
@@ -657,27 +662,27 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
         extra_attrs["analysis_teeth"] = _analysis_teeth(ch)
         if (stages := ch.compound_stages()) is not None:
             extra_attrs["analysis_stages"] = ",".join(f"{d}/{n}" for d, n in stages)
-    if len(series) > 1:  # each stage's torques, the shafts between the stages
-        between = series[1:]
-        extra["stage_shaft_torque"] = (("time", "stage_shaft"),
-                                       f[:, [e["shaft_row"] for e in between]],
+    if len(series) > 1:  # each stage's torques, the shafts between the stages: those
+        # driving each later stage, then those driving gears between two stages
+        between = [e["shaft_row"] for e in series[1:]] + [
+            e["shaft_row"] for e in chains if e["side"] == "between"]
+        extra["stage_shaft_torque"] = (("time", "stage_shaft"), f[:, between],
                                        {"units": "N*m"})
-        extra_coords["stage_shaft"] = [model.info["row_names"][e["shaft_row"]]
-                                       for e in between]
+        extra_coords["stage_shaft"] = [model.info["row_names"][r] for r in between]
         extra_attrs |= {
             "stage_names": [e["prefix"][:-1] for e in series],
             "stage_mesh_frequency": [e["train"].mesh_frequency for e in series],
             "stage_sun_torque": [e["train"].torques["sun"] for e in series],
             "stage_carrier_torque": [e["train"].torques["carrier"] for e in series],
             "stage_static_mesh_force": [float(model.static_force[i]) for i in rows],
-            "static_stage_shaft_torque": [float(model.static_force[e["shaft_row"]])
-                                          for e in between]}
+            "static_stage_shaft_torque": [float(model.static_force[r]) for r in between]}
     # once-per-revolution tacho of every turning shaft (the stages' members, then the
     # chains' shafts), each in its own sense, following a speed profile
     parts = series or ({"train": train, "prefix": ""},)  # the stages, named
     extra_attrs["analysis_parts"] = analysis_parts(
         [e["train"] for e in parts], [e["chain"] for e in chains],
-        float(tau[0]), prefixes=[e["prefix"] for e in parts])
+        float(tau[0]), prefixes=[e["prefix"] for e in parts],
+        between=[e["side"] == "between" for e in chains])
     shafts = [(e["prefix"] + m, abs(e["train"].speeds[m]))
               for e in parts
               for m in ("carrier", "sun", "ring") if e["train"].speeds[m] != 0.0]
@@ -727,7 +732,8 @@ def _analysis_teeth(chain) -> list[int]:
                                    (chain.pairs[0].driver, chain.pairs[0].driven))]
 
 
-def analysis_parts(stages, chains, tau0: float, prefixes: list[str] | None = None) -> str:
+def analysis_parts(stages, chains, tau0: float, prefixes: list[str] | None = None,
+                   between: list[bool] | None = None) -> str:
     """What the analysis of a stage result's records needs, part by part, as JSON (the
     result's ``analysis_parts`` attribute).
 
@@ -748,6 +754,8 @@ def analysis_parts(stages, chains, tau0: float, prefixes: list[str] | None = Non
     prefixes : sequence of str, optional
         Each stage's prefix of its members' names in the result (``"stage2-"``; default
         none).
+    between : sequence of bool, optional
+        Of each chain, whether it sits between two stages (default none does).
 
     Returns
     -------
@@ -759,7 +767,8 @@ def analysis_parts(stages, chains, tau0: float, prefixes: list[str] | None = Non
         ``frequency`` [Hz] and ``teeth`` of
         :meth:`~gearsim.system.planetary.PlanetaryTrain.analysis_reference`; per chain
         its shafts and meshes (the result's names), the first shaft's frequency [Hz], the
-        tooth counts and, for a compound train, its stages.
+        tooth counts, for a compound train its stages, and ``between`` (whether it sits
+        between two stages).
     """
     import json
 
@@ -776,13 +785,14 @@ def analysis_parts(stages, chains, tau0: float, prefixes: list[str] | None = Non
             "carrier_phase": float(w["carrier"] * tau0), "tacho": pre + member,
             "frequency": freq, "teeth": [int(z) for z in teeth]})
     names, k, out_chains = chain_mesh_names(chains), 0, []
-    for ch in chains:
+    for ch, mid in zip(chains, between or [False] * len(chains), strict=True):
         stg = ch.compound_stages()
         out_chains.append({"shafts": [sh.name for sh in ch.flow.shafts],
                            "meshes": list(names[k:k + len(ch.pairs)]),
                            "frequency": float(ch.shaft_frequency(0)),
                            "teeth": _analysis_teeth(ch),
-                           "stages": None if stg is None else [list(p) for p in stg]})
+                           "stages": None if stg is None else [list(p) for p in stg],
+                           "between": mid})
         k += len(ch.pairs)
     return json.dumps({"stages": out_stages, "chains": out_chains})
 
@@ -861,16 +871,18 @@ def _chain_summary(ds) -> dict:
         return {}
     f = ds["chain_mesh_force"].values
     static = np.atleast_1d(ds.attrs["chain_static_mesh_force"])
-    tq = ds["shaft_torque"].values
+    tq = ds["shaft_torque"].values if "shaft_torque" in ds else None  # gears between only
     return {"chain_meshes": [{"mesh": str(name), "mean": float(np.mean(f[:, i])),
                               "rms": float(np.std(f[:, i])), "static_force": float(static[i])}
                              for i, name in enumerate(ds["chain_mesh"].values)],
             "chain_mesh_frequency": float(ds.attrs["chain_mesh_frequency"]),
             "output_member": str(ds.attrs["output_member"]),
-            "chain_side": str(ds.attrs.get("chain_side", "output")),
-            "shaft_member": str(ds.attrs.get("shaft_member", ds.attrs["output_member"])),
+            **({} if tq is None else {
+                "chain_side": str(ds.attrs.get("chain_side", "output")),
+                "shaft_member": str(ds.attrs.get("shaft_member", ds.attrs["output_member"])),
+                "shaft_torque_mean": float(np.mean(tq)), "shaft_torque_rms": float(np.std(tq))}),
             **({"input_member": str(ds.attrs["input_member"]),
                 "input_shaft_torque_mean": float(np.mean(ds["input_shaft_torque"].values)),
                 "input_shaft_torque_rms": float(np.std(ds["input_shaft_torque"].values))}
                if "input_shaft_torque" in ds else {}),
-            "shaft_torque_mean": float(np.mean(tq)), "shaft_torque_rms": float(np.std(tq))}
+            }

@@ -34,8 +34,9 @@ from gearsim.dynamics.compose import (
     chain_operating,
     next_operating,
     stage_of_label,
+    stage_operating,
     stage_prefix,
-    stage_shaft_name,
+    stage_shaft_names,
 )
 from gearsim.dynamics.lta import AXES as LTA_AXES
 from gearsim.dynamics.lta import dof_map
@@ -108,8 +109,8 @@ class Gearbox:
         (``None``: the default of :func:`~gearsim.dynamics.compose.build_stage_chain_model`).
     next_stages : tuple of NextStage, optional
         Planetary stages in series after ``stage`` (``[[stages]]``), each driven by the
-        previous one's output member through its shaft; ``train`` is then driven by the
-        last.
+        previous one's output member through its shaft, or through gears between the two
+        (its ``input_train``); ``train`` is then driven by the last.
     member_shafts : tuple of (str, str), optional
         The named shaft each turning stage member sits on, ``(member, shaft)`` with the
         member as the results name it (``"carrier"``, ``"stage2-sun"``): a gearbox
@@ -158,9 +159,24 @@ class Gearbox:
 
     @property
     def chains(self) -> tuple[GearTrain, ...]:
-        """The gear trains beside a stage in power-flow order (the gears driving it, then
-        those it drives); the gears alone without a stage."""
-        return tuple(t for t in (self.input_train, self.train) if t is not None)
+        """The gear trains beside the stages in power-flow order (the gears driving the
+        first, those between two stages, those the last drives); the gears alone without
+        a stage."""
+        return tuple(t for t in (self.input_train, *self._between(), self.train)
+                     if t is not None)
+
+    def _between(self) -> tuple[GearTrain | None, ...]:
+        """The gears driving each stage after the first (None: its shaft alone)."""
+        return tuple(s.input_train for s in self.next_stages)
+
+    def _in_flow(self, chains: list, stages: list) -> list:
+        """``chains`` (one item per chain of :attr:`chains`) and ``stages`` (one per
+        stage) interleaved in power-flow order."""
+        c, s = iter(chains), iter(stages)
+        out = [next(c)] if self.input_train is not None else []
+        for t in (None, *self._between())[:len(self.stages)]:
+            out += ([] if t is None else [next(c)]) + [next(s)]
+        return out + list(c)
 
     @property
     def name(self) -> str:
@@ -259,10 +275,7 @@ class Gearbox:
         """
         gb = self if self.stage is None else self._with_stages(tuple(
             dataclasses.replace(st, cracks=(), faults=()) for st in self.stages))
-        train = None if self.train is None else self.train.with_crack("none").with_faults(())
-        inp = (None if self.input_train is None
-               else self.input_train.with_crack("none").with_faults(()))
-        return gb._parts(gb.stage, train, inp)
+        return gb._with_chains(tuple(t.with_crack("none").with_faults(()) for t in gb.chains))
 
     def replace(self, *, dynamics: dict[str, Any] | None = None,
                 analysis: dict[str, Any] | None = None,
@@ -292,17 +305,12 @@ class Gearbox:
         if analysis:
             gb = dataclasses.replace(gb, analysis=dataclasses.replace(gb.analysis, **analysis))
         if stiffness:
-            stage, train = gb.stage, gb.train
-            if stage is not None:
-                stage = dataclasses.replace(stage, settings=dataclasses.replace(
-                    stage.settings, **stiffness))
-            train, inp = (None if t is None else dataclasses.replace(
-                t, stiffness=dataclasses.replace(t.stiffness, **stiffness))
-                for t in (train, gb.input_train))
-            gb = dataclasses.replace(gb._parts(stage, train, inp), next_stages=tuple(
-                dataclasses.replace(s, train=dataclasses.replace(
-                    s.train, settings=dataclasses.replace(s.train.settings, **stiffness)))
-                for s in gb.next_stages))
+            if gb.stage is not None:
+                gb = gb._with_stages(tuple(dataclasses.replace(
+                    st, settings=dataclasses.replace(st.settings, **stiffness))
+                    for st in gb.stages))
+            gb = gb._with_chains(tuple(dataclasses.replace(
+                t, stiffness=dataclasses.replace(t.stiffness, **stiffness)) for t in gb.chains))
         return gb
 
     def mesh_stiffness(self, mesh: int = 0, *, revolution_of: int = 1):
@@ -526,10 +534,12 @@ class Gearbox:
                 for k, (_, d) in enumerate(parts)]  # named as the results name them
         names = iter(self._chain_mesh_names())
         chains = [train_stiffness(tr) for tr in self.chains]
-        for ts in chains:
-            key = "input_chain" if ts.train is self.input_train else "chain"
-            summary[key] = ts.summary()
-            for i, m in enumerate(summary[key]["meshes"]):
+        # the gears driving a stage under its "input_chain", those the last drives "chain"
+        homes = [(p[0], "input_chain") for p, t in zip(
+            parts, (self.input_train, *self._between()), strict=True) if t is not None]
+        for (home, key), ts in zip([*homes, (summary, "chain")], chains, strict=False):
+            home[key] = ts.summary()
+            for i, m in enumerate(home[key]["meshes"]):
                 m["mesh"] = name = next(names)
                 r = ts.results[(i, 1)]  # over one revolution of its driver
                 sets.append(xr.Dataset({f"k_{name}": (f"cycles_{name}", r.k, {"units": "N/m"})},
@@ -559,8 +569,7 @@ class Gearbox:
         def figure():
             from gearsim.viz.planetary import plot_gearbox_meshes
 
-            before = [ts for ts in chains if ts.train is self.input_train]
-            return plot_gearbox_meshes([*before, *self.stages, *chains[len(before):]],
+            return plot_gearbox_meshes(self._in_flow(chains, list(self.stages)),
                                        self._chain_mesh_names())
 
         return GearboxStiffness(summary, write, figure)
@@ -580,7 +589,8 @@ class Gearbox:
             input and output members); ``meshes`` (driver -> driven, mesh frequency [Hz],
             static force [N]); ``plan``: the arguments of
             :func:`gearsim.viz.layout.plot_layout` (shaft centres from
-            :func:`gearsim.dynamics.layout.layout`; ``stage``: one dict a stage).
+            :func:`gearsim.dynamics.layout.layout`; ``stage``: one dict a stage, and the
+            drawing of the gears between two stages between them).
         """
         from gearsim.dynamics.layout import idlers
         from gearsim.dynamics.layout import layout as plan
@@ -604,9 +614,9 @@ class Gearbox:
                 out.setdefault("next_stages", []).append(entry)
             else:
                 out["stage"] = entry
-            at_members += [{"name": shafts[m], "gears": [], "members": [pre + m],
-                            "speed_rpm": abs(tr.speeds[m]) * 30 / math.pi,
-                            "torque_Nm": abs(tr.torques[m])} for m in ends.values()]
+            at_members.append([{"name": shafts[m], "gears": [], "members": [pre + m],
+                                "speed_rpm": abs(tr.speeds[m]) * 30 / math.pi,
+                                "torque_Nm": abs(tr.torques[m])} for m in ends.values()])
             sts.append({"sun": s.sun.pitch_radius, "ring": s.ring.pitch_radius,
                         "planet": s.planet.pitch_radius, "centre": s.centre_distance,
                         "angles": list(s.planet_angles_value),
@@ -635,18 +645,18 @@ class Gearbox:
                 [(p.driver.name, p.driven.name, names[first + m])
                  for m, p in enumerate(train.pairs)]))
         seen: dict[str, dict] = {}  # every shaft once, in power-flow order
-        for row in ((rows[0] if self.input_train is not None else []) + at_members
-                    + (rows[-1] if self.train is not None else [])):
+        for row in (r for part in self._in_flow(rows, at_members) for r in part):
             if row["name"] in seen:  # a member's and a gear's, or two stages' members
                 for key in ("gears", "members"):
                     seen[row["name"]][key] = seen[row["name"]].get(key, []) + row.get(key, [])
             else:
                 seen[row["name"]] = row
         out["shafts"] = list(seen.values())
-        downstream = drawings[-1] if self.train is not None else ([], [], [])
-        upstream = drawings[0] if self.input_train is not None else None
+        panels = self._in_flow(drawings, sts)  # the gears between two stages among them
+        downstream = panels.pop() if self.train is not None else ([], [], [])
+        upstream = panels.pop(0) if self.input_train is not None else None
         out["plan"] = {"shafts": downstream[0], "gears": downstream[1],
-                       "links": downstream[2], "stage": sts or None, "upstream": upstream}
+                       "links": downstream[2], "stage": panels or None, "upstream": upstream}
         return out
 
     def gear_mesh(self, mesh: int, parameter: str = "mesh") -> tuple[GearTrain, int, str]:
@@ -765,9 +775,11 @@ class Gearbox:
             gear of a shaft that twists between its gears) and ``shaft_torque[shaft:a-b]``
             of each such shaft's spring between its gears a and b. A stage: ``sensor`` (the ring's fixed
             transducer), ``mesh_force[sun-planet-1]``, ``mesh_force[ring-planet-1]``,
-            ... and ``ring_acceleration[x]``, ``ring_acceleration[y]``; with gears also
-            ``chain_mesh_force[I]``, ..., ``shaft_torque`` (the shaft between the stage and
-            the gears) and ``chain_acceleration[shaft,axis]`` (LTA model).
+            ... and ``ring_acceleration[x]``, ``ring_acceleration[y]``; with stages in
+            series ``stage_shaft_torque[shaft]`` of each shaft between two stages (two
+            with gears between); with gears also ``chain_mesh_force[I]``, ...,
+            ``shaft_torque`` (the shaft between the stages and the gears at an end) and
+            ``chain_acceleration[shaft,axis]`` (LTA model).
 
         Examples
         --------
@@ -785,14 +797,14 @@ class Gearbox:
                     out += [f"mesh_force[{stage_prefix(k, n)}{m}-{planet_name(j)}]"
                             for m in ("sun", "ring")]
             out += [f"ring_acceleration[{a}]" for a in ("x", "y")]
-            if n > 1:
-                out += ["stage_shaft_torque[" + stage_shaft_name(
-                    stage_prefix(k - 1, n), self.stages[k - 1], stage_prefix(k, n),
-                    self.stages[k]) + "]" for k in range(1, n)]
-            if self.chains:  # the gears the stage drives and those that drive it
+            out += [f"stage_shaft_torque[{name}]" for k in range(1, n)
+                    for name in stage_shaft_names(stage_prefix(k - 1, n), self.stages[k - 1],
+                                                  stage_prefix(k, n), self.next_stages[k - 1])]
+            if self.chains:  # the gears the stages drive, those driving them or between
                 out += [f"chain_mesh_force[{name}]" for name in self._chain_mesh_names()]
-                out.append("shaft_torque")
-                if len(self.chains) > 1:
+                ends = [t for t in (self.input_train, self.train) if t is not None]
+                out += ["shaft_torque"] if ends else []
+                if len(ends) > 1:
                     out.append("input_shaft_torque")
                 axes = LTA_AXES if self.dynamics.model == "lta" else ()
                 out += [f"chain_acceleration[{sh.name},{a}]"
@@ -932,7 +944,9 @@ class Gearbox:
         """The gearbox with its gears (:attr:`chains`, in that order) replaced."""
         it = iter(chains)
         inp = None if self.input_train is None else next(it)
-        return dataclasses.replace(self, input_train=inp,
+        nexts = tuple(s if s.input_train is None else dataclasses.replace(
+            s, input_train=next(it)) for s in self.next_stages)
+        return dataclasses.replace(self, input_train=inp, next_stages=nexts,
                                    train=None if self.train is None else next(it))
 
     @staticmethod
@@ -1083,8 +1097,10 @@ class Gearbox:
         for t in self.chains:
             meshes.append(list(names[k:k + len(t.pairs)]))
             k += len(t.pairs)
+        between = [t is not self.input_train and t is not self.train for t in self.chains]
         j = chain_of_record(m.group(1), m.group(2),
-                            [[sh.name for sh in t.flow.shafts] for t in self.chains], meshes)
+                            [[sh.name for sh in t.flow.shafts] for t in self.chains], meshes,
+                            between)
         return None if j is None else self.chains[j]
 
     def analysis_stages(self, signal: str | None = None) -> tuple[tuple[int, int], ...] | None:
@@ -1234,19 +1250,19 @@ class Gearbox:
         op = self.stage.operating
         inp = self.input_train
         if inp is not None:  # the gears take the input, the stage their output
-            from gearsim.dynamics.compose import stage_operating
-
             inp = dataclasses.replace(inp, operating=Operating(speed=speed, torque=torque))
             last = stage_operating(inp, op.fixed, op.input)
             speed, torque = last.speed, last.torque
         stage = dataclasses.replace(self.stage, operating=StageOperating(
             fixed=op.fixed, input=op.input, speed=speed, torque=torque))
         nexts, last = [], stage
-        for s in self.next_stages:  # each stage at the previous one's output
-            o = s.train.operating
-            last = dataclasses.replace(s.train, operating=next_operating(last, o.fixed,
-                                                                         o.input))
-            nexts.append(dataclasses.replace(s, train=last))
+        for s in self.next_stages:  # each stage at the previous one's output (or that of
+            o, mid = s.train.operating, s.input_train  # the gears between, at its output)
+            if mid is not None:
+                mid = dataclasses.replace(mid, operating=chain_operating(last))
+            last = dataclasses.replace(s.train, operating=next_operating(
+                last, o.fixed, o.input) if mid is None else stage_operating(mid, o.fixed, o.input))
+            nexts.append(dataclasses.replace(s, train=last, input_train=mid))
         train = self.train
         if train is not None:  # the gears run at the last stage output's speed and torque
             train = dataclasses.replace(train, operating=chain_operating(last))

@@ -30,16 +30,17 @@ carries (between two stages' members, or a member and a gear; default as
 :mod:`gearsim.dynamics.compose`), its ``bearing_stiffness`` the bearing of its gears and
 members (as :meth:`~gearsim.model.Gearbox.with_bearing`; a member's own in
 ``[stages.members]`` wins); the other keys of a shaft of members only are refused (their
-mass and inertia are ``[stages.members]`` keys). The gears before the first stage, the stages in series
-and the gears after the last stage are then built as the ``[input_chain]``,
-``[[stages]]`` and ``[chain]`` of :mod:`gearsim.model.planetary` (the same
+mass and inertia are ``[stages.members]`` keys). The gears before the first stage, the stages in series,
+the gears between two stages and the gears after the last stage are then built as the
+``[input_chain]``, ``[[stages]]`` (a later stage's ``input_chain``: the gears driving it)
+and ``[chain]`` of :mod:`gearsim.model.planetary` (the same
 :class:`~gearsim.model.Gearbox`, the same numbers); a refusal names the element as it is
 written here (``gears[3].shaft``, ``stages[2].sun``, ``shafts[1].torsional_stiffness``).
 
 Not read (one line naming the element): a shaft driving two parts or two meshes
-(branching power beside a stage; a gearbox of parallel shafts alone may branch),
-gears between two stages, an element off the power path, a stage without exactly one
-member on the housing.
+(branching power beside a stage; a gearbox of parallel shafts alone may branch), a
+shaft carrying a member that meshes with two shafts, an element off the power path, a
+stage without exactly one member on the housing.
 """
 
 from __future__ import annotations
@@ -254,16 +255,11 @@ def _translate(doc: dict[str, Any]
                 raise InputError(f"{key}[{i}].gear", t.get("gear", "missing"), "no such "
                                  "gear; gears: " + ", ".join(gear_names) + " (a stage's is "
                                  f"[[stages.{key}]])")
-    kinds = [p[0] for p in path]
-    if "gears" in kinds[1:-1]:
-        raise InputError("gears", "between two stages", "gears between two planetary "
-                         "stages are not read yet (gears before the first stage, after the "
-                         "last, or both)")
     near = {n: {b if a == n else a for a, b in mesh_shafts if n in (a, b)} for n in names}
-    for p in path:  # gears beside a stage pass the power on in one path
-        if p[0] == "gears":
+    for p in path:  # gears beside a stage pass the power on in one path (the shafts
+        if p[0] == "gears":  # it enters and leaves by mesh with one gear's shaft)
             for n in (n for n in names if root(n) == p[1]):
-                if len(near[n]) > (1 if n == p[2] else 2):
+                if len(near[n]) > (1 if n in p[2:] else 2):
                     raise InputError(f"shafts[{index[n]}]", n, "meshes with "
                                      + ", ".join(sorted(near[n])) + ": branching power "
                                      "beside a planetary stage is not read (a gearbox of "
@@ -322,22 +318,26 @@ class _Graph(NamedTuple):
 
 def _stage_form(g: _Graph, path: list[tuple]
                 ) -> tuple[dict[str, Any], Callable[[str], str]]:
-    """The ``[input_chain]``, ``[[stages]]`` and ``[chain]`` document of the power path,
-    and the renaming of its parameters."""
+    """The ``[input_chain]``, ``[[stages]]`` (with the gears between two stages as the
+    later one's ``input_chain``) and ``[chain]`` document of the power path, and the
+    renaming of its parameters."""
     doc, index, stages, held = g.doc, g.index, g.stages, g.held
     out: dict[str, Any] = {k: doc[k] for k in ("name", "material", "sensor", "dynamics",
                                                 "analysis", "stiffness") if k in doc}
     back: dict[str, str] = {}  # prefix in the stage form -> as written here
     stage_tabs = []
-    for n, step in enumerate(p for p in path if p[0] == "stage"):
+    for i, step in enumerate(path):
+        if step[0] != "stage":
+            continue
         _, k, m, shaft = step
+        n = len(stage_tabs)
         raw = {key: v for key, v in stages[k - 1].items() if key not in MEMBERS}
         own = {f"{x}_bearing": g.shafts[index[s]]["bearing_stiffness"] for x in MEMBERS
                if (s := stages[k - 1][x]) != HOUSING
                and "bearing_stiffness" in g.shafts[index[s]]}
         if own and isinstance(raw.get("members", {}), dict):  # a shaft's bearing is its
             raw["members"] = {**own, **raw.get("members", {})}  # members' (their own wins)
-        where = f"stages[{len(stage_tabs) + 1}]"
+        where = f"stages[{n + 1}]"
         back[where] = f"stages[{k}]"
         if n == 0:  # the first stage's own tables are the document's
             for key in ("fixed", "input"):
@@ -351,26 +351,34 @@ def _stage_form(g: _Graph, path: list[tuple]
             out["operating"] = {**doc.get("operating", {}), "fixed": held[k - 1], "input": m}
             back["operating.fixed"] = f"stages[{k}].{held[k - 1]}"
             back["operating.input"] = f"stages[{k}].{m}"
-        else:
-            raw |= {"fixed": held[k - 1], "input": m}
-            t = g.shafts[index[shaft]]
+        else:  # its shaft from the previous stage's output member: the one its input
+            raw |= {"fixed": held[k - 1], "input": m}  # member sits on, or the gears' first
+            src = path[i - 1][2] if path[i - 1][0] == "gears" else shaft
+            t = g.shafts[index[src]]
             if "torsional_stiffness" in t:
                 raw["shaft_stiffness"] = t["torsional_stiffness"]
-                back[f"{where}.shaft_stiffness"] = f"shafts[{index[shaft]}].torsional_stiffness"
+                back[f"{where}.shaft_stiffness"] = f"shafts[{index[src]}].torsional_stiffness"
         stage_tabs.append(raw)
     out["stages"] = stage_tabs
-    for _, _, entry, leave in (x for x in path if x[0] == "gears"):
-        table = "input_chain" if path[0][0] == "gears" and entry == g.names[0] else "chain"
-        join = leave if table == "input_chain" else entry  # the shaft with a member
+    for i, (_, _, entry, leave) in ((i, x) for i, x in enumerate(path) if x[0] == "gears"):
+        n = sum(x[0] == "stage" for x in path[:i])  # the stages before the gears
+        table = ("input_chain" if n == 0 else "chain" if i == len(path) - 1
+                 else f"stages[{n + 1}].input_chain")
         chain, ren = _chain(g, entry)
-        chain["name"] = "input gears" if table == "input_chain" else "output gears"
-        t = g.shafts[index[join]]
-        if "torsional_stiffness" in t:  # the shaft from the member to the gears on it
-            chain["shaft_stiffness"] = t["torsional_stiffness"]
-            ren["shaft_stiffness"] = f"shafts[{index[join]}].torsional_stiffness"
+        chain["name"] = ("input gears" if n == 0 else "output gears" if table == "chain"
+                         else f"gears before stage {n + 1}")
+        joins = [x for x in (entry if n else None, leave if table != "chain" else None) if x]
+        for join in joins:  # the shafts from and to a member: their stiffnesses the
+            t = g.shafts[index[join]]  # stages' (read above) or the chain's own
+            if "torsional_stiffness" in t and (join == leave or table == "chain"):
+                chain["shaft_stiffness"] = t["torsional_stiffness"]
+                ren["shaft_stiffness"] = f"shafts[{index[join]}].torsional_stiffness"
             chain["shafts"] = [{k: v for k, v in sh.items() if k != "torsional_stiffness"}
                                if sh is t else sh for sh in chain["shafts"]]
-        out[table] = chain
+        if n and table != "chain":
+            stage_tabs[n]["input_chain"] = chain
+        else:
+            out[table] = chain
         back |= {f"{table}.{a}": b for a, b in ren.items()}
         if table == "input_chain":
             for key in ("speed", "torque"):

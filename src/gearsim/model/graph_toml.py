@@ -3,8 +3,9 @@
 bit).
 
 Every part becomes what the reader builds it from: the shafts in power-flow order (the
-input chain's, those between the stages, the output chain's; a shaft carrying a member
-and a gear is the chain's shaft, its ``torsional_stiffness`` the stage's shaft), one
+input chain's, those between the stages or the shafts of the gears between them, the
+output chain's; a shaft carrying a member and a gear is the chain's shaft, its
+``torsional_stiffness`` the stage's shaft), one
 ``[[stages]]`` a stage (members on their shafts, its ``[stages.members]`` and damage),
 the gears, meshes and damage of the chains (:mod:`gearsim.system.toml`), ``[operating]``
 of the input, one ``[stiffness]``, ``[sensor]``, ``[dynamics]``, ``[analysis]``. A
@@ -17,7 +18,7 @@ between the parts or a ``corner_contact`` / ``fe_pair_positions`` off its defaul
 reads neither), stages of different materials, a sensor on a later stage, a chain's own
 torsional stiffness on the shaft it shares with a member, a stage's meshes of contacts
 without a fault (a study's variant). Not written: the names of the gear chains (the
-graph calls them ``input gears`` and ``output gears``).
+graph calls them ``input gears``, ``gears before stage <k>`` and ``output gears``).
 """
 
 from __future__ import annotations
@@ -80,35 +81,37 @@ def stages_to_toml(gb: Gearbox) -> str:
     def output(t) -> str:
         return next(m for m in MEMBERS if m not in (t.operating.fixed, t.operating.input))
 
-    ends = []  # into stage k (k = n: out of the last): (shaft, its torsional stiffness,
-    for k in range(n + 1):  # the chain sharing it and the shaft's index there)
-        chain = inp if k == 0 else out if k == n else None
-        if chain is None:
-            j, kt = None, gb.next_stages[k - 1].shaft_stiffness if 0 < k < n else None
-            name = gb.shaft_label(stage_prefix(k - 1, n) + output(stages[k - 1]) if k
-                                  else stage_prefix(0, n) + stages[0].operating.input)
-        else:
-            j = chain.flow.outputs[0] if k == 0 else 0
-            name, kt = (chain.flow.shafts[j].name,
-                        gb.input_shaft_stiffness if k == 0 else gb.shaft_stiffness)
-            require(chain.flow.shafts[j].torsional_stiffness is None, "shafts", name,
-                    "has a torsional stiffness between its gears and one to the stage "
-                    "member it carries: the graph form has one")
-        ends.append((name, kt, chain, j))
     lines = [EFFECTIVE_HEADER, f"name = {toml_value(gb.name)}"]
     table(lines, "[material]", dataclasses.asdict(material))
-    for k, (name, kt, chain, j) in enumerate(ends):
+    ends = []  # at junction k (before stage k; k = n after the last): the shafts of stage
+    for k in range(n + 1):  # k - 1's output member and of stage k's input member
+        nxt = gb.next_stages[k - 1] if 0 < k < n else None
+        chain = inp if k == 0 else out if k == n else nxt.input_train
         if chain is None:
-            table(lines, "[[shafts]]", {"name": name, "torsional_stiffness": kt})
-        elif k in (0, n):  # first the input chain's, last the output chain's
-            for i, sh in enumerate(chain.flow.shafts):
-                table(lines, "[[shafts]]", {**{a: v for a, v in dataclasses.asdict(sh).items()
-                                               if a != "gears"},
-                                            **({"torsional_stiffness": kt} if i == j else {})})
+            name = gb.shaft_label(stage_prefix(k - 1, n) + output(stages[k - 1]) if k
+                                  else stage_prefix(0, n) + stages[0].operating.input)
+            table(lines, "[[shafts]]", {"name": name, "torsional_stiffness": nxt and
+                                        nxt.shaft_stiffness})
+            ends.append((name, name))
+            continue
+        fl = chain.flow  # the shafts of its ends that carry a member, their stiffnesses
+        kts = ({0: gb.shaft_stiffness if k == n else nxt.shaft_stiffness} if k else {}) | (
+            {fl.outputs[0]: gb.input_shaft_stiffness if k == 0 else nxt.input_shaft_stiffness}
+            if k < n else {})
+        for j in kts:
+            require(fl.shafts[j].torsional_stiffness is None, "shafts", fl.shafts[j].name,
+                    "has a torsional stiffness between its gears and one to the stage "
+                    "member it carries: the graph form has one")
+        for i, sh in enumerate(fl.shafts):
+            table(lines, "[[shafts]]", {**{a: v for a, v in dataclasses.asdict(sh).items()
+                                           if a != "gears"},
+                                        **({"torsional_stiffness": kts[i]} if i in kts else {})})
+        ends.append((fl.shafts[0].name, fl.shafts[fl.outputs[0]].name))
     for k, t in enumerate(stages):
         op, st = t.operating, t.stage
         table(lines, "[[stages]]", {
-            **{m: HOUSING if m == op.fixed else ends[k + (m != op.input)][0] for m in MEMBERS},
+            **{m: HOUSING if m == op.fixed else ends[k][1] if m == op.input else ends[k + 1][0]
+               for m in MEMBERS},
             "name": t.name if k else None,
             **{f.name: getattr(st, f.name) for f in dataclasses.fields(st)
                if f.name != "material"},

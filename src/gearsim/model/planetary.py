@@ -43,9 +43,13 @@ stage's output member through a shaft and may add ``fixed`` and ``input`` (its h
 driven members, default ``"ring"`` and ``"sun"``), ``shaft_stiffness`` (default:
 :class:`gearsim.dynamics.compose.NextStage`), ``name``, a ``members`` table and its own
 ``[[stages.cracks]]`` and ``[[stages.faults]]`` (as ``[[cracks]]`` and ``[[faults]]``, on
-its gears). A bad value of entry k is named ``stages[k].<key>`` (k from 1), a refused
-crack ``stages[k].cracks[i].<key>`` (i from 0, as ``cracks[i]``). ``[input_chain]``
-drives the first stage, ``[chain]`` is driven by the last.
+its gears), and ``[stages.input_chain]``: gears between the previous stage and this one
+(the keys of ``[chain]``; at the previous stage output's speed and torque, their last
+gear driving this stage's ``input``; the entry's ``shaft_stiffness`` is then the shaft
+from the previous stage to their first gear, theirs the shaft to this stage). A bad
+value of entry k is named ``stages[k].<key>`` (k from 1), a refused crack
+``stages[k].cracks[i].<key>`` (i from 0, as ``cracks[i]``). ``[input_chain]`` drives the
+first stage, ``[chain]`` is driven by the last.
 
 Assembly (coaxiality, (z_s + z_r)/N, planet spacing, tip interference of the internal
 pair) and the cracks (a planet the stage does not have) are checked where the stage is
@@ -94,7 +98,8 @@ PLANETARY_TOP_KEYS = ("name", "material", "stage", "stages", "operating", "membe
                       "sensor", "stiffness", "cracks", "faults", "dynamics", "analysis",
                       "chain", "input_chain")
 #: Keys of a ``[[stages]]`` entry after the first besides those of ``[stage]``.
-NEXT_STAGE_KEYS = ("name", "fixed", "input", "shaft_stiffness", "members", "cracks", "faults")
+NEXT_STAGE_KEYS = ("name", "fixed", "input", "shaft_stiffness", "members", "cracks", "faults",
+                   "input_chain")
 #: Keys of ``[chain]``: the shaft and a gear train's sections (no operating point).
 #: The per-mesh and per-gear dynamics options of a gear train's file
 #: (:data:`gearsim.model.config.PER_MESH`, ``PER_GEAR``), refused beside a stage.
@@ -169,14 +174,17 @@ def parse_planetary(doc: dict[str, Any], material: Material,
     nexts: list[NextStage] = []
     for k, entry in enumerate(more, 2):  # each driven by the previous stage's output
         nexts.append(_next_stage(entry, f"stages[{k}]", material, nexts[-1].train
-                                 if nexts else train, stiffness, f"{name}, stage {k}"))
+                                 if nexts else train, stiffness, f"{name}, stage {k}",
+                                 lambda raw, op, table: _parse_chain(
+                                     raw, doc.get("material", {}), op, parse_train, table)))
     dynamics = parse_dynamics(doc.get("dynamics", {}), "dynamics")
     analysis = parse_analysis(doc.get("analysis", {}), "analysis")
     last = nexts[-1].train if nexts else train
     chain, shaft = (_parse_chain(doc["chain"], doc.get("material", {}),
                                  chain_operating(last), parse_train, "chain")
                     if "chain" in doc else (None, None))
-    _unique_names(inp, chain)
+    _unique_names([("input_chain", inp), *((f"stages[{k}].input_chain", ns.input_train)
+                                           for k, ns in enumerate(nexts, 2)), ("chain", chain)])
     return Gearbox(train=chain, stage=train, members=members, dynamics=dynamics,
                    analysis=analysis, shaft_stiffness=shaft, input_train=inp,
                    input_shaft_stiffness=inp_shaft, next_stages=tuple(nexts))
@@ -196,7 +204,8 @@ def _stage_tables(doc: dict[str, Any]) -> tuple[dict[str, Any], list[Any]]:
         raise InputError("stages", "...", "must be one or more [[stages]] tables")
     where = {"fixed": "[operating]", "input": "[operating]", "members": "[members]",
              "name": "the top-level name", "cracks": "[[cracks]]", "faults": "[[faults]]",
-             "shaft_stiffness": "no shaft: its input is [operating]'s"}
+             "shaft_stiffness": "no shaft: its input is [operating]'s",
+             "input_chain": "[input_chain]"}
     for key in tables[0]:
         if key in where:
             raise InputError(f"stages[1].{key}", tables[0][key] if isinstance(
@@ -246,8 +255,11 @@ def _members(raw: Any, section: str, **sensor: float) -> StageDynamics:
 
 
 def _next_stage(raw: dict[str, Any], section: str, material: Material,
-                prev: PlanetaryTrain, stiffness: StiffnessSettings, name: str) -> NextStage:
-    """A ``[[stages]]`` entry after the first: a stage driven by ``prev``'s output."""
+                prev: PlanetaryTrain, stiffness: StiffnessSettings, name: str,
+                chain: Callable) -> NextStage:
+    """A ``[[stages]]`` entry after the first: a stage driven by ``prev``'s output, or by
+    the gears of its ``input_chain`` table (``chain(raw, operating, table)``:
+    :func:`_parse_chain`) at that output's speed and torque."""
     for key in raw:
         if key not in STAGE_KEYS and key not in NEXT_STAGE_KEYS:
             raise InputError(f"{section}.{key}", "...", "unknown key; allowed: "
@@ -256,8 +268,12 @@ def _next_stage(raw: dict[str, Any], section: str, material: Material,
     stage, consts = _stage_geometry(geometry, section, material)
     written = {k: raw[k] for k in ("fixed", "input") if k in raw}
     ends = convert(written, STAGE_OPERATING_KEYS, section)
+    inp, inp_shaft = (chain(raw["input_chain"], chain_operating(prev), f"{section}.input_chain")
+                      if "input_chain" in raw else (None, None))
     with as_written(written, "operating", sources=[(section, written)]):
-        operating = next_operating(prev, ends.get("fixed", "ring"), ends.get("input", "sun"))
+        ends = (ends.get("fixed", "ring"), ends.get("input", "sun"))
+        operating = (next_operating(prev, *ends) if inp is None
+                     else stage_operating(inp, *ends))
     own = raw.get("name", name)
     if not isinstance(own, str):
         raise InputError(f"{section}.name", own, "must be a string")
@@ -266,7 +282,8 @@ def _next_stage(raw: dict[str, Any], section: str, material: Material,
                              settings=stiffness, name=own, **consts)
     return NextStage(train=train, members=_members(raw.get("members", {}),
                                                    f"{section}.members"),
-                     shaft_stiffness=_shaft(raw, section))
+                     shaft_stiffness=_shaft(raw, section), input_train=inp,
+                     input_shaft_stiffness=inp_shaft)
 
 
 def _stage_train(raw: dict[str, Any], where: str, **kw: Any) -> PlanetaryTrain:
@@ -308,11 +325,12 @@ def _shaft(raw: dict[str, Any], table: str) -> float | None:
     return shaft
 
 
-def _unique_names(inp: GearTrain | None, chain: GearTrain | None) -> None:
-    """Refuse a gear or shaft name used in both chains or taken by a stage member (the
-    results label shafts and tachos by name; a chain's shaft may share its own gear's)."""
+def _unique_names(chains: list[tuple[str, GearTrain | None]]) -> None:
+    """Refuse a gear or shaft name used in two chains (``(table, chain)``) or taken by a
+    stage member (the results label shafts and tachos by name; a chain's shaft may share
+    its own gear's)."""
     seen: dict[str, str] = {m: "the stage's members" for m in ("sun", "ring", "carrier")}
-    for table, tr in (("input_chain", inp), ("chain", chain)):
+    for table, tr in chains:
         if tr is None:
             continue
         names = {g.name for g in tr.gears} | {sh.name for sh in tr.flow.shafts}

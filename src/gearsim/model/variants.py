@@ -179,18 +179,14 @@ def _beside_stages(gearbox: Gearbox, kind: str, s: float, gear: str | None,
     if gear in members and kind != "none":  # a crack or surface fault of a stage member
         k, m = members[gear]
         stages[k] = _member_fault(stages[k], m, kind, s)
-    clean = {"stage": stages[0], "next_stages": tuple(
-        dataclasses.replace(n, train=t) for n, t in zip(gearbox.next_stages, stages[1:],
-                                                        strict=True))}
-    for key in ("input_train", "train"):
-        t = getattr(gearbox, key)
-        if t is None:
-            continue
+    chains = []
+    for t in gearbox.chains:  # the gears before, between and after the stages
         t = t.with_crack("none").with_faults(())
         if gear in [g.name for g in t.gears]:
             t, dyn = _with_fault(t, kind, s, gear, dyn)
-        clean[key] = t
-    return dataclasses.replace(gearbox, dynamics=dyn, **clean)
+        chains.append(t)
+    return dataclasses.replace(gearbox._with_stages(tuple(stages))._with_chains(
+        tuple(chains)), dynamics=dyn)
 
 
 def _sized(kind: str, s: float, g, name: str, lo: float, hi: float):

@@ -202,12 +202,13 @@ def plot_layout(shafts: Sequence[tuple[str, tuple[float, float]]],
         Driver, driven gear name and the mesh label.
     title : str, optional
         Figure title.
-    stage : dict or sequence of dict, optional
+    stage : dict or sequence of dict or tuple, optional
         A stage, or the stages in series: ``sun``, ``ring`` and ``planet`` pitch radii
         [m], ``centre`` (carrier radius, [m]), ``angles`` (planet angles [rad]) and
         ``teeth`` (z_s, z_p, z_r); optional ``input`` and ``output`` (the members on the
         joining shafts), ``fixed`` (the held member), ``shafts`` (member -> the shaft it
-        sits on), named in the legend, and ``title`` of its panel.
+        sits on), named in the legend, and ``title`` of its panel; gears between two
+        stages as a ``(shafts, gears, meshes)`` tuple between them.
     upstream : tuple, optional
         ``(shafts, gears, meshes)`` of gears driving the stage, as above.
     fig : matplotlib.figure.Figure, optional
@@ -223,7 +224,7 @@ def plot_layout(shafts: Sequence[tuple[str, tuple[float, float]]],
     panels: list[tuple[str, object]] = []
     if upstream is not None:
         panels.append(("up", upstream))
-    panels += [("stage", st) for st in stages]
+    panels += [("stage" if isinstance(st, dict) else "mid", st) for st in stages]
     if gears or not stages:
         panels.append(("down", (shafts, gears, meshes)))
     fig = figure_or_new(fig, 5.0 * len(panels) + 2.0, 10.0)
@@ -238,7 +239,8 @@ def plot_layout(shafts: Sequence[tuple[str, tuple[float, float]]],
             _side(side, *part)
             member = (stages[0] if kind == "up" else stages[-1]).get(
                 "input" if kind == "up" else "output") if stages else None
-            ax.set_title(title if not stages else "parallel shafts" if member is None else
+            ax.set_title(title if not stages else "parallel shafts (between two stages)"
+                         if kind == "mid" else "parallel shafts" if member is None else
                          f"parallel shafts ({'driving' if kind == 'up' else 'driven by'} the "
                          f"{member})")
             side.set_title("side view: gears in their planes along the shafts", fontsize=9)

@@ -296,9 +296,8 @@ class Gearbox:
             if stage is not None:
                 stage = dataclasses.replace(stage, settings=dataclasses.replace(
                     stage.settings, **stiffness))
-            train, inp = (None if t is None else dataclasses.replace(
-                t, stiffness=dataclasses.replace(t.stiffness, **stiffness))
-                for t in (train, gb.input_train))
+            train, inp = (None if t is None else t.with_stiffness(**stiffness)
+                          for t in (train, gb.input_train))
             gb = dataclasses.replace(gb._parts(stage, train, inp), next_stages=tuple(
                 dataclasses.replace(s, train=dataclasses.replace(
                     s.train, settings=dataclasses.replace(s.train.settings, **stiffness)))

@@ -208,16 +208,16 @@ def fe_pair_command(
     gb = with_torque(_gearbox(config, "fe-pair takes a mesh of external gears"), torque)
     train, mesh, mesh_name = gb.gear_mesh(mesh, "--mesh")
     train = train.with_cracks(())
-    pair = train.pairs[mesh]
+    pair, own = train.pairs[mesh], train.settings_of(mesh)
     with as_options({"fem.level": "--level", "level": "--level", "torque": "--torque"}):
         model = FEPairModel(pair, torque=train.mesh_torque(mesh), level=level,
-                            plane=train.stiffness.plane)
+                            plane=own.plane)
     results = [model.solve(v) for v in u]
-    seed = dataclasses.replace(train.stiffness, **MODELS["seed"])
+    seed = dataclasses.replace(own, **MODELS["seed"])
     curves = {}
     for name, st in (("pe", seed), ("fe_tooth_line_coupling", dataclasses.replace(
             seed, source="fe", contact="line", coupling="fe")),
-                     ("config", train.stiffness)):
+                     ("config", own)):
         x, k = section_tvms(train, mesh, st, 400)
         curves[name] = np.interp(u, x, k, period=float(pair.driver.teeth))
     rows = []
@@ -252,8 +252,8 @@ def fe_pair_command(
                    f"{row['k_fe_tooth_line_coupling_N_per_m'] / k:10.3f} "
                    f"{row['k_config_N_per_m'] / k:8.3f}")
     typer.echo("PE: the seed's method; FE+line: FE tooth, line contact, body coupling; "
-               f"model: the configuration's stiffness ({train.stiffness.source}, "
-               f"{train.stiffness.contact}, {train.stiffness.coupling})")
+               f"model: the configuration's stiffness ({own.source}, "
+               f"{own.contact}, {own.coupling})")
 
 
 def register(app: typer.Typer) -> None:

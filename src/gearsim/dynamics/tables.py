@@ -148,12 +148,13 @@ def centre_distance_derivative(train: GearTrain, mesh: int, table: MeshTable,
     pair = train.pairs[mesh]
     force = train.static_mesh_force(mesh)
     # everything the result depends on (the force only under the line contact law)
-    key = (pair, train.stiffness, force if train.stiffness.contact == "line" else None,
+    own = train.settings_of(mesh)
+    key = (pair, own, force if own.contact == "line" else None,
            float(step), table.positions_per_cycle, table.period)
     hit = _DERIVATIVES.get(key)
     if hit is not None:
         return hit.copy()
-    st = dataclasses.replace(train.stiffness, positions_per_cycle=FINE_POSITIONS)
+    st = dataclasses.replace(own, positions_per_cycle=FINE_POSITIONS)
     fine = np.arange(FINE_POSITIONS) / FINE_POSITIONS  # nominal cycles of one mesh cycle
     ks = []
     for h in (step, -step):

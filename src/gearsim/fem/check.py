@@ -244,7 +244,8 @@ def fe_check(train, gear_name: str | None = None, *, crack: str = "none",
         or ``"non-working"``; depth, angle and start come from the config's crack on
         that gear.
     closure
-        ``"open"`` or ``"contact"``; default the config's ``stiffness.closure``.
+        ``"open"`` or ``"contact"``; default the config's ``stiffness.closure`` (the
+        gear's first mesh's).
     level
         Mesh level (element size m_n / (4 2^level) on the loaded tooth).
     points
@@ -259,7 +260,8 @@ def fe_check(train, gear_name: str | None = None, *, crack: str = "none",
         gear_name = train.cracks[0].gear if train.cracks else names[0]
     if gear_name not in names:
         raise InputError("--gear", gear_name, f"must be one of {names}")
-    closure = train.stiffness.closure if closure is None else closure
+    st = train.settings_of(train.flow.meshes_of(gear_name)[0][0])  # of the gear's first mesh
+    closure = st.closure if closure is None else closure
     if closure not in ("open", "contact"):
         raise InputError("--closure", closure, 'must be "open" or "contact"')
     gear = train.gear(gear_name)
@@ -279,5 +281,5 @@ def fe_check(train, gear_name: str | None = None, *, crack: str = "none",
         side = 1 if crack == "working" else -1
     radii = contact_radii(train, gear_name, points)
     return compare_gear(gear, radii, crack=c, side=side, closure=closure,
-                        plane=train.stiffness.plane, options=opt, label=crack,
-                        gauss_points=train.stiffness.gauss_points)
+                        plane=st.plane, options=opt, label=crack,
+                        gauss_points=st.gauss_points)

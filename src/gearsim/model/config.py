@@ -17,6 +17,7 @@ line says "SI units") reads plain numbers as SI throughout. Layout::
     [[meshes]]            # with shafts: ``gears = ["a", "b"]``, optional ``angle`` and the
                           # mesh's own backlash, profile_modification, crowning,
                           # assembly_error (PER_MESH; [[gears]] take runout, runout_phase)
+                          # and [meshes.stiffness]: any key of [stiffness], its own
     [operating]           # speed and torque of the first gear
     [stiffness]           # closure, slices, positions_per_cycle, gauss_points, plane, source
     [[cracks]]            # gear, tooth, flank, depth, angle, extent, profile, start_radius
@@ -78,7 +79,7 @@ GEAR_KEYS = {
 }
 MESH_KEYS = {"gears": "str", "angle": "angle", "backlash": "length",
              "profile_modification": "length", "crowning": "length",
-             "assembly_error": "length"}
+             "assembly_error": "length", "stiffness": "table"}
 #: ``[dynamics]`` options a ``[[meshes]]`` table may give for its own mesh, and a
 #: ``[[gears]]`` table (or ``[common]``) for its own gear: the loader puts them into the
 #: per-item tuples of :class:`gearsim.dynamics.DynamicsSettings` in power-flow order,
@@ -177,7 +178,8 @@ def parse(doc: dict[str, Any]) -> Gearbox:
         kw["helix_angle"] = abs(kw.get("helix_angle", 0.0))
         kws.append(kw)
     _unique([kw["name"] for kw in kws], "gears")
-    shafts, meshes, own_mesh = _graph(doc, kws) if graph else ((), (), {})
+    stiffness = _stiffness(doc.get("stiffness", {}), "stiffness")
+    shafts, meshes, own_mesh = _graph(doc, kws, stiffness) if graph else ((), (), {})
     signs = _hands(doc, kws, shafts, meshes)
     gears = []
     own_gear: dict[str, dict[str, Any]] = {}  # gear name -> its dynamics options
@@ -198,8 +200,6 @@ def parse(doc: dict[str, Any]) -> Gearbox:
     op_kw = convert(op_raw, OPERATING_KEYS, "operating")
     with as_written(op_raw, "operating"):
         operating = Operating(**op_kw)
-    stiffness = StiffnessSettings(**model_options(
-        convert(doc.get("stiffness", {}), STIFFNESS_KEYS, "stiffness"), "stiffness"))
     cracks_raw = doc.get("cracks", [])
     cracks = parse_cracks(cracks_raw)
     name = doc.get("name", "gear train")
@@ -263,10 +263,25 @@ def _per_element(dynamics: DynamicsSettings, raw: Any, train: GearTrain,
     return dynamics
 
 
-def _graph(doc: dict[str, Any], kws: list[dict[str, Any]]
+def _stiffness(raw: Any, where: str, base: StiffnessSettings | None = None
+               ) -> StiffnessSettings:
+    """The ``[stiffness]`` table ``raw``, or a mesh's own over the file's ``base`` (its
+    keys override; ``model`` as in ``[stiffness]``), checked as ``[stiffness]`` is and
+    named where written (``meshes[1].stiffness.slices``)."""
+    kw = convert(raw, STIFFNESS_KEYS, where)
+    kw = model_options(kw, where) if base is None or "model" in kw else kw
+    try:
+        return StiffnessSettings(**kw) if base is None else dataclasses.replace(base, **kw)
+    except InputError as exc:
+        raise InputError(where + exc.parameter.removeprefix("stiffness"), exc.value,
+                         exc.limit) from None
+
+
+def _graph(doc: dict[str, Any], kws: list[dict[str, Any]], stiffness: StiffnessSettings
            ) -> tuple[tuple[Shaft, ...], tuple[MeshSpec, ...], dict]:
     """``[[shafts]]`` and ``[[meshes]]`` with each gear's ``shaft``, checked as written;
-    and each mesh's own dynamics options (:data:`PER_MESH`), by its pair of gears."""
+    each mesh's own stiffness options over ``stiffness``; and its own dynamics options
+    (:data:`PER_MESH`), by its pair of gears."""
     shafts_raw = array_of_tables(doc.get("shafts", []), "shafts")
     require_tables = [("shafts", shafts_raw), ("meshes", doc.get("meshes"))]
     for key, raw in require_tables:
@@ -307,6 +322,8 @@ def _graph(doc: dict[str, Any], kws: list[dict[str, Any]]
                 f"{math.degrees(b2):.6g} deg", f"must equal the helix angle of {pair[0]} "
                 f"({math.degrees(b1):.6g} deg), its mate in {at}")
         own[frozenset(pair)] = {k: (kw.pop(k), at) for k in PER_MESH if k in kw}
+        if "stiffness" in kw:
+            kw["stiffness"] = _stiffness(kw["stiffness"], f"{at}.stiffness", stiffness)
         meshes.append(MeshSpec(gears=tuple(pair), **kw))
     return tuple(shafts), tuple(meshes), own
 

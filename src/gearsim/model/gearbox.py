@@ -309,8 +309,7 @@ class Gearbox:
                 gb = gb._with_stages(tuple(dataclasses.replace(
                     st, settings=dataclasses.replace(st.settings, **stiffness))
                     for st in gb.stages))
-            gb = gb._with_chains(tuple(dataclasses.replace(
-                t, stiffness=dataclasses.replace(t.stiffness, **stiffness)) for t in gb.chains))
+            gb = gb._with_chains(tuple(t.with_stiffness(**stiffness) for t in gb.chains))
         return gb
 
     def mesh_stiffness(self, mesh: int = 0, *, revolution_of: int = 1):

@@ -175,7 +175,7 @@ def fe_pair_check(train: GearTrain, mesh: int = 0, *, crack: str = "none",
     else:
         kw = {} if depth is None else {"depth": depth}
         tr = train.with_crack(crack, closure="contact", source="pe", **kw)
-    pair = tr.pairs[mesh]
+    pair, own = tr.pairs[mesh], tr.settings_of(mesh)
     torque = tr.mesh_torque(mesh)
     cracks = tr.mesh_cracks(mesh)
     rev = cracks[0].gear if cracks else 1
@@ -185,12 +185,12 @@ def fe_pair_check(train: GearTrain, mesh: int = 0, *, crack: str = "none",
     first = ref - 1
     fe = fe_pair_mesh_stiffness(pair, torque=torque, cracks=cracks,
                                 positions_per_cycle=positions_per_cycle, level=level,
-                                plane=tr.stiffness.plane, revolution_of=rev, closure="contact")
+                                plane=own.plane, revolution_of=rev, closure="contact")
     z_rev = pair.driver.teeth if rev == 1 else pair.driven.teeth
     npc = positions_per_cycle
     idx = (first * npc + np.arange(cycles * npc)) % (z_rev * npc)
     u = first + np.arange(cycles * npc) / npc
-    base = dataclasses.replace(tr.stiffness, **MODELS["seed"])  # whatever the file's model
+    base = dataclasses.replace(own, **MODELS["seed"])  # whatever the file's model
     variants = {
         "pe": base,
         "pe_line": dataclasses.replace(base, contact="line", coupling="fe"),

@@ -689,7 +689,7 @@ def stiffness_along_life(gb: Gearbox, result: GearLife, states: Sequence[CrackSt
     tooth_pe, tooth_fe, dc_p, dc_c, dc_e = [], [], [], [], []
     h_pe = h_fe = np.zeros(0)
     base = None
-    st = gb.stiffness
+    st = gb.train.settings_of(mesh)
     if fe:
         chk = compare_gear(g, r, closure=st.closure, plane=st.plane,
                            gauss_points=st.gauss_points)

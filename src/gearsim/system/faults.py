@@ -277,7 +277,7 @@ def grown_wear(train: GearTrain, f: Wear, mesh: int, which: int):
     from gearsim.system.train import body_coupling, tooth_compliance
 
     pair = train.pairs[mesh]
-    st = train.stiffness
+    st = train.settings_of(mesh)
     force = train.static_mesh_force(mesh)
     grid = contact_grid(pair, settings=st, compliance=tooth_compliance(st.source), force=force,
                         coupling=body_coupling(st))

@@ -61,7 +61,7 @@ def fe_pair_train_stiffness(train, mesh: int, *, revolution_of: int = 1,
         Over one revolution of the driver (1) or of the driven gear (2).
     settings : StiffnessSettings, optional
         ``positions_per_cycle`` of the table, ``slices``, ``plane`` and
-        ``fe_pair_positions``; default the train's own.
+        ``fe_pair_positions``; default the mesh's own.
 
     Returns
     -------
@@ -73,7 +73,7 @@ def fe_pair_train_stiffness(train, mesh: int, *, revolution_of: int = 1,
     :class:`~gearsim.system.train.GearTrain` refuses, when it is made, a crack that does
     not span the face width uniformly and faults other than cracks with this source.
     """
-    settings = settings or train.stiffness
+    settings = settings or train.settings_of(mesh)
     pair = train.pairs[mesh]
     cracks = train.mesh_cracks(mesh)
     section = fe_pair_mesh_stiffness(pair, torque=train.mesh_torque(mesh), cracks=cracks,

@@ -37,6 +37,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 from gearsim.errors import InputError, require
+from gearsim.stiffness.settings import StiffnessSettings
 
 __all__ = ["MAX_BEARING_STIFFNESS", "MAX_INERTIA", "MAX_MASS", "MAX_SHAFT_STIFFNESS",
            "MIN_BEARING_STIFFNESS", "MIN_INERTIA", "MIN_MASS", "MIN_POWER_SHARE",
@@ -154,15 +155,21 @@ class MeshSpec:
         Global angle of the centre line from the driver's centre to the driven gear's
         [rad] (the planar layout of the lateral model); ``None``: from the idler angle
         when the driver is an idler, else 0 (the shafts in a row).
+    stiffness : StiffnessSettings or None
+        The mesh's own stiffness options (a ``[[meshes]]`` table's ``stiffness``);
+        ``None``: the train's (:meth:`gearsim.system.GearTrain.settings_of`).
     """
 
     gears: tuple[str, str]
     angle: float | None = None
+    stiffness: StiffnessSettings | None = None
 
     def __post_init__(self) -> None:
         require(len(self.gears) == 2, "meshes.gears", list(self.gears), "must name two gears")
         require(self.angle is None or _number(self.angle), "meshes.angle", self.angle,
                 "must be a finite angle")
+        require(self.stiffness is None or isinstance(self.stiffness, StiffnessSettings),
+                "meshes.stiffness", self.stiffness, "must be StiffnessSettings or None")
 
 
 @dataclass(frozen=True)

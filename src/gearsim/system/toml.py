@@ -65,7 +65,8 @@ def table(lines: list[str], header: str, items: dict[str, Any]) -> None:
 
 def gear_tables(lines: list[str], train: GearTrain, graph: bool) -> None:
     """Append the ``[[gears]]`` of ``train`` (each with its ``[gears.material]``) and,
-    written as a graph, each gear's ``shaft`` and ``hand`` and the ``[[meshes]]``.
+    written as a graph, each gear's ``shaft`` and ``hand`` and the ``[[meshes]]`` (a mesh's
+    own stiffness options, those that differ from the train's, as ``[meshes.stiffness]``).
 
     Parameters
     ----------
@@ -90,9 +91,12 @@ def gear_tables(lines: list[str], train: GearTrain, graph: bool) -> None:
         table(lines, "[gears.material]", {
             "youngs_modulus": g.material.youngs_modulus,
             "poisson_ratio": g.material.poisson_ratio, "density": g.material.density})
-    for (a, b), angle in zip(train.flow.meshes if graph else (), train.flow.angles,
-                             strict=False):
+    for i, ((a, b), angle) in enumerate(zip(train.flow.meshes if graph else (),
+                                            train.flow.angles, strict=False)):
         table(lines, "[[meshes]]", {"gears": [a, b], "angle": angle})
+        own, st = dataclasses.asdict(train.settings_of(i)), dataclasses.asdict(train.stiffness)
+        if own != st:
+            table(lines, "[meshes.stiffness]", {k: v for k, v in own.items() if v != st[k]})
 
 
 def damage_tables(lines: list[str], part: Any, prefix: str = "") -> None:
@@ -140,7 +144,7 @@ def train_to_toml(train: GearTrain, dynamics: dict[str, Any] | None = None) -> s
         TOML text.
     """
     lines = [EFFECTIVE_HEADER, f"name = {toml_value(train.name)}"]
-    graph = not train.is_chain
+    graph = not train.is_chain or any(m.stiffness for m in train.meshes)
     for sh in train.flow.shafts if graph else ():
         table(lines, "[[shafts]]", {k: v for k, v in dataclasses.asdict(sh).items()
                                     if k != "gears"})
@@ -149,13 +153,7 @@ def train_to_toml(train: GearTrain, dynamics: dict[str, Any] | None = None) -> s
     # refused when a configuration is read
     table(lines, "[operating]", {"speed": f"{train.operating.speed!r} rad/s",
                                  "torque": train.operating.torque})
-    st = train.stiffness
-    table(lines, "[stiffness]", {"closure": st.closure, "slices": st.slices,
-                                 "positions_per_cycle": st.positions_per_cycle,
-                                 "gauss_points": st.gauss_points, "plane": st.plane,
-                                 "source": st.source, "corner_contact": st.corner_contact,
-                                 "contact": st.contact, "coupling": st.coupling,
-                                 "fe_pair_positions": st.fe_pair_positions})
+    table(lines, "[stiffness]", dataclasses.asdict(train.stiffness))
     damage_tables(lines, train)
     if dynamics is not None:
         table(lines, "[dynamics]", dynamics)

@@ -185,7 +185,9 @@ class GearTrain:
     operating : Operating
         Speed and torque of the input gear.
     stiffness : StiffnessSettings
-        Options of the mesh-stiffness computation (closure, slices, source, ...).
+        Options of the mesh-stiffness computation (closure, slices, source, ...); a mesh
+        with its own (:attr:`MeshSpec.stiffness <gearsim.system.graph.MeshSpec>`) takes
+        those (:meth:`settings_of`).
     cracks : tuple of Crack
         Tooth-root cracks.
     name : str
@@ -226,6 +228,9 @@ class GearTrain:
         object.__setattr__(self, "gears", tuple(by_name[n] for s in flow.shafts
                                                 for n in s.gears))
         self.__dict__["flow"] = flow  # the cached property, solved once
+        object.__setattr__(self, "meshes", tuple(  # a mesh's own equal to the train's: none
+            replace(m, stiffness=None) if m.stiffness == self.stiffness else m
+            for m in self.meshes))
         names = [g.name for g in self.gears]
         for c in self.cracks:
             require(c.gear in names, "crack.gear", c.gear, f"must be one of {names}")
@@ -235,7 +240,7 @@ class GearTrain:
         for c in self.cracks:  # every crack fits its tooth, checked once, here
             crack_geometry(ToothProfile(self.gear(c.gear)), c)
         check_faults(self)
-        if self.stiffness.source == "fe-pair":
+        if "fe-pair" in {self.settings_of(i).source for i in range(len(flow.meshes))}:
             for c in self.cracks:
                 require(c.extent == 1.0 and c.profile == "uniform", "stiffness.source",
                         "fe-pair", f"models one transverse section: the crack on {c.gear} "
@@ -261,6 +266,38 @@ class GearTrain:
             if g.name == name:
                 return g
         raise KeyError(name)
+
+    def settings_of(self, mesh: int) -> StiffnessSettings:
+        """The stiffness options of mesh ``mesh``: its own, else the train's.
+
+        Parameters
+        ----------
+        mesh : int
+            Mesh index in power-flow order (0 = mesh I).
+
+        Returns
+        -------
+        StiffnessSettings
+        """
+        pair = set(self.flow.meshes[mesh])
+        return next(m.stiffness for m in self.meshes if set(m.gears) == pair) or self.stiffness
+
+    def with_stiffness(self, **changes) -> GearTrain:
+        """A copy with ``changes`` to the stiffness options of the train and of every mesh
+        with its own (a study's variant switches ``closure`` on every mesh).
+
+        Parameters
+        ----------
+        **changes
+            Fields of :class:`StiffnessSettings` and their values.
+
+        Returns
+        -------
+        GearTrain
+        """
+        return replace(self, stiffness=replace(self.stiffness, **changes), meshes=tuple(
+            replace(m, stiffness=m.stiffness and replace(m.stiffness, **changes))
+            for m in self.meshes))
 
     def compound_stages(self) -> tuple[tuple[int, int], ...] | None:
         """The stages of a compound train as the signal analysis takes them, or None.
@@ -530,14 +567,14 @@ class GearTrain:
         revolution_of : {1, 2}
             Over one revolution of the driver (1) or of the driven gear (2).
         settings : StiffnessSettings, optional
-            Options; default the train's own.
+            Options; default the mesh's own (:meth:`settings_of`).
 
         Returns
         -------
         MeshStiffness
             Stiffness [N/m] per position, components and load sharing.
         """
-        settings = settings or self.stiffness
+        settings = settings or self.settings_of(mesh)
         if settings.source == "fe-pair":
             return fe_pair_train_stiffness(self, mesh, revolution_of=revolution_of,
                                            settings=settings)
@@ -586,14 +623,14 @@ class GearTrain:
         period : int, optional
             Mesh cycles to cover (a multiple of the contacts' own period).
         settings : StiffnessSettings, optional
-            Options; default the train's own.
+            Options; default the mesh's own (:meth:`settings_of`).
 
         Returns
         -------
         ContactGrid
             See :func:`gearsim.stiffness.contacts.contact_grid`.
         """
-        settings = settings or self.stiffness
+        settings = settings or self.settings_of(mesh)
         f1, f2 = mesh_flanks(self, mesh)
         return contact_grid(self.pairs[mesh], cracks=self.mesh_cracks(mesh), flank1=f1,
                             flank2=f2, settings=settings, period=period,
@@ -647,9 +684,10 @@ class GearTrain:
         depth : float, optional
             Crack depth q0 [m] of every crack; default: as configured.
         closure : {"contact", "open"}, optional
-            Crack-face model of the stiffness computation; default: as configured.
+            Crack-face model of the stiffness computation (of every mesh,
+            :meth:`with_stiffness`); default: as configured.
         source : {"pe", "fe"}, optional
-            Tooth-compliance model; default: as configured.
+            Tooth-compliance model (of every mesh); default: as configured.
 
         Returns
         -------
@@ -671,7 +709,7 @@ class GearTrain:
         tr = self
         changes = {k: v for k, v in (("closure", closure), ("source", source)) if v is not None}
         if changes:
-            tr = replace(tr, stiffness=replace(tr.stiffness, **changes))
+            tr = tr.with_stiffness(**changes)
         if flank is None:
             cracks = tr.cracks
         elif flank == "none":

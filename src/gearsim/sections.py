@@ -22,7 +22,7 @@ from typing import Any
 from gearsim.errors import InputError
 from gearsim.units import to_si
 
-__all__ = ["as_written", "convert", "convert_value", "written"]
+__all__ = ["as_written", "convert", "convert_value", "written", "written_name"]
 
 
 def convert_value(value: Any, kind: str, name: str) -> Any:
@@ -224,3 +224,26 @@ def as_written(raw: Any, prefix: str, spec: Mapping[str, str] | None = None, *,
                 and limit == exc.limit:
             raise
         raise InputError(parameter, exc.value if shown is None else shown, limit) from None
+
+
+def written_name(parameter: str, back: dict[str, str]) -> str:
+    """``parameter`` of the translated form (``chain.shaft_stiffness``) as the graph
+    wrote it (``shafts[1].torsional_stiffness``), by the longest prefix ``back`` renames;
+    unchanged where none does.
+
+    Parameters
+    ----------
+    parameter : str
+        A parameter name of the translated ``[stage]`` / ``[[stages]]`` form.
+    back : dict of str to str
+        Translated prefix -> the graph's (the graph-form reader keeps it as
+        ``gearsim.model.Gearbox.written``).
+
+    Returns
+    -------
+    str
+    """
+    for a in sorted(back, key=len, reverse=True):
+        if parameter.startswith(a):
+            return back[a] + parameter[len(a):]
+    return parameter

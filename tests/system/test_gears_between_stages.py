@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 
 import numpy as np
 import pytest
@@ -27,6 +28,7 @@ from gearsim.dynamics.compose import (
     stage_operating,
 )
 from gearsim.dynamics.settings import DynamicsSettings
+from gearsim.errors import InputError
 from gearsim.geometry.gear import Gear, Material
 from gearsim.geometry.planetary import PlanetaryStage
 from gearsim.model import Gearbox, loads
@@ -560,3 +562,15 @@ def test_five_parts_records_and_their_chains():
 def test_what_stays_out_is_one_line(tmp_path, capsys, text, parameter, words):
     line = refused_in_one_line(text, tmp_path, capsys, parameter)
     assert words in line, line
+
+
+@pytest.mark.parametrize("old,new,name,shaft,torque", [
+    ('"2e6 N*m/rad"', "20", "shafts[1].torsional_stiffness", "sun-shaft", "200"),
+    ('"3e6 N*m/rad"', "30", "shafts[2].torsional_stiffness", "mid", "495.652"),
+])
+def test_a_soft_shaft_beside_the_gears_between_is_named_as_written(old, new, name, shaft,
+                                                                    torque):
+    # stage 1's sun torque 800 / 4 = 200 N m; into stage 2: 200 x 57 / 23 = 495.652 N m
+    with pytest.raises(InputError, match=rf"^{re.escape(name)} = {new} N\*m/rad: twists shaft "
+                       rf"{shaft} by .* under its static torque of {torque} N\*m"):
+        loads(BOX.replace(old, f'"{new} N*m/rad"')).simulate()

@@ -33,6 +33,7 @@ from gearsim.dynamics.compose import (
     chain_of_record,
     chain_operating,
     next_operating,
+    output_member,
     stage_of_label,
     stage_operating,
     stage_prefix,
@@ -44,6 +45,7 @@ from gearsim.dynamics.settings import DynamicsSettings
 from gearsim.dynamics.stage import StageDynamics, check_stage_settings
 from gearsim.errors import InputError, require
 from gearsim.model.graph_toml import stages_to_toml
+from gearsim.sections import written_name
 from gearsim.signals.settings import AnalysisSettings
 from gearsim.stiffness.settings import StiffnessSettings
 from gearsim.system.planetary import PlanetaryTrain, StageOperating, planet_name
@@ -116,6 +118,10 @@ class Gearbox:
         member as the results name it (``"carrier"``, ``"stage2-sun"``): a gearbox
         written as a graph (:mod:`gearsim.model.graph_form`). Its tachos and reference
         shafts then take the shaft's name (one tacho a shaft).
+    written : tuple of (str, str), optional
+        The graph form's parameter names of the translated ones (prefix pairs,
+        :func:`gearsim.sections.written_name`), so that a refusal at run time (a
+        shaft twisted by its static torque) names the key as written; not compared.
 
     Examples
     --------
@@ -140,6 +146,7 @@ class Gearbox:
     input_shaft_stiffness: float | None = None
     next_stages: tuple[NextStage, ...] = ()
     member_shafts: tuple[tuple[str, str], ...] = ()
+    written: tuple[tuple[str, str], ...] = field(default=(), compare=False, repr=False)
 
     def __post_init__(self) -> None:
         require(self.train is not None or self.stage is not None, "gearbox", "empty",
@@ -392,10 +399,14 @@ class Gearbox:
         else:
             from gearsim.dynamics.compose import simulate_stage_chain
 
-            ds = self._named_shafts(simulate_stage_chain(
-                self.stage, self.train, self.members, settings,
-                shaft_stiffness=self.shaft_stiffness, input_chain=self.input_train,
-                input_shaft_stiffness=self.input_shaft_stiffness, stages=self.next_stages))
+            try:
+                ds = self._named_shafts(simulate_stage_chain(
+                    self.stage, self.train, self.members, settings,
+                    shaft_stiffness=self.shaft_stiffness, input_chain=self.input_train,
+                    input_shaft_stiffness=self.input_shaft_stiffness, stages=self.next_stages))
+            except InputError as exc:  # a shaft twisted by its torque: named as written
+                raise InputError(written_name(exc.parameter, dict(self.written)), exc.value,
+                                 self._shaft_names(exc.limit)) from None
         with contextlib.suppress(InputError):  # none for what no file says (a study's
             ds.attrs["config"] = run.to_toml()  # meshes of contacts: graph_toml)
         return ds
@@ -414,6 +425,21 @@ class Gearbox:
         str
         """
         return dict(self.member_shafts).get(member, member)
+
+    def _shaft_names(self, text: str) -> str:
+        """``text`` with the shafts between stages under the names of the shafts their
+        members sit on (:attr:`member_shafts`; ``shaft-stage1-carrier-stage2-sun`` ->
+        ``mid``)."""
+        n = len(self.stages)
+        for k, nxt in enumerate(self.next_stages, 1):
+            pre, prev = stage_prefix(k, n), self.stages[k - 1]
+            ends = [stage_prefix(k - 1, n) + output_member(prev),
+                    pre + nxt.train.operating.input]
+            names = stage_shaft_names(stage_prefix(k - 1, n), prev, pre, nxt)
+            for name, member in zip(names, ends[-len(names):] if len(names) == 1 else ends,
+                                    strict=True):
+                text = text.replace(name, self.shaft_label(member))
+        return text
 
     def _named_shafts(self, ds):
         """``ds`` with its tachos under the names of the shafts the members sit on; of two

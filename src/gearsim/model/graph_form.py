@@ -46,7 +46,6 @@ stage without exactly one member on the housing.
 from __future__ import annotations
 
 import dataclasses
-import re
 from collections.abc import Callable
 from typing import Any, NamedTuple
 
@@ -57,7 +56,7 @@ from gearsim.model.damage import array_of_tables
 from gearsim.model.gearbox import Gearbox
 from gearsim.model.graph_toml import HOUSING, MEMBERS
 from gearsim.model.planetary import parse_planetary
-from gearsim.sections import as_written, convert
+from gearsim.sections import as_written, convert, written_name
 from gearsim.system.graph import Shaft
 
 __all__ = ["GRAPH_TOP_KEYS", "HOUSING", "is_graph_with_stages", "parse_graph_stages"]
@@ -112,12 +111,12 @@ def parse_graph_stages(doc: dict[str, Any], material: Material,
     InputError
         The first problem, named as written in ``doc``.
     """
-    staged, rename, placed = _translate(doc)
+    staged, back, placed = _translate(doc)
     try:
         gb = parse_planetary(staged, material, parse_train)
     except InputError as exc:
-        raise InputError(rename(exc.parameter), exc.value, exc.limit) from None
-    return dataclasses.replace(gb, member_shafts=placed)
+        raise InputError(written_name(exc.parameter, back), exc.value, exc.limit) from None
+    return dataclasses.replace(gb, member_shafts=placed, written=tuple(back.items()))
 
 
 def _names(tables: list[dict[str, Any]], key: str, kind: str) -> list[str]:
@@ -140,8 +139,9 @@ def _tables(doc: dict[str, Any], key: str) -> list[dict[str, Any]]:
 
 
 def _translate(doc: dict[str, Any]
-               ) -> tuple[dict[str, Any], Callable[[str], str], tuple[tuple[str, str], ...]]:
-    """The stage form of ``doc``, the renaming of its parameters back to ``doc``'s, and
+               ) -> tuple[dict[str, Any], dict[str, str], tuple[tuple[str, str], ...]]:
+    """The stage form of ``doc``, the renaming of its parameters back to ``doc``'s
+    (:func:`written_name`), and
     the shaft of each turning stage member (``(member as the results name it, shaft)``,
     :attr:`gearsim.model.Gearbox.member_shafts`)."""
     for key in doc:
@@ -383,13 +383,8 @@ def _stage_form(g: _Graph, path: list[tuple]
         if table == "input_chain":
             for key in ("speed", "torque"):
                 back[f"input_chain.operating.{key}"] = f"operating.{key}"
-    rx = re.compile("|".join(re.escape(a) for a in sorted(back, key=len, reverse=True)))
+    return out, back
 
-    def rename(parameter: str) -> str:
-        m = rx.match(parameter) if back else None
-        return parameter if m is None else back[m.group(0)] + parameter[m.end():]
-
-    return out, rename
 
 
 def _chain(g: _Graph, entry: str) -> tuple[dict[str, Any], dict[str, str]]:

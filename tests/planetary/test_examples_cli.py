@@ -161,6 +161,18 @@ def test_crack_on_missing_planet_refused(capsys, tmp_path) -> None:
                            "has 3 planets (planet-1 .. planet-3)")
 
 
+def test_sensor_angle_past_a_turn_refused(capsys, tmp_path) -> None:
+    # 1e300 deg ran (probe round 8 #8)
+    text = example_text("lin-parker-1999").replace('[sensor]\nangle = "0 deg"',
+                                                    '[sensor]\nangle = "1e300 deg"')
+    path = tmp_path / "s.toml"
+    path.write_text(text)
+    code, out, err = _run(capsys, "simulate", path, "--out", tmp_path / "x.nc")
+    assert code == 2 and not (tmp_path / "x.nc").exists()
+    assert err.strip() == ("gearsim: error: sensor.angle = 1e300 deg: must be a finite angle "
+                           "in [-360, 360] deg")
+
+
 def test_constant_mesh_with_crack_refused(capsys, tmp_path) -> None:
     path = tmp_path / "lpc.toml"
     path.write_text(GOOD + '\n[[cracks]]\ngear = "planet-1"\ndepth = "1 mm"\n')

@@ -207,6 +207,9 @@ def _edit(old: str, new: str) -> str:
      r"meshes\[2\]\.gears .*loop of meshes \(its torques are statically indeterminate\)"),
     (_edit('[[shafts]]\nname = "c"', '[[shafts]]\nname = "c"\ntorsional_stiffness = 1e300'),
      r"shafts\[2\]\.torsional_stiffness = 1e\+300: must be in"),
+    # an angle past a turn means nothing (1e300 deg ran: probe round 8 #8)
+    (_edit('gears = ["p2", "g2"]', 'gears = ["p2", "g2"]\nangle = "1e300 deg"'),
+     r"^meshes\[1\]\.angle = 1e300 deg: must be a finite angle in \[-360, 360\] deg$"),
     # a shaft of one gear has nothing to twist between (it was ignored: probe round 8 #4)
     (_edit('[[shafts]]\nname = "c"', '[[shafts]]\nname = "c"\ntorsional_stiffness = 1e3'),
      r"shafts\[2\]\.torsional_stiffness = 1000.0: nothing to twist between: the shaft carries "

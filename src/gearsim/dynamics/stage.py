@@ -134,8 +134,9 @@ class StageDynamics:
         kt, lo, hi = self.held_torsional, b.MIN_SHAFT_STIFFNESS, b.MAX_SHAFT_STIFFNESS
         require(kt is None or (_positive(kt) and lo <= kt <= hi), "members.held_torsional", kt,
                 f"must be a finite number in [{lo:g}, {hi:g}] N*m/rad")
-        require(isinstance(self.sensor_angle, (int, float)) and math.isfinite(self.sensor_angle),
-                "sensor.angle", self.sensor_angle, "must be a finite angle")
+        require(isinstance(self.sensor_angle, (int, float)) and math.isfinite(self.sensor_angle)
+                and abs(self.sensor_angle) <= 2 * math.pi, "sensor.angle", self.sensor_angle,
+                "must be a finite angle in [-360, 360] deg")
         require(_positive(self.sensor_width) and self.sensor_width <= math.pi + 1e-12,
                 "sensor.width", self.sensor_width, "must be in (0, pi] rad")
 

@@ -324,7 +324,8 @@ def _graph(doc: dict[str, Any], kws: list[dict[str, Any]], stiffness: StiffnessS
         own[frozenset(pair)] = {k: (kw.pop(k), at) for k in PER_MESH if k in kw}
         if "stiffness" in kw:
             kw["stiffness"] = _stiffness(kw["stiffness"], f"{at}.stiffness", stiffness)
-        meshes.append(MeshSpec(gears=tuple(pair), **kw))
+        with as_written(table, "meshes", MESH_KEYS, sources=[(at, table)], default=at):
+            meshes.append(MeshSpec(gears=tuple(pair), **kw))
     return tuple(shafts), tuple(meshes), own
 
 

@@ -166,8 +166,8 @@ class MeshSpec:
 
     def __post_init__(self) -> None:
         require(len(self.gears) == 2, "meshes.gears", list(self.gears), "must name two gears")
-        require(self.angle is None or _number(self.angle), "meshes.angle", self.angle,
-                "must be a finite angle")
+        require(self.angle is None or (_number(self.angle) and abs(self.angle) <= 2 * math.pi),
+                "meshes.angle", self.angle, "must be a finite angle in [-360, 360] deg")
         require(self.stiffness is None or isinstance(self.stiffness, StiffnessSettings),
                 "meshes.stiffness", self.stiffness, "must be StiffnessSettings or None")
 

@@ -320,52 +320,6 @@ def param_at_coordinate(seg, coord, value, pa, pb, prof):
 
 
 @njit(cache=True)
-def param_at_height(seg, y, pa, pb, prof):
-    """Parameter where the outline height equals ``y`` (monotone on each segment).
-
-    Parameters
-    ----------
-    seg
-        0 fillet, 1 involute.
-    y
-        Height [m].
-    pa, pb
-        Bracket of the segment parameter.
-    prof
-        Packed profile array (``P_*`` layout).
-
-    Returns
-    -------
-    float
-        The parameter.
-    """
-    return param_at_coordinate(seg, 1, y, pa, pb, prof)
-
-
-@njit(cache=True)
-def param_at_halfwidth(seg, xw, pa, pb, prof):
-    """Parameter where the outline half width equals ``xw``.
-
-    Parameters
-    ----------
-    seg
-        0 fillet, 1 involute.
-    xw
-        Half width [m].
-    pa, pb
-        Bracket of the segment parameter.
-    prof
-        Packed profile array (``P_*`` layout).
-
-    Returns
-    -------
-    float
-        The parameter.
-    """
-    return param_at_coordinate(seg, 0, xw, pa, pb, prof)
-
-
-@njit(cache=True)
 def sample_outline(prof, n_fillet, n_inv, out):
     """Fill ``out`` with outline points from root to tip.
 

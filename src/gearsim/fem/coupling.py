@@ -47,6 +47,7 @@ from gearsim.fem.tables import (
     DEFAULT_LEVEL,
     _cache_key,
     _gear_key,
+    _read_npz,
     _write_npz,
     cache_dir,
     fe_nodes,
@@ -100,13 +101,9 @@ def fe_neighbour_coupling(gear: Gear, *, plane: str = "stress", level: int = DEF
             'must be "stress" or "strain"')
     nodes = fe_nodes(gear)
     path = cache_dir() / f"{_key(gear, plane, level)}.npz"
-    if use_cache and path.exists():
-        try:
-            with np.load(path) as data:
-                if np.allclose(data["radii"], nodes, rtol=1e-12, atol=0.0):
-                    return nodes, np.array(data["coupling"]), np.array(data["plus"])
-        except (OSError, ValueError, KeyError):
-            pass  # unreadable cache file: recompute and overwrite
+    got = _read_npz(path, nodes, ("coupling", "plus")) if use_cache else None
+    if got is not None:
+        return nodes, *got
     opt = SectorOptions(level=level)
     sector = mesh_sector(gear, options=opt)
     model, fixed, loads, _, _ = flank_loads(gear, sector, nodes, plane, opt)

@@ -407,11 +407,6 @@ class PlanetaryStage:
         """Overlap ratio eps_beta = b sin|beta| / (pi m_n) of both meshes [-] (ISO 21771)."""
         return self.face_width * math.sin(abs(self.helix_angle)) / (math.pi * self.normal_module)
 
-    @property
-    def ratio_ring_fixed(self) -> float:
-        """Speed ratio sun/carrier with the ring held, 1 + z_r/z_s [-] (Willis)."""
-        return 1.0 + self.ring_teeth / self.sun_teeth
-
     # ------------------------------------------------------------------ phasing
     @property
     def sun_planet_phases(self) -> np.ndarray:

@@ -227,16 +227,9 @@ class FiniteElementCompliance:
 
         Parameters
         ----------
-        gear : Gear
-            The gear whose tooth is loaded.
-        radii : ndarray, shape (..., ns)
-            Contact radius [m] per grid point and slice; 0 where not in contact.
-        crack : ToothCrack or None
-            The crack of this tooth as seen by the mesh, or None.
-        zfrac : ndarray, shape (ns,)
-            Axial position of each slice centre / face width [-].
-        settings : StiffnessSettings
-            Closure and plane of the FE model.
+        gear, radii, crack, zfrac, settings
+            As :meth:`gearsim.stiffness.source.ToothCompliance.compliance` (``settings``:
+            the closure and plane of the FE model).
 
         Returns
         -------

@@ -91,10 +91,8 @@ def fillet_point_d(g, prof):
 
     Parameters
     ----------
-    g
-        Angle of the rack tip round's normal, alpha_n <= g <= pi/2 [rad].
-    prof
-        Packed profile array (``P_*`` layout).
+    g, prof
+        As :func:`fillet_point`.
 
     Returns
     -------
@@ -172,10 +170,8 @@ def involute_point_d(rad, prof):
 
     Parameters
     ----------
-    rad
-        Radius, >= r_b (clipped to the base circle below it) [m].
-    prof
-        Packed profile array (``P_*`` layout).
+    rad, prof
+        As :func:`involute_point`.
 
     Returns
     -------
@@ -230,12 +226,8 @@ def profile_point_d(seg, p, prof):
 
     Parameters
     ----------
-    seg
-        0 fillet (``p`` the rack-round angle [rad]), 1 involute (``p`` the radius [m]).
-    p
-        Segment parameter.
-    prof
-        Packed profile array (``P_*`` layout).
+    seg, p, prof
+        As :func:`profile_point`.
 
     Returns
     -------

@@ -272,10 +272,8 @@ class Pitting:
 
         Parameters
         ----------
-        face_width : float
-            Face width [m].
-        base_radius : float
-            Base radius of the gear [m].
+        face_width, base_radius : float
+            Face width and base radius of the gear [m].
         rng : ignored
             The generator is made from :attr:`seed`.
 
@@ -343,12 +341,8 @@ class ChippedTip:
 
         Parameters
         ----------
-        face_width : float
-            Face width [m].
-        base_radius : float
-            Base radius [m].
-        rng : ignored
-            Common signature.
+        face_width, base_radius, rng
+            As :meth:`Spall.patches`.
         tip_radius : float
             Tip radius of the gear [m].
 
@@ -416,12 +410,8 @@ class BrokenTooth:
 
         Parameters
         ----------
-        face_width : float
-            Face width [m].
-        base_radius : float
-            Base radius [m].
-        rng : ignored
-            Common signature.
+        face_width, base_radius, rng
+            As :meth:`Spall.patches`.
 
         Returns
         -------

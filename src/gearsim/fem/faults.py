@@ -107,18 +107,8 @@ class FEFaultResult:
 
     Parameters
     ----------
-    radii
-        Contact radii [m].
-    compliance
-        Compliance at each radius for a face width of 1 m [m/N] (Hertz excluded).
-    level
-        Mesh refinement level.
-    h
-        Element size on the loaded tooth [m].
-    nodes, elements, dofs
-        Mesh and problem size.
-    plane
-        ``"stress"`` or ``"strain"``.
+    radii, compliance, level, h, nodes, elements, dofs, plane
+        As :class:`gearsim.fem.tooth.FEToothResult`.
     fault
         The fault (``None``: healthy).
     teeth

@@ -201,12 +201,8 @@ class Pitting:
 
     Parameters
     ----------
-    gear : str
-        Name of the damaged gear.
-    tooth : int
-        Tooth index.
-    flank : {"working", "non-working"}
-        Damaged flank.
+    gear, tooth, flank
+        As :class:`Spall`.
     area_fraction : float
         Total pit area / band area, in (0, 1] [-].
     radius_min, radius_max : float

@@ -6,6 +6,46 @@ References
    Springer 1996, sec. IV.2: the stability region of the classical 4-stage Runge-Kutta
    method reaches |h omega| = 2 sqrt(2) = 2.83 on the imaginary axis; we use 2.78
    (undamped oscillators, small margin).
+
+Examples
+--------
+Two discs (J = 0.5 kg m^2, base radius 0.1 m) coupled by one mesh whose stiffness
+alternates between 0.8e8 and 1.2e8 N/m, mesh damping c_m = 500 N s/m, no bearings (so
+one rigid-body rotation). By hand: k V V^T with V = (0.1, -0.1) gives K = +-1e6 with the
+mean 1e8 N/m (:func:`~gearsim.dynamics.model.mean_stiffness_matrix`);
+m_eq = 1 / (2 x 0.1^2 / 0.5) = 25 kg, so f = sqrt(k / m_eq) / (2 pi) = 318.31 Hz with the
+mean stiffness and 348.69 Hz with the largest, 1.2e8 N/m (:func:`modes`); then
+omega_max = sqrt(1.2e8 / 25) = 2190.89 rad/s and 2.78 / omega_max = 1.2689 ms
+(:func:`stable_step`); the decay rate c_m / (2 m_eq) = 10 1/s (damping ratio 0.005) is a
+time constant of 0.1 s (:func:`decay_time`):
+
+>>> import numpy as np
+>>> from gearsim.dynamics.model import DynamicModel, mean_stiffness_matrix
+>>> from gearsim.dynamics.tables import MeshTable
+>>> o, z = np.ones(1), np.zeros(2)
+>>> pair = DynamicModel(
+...     kind="lta", gear_names=("a", "b"), dof_labels=("a.theta", "b.theta"),
+...     mass=np.array([0.5, 0.5]), kb=z, cb=z, fext=z, V=np.array([[0.1, -0.1]]),
+...     kappa=o, kscale=o, cm=500 * o, clearance=np.inf * o,
+...     tables=(MeshTable(k=np.array([0.8e8, 1.2e8]), positions_per_cycle=2, period=1),),
+...     phase=0 * o, mesh_frequency=100.0, e0=0 * o, h_amp=np.zeros((1, 1)),
+...     h_omega=np.zeros((1, 1)), h_phase=np.zeros((1, 1)), to_transverse=o,
+...     dte_offset=0 * o, static_force=0 * o,
+...     bearing_dofs=np.zeros((2, 0), dtype=np.int64), axes=(), q_static=z)
+>>> mean_stiffness_matrix(pair).round(6).tolist()
+[[1000000.0, -1000000.0], [-1000000.0, 1000000.0]]
+>>> round(float(mean_stiffness_matrix(pair, which="max")[0, 0]), 6)
+1200000.0
+>>> from gearsim.dynamics.modal import decay_time, modes, stable_step
+>>> md = modes(pair)
+>>> md.frequencies.round(2).tolist(), md.rigid, md.mesh_energy.round(6).tolist()
+([318.31], 1, [[1.0]])
+>>> modes(pair, which="max").frequencies.round(2).tolist()
+[348.69]
+>>> round(stable_step(pair) * 1e3, 4)  # ms
+1.2689
+>>> round(decay_time(pair), 6)
+0.1
 """
 
 from __future__ import annotations
@@ -71,30 +111,8 @@ def modes(model: DynamicModel, *, which: str = "mean") -> Modes:
 
     Examples
     --------
-    Two discs (J = 0.5 kg m^2, base radius 0.1 m) coupled by one mesh whose stiffness
-    alternates between 0.8e8 and 1.2e8 N/m, no bearings (so one rigid-body rotation).
-    By hand, m_eq = 1 / (2 x 0.1^2 / 0.5) = 25 kg, so f = sqrt(k / m_eq) / (2 pi) =
-    318.31 Hz with the mean stiffness 1e8 N/m and 348.69 Hz with the largest, 1.2e8 N/m:
-
-    >>> import numpy as np
-    >>> from gearsim.dynamics.model import DynamicModel
-    >>> from gearsim.dynamics.tables import MeshTable
-    >>> o, z = np.ones(1), np.zeros(2)
-    >>> pair = DynamicModel(
-    ...     kind="lta", gear_names=("a", "b"), dof_labels=("a.theta", "b.theta"),
-    ...     mass=np.array([0.5, 0.5]), kb=z, cb=z, fext=z, V=np.array([[0.1, -0.1]]),
-    ...     kappa=o, kscale=o, cm=500 * o, clearance=np.inf * o,
-    ...     tables=(MeshTable(k=np.array([0.8e8, 1.2e8]), positions_per_cycle=2, period=1),),
-    ...     phase=0 * o, mesh_frequency=100.0, e0=0 * o, h_amp=np.zeros((1, 1)),
-    ...     h_omega=np.zeros((1, 1)), h_phase=np.zeros((1, 1)), to_transverse=o,
-    ...     dte_offset=0 * o, static_force=0 * o,
-    ...     bearing_dofs=np.zeros((2, 0), dtype=np.int64), axes=(), q_static=z)
-    >>> from gearsim.dynamics.modal import modes
-    >>> md = modes(pair)
-    >>> md.frequencies.round(2).tolist(), md.rigid, md.mesh_energy.round(6).tolist()
-    ([318.31], 1, [[1.0]])
-    >>> modes(pair, which="max").frequencies.round(2).tolist()
-    [348.69]
+    The two-disc pair of the module docstring: 318.31 Hz with the mean stiffness,
+    348.69 Hz with the largest, one rigid-body mode, the whole strain energy in the mesh.
     """
     K = mean_stiffness_matrix(model, which=which)
     d = 1.0 / np.sqrt(model.mass)
@@ -135,27 +153,7 @@ def stable_step(model: DynamicModel) -> float:
 
     Examples
     --------
-    Two discs (J = 0.5 kg m^2, base radius 0.1 m) coupled by one mesh whose stiffness
-    alternates between 0.8e8 and 1.2e8 N/m, no bearings (so one rigid-body rotation).
-    By hand, m_eq = 1 / (2 x 0.1^2 / 0.5) = 25 kg; with the largest stiffness 1.2e8 N/m,
-    omega_max = sqrt(1.2e8 / 25) = 2190.89 rad/s and 2.78 / omega_max = 1.2689 ms:
-
-    >>> import numpy as np
-    >>> from gearsim.dynamics.model import DynamicModel
-    >>> from gearsim.dynamics.tables import MeshTable
-    >>> o, z = np.ones(1), np.zeros(2)
-    >>> pair = DynamicModel(
-    ...     kind="lta", gear_names=("a", "b"), dof_labels=("a.theta", "b.theta"),
-    ...     mass=np.array([0.5, 0.5]), kb=z, cb=z, fext=z, V=np.array([[0.1, -0.1]]),
-    ...     kappa=o, kscale=o, cm=500 * o, clearance=np.inf * o,
-    ...     tables=(MeshTable(k=np.array([0.8e8, 1.2e8]), positions_per_cycle=2, period=1),),
-    ...     phase=0 * o, mesh_frequency=100.0, e0=0 * o, h_amp=np.zeros((1, 1)),
-    ...     h_omega=np.zeros((1, 1)), h_phase=np.zeros((1, 1)), to_transverse=o,
-    ...     dte_offset=0 * o, static_force=0 * o,
-    ...     bearing_dofs=np.zeros((2, 0), dtype=np.int64), axes=(), q_static=z)
-    >>> from gearsim.dynamics.modal import stable_step
-    >>> round(stable_step(pair) * 1e3, 4)  # ms
-    1.2689
+    The two-disc pair of the module docstring: 1.2689 ms.
     """
     wmax = 2 * np.pi * float(modes(model, which="max").frequencies.max())
     return RK4_LIMIT / wmax
@@ -182,27 +180,7 @@ def decay_time(model: DynamicModel) -> float:
 
     Examples
     --------
-    Two discs (J = 0.5 kg m^2, base radius 0.1 m) coupled by one mesh whose stiffness
-    alternates between 0.8e8 and 1.2e8 N/m, no bearings (so one rigid-body rotation).
-    By hand, m_eq = 1 / (2 x 0.1^2 / 0.5) = 25 kg; the mesh damping c_m = 500 N s/m gives
-    the decay rate c_m / (2 m_eq) = 10 1/s (damping ratio 0.005), time constant 0.1 s:
-
-    >>> import numpy as np
-    >>> from gearsim.dynamics.model import DynamicModel
-    >>> from gearsim.dynamics.tables import MeshTable
-    >>> o, z = np.ones(1), np.zeros(2)
-    >>> pair = DynamicModel(
-    ...     kind="lta", gear_names=("a", "b"), dof_labels=("a.theta", "b.theta"),
-    ...     mass=np.array([0.5, 0.5]), kb=z, cb=z, fext=z, V=np.array([[0.1, -0.1]]),
-    ...     kappa=o, kscale=o, cm=500 * o, clearance=np.inf * o,
-    ...     tables=(MeshTable(k=np.array([0.8e8, 1.2e8]), positions_per_cycle=2, period=1),),
-    ...     phase=0 * o, mesh_frequency=100.0, e0=0 * o, h_amp=np.zeros((1, 1)),
-    ...     h_omega=np.zeros((1, 1)), h_phase=np.zeros((1, 1)), to_transverse=o,
-    ...     dte_offset=0 * o, static_force=0 * o,
-    ...     bearing_dofs=np.zeros((2, 0), dtype=np.int64), axes=(), q_static=z)
-    >>> from gearsim.dynamics.modal import decay_time
-    >>> round(decay_time(pair), 6)
-    0.1
+    The two-disc pair of the module docstring: 0.1 s.
     """
     n = model.n_dof
     K = mean_stiffness_matrix(model)

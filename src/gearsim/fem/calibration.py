@@ -99,7 +99,6 @@ from __future__ import annotations
 
 import contextlib
 import math
-import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -122,6 +121,7 @@ from gearsim.fem.tables import (
     _cache_key,
     _gear_key,
     _level_for,
+    _read_npz,
     _write_npz,
     cache_dir,
     fe_compliance,
@@ -238,28 +238,9 @@ def calibration_key(gear: Gear, *, plane: str = "stress", level: int = DEFAULT_L
     return _cache_key(_key_doc(gear, plane, level, gauss_points))
 
 
-def _entry(path: Path, doc: str, nodes: np.ndarray, names: tuple[str, ...]
-           ) -> list[np.ndarray] | None:
-    """Arrays ``names`` of a cache entry written for ``doc`` at the radii ``nodes``;
-    None when the file is missing, corrupt, of another key or of other radii."""
-    if not path.exists():
-        return None
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            if str(data["key"]) != doc:
-                return None
-            radii = np.asarray(data["radii"], dtype=float)
-            out = [np.asarray(data[k], dtype=float) for k in names]
-    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile):
-        return None
-    if radii.shape != nodes.shape or not np.allclose(radii, nodes, rtol=1e-12, atol=0.0):
-        return None
-    return out
-
-
 def _read(path: Path, doc: str, nodes: np.ndarray) -> np.ndarray | None:
     """The cached ratio, or None when the file is missing, corrupt or stale."""
-    got = _entry(path, doc, nodes, ("ratio",))
+    got = _read_npz(path, nodes, ("ratio",), doc)
     if got is None or got[0].shape != nodes.shape:
         return None
     ratio = got[0]
@@ -392,7 +373,7 @@ def _read_crack(path: Path, doc: str, nodes: np.ndarray, depths: np.ndarray
                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """The cached FE crack factors and body-coupling factors, or None when the file is
     missing, corrupt or stale."""
-    got = _entry(path, doc, nodes, ("depths", "factor", "cross_load", "cross_read"))
+    got = _read_npz(path, nodes, ("depths", "factor", "cross_load", "cross_read"), doc)
     if got is None:
         return None
     d, factor, load, read = got
@@ -616,16 +597,8 @@ class CalibratedCompliance:
 
         Parameters
         ----------
-        gear : Gear
-            The gear whose tooth is loaded.
-        radii : ndarray, shape (..., ns)
-            Contact radius [m] per grid point and slice; 0 where not in contact.
-        crack : ToothCrack or None
-            The crack of this tooth as seen by the mesh, or None.
-        zfrac : ndarray, shape (ns,)
-            Axial position of each slice centre / face width [-] (crack depth profile).
-        settings : StiffnessSettings
-            Closure, plane, quadrature options.
+        gear, radii, crack, zfrac, settings
+            As :meth:`gearsim.stiffness.source.ToothCompliance.compliance`.
 
         Returns
         -------
@@ -942,7 +915,7 @@ def ring_calibration_key(ring: RingGear, material: Material, *, plane: str = "st
 def _read_ring(path: Path, doc: str, nodes: np.ndarray, beam: np.ndarray
                ) -> tuple[np.ndarray, np.ndarray] | None:
     """The cached FE ring tooth and cross compliance, or None (missing, corrupt, stale)."""
-    got = _entry(path, doc, nodes, ("fe", "cross"))
+    got = _read_npz(path, nodes, ("fe", "cross"), doc)
     n = nodes.size
     if got is None or got[0].shape != (n,) or got[1].shape != (n, n):
         return None

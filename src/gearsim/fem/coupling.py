@@ -8,7 +8,8 @@ pair (:mod:`gearsim.fem.pair`, docs/fem.md "Gear pair in contact") measures this
 compliance at 33-46 % of the smaller direct tooth compliance in double contact; summing
 independent pairs makes the double-contact stiffness about 16 % too high.
 
-:func:`fe_coupling` returns the cross compliance of one gear body, per unit face width,
+:func:`fe_neighbour_coupling` returns (its ``minus``) the cross compliance of one gear
+body, per unit face width,
 
     X(r_read, r_load) = d_0(r_read) . u_0(Q(r_read))  under a unit load on tooth +1 at r_load,
 
@@ -20,7 +21,7 @@ the point where the single-tooth FE model reads its deflection
 tooth 0 is), one factorisation for all loads, and kept on disk next to the FE tooth
 tables (:func:`gearsim.fem.tables.cache_dir`). By Maxwell's reciprocity the coupling
 to the neighbour on the other side is X(r_load, r_read). The same solve reads tooth +1
-too (:func:`fe_neighbour_coupling`): the healthy reference of the cracked body's coupling
+too (its ``plus``): the healthy reference of the cracked body's coupling
 (:meth:`gearsim.fem.calibration.CalibratedCompliance.cross_factor`), whose loads are on
 the cracked tooth.
 
@@ -47,6 +48,7 @@ from gearsim.fem.tables import (
     DEFAULT_LEVEL,
     _cache_key,
     _gear_key,
+    _read_npz,
     _write_npz,
     cache_dir,
     fe_nodes,
@@ -54,7 +56,7 @@ from gearsim.fem.tables import (
 from gearsim.fem.tooth import flank_loads, neighbour_cross
 from gearsim.geometry.gear import Gear
 
-__all__ = ["COUPLING_VERSION", "FiniteElementCoupling", "fe_coupling", "fe_neighbour_coupling"]
+__all__ = ["COUPLING_VERSION", "FiniteElementCoupling", "fe_neighbour_coupling"]
 
 #: Bump when the coupling model changes so that old cache files are not reused.
 #: 2: the file also holds the reading of tooth +1 (``plus``).
@@ -92,21 +94,19 @@ def fe_neighbour_coupling(gear: Gear, *, plane: str = "stress", level: int = DEF
     Returns
     -------
     radii, minus, plus
-        The radii [m]; ``minus[i, j]`` = X[i, j] of :func:`fe_coupling` (tooth -1 at
-        Q(r_i) under the load at r_j), ``plus[i, j]`` the deflection of tooth +1 at
-        Q(r_i) under the load at r_j [m/(N/m)].
+        The :func:`~gearsim.fem.tables.fe_nodes` radii [m]; ``minus[i, j]`` = X[i, j]
+        (module docstring), the deflection of tooth 0 at Q(r_i) along its load direction
+        under a unit load on tooth +1 at r_j, read as tooth -1 under the load on tooth 0
+        at r_j; ``plus[i, j]`` the deflection of tooth +1 at Q(r_i) under the load at r_j
+        [m/(N/m)].
     """
     require(plane in ("stress", "strain"), "stiffness.plane", plane,
             'must be "stress" or "strain"')
     nodes = fe_nodes(gear)
     path = cache_dir() / f"{_key(gear, plane, level)}.npz"
-    if use_cache and path.exists():
-        try:
-            with np.load(path) as data:
-                if np.allclose(data["radii"], nodes, rtol=1e-12, atol=0.0):
-                    return nodes, np.array(data["coupling"]), np.array(data["plus"])
-        except (OSError, ValueError, KeyError):
-            pass  # unreadable cache file: recompute and overwrite
+    got = _read_npz(path, nodes, ("coupling", "plus")) if use_cache else None
+    if got is not None:
+        return nodes, *got
     opt = SectorOptions(level=level)
     sector = mesh_sector(gear, options=opt)
     model, fixed, loads, _, _ = flank_loads(gear, sector, nodes, plane, opt)
@@ -117,40 +117,12 @@ def fe_neighbour_coupling(gear: Gear, *, plane: str = "stress", level: int = DEF
     return nodes, minus, plus
 
 
-def fe_coupling(gear: Gear, *, plane: str = "stress", level: int = DEFAULT_LEVEL,
-                use_cache: bool = True) -> tuple[np.ndarray, np.ndarray]:
-    """Cross compliance of neighbouring teeth of ``gear`` per unit face width [m/(N/m)].
-
-    Parameters
-    ----------
-    gear
-        The gear (whole body, bore fixed, as the FE tooth tables).
-    plane
-        ``"stress"`` or ``"strain"``.
-    level
-        FE mesh level (:class:`gearsim.fem.geometry.SectorOptions`).
-    use_cache
-        Read and write the disk cache.
-
-    Returns
-    -------
-    radii, x
-        The :func:`~gearsim.fem.tables.fe_nodes` radii [m] and X[i, j], the deflection of
-        tooth 0 at Q(r_i) along its load direction under a unit load (per metre of face
-        width) on tooth +1 at r_j [m/(N/m)] (module docstring), read as tooth -1 under
-        the load on tooth 0 (:func:`fe_neighbour_coupling`).
-    """
-    nodes, minus, _ = fe_neighbour_coupling(gear, plane=plane, level=level,
-                                            use_cache=use_cache)
-    return nodes, minus
-
-
 class FiniteElementCoupling:
     """Neighbouring-tooth coupling from the FE gear body (``stiffness.coupling = "fe"``).
 
     Implements the ``cross`` method that :func:`gearsim.stiffness.mesh.mesh_stiffness`
-    asks for when coupling is on; values interpolated from :func:`fe_coupling` with a
-    bicubic spline in roll length.
+    asks for when coupling is on; values interpolated from :func:`fe_neighbour_coupling`
+    (``minus``) with a bicubic spline in roll length.
 
     Parameters
     ----------
@@ -187,7 +159,7 @@ class FiniteElementCoupling:
         """
         key = (id(gear), gear.teeth, gear.normal_module, gear.bore_radius_value)
         if key not in self._splines:
-            nodes, x = fe_coupling(gear, plane=self.plane, level=self.level)
+            nodes, x, _ = fe_neighbour_coupling(gear, plane=self.plane, level=self.level)
             rb = gear.base_radius
             ln = np.sqrt(nodes**2 - rb**2)
             from scipy.interpolate import RectBivariateSpline

@@ -42,15 +42,9 @@ docs/fem.md).
 
 References
 ----------
-.. [Chaari2008] F. Chaari, W. Baccar, M. S. Abbes, M. Haddar, Effect of spalling or tooth
-   breakage on gearmesh stiffness and dynamic response of a one-stage spur gear
-   transmission, Eur. J. Mech. A/Solids 27 (2008) 691-705.
-.. [Saxena2016] A. Saxena, A. Parey, M. Chouksey, Time varying mesh stiffness calculation
-   of spur gear pair considering sliding friction and spalling defects, Eng. Fail. Anal.
-   70 (2016) 200-211.
-.. [Luo2019] Y. Luo, N. Baddour, M. Liang, A shape-independent approach to modelling
-   gear tooth spalls for time varying mesh stiffness evaluation of a spur gear pair,
-   Mech. Syst. Signal Process. 120 (2019) 836-852.
+Chaari et al. (2008), Saxena et al. (2016), Luo et al. (2019): the full entries are in
+:mod:`gearsim.stiffness.faults`.
+
 .. [ISO6336-3] ISO 6336-3:2019, 30 degree tangent of the root fillet (break line).
 """
 
@@ -113,18 +107,8 @@ class FEFaultResult:
 
     Parameters
     ----------
-    radii
-        Contact radii [m].
-    compliance
-        Compliance at each radius for a face width of 1 m [m/N] (Hertz excluded).
-    level
-        Mesh refinement level.
-    h
-        Element size on the loaded tooth [m].
-    nodes, elements, dofs
-        Mesh and problem size.
-    plane
-        ``"stress"`` or ``"strain"``.
+    radii, compliance, level, h, nodes, elements, dofs, plane
+        As :class:`gearsim.fem.tooth.FEToothResult`.
     fault
         The fault (``None``: healthy).
     teeth

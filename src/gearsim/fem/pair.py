@@ -105,6 +105,7 @@ from gearsim.fem.geometry import (
     generate_sized,
     gmsh_nodes_on,
     gmsh_session,
+    gmsh_triangles,
     kept_nodes,
     mesh_sector,
 )
@@ -1507,12 +1508,7 @@ def _mesh_disc(radius: float, bore: float, contact_y: float, h_contact: float,
                                  distance=(20.0 * h_contact,
                                            20.0 * h_contact + (h_max - h_contact) / growth))
         generate_sized(gmsh, thr, lc_precision=1e-4)
-        tags, coords, _ = gmsh.model.mesh.getNodes()
-        xy = coords.reshape(-1, 3)[:, :2]
-        index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
-        index[tags.astype(np.int64)] = np.arange(tags.size)
-        etypes, _, enodes = gmsh.model.mesh.getElements(2, surf)
-        tri = index[enodes[list(etypes).index(2)].astype(np.int64)].reshape(-1, 3)
+        xy, index, tri = gmsh_triangles(gmsh, surf, "mesh", "disc")
         bore_nodes = gmsh_nodes_on(gmsh, index, 1, bcs)
         rim_nodes = gmsh_nodes_on(gmsh, index, 1, rim)
     p, t, renum = drop_unused_nodes(xy, tri)

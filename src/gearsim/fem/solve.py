@@ -63,10 +63,8 @@ def lame(youngs_modulus: float, poisson_ratio: float) -> tuple[float, float]:
 
     Parameters
     ----------
-    youngs_modulus
-        E [Pa].
-    poisson_ratio
-        nu [-].
+    youngs_modulus, poisson_ratio
+        E [Pa] and nu [-].
 
     Returns
     -------
@@ -92,10 +90,8 @@ def plane_lame(youngs_modulus: float, poisson_ratio: float, plane: str) -> tuple
 
     Parameters
     ----------
-    youngs_modulus
-        E [Pa].
-    poisson_ratio
-        nu [-].
+    youngs_modulus, poisson_ratio
+        E [Pa] and nu [-].
     plane
         ``"stress"`` or ``"strain"``.
 

@@ -20,6 +20,7 @@ import hashlib
 import json
 import math
 import os
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -115,6 +116,26 @@ def _write_npz(path: Path, **arrays) -> None:
     atomic_write(path, write)
 
 
+def _read_npz(path: Path, nodes: np.ndarray, names: tuple[str, ...], doc: str | None = None
+              ) -> list[np.ndarray] | None:
+    """Arrays ``names`` of a cache file written at the radii ``nodes`` (and for the key
+    document ``doc``, where given); None when the file is missing, corrupt, of another key
+    or of other radii (the caller computes the entry again and overwrites it)."""
+    if not path.exists():
+        return None
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            if doc is not None and str(data["key"]) != doc:
+                return None
+            radii = np.asarray(data["radii"], dtype=float)
+            out = [np.asarray(data[k], dtype=float) for k in names]
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile):
+        return None
+    if radii.shape != nodes.shape or not np.allclose(radii, nodes, rtol=1e-12, atol=0.0):
+        return None
+    return out
+
+
 def fe_compliance(gear: Gear, radii, *, crack=None, depth: float = 0.0, side: int = 0,
                   settings=None, options: SectorOptions | None = None,
                   use_cache: bool = True) -> np.ndarray:
@@ -172,24 +193,17 @@ def fe_compliance(gear: Gear, radii, *, crack=None, depth: float = 0.0, side: in
                          f"[{lo:.6g}, {hi:.6g}] m only")
     key = _key(gear, crack, depth, side, closure, plane, opt)
     path = cache_dir() / f"{key}.npz"
-    values = None
-    if use_cache and path.exists():
-        try:
-            with np.load(path) as data:
-                if np.allclose(data["radii"], nodes, rtol=1e-12, atol=0.0):
-                    values = np.array(data["compliance"])
-        except (OSError, ValueError, KeyError):
-            values = None  # unreadable cache file: recompute and overwrite
-    if values is None:
+    got = _read_npz(path, nodes, ("compliance",)) if use_cache else None
+    if got is None:
         res = fe_tooth_compliance(gear, nodes, crack=crack, depth=depth if cracked else None,
                                   side=side, closure=closure, plane=plane, options=opt)
-        values = res.compliance
+        got = [res.compliance]
         if use_cache:
-            _write_npz(path, radii=nodes, compliance=values, level=np.array(opt.level))
+            _write_npz(path, radii=nodes, compliance=res.compliance, level=np.array(opt.level))
     rb = gear.base_radius
     from scipy.interpolate import CubicSpline
 
-    spline = CubicSpline(np.sqrt(nodes**2 - rb**2), values)
+    spline = CubicSpline(np.sqrt(nodes**2 - rb**2), got[0])
     out = np.zeros((r.size, 4))
     out[:, 0] = spline(np.sqrt(np.maximum(np.clip(r, lo, hi) ** 2 - rb**2, 0.0)))
     return out
@@ -213,16 +227,9 @@ class FiniteElementCompliance:
 
         Parameters
         ----------
-        gear : Gear
-            The gear whose tooth is loaded.
-        radii : ndarray, shape (..., ns)
-            Contact radius [m] per grid point and slice; 0 where not in contact.
-        crack : ToothCrack or None
-            The crack of this tooth as seen by the mesh, or None.
-        zfrac : ndarray, shape (ns,)
-            Axial position of each slice centre / face width [-].
-        settings : StiffnessSettings
-            Closure and plane of the FE model.
+        gear, radii, crack, zfrac, settings
+            As :meth:`gearsim.stiffness.source.ToothCompliance.compliance` (``settings``:
+            the closure and plane of the FE model).
 
         Returns
         -------

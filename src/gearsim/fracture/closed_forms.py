@@ -44,11 +44,6 @@ from gearsim.errors import require
 __all__ = ["edge_crack_bending_polynomial", "edge_crack_tension",
            "edge_crack_tension_polynomial", "inclined_centre_crack"]
 
-#: Stated accuracy of the Tada edge-crack tension formula (any a/b) [-].
-TADA_ACCURACY = 0.005
-#: Stated accuracy of the pure-bending polynomial fit (a/b <= 0.6) [-].
-BENDING_FIT_ACCURACY = 0.002
-
 
 def _ratio(a: float, b: float, limit: float = 1.0) -> float:
     require(math.isfinite(b) and b > 0.0, "b", b, "must be > 0 m")

@@ -47,10 +47,8 @@ def kink_angle(k1: float, k2: float) -> float:
 
     Parameters
     ----------
-    k1
-        K_I [Pa sqrt(m)].
-    k2
-        K_II [Pa sqrt(m)].
+    k1, k2
+        K_I and K_II [Pa sqrt(m)].
 
     Returns
     -------
@@ -86,10 +84,8 @@ def hoop_stress_factor(k1: float, k2: float, theta: float) -> float:
 
     Parameters
     ----------
-    k1
-        K_I [Pa sqrt(m)].
-    k2
-        K_II [Pa sqrt(m)].
+    k1, k2
+        K_I and K_II [Pa sqrt(m)].
     theta
         Angle in the tip frame [rad].
 
@@ -108,10 +104,8 @@ def equivalent_k(k1: float, k2: float) -> float:
 
     Parameters
     ----------
-    k1
-        K_I [Pa sqrt(m)].
-    k2
-        K_II [Pa sqrt(m)].
+    k1, k2
+        K_I and K_II [Pa sqrt(m)].
 
     Returns
     -------
@@ -135,10 +129,8 @@ def kinked_direction(direction, k1: float, k2: float) -> np.ndarray:
     ----------
     direction
         Current crack direction at the tip (2,), the tip frame's x1 axis.
-    k1
-        K_I [Pa sqrt(m)].
-    k2
-        K_II [Pa sqrt(m)].
+    k1, k2
+        K_I and K_II [Pa sqrt(m)].
 
     Returns
     -------

@@ -237,18 +237,14 @@ def grow_cycle_path(gear: Gear, crack: CrackPath, radii, forces, increment: floa
 
     Parameters
     ----------
-    gear
-        The gear.
-    crack
-        Initial crack (:func:`gearsim.fracture.tooth.initial_crack`).
+    gear, crack
+        As :func:`grow_path`.
     radii
         Contact radii of the cycle [m].
     forces
         Force per unit face width at each radius [N/m].
-    increment
-        Extension per step da [m].
-    steps
-        Largest number of increments (1 to 500).
+    increment, steps
+        As :func:`grow_path`.
     min_keq
         If the largest K_eq at the initial tip is below this [Pa sqrt(m)] (e.g. the
         Paris threshold over the load factor), the path stops there with status

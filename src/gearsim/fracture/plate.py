@@ -27,7 +27,7 @@ import numpy as np
 
 from gearsim.errors import require
 from gearsim.fem.solve import ElasticModel
-from gearsim.fracture.mesh import CrackedMesh, CrackPath, mesh_cracked_polygon
+from gearsim.fracture.mesh import CrackPath, mesh_cracked_polygon
 from gearsim.fracture.sif import StressIntensity, interaction_integral
 
 __all__ = ["PlateResult", "edge_crack_plate", "inclined_crack_plate"]
@@ -67,16 +67,28 @@ class PlateResult:
     seconds: float
 
 
-def _solve(cm: CrackedMesh, loads_of, fixed_nodes: list[tuple[int, tuple[int, ...]]],
-           plane: str) -> tuple[ElasticModel, np.ndarray]:
+def _plate(outline: np.ndarray, crack: CrackPath, hh: float, tractions: tuple,
+           corners: list[tuple[tuple[float, float], tuple[int, ...]]], *, h: float,
+           growth: float, r_out: float, refinement: float, plane: str,
+           t0: float) -> PlateResult:
+    """K at the end 1 of ``crack`` in the steel plate ``outline``, pulled by
+    ``tractions`` (on y = hh, on y = -hh; :meth:`ElasticModel.traction_load`), the nodes
+    nearest ``corners`` held in the listed components."""
+    h_tip = r_out / (TIP_DIVISIONS * refinement)
+    cm = mesh_cracked_polygon(outline, crack, h=h, h_tip=h_tip, growth=growth)
     model = ElasticModel(cm.p, cm.t, STEEL_E, STEEL_NU, plane=plane, order=2)
-    f = loads_of(model)
-    fixed = np.concatenate([model.node_dofs(n)[list(c)] for n, c in fixed_nodes])
-    return model, model.solve(f, fixed)
-
-
-def _nearest(p: np.ndarray, xy) -> int:
-    return int(np.argmin(np.hypot(p[0] - xy[0], p[1] - xy[1])))
+    top = model.mesh.facets_satisfying(lambda x: np.isclose(x[1], hh), True)
+    bot = model.mesh.facets_satisfying(lambda x: np.isclose(x[1], -hh), True)
+    f = model.traction_load(top, tractions[0]) + model.traction_load(bot, tractions[1])
+    fixed = []
+    for (x, y), comps in corners:
+        node = int(np.argmin(np.hypot(cm.p[0] - x, cm.p[1] - y)))
+        fixed.append(model.node_dofs(node)[list(comps)])
+    u = model.solve(f, np.concatenate(fixed))
+    tip, d = crack.tip_frame(1)
+    sif = interaction_integral(model, u, tip, d, r_out=r_out)
+    return PlateResult(sif=sif, nodes=cm.p.shape[1], elements=cm.t.shape[1], dofs=model.ndofs,
+                       h_tip=h_tip, seconds=time.perf_counter() - t0)
 
 
 def edge_crack_plate(a_over_b: float, *, load: str = "tension", width: float = 0.01,
@@ -124,32 +136,17 @@ def edge_crack_plate(a_over_b: float, *, load: str = "tension", width: float = 0
     hh = height_ratio * b
     outline = np.array([[0.0, -hh], [b, -hh], [b, 0.0], [b, hh], [0.0, hh], [0.0, 0.0]])
     crack = CrackPath(points=((0.0, 0.0), (a, 0.0)), tips=(False, True))
-    lig = min(a, b - a)
-    r_out = 0.5 * lig
-    h_tip = r_out / (TIP_DIVISIONS * refinement)
-    h = b / (6.0 * refinement)
-    cm = mesh_cracked_polygon(outline, crack, h=h, h_tip=h_tip, growth=0.25)
-
-    def loads(model: ElasticModel) -> np.ndarray:
-        top = model.mesh.facets_satisfying(lambda x: np.isclose(x[1], hh), True)
-        bot = model.mesh.facets_satisfying(lambda x: np.isclose(x[1], -hh), True)
-        if load == "tension":
-            def prof(x):
-                return stress + 0.0 * x
-        else:
-            def prof(x):
-                return stress * (1.0 - 2.0 * x / b)
-        ft = model.traction_load(top, lambda x, y: (0.0 * x, prof(x)))
-        fb = model.traction_load(bot, lambda x, y: (0.0 * x, -prof(x)))
-        return ft + fb
-
-    corner = _nearest(cm.p, (b, -hh))
-    corner2 = _nearest(cm.p, (b, hh))
-    model, u = _solve(cm, loads, [(corner, (0, 1)), (corner2, (0,))], plane)
-    tip, d = crack.tip_frame(1)
-    sif = interaction_integral(model, u, tip, d, r_out=r_out)
-    return PlateResult(sif=sif, nodes=cm.p.shape[1], elements=cm.t.shape[1], dofs=model.ndofs,
-                       h_tip=h_tip, seconds=time.perf_counter() - t0)
+    if load == "tension":
+        def prof(x):
+            return stress + 0.0 * x
+    else:
+        def prof(x):
+            return stress * (1.0 - 2.0 * x / b)
+    return _plate(outline, crack, hh, (lambda x, y: (0.0 * x, prof(x)),
+                                       lambda x, y: (0.0 * x, -prof(x))),
+                  [((b, -hh), (0, 1)), ((b, hh), (0,))], h=b / (6.0 * refinement),
+                  growth=0.25, r_out=0.5 * min(a, b - a), refinement=refinement, plane=plane,
+                  t0=t0)
 
 
 def inclined_crack_plate(beta_deg: float, *, half_length: float = 1e-3,
@@ -198,21 +195,6 @@ def inclined_crack_plate(beta_deg: float, *, half_length: float = 1e-3,
     d = np.array([math.cos(beta), math.sin(beta)])
     outline = np.array([[-ll, -ll], [ll, -ll], [ll, ll], [-ll, ll]])
     crack = CrackPath(points=(tuple(-a * d), tuple(a * d)), tips=(True, True))
-    r_out = 0.5 * a
-    h_tip = r_out / (TIP_DIVISIONS * refinement)
-    h = ll / (3.0 * refinement)
-    cm = mesh_cracked_polygon(outline, crack, h=h, h_tip=h_tip, growth=0.3)
-
-    def loads(model: ElasticModel) -> np.ndarray:
-        top = model.mesh.facets_satisfying(lambda x: np.isclose(x[1], ll), True)
-        bot = model.mesh.facets_satisfying(lambda x: np.isclose(x[1], -ll), True)
-        return (model.traction_load(top, (0.0, stress))
-                + model.traction_load(bot, (0.0, -stress)))
-
-    c1 = _nearest(cm.p, (-ll, -ll))
-    c2 = _nearest(cm.p, (ll, -ll))
-    model, u = _solve(cm, loads, [(c1, (0, 1)), (c2, (1,))], plane)
-    tip, dd = crack.tip_frame(1)
-    sif = interaction_integral(model, u, tip, dd, r_out=r_out)
-    return PlateResult(sif=sif, nodes=cm.p.shape[1], elements=cm.t.shape[1], dofs=model.ndofs,
-                       h_tip=h_tip, seconds=time.perf_counter() - t0)
+    return _plate(outline, crack, ll, ((0.0, stress), (0.0, -stress)),
+                  [((-ll, -ll), (0, 1)), ((ll, -ll), (1,))], h=ll / (3.0 * refinement),
+                  growth=0.3, r_out=0.5 * a, refinement=refinement, plane=plane, t0=t0)

@@ -117,10 +117,8 @@ def effective_modulus(youngs_modulus: float, poisson_ratio: float, plane: str) -
 
     Parameters
     ----------
-    youngs_modulus
-        E [Pa].
-    poisson_ratio
-        nu [-].
+    youngs_modulus, poisson_ratio
+        E [Pa] and nu [-].
     plane
         ``"stress"`` (E' = E) or ``"strain"`` (E' = E / (1 - nu^2)).
 

@@ -91,10 +91,8 @@ def fillet_point_d(g, prof):
 
     Parameters
     ----------
-    g
-        Angle of the rack tip round's normal, alpha_n <= g <= pi/2 [rad].
-    prof
-        Packed profile array (``P_*`` layout).
+    g, prof
+        As :func:`fillet_point`.
 
     Returns
     -------
@@ -172,10 +170,8 @@ def involute_point_d(rad, prof):
 
     Parameters
     ----------
-    rad
-        Radius, >= r_b (clipped to the base circle below it) [m].
-    prof
-        Packed profile array (``P_*`` layout).
+    rad, prof
+        As :func:`involute_point`.
 
     Returns
     -------
@@ -230,12 +226,8 @@ def profile_point_d(seg, p, prof):
 
     Parameters
     ----------
-    seg
-        0 fillet (``p`` the rack-round angle [rad]), 1 involute (``p`` the radius [m]).
-    p
-        Segment parameter.
-    prof
-        Packed profile array (``P_*`` layout).
+    seg, p, prof
+        As :func:`profile_point`.
 
     Returns
     -------
@@ -317,52 +309,6 @@ def param_at_coordinate(seg, coord, value, pa, pb, prof):
         if abs(hi - lo) < 1e-15 * (1.0 + abs(hi)):
             break
     return 0.5 * (lo + hi)
-
-
-@njit(cache=True)
-def param_at_height(seg, y, pa, pb, prof):
-    """Parameter where the outline height equals ``y`` (monotone on each segment).
-
-    Parameters
-    ----------
-    seg
-        0 fillet, 1 involute.
-    y
-        Height [m].
-    pa, pb
-        Bracket of the segment parameter.
-    prof
-        Packed profile array (``P_*`` layout).
-
-    Returns
-    -------
-    float
-        The parameter.
-    """
-    return param_at_coordinate(seg, 1, y, pa, pb, prof)
-
-
-@njit(cache=True)
-def param_at_halfwidth(seg, xw, pa, pb, prof):
-    """Parameter where the outline half width equals ``xw``.
-
-    Parameters
-    ----------
-    seg
-        0 fillet, 1 involute.
-    xw
-        Half width [m].
-    pa, pb
-        Bracket of the segment parameter.
-    prof
-        Packed profile array (``P_*`` layout).
-
-    Returns
-    -------
-    float
-        The parameter.
-    """
-    return param_at_coordinate(seg, 0, xw, pa, pb, prof)
 
 
 @njit(cache=True)

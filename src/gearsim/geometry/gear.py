@@ -184,8 +184,52 @@ def check_teeth(teeth: object, parameter: str) -> None:
             f"must be an integer in [7, {MAX_TEETH}]")
 
 
+class _TransverseGeometry:
+    """Transverse module and pressure angle, reference radius and base pitch of a gear.
+
+    From ``teeth``, ``normal_module``, ``normal_pressure_angle``, ``helix_angle`` and the
+    base radius (ISO 21771), the same for an external gear (:class:`Gear`) and an
+    internal one (:class:`gearsim.geometry.planetary.RingGear`).
+    """
+
+    @property
+    def transverse_module(self) -> float:
+        """Transverse module m_t = m_n / cos(beta) [m] (ISO 21771)."""
+        return self.normal_module / math.cos(self.helix_angle)
+
+    @property
+    def transverse_pressure_angle(self) -> float:
+        """Transverse pressure angle alpha_t = atan(tan(alpha_n) / cos(beta)) [rad].
+
+        20.483 deg for the Table-1 input gear (the :class:`Gear` example).
+
+        References
+        ----------
+        ISO 21771:2007.
+        """
+        return math.atan(math.tan(self.normal_pressure_angle) / math.cos(self.helix_angle))
+
+    @property
+    def pitch_radius(self) -> float:
+        """Reference radius r = z m_t / 2 [m]."""
+        return 0.5 * self.teeth * self.transverse_module
+
+    @property
+    def transverse_base_pitch(self) -> float:
+        """Transverse base pitch p_bt = 2 pi r_b / z [m].
+
+        Examples
+        --------
+        >>> import math
+        >>> g = Gear(teeth=39, normal_module=6e-3, helix_angle=math.radians(13.0))
+        >>> round(g.transverse_base_pitch * 1e3, 4)
+        18.1223
+        """
+        return 2.0 * math.pi * self.base_radius / self.teeth
+
+
 @dataclass(frozen=True)
-class Gear:
+class Gear(_TransverseGeometry):
     """An external involute spur (``helix_angle = 0``) or helical gear.
 
     Parameters
@@ -317,28 +361,7 @@ class Gear:
                              "thickness must be > 0: reduce the addendum coefficient")
 
     # ---------------------------------------------------------------- basic derived data
-    @property
-    def transverse_module(self) -> float:
-        """Transverse module m_t = m_n / cos(beta) [m] (ISO 21771)."""
-        return self.normal_module / math.cos(self.helix_angle)
-
-    @property
-    def transverse_pressure_angle(self) -> float:
-        """Transverse pressure angle alpha_t = atan(tan(alpha_n) / cos(beta)) [rad].
-
-        References
-        ----------
-        ISO 21771:2007.
-
-        Examples
-        --------
-        >>> import math
-        >>> g = Gear(teeth=39, normal_module=6e-3, helix_angle=math.radians(13.0))
-        >>> round(math.degrees(g.transverse_pressure_angle), 3)
-        20.483
-        """
-        return math.atan(math.tan(self.normal_pressure_angle) / math.cos(self.helix_angle))
-
+    # (transverse module and pressure angle, reference radius, base pitch: the base class)
     @property
     def base_helix_angle(self) -> float:
         """Base helix angle beta_b = asin(sin(beta) cos(alpha_n)) [rad].
@@ -355,11 +378,6 @@ class Gear:
         12.204
         """
         return math.asin(math.sin(abs(self.helix_angle)) * math.cos(self.normal_pressure_angle))
-
-    @property
-    def pitch_radius(self) -> float:
-        """Reference radius r = z m_t / 2 [m]."""
-        return 0.5 * self.teeth * self.transverse_module
 
     @property
     def base_radius(self) -> float:
@@ -408,19 +426,6 @@ class Gear:
     def bore_radius_value(self) -> float:
         """Bore radius used by the foundation model [m]: ``bore_radius`` or r_f / 2."""
         return self.bore_radius if self.bore_radius is not None else 0.5 * self.root_radius
-
-    @property
-    def transverse_base_pitch(self) -> float:
-        """Transverse base pitch p_bt = 2 pi r_b / z [m].
-
-        Examples
-        --------
-        >>> import math
-        >>> g = Gear(teeth=39, normal_module=6e-3, helix_angle=math.radians(13.0))
-        >>> round(g.transverse_base_pitch * 1e3, 4)
-        18.1223
-        """
-        return 2.0 * math.pi * self.base_radius / self.teeth
 
     @property
     def max_fillet_radius_coefficient(self) -> float:

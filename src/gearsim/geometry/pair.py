@@ -161,11 +161,6 @@ class GearPair:
         """Tooth outline of the driven gear (:class:`ToothProfile`)."""
         return ToothProfile(self.driven)
 
-    @property
-    def gear_ratio(self) -> float:
-        """Gear ratio u = z2 / z1 [-]."""
-        return self.driven.teeth / self.driver.teeth
-
     @cached_property
     def working_pressure_angle(self) -> float:
         """Working transverse pressure angle alpha_wt [rad].

@@ -31,7 +31,14 @@ from functools import cached_property
 import numpy as np
 
 from gearsim.errors import require
-from gearsim.geometry.gear import PROFILE_SHIFT_RANGE, Gear, Material, inv, inv_inverse
+from gearsim.geometry.gear import (
+    PROFILE_SHIFT_RANGE,
+    Gear,
+    Material,
+    _TransverseGeometry,
+    inv,
+    inv_inverse,
+)
 
 __all__ = ["COAXIAL_TOLERANCE", "PlanetaryStage", "RingGear"]
 
@@ -48,7 +55,7 @@ def _is_int(v: object) -> bool:
 
 
 @dataclass(frozen=True)
-class RingGear:
+class RingGear(_TransverseGeometry):
     """Internal (ring) gear: radii of an involute internal gear.
 
     Parameters
@@ -88,21 +95,6 @@ class RingGear:
     profile_shift: float = 0.0
 
     @property
-    def transverse_module(self) -> float:
-        """Transverse module m_t = m_n / cos(beta) [m]."""
-        return self.normal_module / math.cos(self.helix_angle)
-
-    @property
-    def transverse_pressure_angle(self) -> float:
-        """Transverse pressure angle alpha_t = atan(tan(alpha_n)/cos(beta)) [rad]."""
-        return math.atan(math.tan(self.normal_pressure_angle) / math.cos(self.helix_angle))
-
-    @property
-    def pitch_radius(self) -> float:
-        """Reference radius r = z m_t / 2 [m]."""
-        return 0.5 * self.teeth * self.transverse_module
-
-    @property
     def base_radius(self) -> float:
         """Base radius r_b = r cos(alpha_t) [m]."""
         return self.pitch_radius * math.cos(self.transverse_pressure_angle)
@@ -116,11 +108,6 @@ class RingGear:
     def root_radius(self) -> float:
         """Root (outer) radius r_f = r + (h_f* + x) m_n [m]."""
         return self.pitch_radius + (self.dedendum_coefficient + self.profile_shift) * self.normal_module
-
-    @property
-    def transverse_base_pitch(self) -> float:
-        """Transverse base pitch p_bt = 2 pi r_b / z [m]."""
-        return 2.0 * math.pi * self.base_radius / self.teeth
 
 
 @dataclass(frozen=True)
@@ -406,11 +393,6 @@ class PlanetaryStage:
     def overlap_ratio(self) -> float:
         """Overlap ratio eps_beta = b sin|beta| / (pi m_n) of both meshes [-] (ISO 21771)."""
         return self.face_width * math.sin(abs(self.helix_angle)) / (math.pi * self.normal_module)
-
-    @property
-    def ratio_ring_fixed(self) -> float:
-        """Speed ratio sun/carrier with the ring held, 1 + z_r/z_s [-] (Willis)."""
-        return 1.0 + self.ring_teeth / self.sun_teeth
 
     # ------------------------------------------------------------------ phasing
     @property

@@ -202,9 +202,9 @@ class ToothProfile:
         if not (yr <= y <= ya):
             raise InputError("height", y, f"must be within the tooth, [{yr:.6g}, {ya:.6g}] m")
         if y <= yf:
-            g = K.param_at_height(0, y, 0.5 * math.pi, p[K.P_AN], p)
+            g = K.param_at_coordinate(0, 1, y, 0.5 * math.pi, p[K.P_AN], p)
             return K.fillet_point(g, p)[0]
-        r = K.param_at_height(1, y, p[K.P_RF], p[K.P_RA], p)
+        r = K.param_at_coordinate(1, 1, y, p[K.P_RF], p[K.P_RA], p)
         return K.involute_point(r, p)[0]
 
     def thickness_at_radius(self, radius: float) -> float:

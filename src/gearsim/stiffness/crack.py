@@ -316,8 +316,8 @@ def _locate(profile: ToothProfile, y: float) -> tuple[int, float]:
     p = profile.packed
     _, yf = G.fillet_point(p[G.P_AN], p)
     if y <= yf:
-        return 0, G.param_at_height(0, y, 0.5 * math.pi, p[G.P_AN], p)
-    return 1, G.param_at_height(1, y, p[G.P_RF], p[G.P_RA], p)
+        return 0, G.param_at_coordinate(0, 1, y, 0.5 * math.pi, p[G.P_AN], p)
+    return 1, G.param_at_coordinate(1, 1, y, p[G.P_RF], p[G.P_RA], p)
 
 
 def crack_record(profile: ToothProfile, crack: Crack, depth: float, side: int) -> np.ndarray:
@@ -385,7 +385,7 @@ def _record(profile: ToothProfile, xt: float, yt: float, side: int) -> np.ndarra
             if j == 0:  # junction sample: the bracket is the fillet's last interval
                 seg_hi = 0
                 pa, pb = p[G.P_AN] + 1e-12, p[G.P_AN]
-        p_hi = G.param_at_halfwidth(seg_hi, xt, pa, pb, p) if pa != pb else pa
+        p_hi = G.param_at_coordinate(seg_hi, 0, xt, pa, pb, p) if pa != pb else pa
         y_hi = G.profile_point(seg_hi, p_hi, p)[1]
     seg_lo, p_lo = _locate(profile, y_lo)
     rec[K.C_ACTIVE] = 1.0

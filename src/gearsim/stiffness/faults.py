@@ -201,12 +201,8 @@ class Pitting:
 
     Parameters
     ----------
-    gear : str
-        Name of the damaged gear.
-    tooth : int
-        Tooth index.
-    flank : {"working", "non-working"}
-        Damaged flank.
+    gear, tooth, flank
+        As :class:`Spall`.
     area_fraction : float
         Total pit area / band area, in (0, 1] [-].
     radius_min, radius_max : float
@@ -272,10 +268,8 @@ class Pitting:
 
         Parameters
         ----------
-        face_width : float
-            Face width [m].
-        base_radius : float
-            Base radius of the gear [m].
+        face_width, base_radius : float
+            Face width and base radius of the gear [m].
         rng : ignored
             The generator is made from :attr:`seed`.
 
@@ -343,12 +337,8 @@ class ChippedTip:
 
         Parameters
         ----------
-        face_width : float
-            Face width [m].
-        base_radius : float
-            Base radius [m].
-        rng : ignored
-            Common signature.
+        face_width, base_radius, rng
+            As :meth:`Spall.patches`.
         tip_radius : float
             Tip radius of the gear [m].
 
@@ -416,12 +406,8 @@ class BrokenTooth:
 
         Parameters
         ----------
-        face_width : float
-            Face width [m].
-        base_radius : float
-            Base radius [m].
-        rng : ignored
-            Common signature.
+        face_width, base_radius, rng
+            As :meth:`Spall.patches`.
 
         Returns
         -------

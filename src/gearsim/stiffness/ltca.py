@@ -122,11 +122,6 @@ class LoadedContact:
         return self.load.sum(axis=(2, 3)) / self.force
 
     @property
-    def transmission_error_angle(self) -> np.ndarray:
-        """Loaded transmission error as the driven gear's lag delta / r_b2 [rad]."""
-        return self.delta / self.grid.base_radius2
-
-    @property
     def peak_to_peak(self) -> float:
         """Peak-to-peak loaded transmission error over the positions with contact [m]."""
         d = self.delta[self.contact]

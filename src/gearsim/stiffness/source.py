@@ -109,16 +109,9 @@ class PotentialEnergyCompliance:
 
         Parameters
         ----------
-        gear : Gear
-            The gear whose tooth is loaded.
-        radii : ndarray, shape (..., ns)
-            Contact radius [m] per grid point and slice; 0 where not in contact.
-        crack : ToothCrack or None
-            The crack of this tooth as seen by the mesh, or None.
-        zfrac : ndarray, shape (ns,)
-            Axial position of each slice centre / face width [-] (crack depth profile).
-        settings : StiffnessSettings
-            Closure, plane, quadrature options.
+        gear, radii, crack, zfrac, settings
+            As :meth:`ToothCompliance.compliance` (``zfrac`` gives the local crack depth
+            of each slice; ``settings`` the closure, plane and quadrature).
 
         Returns
         -------

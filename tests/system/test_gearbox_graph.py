@@ -207,6 +207,11 @@ def _edit(old: str, new: str) -> str:
      r"meshes\[2\]\.gears .*loop of meshes \(its torques are statically indeterminate\)"),
     (_edit('[[shafts]]\nname = "c"', '[[shafts]]\nname = "c"\ntorsional_stiffness = 1e300'),
      r"shafts\[2\]\.torsional_stiffness = 1e\+300: must be in"),
+    # below the floor of a gear's width (1e-300 mm gave a negative stiffness and an
+    # internal error in simulate: probe round 8 #3)
+    (_edit('name = "g2"\nshaft = "c"\nteeth = 44', 'name = "g2"\nshaft = "c"\nteeth = 44\n'
+           'face_width = "1e-300 mm"'),
+     r"^gears\[3\]\.face_width = 1e-300 mm: must be a finite number in \[1e-05, 2\) m"),
     # an angle past a turn means nothing (1e300 deg ran: probe round 8 #8)
     (_edit('gears = ["p2", "g2"]', 'gears = ["p2", "g2"]\nangle = "1e300 deg"'),
      r"^meshes\[1\]\.angle = 1e300 deg: must be a finite angle in \[-360, 360\] deg$"),

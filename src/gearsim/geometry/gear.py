@@ -44,6 +44,10 @@ MAX_MODULE = 0.2
 #: are five to ten times it; below, a unit mistake.
 MIN_MODULE = 1e-5
 MAX_FACE_WIDTH = 2.0
+#: Floor of the face width [m], as of the module: the finest gears made are tens of
+#: micrometres wide and more; below, a unit mistake (at 1e-300 m the slice sums
+#: underflowed to a negative stiffness).
+MIN_FACE_WIDTH = 1e-5
 #: Largest tooth count (the largest ring gears have a few hundred teeth).
 MAX_TEETH = 1000
 
@@ -313,9 +317,9 @@ class Gear(_TransverseGeometry):
                 "must be between 5 and 35 deg")
         require(0.0 <= abs(self.helix_angle) < math.radians(45), f"{p}.helix_angle",
                 f"{math.degrees(self.helix_angle):.4g} deg", "must satisfy |beta| < 45 deg")
-        require(0.0 < self.face_width < MAX_FACE_WIDTH, f"{p}.face_width", self.face_width,
-                f"must be a finite number in (0, {MAX_FACE_WIDTH:g}) m (plain numbers are "
-                "metres)")
+        require(MIN_FACE_WIDTH <= self.face_width < MAX_FACE_WIDTH, f"{p}.face_width",
+                self.face_width, f"must be a finite number in [{MIN_FACE_WIDTH:g}, "
+                f"{MAX_FACE_WIDTH:g}) m (plain numbers are metres)")
         for attr, (lo, hi), closed in (
                 ("addendum_coefficient", ADDENDUM_RANGE, "(]"),
                 ("dedendum_coefficient", DEDENDUM_RANGE, "(]"),

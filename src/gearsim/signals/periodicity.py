@@ -79,7 +79,7 @@ import scipy.signal
 import scipy.stats
 
 from gearsim.errors import InputError
-from gearsim.signals._checks import as_signal, check_fs, check_int, check_positive
+from gearsim.signals._checks import as_signal, check_fs, check_int, check_positive, check_probability
 from gearsim.signals.envelope import squared_envelope
 
 __all__ = [
@@ -419,9 +419,7 @@ def impact_periodicity(
     f = check_positive("frequency", frequency)
     harmonics = check_int("harmonics", harmonics, minimum=1)
     tolerance = check_positive("tolerance", tolerance)
-    alpha = check_positive("alpha", alpha)
-    if alpha >= 1.0:
-        raise InputError("alpha", alpha, "must lie in (0, 1)")
+    alpha = check_probability("alpha", alpha)
     if band is None:
         width = 0.5 * fs
     else:

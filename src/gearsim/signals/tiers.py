@@ -730,7 +730,7 @@ def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
     out["orders"] = read(Spectrum(np.arange(amp.size) * (fs / n), amp, "hann", fs, n))
     try:
         es = envelope_spectrum(a, fs)
-        out["envelope"] = {"orders": read(Spectrum(es.frequency, es.amplitude, es.window, fs, n))}
+        out["envelope"] = {"orders": read(es)}
     except (InputError, AttributeError, TypeError) as exc:
         skipped.append({"tier": "shaft.envelope", "reason": _first_line(exc)})
     try:

@@ -138,8 +138,7 @@ def band_pass(x: np.ndarray, fs: float, band: tuple[float, float]) -> np.ndarray
 
     References
     ----------
-    .. [1] R. B. Randall, J. Antoni, "Rolling element bearing diagnostics -- A
-       tutorial", *Mech. Syst. Signal Process.* 25 (2011) 485-520.
+    Randall & Antoni (2011).
     """
     a = as_signal(x)
     fs = check_fs(fs)
@@ -192,8 +191,7 @@ def squared_envelope(
 
     References
     ----------
-    .. [1] R. B. Randall, J. Antoni, "Rolling element bearing diagnostics -- A
-       tutorial", *Mech. Syst. Signal Process.* 25 (2011) 485-520.
+    Randall & Antoni (2011).
     """
     a = as_signal(x)
     fs = check_fs(fs)
@@ -263,8 +261,7 @@ def envelope_spectrum(
 
     References
     ----------
-    .. [1] R. B. Randall, J. Antoni, "Rolling element bearing diagnostics -- A
-       tutorial", *Mech. Syst. Signal Process.* 25 (2011) 485-520.
+    Randall & Antoni (2011).
     """
     a = as_signal(x)
     fs = check_fs(fs)

@@ -128,11 +128,6 @@ class LineTest:
     searched: int
     floor_bins: int
 
-    @property
-    def snr_db(self) -> float:
-        """``10 log10(snr)`` (dB)."""
-        return 10.0 * math.log10(self.snr) if self.snr > 0 else -math.inf
-
 
 @dataclass(frozen=True)
 class Periodicity:

@@ -263,8 +263,7 @@ def spectral_kurtosis(
 
     References
     ----------
-    .. [1] J. Antoni, "The spectral kurtosis: a useful tool for characterising
-       non-stationary signals", *Mech. Syst. Signal Process.* 20 (2006) 282-307.
+    Antoni (2006).
     """
     a = as_signal(x)
     fs = check_fs(fs)
@@ -445,10 +444,7 @@ def fast_kurtogram(x: np.ndarray, fs: float, *, levels: int | None = None) -> Ku
 
     References
     ----------
-    .. [1] J. Antoni, "Fast computation of the kurtogram for the detection of transient
-       faults", *Mech. Syst. Signal Process.* 21 (2007) 108-124.
-    .. [2] J. Antoni, "The spectral kurtosis: a useful tool for characterising
-       non-stationary signals", *Mech. Syst. Signal Process.* 20 (2006) 282-307.
+    Antoni (2007); Antoni (2006).
     """
     a = as_signal(x)
     fs = check_fs(fs)

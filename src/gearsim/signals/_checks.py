@@ -23,6 +23,7 @@ __all__ = [
     "MAX_MAGNITUDE",
     "as_signal",
     "check_positive",
+    "check_probability",
     "check_fs",
     "check_below_nyquist",
     "check_resolution",
@@ -85,6 +86,14 @@ def check_positive(name: str, value: float) -> float:
         raise InputError(name, value, "must be a positive number") from None
     if not (math.isfinite(v) and v > 0.0):
         raise InputError(name, value, "must be a finite number > 0")
+    return v
+
+
+def check_probability(name: str, value: float) -> float:
+    """Return ``value`` as float after checking that it lies in (0, 1)."""
+    v = check_positive(name, value)
+    if v >= 1.0:
+        raise InputError(name, v, "must lie in (0, 1)")
     return v
 
 

@@ -55,6 +55,7 @@ from gearsim.signals.settings import (
 from gearsim.signals.sidebands import (
     SEARCH_FRACTION,
     SidebandFamily,
+    _family_lines,
     check_sideband_request,
     mesh_harmonics,
     sideband_families,
@@ -418,6 +419,7 @@ class Analysis:
             and STFT bands (modulation at the stage's driving shaft).
         """
         t1 = 1.0 / self.kinematics.reference_frequency
+        lines = _lines_dict(self, self.orders, "modulation_at_fr1")
         out: dict[str, Any] = {
             "gearsim_version": __version__,
             "fs_hz": self.fs,
@@ -441,28 +443,13 @@ class Analysis:
                 if self.impacts.count else None,
                 "times_s": self.impacts.times.tolist(),
             },
-            "mesh_harmonics": [
-                {"order": n, "frequency_hz": h.frequency, "amplitude": h.amplitude}
-                for n, h in zip(self.orders, self.harmonics, strict=True)
-            ],
-            "sidebands": [f.to_dict() for f in self.families],
+            "mesh_harmonics": lines["mesh_harmonics"],
+            "sidebands": lines["sidebands"],
             "time_frequency": {
                 "nperseg": self.stft.nperseg,
                 "hop": self.stft.hop,
                 "frequency_resolution_hz": self.stft.df,
-                "bands": [
-                    {
-                        "order": n,
-                        "energy_mean": float(np.mean(self.band_energy[n])),
-                        "energy_cv": _finite(
-                            float(np.std(self.band_energy[n]) / np.mean(self.band_energy[n]))
-                        ) if np.mean(self.band_energy[n]) > 0 else None,
-                        "modulation_at_fr1": _finite(self.band_modulation[n]),
-                        "width_spectrum_hz": _finite(self.band_width_spectrum[n]),
-                        "width_stft_hz": _finite(self.band_width_stft[n]),
-                    }
-                    for n in self.orders
-                ],
+                "bands": lines["bands"],
             },
             "tsa": self.indicators.to_dict()
             | {"shaft_frequency_hz": self.tsa.shaft_frequency},
@@ -473,8 +460,11 @@ class Analysis:
             out["ratios_to_baseline"] = dict(self.ratios or {})
         if self.kinematics.stages:
             out["train"]["stages"] = [st.to_dict() for st in self.kinematics.stages]
-            out["stages"] = [_stage_dict(sl, self.orders, self.kinematics.shafts)
-                             for sl in self.stages]
+            out["stages"] = [
+                sl.stage.to_dict()
+                | {"shaft_frequencies_hz": {k: self.kinematics.shafts[k] for k in sl.stage.shafts}}
+                | _lines_dict(sl, self.orders, "modulation_at_driving_shaft")
+                for sl in self.stages]
         if self.emd_selection is not None:
             s = self.emd_selection
             out["emd"] = {
@@ -524,29 +514,30 @@ class Analysis:
         return figures(self, units=units)
 
 
-def _stage_dict(sl: StageLines, orders: Sequence[int], shafts: dict[str, float]) -> dict:
-    """JSON summary of the lines of one stage (see :meth:`Analysis.to_dict`)."""
-    st = sl.stage
+def _lines_dict(lines: Analysis | StageLines, orders: Sequence[int],
+                modulation: str) -> dict[str, list]:
+    """JSON rows of the mesh harmonics, sideband families and STFT bands of the reference
+    mesh (an :class:`Analysis`) or of one stage (a :class:`StageLines`), which hold them
+    under the same names; ``modulation`` is the key of the band's modulation."""
 
     def cv(e: np.ndarray) -> float | None:
         m = float(np.mean(e))
         return _finite(float(np.std(e)) / m) if m > 0 else None
 
-    return st.to_dict() | {
-        "shaft_frequencies_hz": {k: shafts[k] for k in st.shafts},
+    return {
         "mesh_harmonics": [
             {"order": n, "frequency_hz": h.frequency, "amplitude": h.amplitude}
-            for n, h in zip(orders, sl.harmonics, strict=True)
+            for n, h in zip(orders, lines.harmonics, strict=True)
         ],
-        "sidebands": [f.to_dict() for f in sl.families],
+        "sidebands": [f.to_dict() for f in lines.families],
         "bands": [
             {
                 "order": n,
-                "energy_mean": float(np.mean(sl.band_energy[n])),
-                "energy_cv": cv(sl.band_energy[n]),
-                "modulation_at_driving_shaft": _finite(sl.band_modulation[n]),
-                "width_spectrum_hz": _finite(sl.band_width_spectrum[n]),
-                "width_stft_hz": _finite(sl.band_width_stft[n]),
+                "energy_mean": float(np.mean(lines.band_energy[n])),
+                "energy_cv": cv(lines.band_energy[n]),
+                modulation: _finite(lines.band_modulation[n]),
+                "width_spectrum_hz": _finite(lines.band_width_spectrum[n]),
+                "width_stft_hz": _finite(lines.band_width_stft[n]),
             }
             for n in orders
         ],
@@ -707,22 +698,15 @@ def analyze(
     timings["spectrum"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    nperseg = max(8, int(round(fs / (opt.stft_frames_per_rev * f_r1))))
-    if nperseg > a.size:
-        raise InputError("analysis.stft_frames_per_rev", opt.stft_frames_per_rev,
-                         f"gives a frame of {nperseg} samples, longer than the record")
-    hop = max(1, nperseg // 2)
     # The static part (e.g. the mean mesh force) would swamp the lowest bins; the STFT
     # analyses the dynamic part when remove_mean is set.
     dynamic = a - stats.mean if opt.remove_mean else a
-    sg = spectrogram(dynamic, fs, nperseg=nperseg, hop=hop, window="hann")
-    mean_psd = sg.psd.mean(axis=1)
-    first = _bands(spec, sg, mean_psd, f_m, f_r1, orders, opt.band_fraction)
+    sg, first = _stft_bands(dynamic, fs, spec, f_m, f_r1, orders, opt, 0)
     energies, bw_spec, bw_stft, mod_peak = first
     stage_out = []
     for k, st in enumerate(kin.stages):  # stage 1 is the reference gear's mesh: `first`
-        b = first if k == 0 else _stage_bands(dynamic, fs, spec, st, kin.shafts[st.shafts[0]],
-                                              k, orders, opt)
+        b = first if k == 0 else _stft_bands(dynamic, fs, spec, st.mesh_frequency,
+                                             kin.shafts[st.shafts[0]], orders, opt, k)[1]
         stage_out.append(StageLines(stage=st, harmonics=stage_spec[k][0],
                                     families=stage_spec[k][1], band_energy=b[0],
                                     band_width_spectrum=b[1], band_width_stft=b[2],
@@ -779,7 +763,7 @@ def _stage_spectrum(kin: Kinematics, shafts: list[dict[str, float]], spec: Spect
     out = []
     for st, sh in zip(kin.stages, shafts, strict=True):
         others = [line for o, osh in zip(kin.stages, shafts, strict=True) if o is not st
-                  for line in _lines(o.mesh_frequency, osh, orders, n_sidebands)
+                  for line in _family_lines(o.mesh_frequency, osh, orders, n_sidebands)
                   + list(o.mesh_frequency * np.arange(1, 0.5 * spec.fs // o.mesh_frequency
                                                       + 1))]
         out.append((
@@ -791,52 +775,37 @@ def _stage_spectrum(kin: Kinematics, shafts: list[dict[str, float]], spec: Spect
     return out
 
 
-def _stage_bands(dynamic: np.ndarray, fs: float, spec: Spectrum, st, f_drive: float, k: int,
-                 orders: Sequence[int], opt) -> tuple[dict, dict, dict, dict]:
-    """:func:`_bands` of a further stage (index ``k`` from 0) of a compound train, from an
-    STFT of ``opt.stft_frames_per_rev`` frames per revolution of the stage's own driving
-    shaft (``f_drive`` [Hz]): the stage analysed as its own gear pair would be, its band
-    around n f_m resolved however slow the stage (frames sized by the input shaft hold
-    under two bins around a slow stage's mesh)."""
+def _stft_bands(dynamic: np.ndarray, fs: float, spec: Spectrum, mesh_frequency: float,
+                f_drive: float, orders: Sequence[int], opt, k: int,
+                ) -> tuple[Spectrogram, tuple[dict, dict, dict, dict]]:
+    """STFT of stage ``k`` (index from 0) and, per order n, around n f_m (half width
+    f_m / 2): the STFT band energy, the band widths of the spectrum and of the mean STFT
+    PSD, and the band energy's modulation at its driving shaft's frequency ``f_drive``.
+
+    The STFT has ``opt.stft_frames_per_rev`` frames per revolution of the driving shaft,
+    half overlapping: a further stage of a compound train is analysed as its own gear
+    pair would be, its band around n f_m resolved however slow the stage (frames sized by
+    the input shaft hold under two bins around a slow stage's mesh)."""
     nperseg = max(8, int(round(fs / (opt.stft_frames_per_rev * f_drive))))
     if nperseg > dynamic.size:
+        frame = "a frame" if k == 0 else f"stage {k + 1}'s frame"
+        why = "" if k == 0 else (f" (a revolution of its driving shaft, {f_drive:.4g} Hz, "
+                                 f"over {opt.stft_frames_per_rev})")
         raise InputError("analysis.stft_frames_per_rev", opt.stft_frames_per_rev,
-                         f"gives stage {k + 1}'s frame of {nperseg} samples (a revolution of "
-                         f"its driving shaft, {f_drive:.4g} Hz, over {opt.stft_frames_per_rev}"
-                         "), longer than the record")
+                         f"gives {frame} of {nperseg} samples{why}, longer than the record")
     sg = spectrogram(dynamic, fs, nperseg=nperseg, hop=max(1, nperseg // 2), window="hann")
-    return _bands(spec, sg, sg.psd.mean(axis=1), st.mesh_frequency, f_drive, orders,
-                  opt.band_fraction)
-
-
-def _bands(spec: Spectrum, sg: Spectrogram, mean_psd: np.ndarray, mesh_frequency: float,
-           modulation_frequency: float, orders: Sequence[int], fraction: float,
-           ) -> tuple[dict, dict, dict, dict]:
-    """Per order n, around n f_m (half width f_m / 2): the STFT band energy, the band
-    widths of the spectrum and of the mean STFT PSD, and the band energy's modulation at
-    ``modulation_frequency`` (the mesh's driving shaft)."""
+    mean_psd = sg.psd.mean(axis=1)
     half = 0.5 * mesh_frequency
     energy, width_spec, width_stft, modulation = {}, {}, {}, {}
     for n in orders:
         centre = n * mesh_frequency
         energy[n] = band_energy(sg, center=centre, half_width=half)
         width_spec[n] = band_width(spec.frequency, spec.amplitude**2, center=centre,
-                                   half_window=half, fraction=fraction)
+                                   half_window=half, fraction=opt.band_fraction)
         width_stft[n] = band_width(sg.frequency, mean_psd, center=centre, half_window=half,
-                                   fraction=fraction)
-        modulation[n] = modulation_index(energy[n], sg.time, frequency=modulation_frequency)
-    return energy, width_spec, width_stft, modulation
-
-
-def _lines(mesh_frequency: float, shafts: dict[str, float], orders: Sequence[int],
-           n_sidebands: int) -> list[float]:
-    """Every line of one mesh: its harmonics and their sidebands of each shaft (Hz)."""
-    out = [n * mesh_frequency for n in orders]
-    for n in orders:
-        for fr in shafts.values():
-            out.extend(n * mesh_frequency + k * fr for k in range(-n_sidebands, n_sidebands + 1)
-                       if k)
-    return out
+                                   fraction=opt.band_fraction)
+        modulation[n] = modulation_index(energy[n], sg.time, frequency=f_drive)
+    return sg, (energy, width_spec, width_stft, modulation)
 
 
 def _settings(settings: AnalysisSettings | None, overrides: dict[str, Any]) -> AnalysisSettings:

@@ -116,10 +116,7 @@ def real_cepstrum(x: np.ndarray, fs: float) -> tuple[np.ndarray, np.ndarray]:
 
     References
     ----------
-    .. [1] B. P. Bogert, M. J. R. Healy, J. W. Tukey, "The quefrency alanysis of time
-       series for echoes", *Proc. Symp. on Time Series Analysis*, Wiley, 1963, 209-243.
-    .. [2] R. B. Randall, "A history of cepstrum analysis and its application to
-       mechanical problems", *Mech. Syst. Signal Process.* 97 (2017) 3-19.
+    Bogert, Healy & Tukey (1963); Randall (2017).
     """
     a = as_signal(x, min_length=4)
     fs = check_fs(fs)
@@ -172,8 +169,7 @@ def cepstral_peak(
 
     References
     ----------
-    .. [1] R. B. Randall, "A history of cepstrum analysis and its application to
-       mechanical problems", *Mech. Syst. Signal Process.* 97 (2017) 3-19.
+    Randall (2017).
     """
     q = np.asarray(quefrency, dtype=np.float64)
     cc = np.asarray(c, dtype=np.float64)
@@ -230,12 +226,7 @@ def prewhiten(x: np.ndarray) -> np.ndarray:
 
     References
     ----------
-    .. [1] N. Sawalhi, R. B. Randall, "Signal pre-whitening using cepstrum editing
-       (liftering) to enhance fault detection in rolling element bearings", COMADEM 2011,
-       Stavanger, 330-336.
-    .. [2] P. Borghesani, P. Pennacchi, R. B. Randall, N. Sawalhi, R. Ricci, "Application
-       of cepstrum pre-whitening for the diagnosis of bearing faults under variable
-       speed conditions", *Mech. Syst. Signal Process.* 36 (2013) 370-384.
+    Sawalhi & Randall (2011); Borghesani et al. (2013).
     """
     a = as_signal(x, min_length=4)
     spec = scipy.fft.rfft(a)

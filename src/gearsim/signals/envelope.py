@@ -26,7 +26,7 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.fft
@@ -34,44 +34,27 @@ from scipy.signal import hilbert
 
 from gearsim.errors import InputError
 from gearsim.signals._checks import as_signal, check_fs
-from gearsim.signals.spectrum import WINDOWS, amplitude_spectrum
+from gearsim.signals.spectrum import WINDOWS, Spectrum, amplitude_spectrum
 
 __all__ = ["EnvelopeSpectrum", "band_pass", "squared_envelope", "envelope_spectrum"]
 
 
 @dataclass(frozen=True)
-class EnvelopeSpectrum:
+class EnvelopeSpectrum(Spectrum):
     """Amplitude spectrum of the squared envelope (built by :func:`envelope_spectrum`).
+
+    A :class:`~gearsim.signals.spectrum.Spectrum` (its amplitudes in units of the signal
+    squared) that also names the band demodulated.
 
     Parameters
     ----------
-    frequency : ndarray
-        Bin frequencies (Hz), spacing ``fs / n_samples``.
-    amplitude : ndarray
-        Peak amplitude of a tone of the squared envelope centred on each bin (units of
-        the signal squared).
+    frequency, amplitude, window, fs, n_samples
+        As in :class:`~gearsim.signals.spectrum.Spectrum`.
     band : tuple of float
-        Band ``(low, high)`` (Hz) of the signal that was demodulated.
-    window : str
-        Window of the amplitude spectrum (one of
-        :data:`gearsim.signals.spectrum.WINDOWS`).
-    fs : float
-        Sampling rate (Hz).
-    n_samples : int
-        Record length (samples).
+        Band ``(low, high)`` (Hz) of the signal that was demodulated (keyword only).
     """
 
-    frequency: np.ndarray
-    amplitude: np.ndarray
-    band: tuple[float, float]
-    window: str
-    fs: float
-    n_samples: int
-
-    @property
-    def df(self) -> float:
-        """Bin width ``fs / n_samples`` (Hz)."""
-        return self.fs / self.n_samples
+    band: tuple[float, float] = field(kw_only=True)
 
     def plot(self, *, f_max: float | None = None, harmonics_of: float | None = None, ax=None):
         """Draw the envelope spectrum (see :func:`gearsim.viz.toolbox.plot_envelope_spectrum`).
@@ -155,8 +138,7 @@ def band_pass(x: np.ndarray, fs: float, band: tuple[float, float]) -> np.ndarray
 
     References
     ----------
-    .. [1] R. B. Randall, J. Antoni, "Rolling element bearing diagnostics -- A
-       tutorial", *Mech. Syst. Signal Process.* 25 (2011) 485-520.
+    Randall & Antoni (2011).
     """
     a = as_signal(x)
     fs = check_fs(fs)
@@ -209,8 +191,7 @@ def squared_envelope(
 
     References
     ----------
-    .. [1] R. B. Randall, J. Antoni, "Rolling element bearing diagnostics -- A
-       tutorial", *Mech. Syst. Signal Process.* 25 (2011) 485-520.
+    Randall & Antoni (2011).
     """
     a = as_signal(x)
     fs = check_fs(fs)
@@ -280,8 +261,7 @@ def envelope_spectrum(
 
     References
     ----------
-    .. [1] R. B. Randall, J. Antoni, "Rolling element bearing diagnostics -- A
-       tutorial", *Mech. Syst. Signal Process.* 25 (2011) 485-520.
+    Randall & Antoni (2011).
     """
     a = as_signal(x)
     fs = check_fs(fs)

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from gearsim.errors import InputError
-from gearsim.signals._checks import as_signal, check_fs, check_int, check_positive
+from gearsim.signals._checks import as_signal, check_fs, check_int, check_positive, check_probability
 from gearsim.signals.envelope import squared_envelope
 from gearsim.signals.periodicity import line_significance, periodogram
 from gearsim.signals.spectrum import amplitude_spectrum, tone
@@ -156,13 +156,6 @@ class TeethEstimate:
         return d
 
 
-def _check_alpha(alpha: float) -> float:
-    alpha = check_positive("alpha", alpha)
-    if alpha >= 1.0:
-        raise InputError("alpha", alpha, "must lie in (0, 1)")
-    return alpha
-
-
 #: Smallest power of a candidate fundamental relative to the dominant line (amplitude
 #: 10 %). A mesh fundamental 20 dB or more below its own harmonic is not what gears
 #: produce, while impacts and modulation put significant lines at every shaft order
@@ -257,7 +250,7 @@ def estimate_fs(
     a = as_signal(x, min_length=64)
     f_r = check_positive("shaft_frequency", shaft_frequency)
     harmonics = check_int("harmonics", harmonics, minimum=1)
-    alpha = _check_alpha(alpha)
+    alpha = check_probability("alpha", alpha)
     n = a.size
     if teeth is None:
         order, method = 1, "envelope"
@@ -363,7 +356,7 @@ def estimate_teeth(
     fs = check_fs(fs)
     f_r = check_positive("shaft_frequency", shaft_frequency)
     harmonics = check_int("harmonics", harmonics, minimum=1)
-    alpha = _check_alpha(alpha)
+    alpha = check_probability("alpha", alpha)
     cands = sorted({check_int("candidates[]", c, minimum=1) for c in candidates})
     if not cands:
         raise InputError("candidates", "[]", "must hold at least one tooth count")

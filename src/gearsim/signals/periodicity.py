@@ -79,7 +79,7 @@ import scipy.signal
 import scipy.stats
 
 from gearsim.errors import InputError
-from gearsim.signals._checks import as_signal, check_fs, check_int, check_positive
+from gearsim.signals._checks import as_signal, check_fs, check_int, check_positive, check_probability
 from gearsim.signals.envelope import squared_envelope
 
 __all__ = [
@@ -127,11 +127,6 @@ class LineTest:
     p_value: float
     searched: int
     floor_bins: int
-
-    @property
-    def snr_db(self) -> float:
-        """``10 log10(snr)`` (dB)."""
-        return 10.0 * math.log10(self.snr) if self.snr > 0 else -math.inf
 
 
 @dataclass(frozen=True)
@@ -419,9 +414,7 @@ def impact_periodicity(
     f = check_positive("frequency", frequency)
     harmonics = check_int("harmonics", harmonics, minimum=1)
     tolerance = check_positive("tolerance", tolerance)
-    alpha = check_positive("alpha", alpha)
-    if alpha >= 1.0:
-        raise InputError("alpha", alpha, "must lie in (0, 1)")
+    alpha = check_probability("alpha", alpha)
     if band is None:
         width = 0.5 * fs
     else:

@@ -62,7 +62,7 @@ from typing import Any
 import numpy as np
 
 from gearsim.errors import InputError, require
-from gearsim.signals.tiers import _hann_amplitude
+from gearsim.signals.tiers import _hann_amplitude, _kurtosis
 
 __all__ = ["MIN_BINS", "StageSpec", "planetary_tier"]
 
@@ -121,12 +121,6 @@ class StageSpec:
         for name in ("carrier_phase", "sensor_angle"):
             require(math.isfinite(getattr(self, name)), name, getattr(self, name),
                     "must be finite")
-
-
-def _kurtosis(y: np.ndarray) -> float:
-    d = y - y.mean()
-    v = float(np.mean(d * d))
-    return float(np.mean(d**4) / v**2) if v > 0 else math.nan
 
 
 def _sidebands(a: np.ndarray, fs: float, spec: StageSpec, fr: Any, skipped: list

@@ -306,6 +306,17 @@ def check_sideband_request(
     )
 
 
+def _family_lines(mesh_frequency: float, shafts: Mapping[str, float], orders: Sequence[int],
+                  n_sidebands: int) -> list[float]:
+    """Every line of one mesh (Hz): its harmonics, then their sidebands of each shaft."""
+    k = np.concatenate([np.arange(-n_sidebands, 0), np.arange(1, n_sidebands + 1)])
+    lines = [n * mesh_frequency for n in orders]
+    for n in orders:
+        for fr in shafts.values():
+            lines.extend(n * mesh_frequency + k * fr)
+    return lines
+
+
 def mesh_harmonics(
     spec: Spectrum, *, mesh_frequency: float, orders: Sequence[int], search: float,
     avoid: Sequence[float] = (),
@@ -404,12 +415,9 @@ def sideband_families(
     f_min = min(shafts.values())
     resolution = 2 * spec.lobe_bins * spec.df
     # Every requested line, to flag sidebands that coincide with another family's line.
-    all_lines = [n * mesh_frequency for n in orders]
-    for n in orders:
-        for fr in shafts.values():
-            all_lines.extend(n * mesh_frequency + k * fr)
     others = np.asarray(other_lines, dtype=float)
-    all_lines_arr = np.sort(np.concatenate([all_lines, others]))
+    all_lines_arr = np.sort(np.concatenate([
+        _family_lines(mesh_frequency, shafts, orders, n_sidebands), others]))
     out: list[SidebandFamily] = []
     for n in orders:
         mesh = tone(spec, n * mesh_frequency, search=SEARCH_FRACTION * f_min, avoid=others)

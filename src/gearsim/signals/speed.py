@@ -341,9 +341,7 @@ class SpeedProfile:
         ----------
         C. de Boor, *A Practical Guide to Splines*, Springer, 1978, ch. IV.
         """
-        t = np.asarray(times, dtype=np.float64)
-        _inside("times", t, self.time[0], self.time[-1], "s")
-        return self._angle_of_time(t)
+        return self._angle_of_time(_inside("times", times, self.time[0], self.time[-1], "s"))
 
     def times_at(self, angles: np.ndarray) -> np.ndarray:
         """Times [s] at which the shaft reaches the given angles.
@@ -371,9 +369,7 @@ class SpeedProfile:
         ----------
         Fyfe & Munck (1997); de Boor (1978), ch. IV.
         """
-        a = np.asarray(angles, dtype=np.float64)
-        _inside("angles", a, self.angle[0], self.angle[-1], "rev")
-        return self._time_of_angle(a)
+        return self._time_of_angle(_inside("angles", angles, self.angle[0], self.angle[-1], "rev"))
 
     def frequency_at(self, times: np.ndarray) -> np.ndarray:
         """Instantaneous shaft frequency [Hz] at the given times (linear interpolation).
@@ -397,8 +393,7 @@ class SpeedProfile:
         ----------
         Boashash (1992): instantaneous frequency as the derivative of the phase.
         """
-        t = np.asarray(times, dtype=np.float64)
-        _inside("times", t, self.time[0], self.time[-1], "s")
+        t = _inside("times", times, self.time[0], self.time[-1], "s")
         return np.interp(t, self.time, self.frequency)
 
     def revolution_times(self) -> np.ndarray:
@@ -422,11 +417,14 @@ class SpeedProfile:
         return self._time_of_angle(ks)
 
 
-def _inside(name: str, v: np.ndarray, lo: float, hi: float, unit: str) -> None:
+def _inside(name: str, values: np.ndarray, lo: float, hi: float, unit: str) -> np.ndarray:
+    """``values`` as a float array, refused unless within ``[lo, hi]`` (with round-off slack)."""
+    v = np.asarray(values, dtype=np.float64)
     slack = 1e-9 * max(abs(lo), abs(hi), 1.0)
     if v.size and (v.min() < lo - slack or v.max() > hi + slack):
         raise InputError(name, f"[{v.min():g}, {v.max():g}] {unit}",
                          f"must lie within the profile [{lo:g}, {hi:g}] {unit}")
+    return v
 
 
 def speed_from_tacho(

@@ -21,8 +21,8 @@ gear        sampling rate, speed and tooth counts  full gear analysis (:func:`~g
 ==========  =====================================  ===========================================
 
 :func:`analyze_record` computes every tier its inputs allow and lists the others in
-``skipped`` with the reason (a missing input, a record too short for the tier, a toolbox
-module not installed). Nothing is an error that only prevents a tier: the call fails only
+``skipped`` with the reason (a missing input, a record too short for the tier).
+Nothing is an error that only prevents a tier: the call fails only
 for an unusable signal (not 1-D, fewer than 2 samples, non-finite samples) or an invalid
 option.
 
@@ -42,7 +42,6 @@ statistics-only call costs numpy only.
 
 from __future__ import annotations
 
-import importlib
 import math
 import time
 from collections.abc import Sequence
@@ -60,15 +59,12 @@ __all__ = [
     "MIN_REVOLUTIONS",
     "MIN_SPECTRUM_SAMPLES",
     "PROVENANCES",
-    "TIERS",
     "RecordAnalysis",
     "analyze_record",
     "stage_features",
     "statistics",
 ]
 
-#: Tiers in the order they build on each other.
-TIERS = ("statistics", "spectrum", "shaft", "gear")
 #: Where a sampling rate, speed or tooth count came from.
 PROVENANCES = ("file", "given", "config", "estimate")
 #: Shortest record for the spectrum tier [samples].
@@ -85,23 +81,6 @@ SHAFT_ORDERS = (1, 2, 3)
 ORDER_LINES = 8
 
 CPS = "cycles/sample"
-
-
-def _optional(module: str, name: str):
-    """``gearsim.signals.<module>.<name>`` or None when the module or name is absent."""
-    try:
-        mod = importlib.import_module(f"gearsim.signals.{module}")
-    except ImportError:
-        return None
-    return getattr(mod, name, None)
-
-
-def _tool(module: str, name: str, tier: str, skipped: list):
-    """:func:`_optional`, noting ``tier`` in ``skipped`` when it is None."""
-    f = _optional(module, name)
-    if f is None:
-        skipped.append({"tier": tier, "reason": f"gearsim.signals.{module} is not available"})
-    return f
 
 
 def _f(v: Any) -> float | None:
@@ -121,6 +100,13 @@ def _fmt(v: Any, spec: str = ".4g") -> str:
 def _first_line(exc: BaseException) -> str:
     text = str(exc).strip().splitlines()
     return text[0] if text else type(exc).__name__
+
+
+def _kurtosis(y: np.ndarray) -> float:
+    """Kurtosis ``mean(d^4) / mean(d^2)^2`` of ``d = y - mean(y)``; NaN for a constant ``y``."""
+    d = y - y.mean()
+    v = float(np.mean(d * d))
+    return float(np.mean(d**4) / v**2) if v > 0 else math.nan
 
 
 def statistics(x: np.ndarray, *, remove_mean: bool = True) -> dict[str, float | None]:
@@ -581,11 +567,10 @@ def _spectrum_tier(a: np.ndarray, fs: float | None,
 
 
 def _kurtogram(a: np.ndarray, fs: float | None, skipped: list) -> dict | None:
-    fk = _tool("kurtogram", "fast_kurtogram", "spectrum.kurtogram", skipped)
-    if fk is None:
-        return None
+    from gearsim.signals.kurtogram import fast_kurtogram
+
     try:
-        res = fk(a, fs if fs is not None else 1.0)
+        res = fast_kurtogram(a, fs if fs is not None else 1.0)
     except InputError as exc:
         skipped.append({"tier": "spectrum.kurtogram", "reason": _first_line(exc)})
         return None
@@ -713,6 +698,10 @@ def _other_orders(f_r, teeth, stages, top) -> list[float]:
 
 def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
                 amp=None, stages=None) -> dict[str, Any]:
+    from gearsim.signals.cepstrum import real_cepstrum
+    from gearsim.signals.envelope import envelope_spectrum
+    from gearsim.signals.ordertrack import tracked_tsa
+    from gearsim.signals.periodicity import impact_periodicity
     from gearsim.signals.spectrum import Spectrum, tone
 
     out: dict[str, Any] = {"rests_on": rests, "shaft_frequency_hz": f_r,
@@ -720,15 +709,12 @@ def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
     if profile is not None:
         fr = np.asarray(profile.frequency, dtype=float)
         out["speed_range_hz"] = [float(fr.min()), float(fr.max())]
-        tt = _optional("ordertrack", "tracked_tsa")
-        if tt is not None:
-            try:
-                t, q = tt(a, fs, profile, teeth=int(teeth[0]) if teeth else 1)
-                out["tracked_tsa"] = {"n_averages": int(t.n_averages),
-                                      "samples_per_rev": int(t.samples_per_rev),
-                                      "quality": _f(q)}
-            except InputError as exc:
-                skipped.append({"tier": "shaft.tracked_tsa", "reason": _first_line(exc)})
+        try:
+            t, q = tracked_tsa(a, fs, profile, teeth=int(teeth[0]) if teeth else 1)
+            out["tracked_tsa"] = {"n_averages": int(t.n_averages),
+                                  "samples_per_rev": int(t.samples_per_rev), "quality": _f(q)}
+        except InputError as exc:
+            skipped.append({"tier": "shaft.tracked_tsa", "reason": _first_line(exc)})
         try:
             out["order_spectrum"] = _order_lines(a, fs, profile)
         except InputError as exc:
@@ -753,41 +739,30 @@ def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
         return rows
 
     out["orders"] = read(Spectrum(np.arange(amp.size) * (fs / n), amp, "hann", fs, n))
-    env = _tool("envelope", "envelope_spectrum", "shaft.envelope", skipped)
-    if env is not None:
-        try:
-            es = env(a, fs)
-            out["envelope"] = {"orders": read(Spectrum(es.frequency, es.amplitude, es.window,
-                                                       fs, n))}
-        except (InputError, AttributeError, TypeError) as exc:
-            skipped.append({"tier": "shaft.envelope", "reason": _first_line(exc)})
-    cep = _tool("cepstrum", "real_cepstrum", "shaft.cepstrum", skipped)
-    if cep is not None:
-        try:
-            c = cep(a, fs)
-            q = np.asarray(getattr(c, "quefrency", None) if not isinstance(c, tuple)
-                           else c[0], dtype=float)
-            v = np.asarray(getattr(c, "cepstrum", None) if not isinstance(c, tuple)
-                           else c[1], dtype=float)
-            t1 = 1.0 / f_r
-            sel = (q >= 0.8 * t1) & (q <= 1.2 * t1)
-            if sel.any():
-                j = np.flatnonzero(sel)[np.argmax(v[sel])]
-                out["cepstrum"] = {"period_s": float(q[j]), "value": float(v[j]),
-                                   "period_ratio_to_T1": float(q[j] / t1)}
-            else:
-                skipped.append({"tier": "shaft.cepstrum",
-                                "reason": "record shorter than 1.2 shaft periods"})
-        except (InputError, TypeError, ValueError) as exc:
-            skipped.append({"tier": "shaft.cepstrum", "reason": _first_line(exc)})
-    per = _tool("periodicity", "impact_periodicity", "shaft.periodicity", skipped)
-    if per is not None:
-        try:
-            res = per(a, fs, frequency=f_r)
-            out["periodicity"] = {"verdict": str(res.verdict), "p_value": _f(res.p_value),
-                                  "alpha": _f(res.alpha), "frequency_hz": _f(res.frequency)}
-        except (InputError, TypeError) as exc:
-            skipped.append({"tier": "shaft.periodicity", "reason": _first_line(exc)})
+    try:
+        es = envelope_spectrum(a, fs)
+        out["envelope"] = {"orders": read(es)}
+    except (InputError, AttributeError, TypeError) as exc:
+        skipped.append({"tier": "shaft.envelope", "reason": _first_line(exc)})
+    try:
+        q, v = real_cepstrum(a, fs)
+        t1 = 1.0 / f_r
+        sel = (q >= 0.8 * t1) & (q <= 1.2 * t1)
+        if sel.any():
+            j = np.flatnonzero(sel)[np.argmax(v[sel])]
+            out["cepstrum"] = {"period_s": float(q[j]), "value": float(v[j]),
+                               "period_ratio_to_T1": float(q[j] / t1)}
+        else:
+            skipped.append({"tier": "shaft.cepstrum",
+                            "reason": "record shorter than 1.2 shaft periods"})
+    except (InputError, TypeError, ValueError) as exc:
+        skipped.append({"tier": "shaft.cepstrum", "reason": _first_line(exc)})
+    try:
+        res = impact_periodicity(a, fs, frequency=f_r)
+        out["periodicity"] = {"verdict": str(res.verdict), "p_value": _f(res.p_value),
+                              "alpha": _f(res.alpha), "frequency_hz": _f(res.frequency)}
+    except (InputError, TypeError) as exc:
+        skipped.append({"tier": "shaft.periodicity", "reason": _first_line(exc)})
     return out
 
 
@@ -867,14 +842,9 @@ def _gear_tier(a, fs, f_r, teeth, pulses_tacho, settings, rests, skipped,
     return out, full
 
 
-def _gear_indicators(full, teeth, skipped) -> dict | None:
-    try:
-        ind = importlib.import_module("gearsim.signals.indicators")
-    except ImportError:
-        skipped.append({"tier": "gear.indicators",
-                        "reason": "gearsim.signals.indicators is not available (NB4, energy "
-                                  "ratio, sideband index, sideband level factor)"})
-        return None
+def _gear_indicators(full, teeth, skipped) -> dict:
+    from gearsim.signals import indicators as ind
+
     t, z, o = full.tsa, int(teeth[0]), full.options
     out: dict[str, Any] = {}
     for name, call in (
@@ -893,25 +863,16 @@ def _gear_indicators(full, teeth, skipped) -> dict | None:
 
 
 def _demodulation(a, fs, full, skipped) -> dict | None:
-    dem = _tool("demodulation", "demodulate_tsa", "gear.demodulation", skipped)
-    if dem is None:
-        return None
+    from gearsim.signals.demodulation import demodulate_tsa
+
     try:
-        d = dem(full.tsa, teeth=full.kinematics.teeth[0], harmonic=1,
-                sidebands=max(1, full.options["sideband_orders"]))
+        d = demodulate_tsa(full.tsa, teeth=full.kinematics.teeth[0], harmonic=1,
+                           sidebands=max(1, full.options["sideband_orders"]))
     except InputError as exc:
         skipped.append({"tier": "gear.demodulation", "reason": _first_line(exc)})
         return None
-
-    def kurt(v) -> float | None:
-        v = np.asarray(v, dtype=float)
-        c = v - v.mean()
-        m2 = float(np.mean(c * c))
-        return float(np.mean(c**4) / m2**2) if m2 > 0 else None
-
-    phase = np.asarray(d.phase, dtype=float)
-    return {"amplitude_kurtosis": kurt(d.amplitude), "phase_kurtosis": kurt(phase),
-            "carrier_frequency": _f(d.carrier_frequency)}
+    return {"amplitude_kurtosis": _f(_kurtosis(d.amplitude)),
+            "phase_kurtosis": _f(_kurtosis(d.phase)), "carrier_frequency": _f(d.carrier_frequency)}
 
 
 def _provenance(name: str, value: str | None) -> str | None:

@@ -293,11 +293,6 @@ class Impacts:
         """Number of impacts."""
         return int(self.times.size)
 
-    @property
-    def frequency(self) -> float:
-        """Impact repetition frequency ``1/period`` (Hz)."""
-        return 1.0 / self.period if self.period > 0 else float("nan")
-
 
 def impact_threshold(x: np.ndarray, fs: float, *, window: float, factor: float) -> float:
     r"""Robust impact threshold :math:`c \cdot \mathrm{median}_j \max_{i \in W_j} |x_i - \bar x|`.

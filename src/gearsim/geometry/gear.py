@@ -44,9 +44,11 @@ MAX_MODULE = 0.2
 #: are five to ten times it; below, a unit mistake.
 MIN_MODULE = 1e-5
 MAX_FACE_WIDTH = 2.0
-#: Floor of the face width [m], as of the module: the finest gears made are tens of
-#: micrometres wide and more; below, a unit mistake (at 1e-300 m the slice sums
-#: underflowed to a negative stiffness).
+#: Floor of a gear's face width as read from a file [m], as of the module: the finest
+#: gears made are tens of micrometres wide and more; below, a unit mistake (at 1e-300 m
+#: the slice sums underflowed to a negative stiffness). Checked where a gearbox is read
+#: (:func:`check_face_width`), not by :class:`Gear`: the FE section computation builds
+#: slices 1e-6 b wide.
 MIN_FACE_WIDTH = 1e-5
 #: Largest tooth count (the largest ring gears have a few hundred teeth).
 MAX_TEETH = 1000
@@ -166,6 +168,28 @@ class Material:
     def shear_modulus(self) -> float:
         """Shear modulus G = E / (2 (1 + nu)) [Pa]."""
         return self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+
+
+def check_face_width(value: object, parameter: str) -> None:
+    """Refuse a face width read from a file below :data:`MIN_FACE_WIDTH` (the rest of
+    its range is :class:`Gear`'s).
+
+    Parameters
+    ----------
+    value : object
+        Face width b [m] as converted; anything but a positive float is left to
+        :class:`Gear`.
+    parameter : str
+        Its name for the message.
+
+    Raises
+    ------
+    InputError
+        If ``0 < value < MIN_FACE_WIDTH``.
+    """
+    require(not (isinstance(value, float) and 0.0 < value < MIN_FACE_WIDTH), parameter,
+            value, f"must be a finite number in [{MIN_FACE_WIDTH:g}, {MAX_FACE_WIDTH:g}) m "
+            "(plain numbers are metres)")
 
 
 def check_teeth(teeth: object, parameter: str) -> None:
@@ -317,9 +341,9 @@ class Gear(_TransverseGeometry):
                 "must be between 5 and 35 deg")
         require(0.0 <= abs(self.helix_angle) < math.radians(45), f"{p}.helix_angle",
                 f"{math.degrees(self.helix_angle):.4g} deg", "must satisfy |beta| < 45 deg")
-        require(MIN_FACE_WIDTH <= self.face_width < MAX_FACE_WIDTH, f"{p}.face_width",
-                self.face_width, f"must be a finite number in [{MIN_FACE_WIDTH:g}, "
-                f"{MAX_FACE_WIDTH:g}) m (plain numbers are metres)")
+        require(0.0 < self.face_width < MAX_FACE_WIDTH, f"{p}.face_width", self.face_width,
+                f"must be a finite number in (0, {MAX_FACE_WIDTH:g}) m (plain numbers are "
+                "metres)")
         for attr, (lo, hi), closed in (
                 ("addendum_coefficient", ADDENDUM_RANGE, "(]"),
                 ("dedendum_coefficient", DEDENDUM_RANGE, "(]"),

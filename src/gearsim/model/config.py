@@ -45,7 +45,7 @@ from gearsim.data import EXAMPLES, example_text
 from gearsim.dynamics.lta import agma_backlash
 from gearsim.dynamics.settings import DynamicsSettings, parse_dynamics
 from gearsim.errors import InputError, require
-from gearsim.geometry.gear import Gear, Material, check_teeth
+from gearsim.geometry.gear import Gear, Material, check_face_width, check_teeth
 from gearsim.geometry.pair import require_same_rack
 from gearsim.model.damage import CRACK_KEYS, array_of_tables, parse_cracks, parse_faults
 from gearsim.model.gearbox import Gearbox
@@ -195,6 +195,7 @@ def parse(doc: dict[str, Any]) -> Gearbox:
                         label=f"for {where}, {kw['name']!r}"):
             if not graph and i > 0:  # before the gear's own checks: name the mismatch
                 require_same_rack(f"gears[{i - 1}]", *_rack(kws[i - 1]), kw["name"], *_rack(kw))
+            check_face_width(kw.get("face_width"), f"{kw['name']}.face_width")
             gears.append(Gear(**kw))
     op_raw = doc.get("operating", {})
     op_kw = convert(op_raw, OPERATING_KEYS, "operating")

@@ -66,7 +66,7 @@ from gearsim.dynamics.compose import NextStage, chain_operating, next_operating,
 from gearsim.dynamics.settings import parse_dynamics
 from gearsim.dynamics.stage import StageDynamics
 from gearsim.errors import InputError, require
-from gearsim.geometry.gear import Material
+from gearsim.geometry.gear import Material, check_face_width
 from gearsim.geometry.planetary import PlanetaryStage
 from gearsim.model.damage import CRACK_KEYS, FAULT_KEYS, parse_cracks, parse_faults
 from gearsim.model.gearbox import Gearbox
@@ -228,6 +228,7 @@ def _stage_geometry(raw: Any, section: str, material: Material
         kw["planet_angles"] = (kw["planet_angles"],)
     try:
         with as_written(raw, "stage", sources=[(section, raw)]):
+            check_face_width(kw.get("face_width"), "stage.face_width")
             return PlanetaryStage(material=material, **kw), consts
     except InputError as exc:  # a member gear's own check: the stage's key as written
         if exc.parameter == "stage":  # the stage as a whole (its contact ratios)

@@ -67,6 +67,7 @@ the carrier of a stage with its ring held). The fault classes are refused for a 
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import hashlib
 import itertools
@@ -81,7 +82,6 @@ from typing import Any
 
 import numpy as np
 
-from gearsim.dynamics.settings import MODELS
 from gearsim.errors import InputError, require
 from gearsim.model import Gearbox, loads
 from gearsim.model.config import EXAMPLES, example_text, read_file_or_builtin
@@ -507,8 +507,9 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
     signal = st.get("signal")
     if signal is None:  # the gearbox's first record in the study's model: what a rig measures
         gb = loads(config_text)
-        if dynamics.get("model") in MODELS:  # else refused, named, when the study is checked
-            gb = gb.replace(dynamics={"model": dynamics["model"]})
+        if "model" in dynamics:  # a model the box cannot take: refused, named, when the
+            with contextlib.suppress(InputError):  # study is checked (check_study)
+                gb = gb.replace(dynamics={"model": dynamics["model"]})
         signal = gb.default_signal
     require(isinstance(signal, str) and len(signal) > 0, "study.signal", signal,
             "must be a variable name, optionally with [shaft,axis]")

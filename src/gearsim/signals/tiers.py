@@ -390,8 +390,11 @@ class RecordAnalysis:
         sh = self.tiers.get("shaft")
         if sh:
             r = sh["rests_on"]
+            od = sh.get("order_domain")
+            od = (f" (order domain: resampled at equal angle steps of {od['mean_speed_hz']:.6g}"
+                  " Hz)" if od else "")
             lines.append(f"  shaft [speed {r['speed']}, fs {r['fs']}]: f_r "
-                         f"{sh['shaft_frequency_hz']:.6g} Hz; orders "
+                         f"{sh['shaft_frequency_hz']:.6g} Hz{od}; orders "
                          + ", ".join(f"{o['order']}x {o['amplitude']:.4g}{u}"
                                      for o in sh["orders"]))
             osp = sh.get("order_spectrum")
@@ -652,15 +655,25 @@ def _at_mean_speed(a, fs, profile) -> tuple[np.ndarray, float]:
     the TSA's revolutions are equal. Cubic interpolation of the samples
     (:func:`~gearsim.signals.tsa.cubic_resample`): relative error (5/384)(2 pi f' / fs)^4
     at a line of ``f'`` Hz, 7e-4 at 1 kHz and fs 12.8 kHz."""
+    from scipy.interpolate import UnivariateSpline
+
     from gearsim.signals.tsa import cubic_resample
 
+    if profile.source == "tacho":  # pulse times quantised to the samples: uniform error
+        # of variance 1 / (12 fs^2); the cubic smoothing spline of time against angle
+        # whose squared residuals sum to that variance times the pulses (Reinsch 1967),
+        # in place of the spline through every pulse
+        times_at = UnivariateSpline(profile.angle, profile.time, k=3,
+                                    s=profile.time.size / (12.0 * fs**2))
+    else:
+        times_at = profile.times_at
     t_lo = max(float(profile.time[0]) + profile.edge, 0.0)
     t_hi = min(float(profile.time[-1]) - profile.edge, (a.size - 1) / fs)
     lo, hi = profile.angle_at(np.array([t_lo, t_hi]))
     k0, k1 = math.ceil(lo), math.floor(hi)
-    f = (k1 - k0) / float(np.ptp(profile.times_at(np.array([k0, k1], dtype=float))))
+    f = (k1 - k0) / float(np.ptp(times_at(np.array([k0, k1], dtype=float))))
     angles = k0 + np.arange(int((k1 - k0) * fs / f)) * (f / fs)
-    return cubic_resample(a, fs, profile.times_at(angles)), f
+    return cubic_resample(a, fs, np.clip(times_at(angles), 0.0, (a.size - 1) / fs)), f
 
 
 def _order_lines(a, fs, profile) -> dict[str, Any]:
@@ -697,7 +710,11 @@ def _other_orders(f_r, teeth, stages, top) -> list[float]:
 
 
 def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
-                amp=None, stages=None) -> dict[str, Any]:
+                amp=None, stages=None, steady=None) -> dict[str, Any]:
+    """The shaft tier; with ``steady`` = (record, speed) of :func:`_at_mean_speed` (a
+    speed that varies) its lines (orders, envelope, cepstrum, periodicity) are read on
+    the order-domain record at its mean speed, the order spectrum and tracked TSA on the
+    record with its profile."""
     from gearsim.signals.cepstrum import real_cepstrum
     from gearsim.signals.envelope import envelope_spectrum
     from gearsim.signals.ordertrack import tracked_tsa
@@ -719,13 +736,16 @@ def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
             out["order_spectrum"] = _order_lines(a, fs, profile)
         except InputError as exc:
             skipped.append({"tier": "shaft.order_spectrum", "reason": _first_line(exc)})
+    spread = 0.0 if profile is None else float(np.max(np.abs(fr - f_r)))
+    if steady is not None:
+        a, f_r, amp, spread = steady[0], steady[1], None, 0.0
+        out["order_domain"] = {"mean_speed_hz": f_r, "samples": int(a.size)}
     n = a.size
     if amp is None:
         amp = _hann_amplitude(a)
     # order k is read within the window's main lobe of k f_r, widened to the speed's own
     # spread (a tracked or tacho profile), never reaching into the main lobe of another
     # shaft's order (the train's other shafts, as the teeth or stages know them)
-    spread = 0.0 if profile is None else float(np.max(np.abs(fr - f_r)))
     avoid = _other_orders(f_r, teeth, stages, max(SHAFT_ORDERS) + 1.0)
 
     def read(spec) -> list[dict[str, Any]]:
@@ -1056,7 +1076,7 @@ def analyze_record(
     rec.timings["spectrum"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    f_r = est_speed = pulses_tacho = None
+    f_r = est_speed = pulses_tacho = steady = None
     if fs is None:
         for tier in ("shaft", "gear"):
             skipped.append({"tier": tier, "reason": "needs a sampling rate (give --fs, or a "
@@ -1080,8 +1100,13 @@ def analyze_record(
                 skipped.append({"tier": "gear", "reason": reason})
                 f_r = None
             else:
+                fr = None if profile is None else profile.frequency
+                if fr is not None and np.ptp(fr) > RUN_UP_TOL * (fr.max() + fr.min()) / 2:
+                    # a changing speed (the run-up rule): the lines of the shaft and gear
+                    # tiers read in the order domain, at the mean speed
+                    steady = _at_mean_speed(a, fs, profile)
                 rec.tiers["shaft"] = _shaft_tier(a, fs, f_r, rests, skipped, profile, zs,
-                                                   amp, stages=pairs)
+                                                   amp, stages=pairs, steady=steady)
         else:
             skipped.append({"tier": "gear", "reason": "needs a shaft speed (see shaft)"})
     rec.timings["shaft"] = time.perf_counter() - t0
@@ -1116,13 +1141,9 @@ def analyze_record(
                 skipped.append({"tier": "estimate.teeth", "reason": f"confidence "
                                 f"{est_z.confidence:.2f} < {TEETH_CONFIDENCE} (give --teeth)"})
     if f_r is not None:
-        a_g, f_g = a, f_r
-        span = rec.tiers["shaft"].get("speed_range_hz")  # of a tracked or tacho profile
-        if zs and span and span[1] - span[0] > RUN_UP_TOL * (span[0] + span[1]) / 2:
-            # a changing speed (the run-up rule): the gear tier in the order domain, its
-            # spectrum lines and TSA at the mean speed
-            a_g, f_g = _at_mean_speed(a, fs, profile)
-            pulses_tacho = None
+        a_g, f_g = steady or (a, f_r)
+        if steady is not None:
+            pulses_tacho = None  # the revolutions are equal in the order domain
         if not zs:
             skipped.append({"tier": "gear", "reason": "needs tooth counts (give --teeth)"})
         else:

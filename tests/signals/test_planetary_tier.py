@@ -183,3 +183,15 @@ def test_bad_rate_refused(fs) -> None:
 def test_mesh_above_nyquist_refused() -> None:
     with pytest.raises(InputError, match="Nyquist"):
         planetary_tier(np.ones(1000), 500.0, StageSpec(30, 24, 78, 4, carrier_frequency=5.0))
+
+
+def test_a_constant_record_has_no_fm4_and_no_highest_planet() -> None:
+    # every separated average is constant: no residual, FM4 undefined for each planet
+    # (numpy.nanargmax of all-NaN stopped the analysis: an internal error, probe round 9)
+    spec = StageSpec(z_sun=24, z_planet=24, z_ring=72, planets=3,
+                     carrier_frequency=5.0)
+    r = analyze_record(np.zeros(20000), 5000.0, speed=5.0, stage=spec)
+    sep = r.tiers["planetary"]["separation"]
+    assert [p["fm4"] for p in sep["planets"]] == [None] * 3 and sep["sun"]["fm4"] is None
+    assert sep["highest_fm4_planet"] is None
+    assert "highest none (no FM4: a constant record)" in r.text()

@@ -205,7 +205,7 @@ def _fault_lines(a: np.ndarray, fs: float, fr: Any, skipped: list) -> dict | Non
     return out
 
 
-def _fm4(y: np.ndarray, teeth: int) -> float:
+def _fm4(y: np.ndarray, teeth: int) -> float | None:
     """Kurtosis of the difference signal of an average over one member revolution.
 
     FM4 (Stewart 1977): the regular meshing, the mesh harmonics k z and their first
@@ -219,7 +219,8 @@ def _fm4(y: np.ndarray, teeth: int) -> float:
         regular |= np.abs(orders - k) <= 1
     regular[0] = True
     d = np.fft.irfft(np.where(regular, 0.0, spec), n=y.size)
-    return _kurtosis(d)
+    k = _kurtosis(d)
+    return None if np.isnan(k) else k  # none for a constant average
 
 
 def _separated(a: np.ndarray, fs: float, spec: StageSpec, skipped: list) -> dict | None:
@@ -252,8 +253,11 @@ def _separated(a: np.ndarray, fs: float, spec: StageSpec, skipped: list) -> dict
         return None
     out["sun"] = {"rms": float(np.std(sun.signal)), "fm4": _fm4(sun.signal, spec.z_sun),
                   "passes": sun.passes}
-    fm4 = [p["fm4"] for p in out["planets"]]
-    out["highest_fm4_planet"] = int(np.nanargmax(fm4)) + 1
+    fm4 = np.array([np.nan if p["fm4"] is None else p["fm4"] for p in out["planets"]],
+                   dtype=float)
+    # none where no planet's FM4 is defined (a constant record: no residual to measure)
+    out["highest_fm4_planet"] = (int(np.nanargmax(fm4)) + 1 if np.isfinite(fm4).any()
+                                 else None)
     return out
 
 

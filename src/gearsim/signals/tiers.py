@@ -474,10 +474,11 @@ class RecordAnalysis:
                     if v["to_floor_db"] is not None))
             sep = pl["separation"]
             if sep:
+                top = sep["highest_fm4_planet"]
                 lines.append(f"    separated averages ({sep['window']}): FM4 " + "  ".join(
-                    f"planet-{p['planet']} {p['fm4']:.3g}" for p in sep["planets"])
-                    + f"  sun {sep['sun']['fm4']:.3g}; highest planet-"
-                      f"{sep['highest_fm4_planet']}")
+                    f"planet-{p['planet']} {_fmt(p['fm4'], '.3g')}" for p in sep["planets"])
+                    + f"  sun {_fmt(sep['sun']['fm4'], '.3g')}; highest "
+                    + (f"planet-{top}" if top else "none (no FM4: a constant record)"))
         for s in self.skipped:
             lines.append(f"  skipped {s['tier']}: {s['reason']}")
         return "\n".join(lines)

@@ -418,6 +418,10 @@ def test_records_and_their_kinematics(box, run):
     ("mesh_force[mesh=stage2-sun-planet-1]", F_C2, [100, 20, 40], F_M2),
     ("mesh_force[mesh=stage1-ring-planet-2]", F_C1, [72, 24, 24], F_M1),
     ("stage_shaft_torque[stage_shaft=shaft-g57-stage2-sun]", F_C2, [100, 20, 40], F_M2),
+    # a chain shaft's coordinate is the chain's (it took stage 1's carrier and teeth:
+    # probe round 9), a stage member's its stage's
+    ("q[dof=mid.y]", F_S1, [23, 57], None),
+    ("q[dof=stage2-sun.x]", F_C2, [100, 20, 40], F_M2),
 ])
 def test_analyze_a_result_file_per_part(run, tmp_path, channel, speed, teeth, planetary):
     from gearsim.io.results import write_results

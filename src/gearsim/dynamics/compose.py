@@ -367,7 +367,8 @@ def chain_of_record(variable: str, label: str | None, shafts: list[list[str]],
     ``input_shaft_torque`` is the first chain's at an end (the gears driving the
     stages), ``shaft_torque`` the last one's (the shaft between the stages and the gears
     they drive, or those driving them when there is no other); ``chain_acceleration``
-    the chain holding its shaft, ``chain_mesh_force`` the chain holding its mesh.
+    the chain holding its shaft, ``chain_mesh_force`` the chain holding its mesh, ``q``
+    (``shaft.axis``) the chain holding its shaft (a stage member's coordinate: None).
 
     Parameters
     ----------
@@ -394,9 +395,11 @@ def chain_of_record(variable: str, label: str | None, shafts: list[list[str]],
     ends = [k for k in range(len(shafts)) if not (between and between[k])]
     if variable in ("input_shaft_torque", "shaft_torque"):
         return (ends[0] if variable == "input_shaft_torque" else ends[-1]) if ends else None
-    held = {"chain_acceleration": shafts, "chain_mesh_force": meshes}.get(variable)
-    if held is None:
+    held = {"chain_acceleration": shafts, "chain_mesh_force": meshes, "q": shafts}.get(variable)
+    if held is None or label is None:
         return None
+    if variable == "q":  # a coordinate, shaft.axis: a chain shaft's, else a stage member's
+        label = label.rpartition(".")[0]
     return next((k for k, names in enumerate(held) if label in names), None)
 
 

@@ -550,6 +550,9 @@ def test_five_parts_records_and_their_chains():
                                'gears = ["sun-drive-gear", "pto-pinion"]\n'
                                'angle = "90 deg"\n[operating]'),
      "shafts[1]", "branching power beside a planetary stage"),
+    # a key of a shaft named as written (was stages[2].input_chain.shafts.mid.power_share)
+    (BOX.replace('name = "mid"\n', 'name = "mid"\npower_share = 0.5\n'),
+     "shafts[2].power_share", "the only output takes all the power"),
     (BOX.replace('"3e6 N*m/rad"', '"-3e6 N*m/rad"'), "shafts[2].torsional_stiffness",
      "-3e6"),
     (BOX.replace('name = "g57"', 'name = "g23"'), "gears[1].name", "unique"),

@@ -410,6 +410,7 @@ def _chain(g: _Graph, entry: str) -> tuple[dict[str, Any], dict[str, str]]:
     for key, ids in (("shafts", [index[n] for n in order]), ("gears", gear_ids),
                      ("meshes", mesh_ids)):
         ren |= {f"{key}[{a}]": f"{key}[{b}]" for a, b in enumerate(ids)}
+    ren |= {f"shafts.{n}.": f"shafts[{index[n]}]." for n in order}  # a shaft by its name
     for key in ("cracks", "faults", "modifications"):
         tabs = _tables(doc, key)
         ids = [i for i, t in enumerate(tabs) if t.get("gear") in members]

@@ -895,6 +895,14 @@ def record(model: DynamicModel, settings: DynamicsSettings, *, dt: float, m: int
     return g.t, q, v, f, g.transient
 
 
+@functools.lru_cache(maxsize=4)
+def _hann(n: int) -> np.ndarray:
+    """``numpy.hanning(n)``, made once per length (0.3 ms for 2^15 points)."""
+    w = np.hanning(n)
+    w.flags.writeable = False
+    return w
+
+
 def _warn_folding(f: np.ndarray, settings: DynamicsSettings) -> None:
     """Warn (:class:`ModelRangeWarning`) when a mesh force's internal record (rate r fs)
     holds a line in its top quarter below r fs / 2 larger than :data:`ALIAS_SHARE` of
@@ -908,10 +916,11 @@ def _warn_folding(f: np.ndarray, settings: DynamicsSettings) -> None:
     x = np.array(f[-FOLD_BLOCK:], order="F")
     mean = x.mean(axis=0)
     x -= mean
-    a = np.abs(np.fft.rfft(x * np.hanning(x.shape[0])[:, None], axis=0))
-    freq = np.fft.rfftfreq(x.shape[0], 1.0 / (r * fs))
-    band = a[(freq > 0) & (freq <= 0.45 * fs)].max(axis=0)
-    top = a[freq >= 0.375 * r * fs].max(axis=0)
+    n = x.shape[0]
+    a = np.abs(np.fft.rfft(x * _hann(n)[:, None], axis=0))
+    freq = np.fft.rfftfreq(n, 1.0 / (r * fs))  # increasing: the bands as slices
+    band = a[1:np.searchsorted(freq, 0.45 * fs, side="right")].max(axis=0)
+    top = a[np.searchsorted(freq, 0.375 * r * fs):].max(axis=0)
     top[top * 2.0 / x.shape[0] <= FOLD_FLOOR * np.abs(mean)] = 0.0  # round-off, not content
     share = np.max(top / np.where(band > 0, band, np.inf))
     if share > ALIAS_SHARE:

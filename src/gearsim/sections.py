@@ -33,7 +33,8 @@ def convert_value(value: Any, kind: str, name: str) -> Any:
     value : Any
         The value as read from TOML.
     kind : str
-        ``"str"``, ``"int"``, ``"bool"``, ``"table"`` or a quantity kind.
+        ``"str"`` (``"str:a|b"``: its choices, named when the value is not a string),
+        ``"int"``, ``"bool"``, ``"table"`` or a quantity kind.
     name : str
         Dotted parameter name for the error message.
 
@@ -54,9 +55,11 @@ def convert_value(value: Any, kind: str, name: str) -> Any:
     >>> convert_value(3, "int", "stiffness.slices")
     3
     """
-    if kind == "str":
+    if kind.partition(":")[0] == "str":  # "str:a|b": a string, one of a, b
         if not isinstance(value, str):
-            raise InputError(name, value, "must be a string")
+            choices = kind.partition(":")[2].replace("|", ", ")
+            raise InputError(name, value, f"must be one of {choices} (a string)" if choices
+                             else "must be a string")
         return value
     if kind == "int":
         if isinstance(value, bool) or not isinstance(value, int):

@@ -144,3 +144,16 @@ def test_a_variant_switches_every_mesh():
     pe = gb.with_crack(None, source="pe").train
     assert [pe.settings_of(i).source for i in (0, 1)] == ["pe", "pe"]
     assert pe.settings_of(1).contact == "yang-lin" and pe.settings_of(0).contact == "line"
+
+
+@pytest.mark.parametrize("key,choices", [("plane", "stress, strain"),
+                                         ("model", "seed, accurate"),
+                                         ("closure", "contact, open")])
+def test_a_choice_written_as_a_number_lists_the_choices(key, choices):
+    # it said "must be a string" alone (probe round 9)
+    text = example_text("two-stage-reducer").replace(
+        '[[meshes]]\ngears = ["intermediate-pinion", "output-gear"]',
+        f'[[meshes]]\ngears = ["intermediate-pinion", "output-gear"]\nstiffness = {{ {key} = 1 }}')
+    with pytest.raises(InputError, match=rf"^meshes\[1\]\.stiffness\.{key} = 1: must be one of "
+                       rf"{choices} \(a string\)$"):
+        gs.loads(text)

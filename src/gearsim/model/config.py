@@ -54,7 +54,16 @@ from gearsim.model.planetary import PER_ELEMENT, parse_planetary
 from gearsim.sections import as_written, convert
 from gearsim.signals.settings import parse_analysis
 from gearsim.stiffness.modifications import Modification
-from gearsim.stiffness.settings import StiffnessSettings, model_options
+from gearsim.stiffness.settings import (
+    CLOSURES,
+    CONTACTS,
+    COUPLINGS,
+    PLANES,
+    SOURCES,
+    StiffnessSettings,
+    model_options,
+)
+from gearsim.stiffness.settings import MODELS as STIFFNESS_MODELS
 from gearsim.system.graph import MeshSpec, Shaft, power_flow
 from gearsim.system.toml import EFFECTIVE_HEADER
 from gearsim.system.train import GearTrain, Operating
@@ -86,10 +95,12 @@ MESH_KEYS = {"gears": "str", "angle": "angle", "backlash": "length",
 #: the others at their defaults (backlash: the AGMA minimum of each mesh).
 PER_MESH, PER_GEAR = PER_ELEMENT
 OPERATING_KEYS = {"speed": "speed", "torque": "torque"}
-STIFFNESS_KEYS = {"closure": "str", "slices": "int", "positions_per_cycle": "int",
-                  "gauss_points": "int", "plane": "str", "source": "str",
-                  "corner_contact": "bool", "contact": "str", "coupling": "str",
-                  "fe_pair_positions": "int", "model": "str"}
+STIFFNESS_KEYS = {"closure": "str:" + "|".join(CLOSURES), "slices": "int",
+                  "positions_per_cycle": "int", "gauss_points": "int",
+                  "plane": "str:" + "|".join(PLANES), "source": "str:" + "|".join(SOURCES),
+                  "corner_contact": "bool", "contact": "str:" + "|".join(CONTACTS),
+                  "coupling": "str:" + "|".join(COUPLINGS), "fe_pair_positions": "int",
+                  "model": "str:" + "|".join(STIFFNESS_MODELS)}
 MODIFICATION_KEYS = {"gear": "str", "tip_relief": "length", "tip_relief_length": "length",
                      "root_relief": "length", "root_relief_length": "length",
                      "relief_shape": "str", "crowning": "length", "helix_slope": "length",

@@ -128,3 +128,18 @@ def test_shaft_tier_lines_in_the_order_domain():
     assert got["envelope"]["orders"][0]["amplitude"] == pytest.approx(
         ref["envelope"]["orders"][0]["amplitude"], rel=SAME_GEAR)
     assert got["cepstrum"]["period_ratio_to_T1"] == pytest.approx(1.0, abs=0.01)
+
+
+def test_order_domain_needs_two_whole_revolutions():
+    """A profile over 1.5 revolutions gives no order-domain record (it divided by the
+    time of zero revolutions); over 4 the resampled record is the same tone at the same
+    rate (a constant speed resamples onto itself: 1e-9 of its amplitude)."""
+    from gearsim.signals.speed import SpeedProfile
+    from gearsim.signals.tiers import _at_mean_speed
+
+    x = np.cos(2 * np.pi * 200.0 * np.arange(int(0.15 * FS)) / FS)
+    assert _at_mean_speed(x, FS, SpeedProfile.constant(10.0, 0.15)) is None
+    x = np.cos(2 * np.pi * 200.0 * np.arange(int(0.45 * FS)) / FS)
+    y, f = _at_mean_speed(x, FS, SpeedProfile.constant(10.0, 0.45))
+    assert f == pytest.approx(10.0, rel=1e-12)
+    np.testing.assert_allclose(y, x[:y.size], atol=1e-9)

@@ -647,7 +647,7 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warni
     return est.frequency, "estimate", None, est
 
 
-def _at_mean_speed(a, fs, profile) -> tuple[np.ndarray, float]:
+def _at_mean_speed(a, fs, profile) -> tuple[np.ndarray, float] | None:
     """The record resampled at equal shaft-angle steps ``f / fs`` (computed order
     tracking, Fyfe & Munck 1997; Combet & Gelman 2007 for a tracked phase): the record
     the shaft would give at its mean speed ``f`` [Hz] over the whole revolutions of the
@@ -655,7 +655,8 @@ def _at_mean_speed(a, fs, profile) -> tuple[np.ndarray, float]:
     Every line of a shaft order stands at order x ``f`` however the speed changed, and
     the TSA's revolutions are equal. Cubic interpolation of the samples
     (:func:`~gearsim.signals.tsa.cubic_resample`): relative error (5/384)(2 pi f' / fs)^4
-    at a line of ``f'`` Hz, 7e-4 at 1 kHz and fs 12.8 kHz."""
+    at a line of ``f'`` Hz, 7e-4 at 1 kHz and fs 12.8 kHz. None when the reliable part
+    holds fewer than ``MIN_REVOLUTIONS`` whole revolutions."""
     from scipy.interpolate import UnivariateSpline
 
     from gearsim.signals.tsa import cubic_resample
@@ -672,6 +673,8 @@ def _at_mean_speed(a, fs, profile) -> tuple[np.ndarray, float]:
     t_hi = min(float(profile.time[-1]) - profile.edge, (a.size - 1) / fs)
     lo, hi = profile.angle_at(np.array([t_lo, t_hi]))
     k0, k1 = math.ceil(lo), math.floor(hi)
+    if k1 - k0 < MIN_REVOLUTIONS:  # the record's rule, on its reliable part
+        return None
     f = (k1 - k0) / float(np.ptp(times_at(np.array([k0, k1], dtype=float))))
     angles = k0 + np.arange(int((k1 - k0) * fs / f)) * (f / fs)
     return cubic_resample(a, fs, np.clip(times_at(angles), 0.0, (a.size - 1) / fs)), f
@@ -1106,6 +1109,11 @@ def analyze_record(
                     # a changing speed (the run-up rule): the lines of the shaft and gear
                     # tiers read in the order domain, at the mean speed
                     steady = _at_mean_speed(a, fs, profile)
+                    if steady is None:
+                        skipped.append({"tier": "shaft.order_domain", "reason": "fewer "
+                                        f"than {MIN_REVOLUTIONS:g} whole revolutions outside "
+                                        "the tracking filter's edges: lines read at the mean "
+                                        "speed"})
                 rec.tiers["shaft"] = _shaft_tier(a, fs, f_r, rests, skipped, profile, zs,
                                                    amp, stages=pairs, steady=steady)
         else:

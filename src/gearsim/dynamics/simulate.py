@@ -553,11 +553,12 @@ def check_cost(train: GearTrain, settings: DynamicsSettings | None = None, *,
         raise InputError("dynamics.transient", transient,
                          "must be finite; the default (12 decay times of the slowest mode) "
                          "is infinite for an undamped system: give the transient")
-    if s.speed_times is not None:  # the revolutions a speed profile turns over the record
-        t = np.linspace(transient, transient + s.duration, 2001)
-        w = np.interp(t, s.speed_times, s.speed_values)
-        rev = float(np.sum((w[1:] + w[:-1]) * np.diff(t))) / (2.0 * t_rev
-                                                               * train.operating.speed)
+    if s.speed_times is not None:  # the revolutions a speed profile turns over the record:
+        # its nominal time tau (operating-speed seconds, exact) over t_rev
+        prof, _ = s.profiles(train.operating.speed)
+        one = np.array([[0.0, 1.0]])
+        rev = (_kernels.nominal(transient + s.duration, prof, one)[0]
+               - _kernels.nominal(transient, prof, one)[0]) / t_rev
         if rev < 1.0 - 1e-9:
             raise InputError("dynamics.speed_values", [f"{v * 30 / math.pi:g} rpm"
                                                        for v in s.speed_values],

@@ -436,8 +436,8 @@ class Gearbox:
             ends = [stage_prefix(k - 1, n) + output_member(prev),
                     pre + nxt.train.operating.input]
             names = stage_shaft_names(stage_prefix(k - 1, n), prev, pre, nxt)
-            for name, member in zip(names, ends[-len(names):] if len(names) == 1 else ends,
-                                    strict=True):
+            # one shaft joins both members (named after the later's), two: one each
+            for name, member in zip(names, ends[-len(names):], strict=True):
                 text = text.replace(name, self.shaft_label(member))
         return text
 

@@ -390,11 +390,8 @@ class RecordAnalysis:
         sh = self.tiers.get("shaft")
         if sh:
             r = sh["rests_on"]
-            od = sh.get("order_domain")
-            od = (f" (order domain: resampled at equal angle steps of {od['mean_speed_hz']:.6g}"
-                  " Hz)" if od else "")
             lines.append(f"  shaft [speed {r['speed']}, fs {r['fs']}]: f_r "
-                         f"{sh['shaft_frequency_hz']:.6g} Hz{od}; orders "
+                         f"{sh['shaft_frequency_hz']:.6g} Hz{_order_domain(sh)}; orders "
                          + ", ".join(f"{o['order']}x {o['amplitude']:.4g}{u}"
                                      for o in sh["orders"]))
             osp = sh.get("order_spectrum")
@@ -420,11 +417,9 @@ class RecordAnalysis:
             stages = full.get("stages", [])
             first = (f" (stage 1, {stages[0]['teeth'][0]}/{stages[0]['teeth'][1]})"
                      if stages else "")
-            od = g_.get("order_domain")
-            od = (f" (order domain: resampled at equal angle steps of {od['mean_speed_hz']:.6g}"
-                  " Hz)" if od else "")
             lines.append(f"  gear [teeth {r['teeth']}, speed {r['speed']}, fs {r['fs']}]: "
-                         f"f_m {full['train']['mesh_frequency_hz']:.6g} Hz{first}{od}")
+                         f"f_m {full['train']['mesh_frequency_hz']:.6g} Hz{first}"
+                         f"{_order_domain(g_)}")
             lines += _harmonic_lines(full["mesh_harmonics"], full["sidebands"], u, "    ")
             for st in stages[1:]:  # a compound train: a line per further stage
                 lines.append(f"    gear stage {st['stage']} ({st['teeth'][0]}/"
@@ -647,6 +642,27 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warni
     return est.frequency, "estimate", None, est
 
 
+def _order_domain(tier: dict) -> str:
+    """The text's note of a tier read in the order domain (:func:`_at_mean_speed`)."""
+    od = tier.get("order_domain")
+    return (f" (order domain: resampled at equal angle steps of {od['mean_speed_hz']:.6g} Hz)"
+            if od else "")
+
+
+def _times_at(profile, fs: float):
+    """Time [s] at shaft angles [rev] of ``profile``: a tacho's pulse times are quantised
+    to the samples (uniform error of variance 1 / (12 fs^2)), so for a tacho the cubic
+    smoothing spline of time against angle whose squared residuals sum to that variance
+    times the pulses (Reinsch 1967), in place of the spline through every pulse; else the
+    profile's own :meth:`~gearsim.signals.speed.SpeedProfile.times_at`."""
+    if profile.source != "tacho":
+        return profile.times_at
+    from scipy.interpolate import UnivariateSpline
+
+    return UnivariateSpline(profile.angle, profile.time, k=3,
+                            s=profile.time.size / (12.0 * fs**2))
+
+
 def _at_mean_speed(a, fs, profile) -> tuple[np.ndarray, float] | None:
     """The record resampled at equal shaft-angle steps ``f / fs`` (computed order
     tracking, Fyfe & Munck 1997; Combet & Gelman 2007 for a tracked phase): the record
@@ -657,18 +673,9 @@ def _at_mean_speed(a, fs, profile) -> tuple[np.ndarray, float] | None:
     (:func:`~gearsim.signals.tsa.cubic_resample`): relative error (5/384)(2 pi f' / fs)^4
     at a line of ``f'`` Hz, 7e-4 at 1 kHz and fs 12.8 kHz. None when the reliable part
     holds fewer than ``MIN_REVOLUTIONS`` whole revolutions."""
-    from scipy.interpolate import UnivariateSpline
-
     from gearsim.signals.tsa import cubic_resample
 
-    if profile.source == "tacho":  # pulse times quantised to the samples: uniform error
-        # of variance 1 / (12 fs^2); the cubic smoothing spline of time against angle
-        # whose squared residuals sum to that variance times the pulses (Reinsch 1967),
-        # in place of the spline through every pulse
-        times_at = UnivariateSpline(profile.angle, profile.time, k=3,
-                                    s=profile.time.size / (12.0 * fs**2))
-    else:
-        times_at = profile.times_at
+    times_at = _times_at(profile, fs)
     t_lo = max(float(profile.time[0]) + profile.edge, 0.0)
     t_hi = min(float(profile.time[-1]) - profile.edge, (a.size - 1) / fs)
     lo, hi = profile.angle_at(np.array([t_lo, t_hi]))
@@ -799,8 +806,8 @@ def _gear_tier(a, fs, f_r, teeth, pulses_tacho, settings, rests, skipped,
     falls back to stage 1's pair, with the reason as the skipped tier ``gear.stages``.
     With a tacho (or a tracked phase, ``pulses_tacho``) and its ``profile``, a further
     shaft's revolutions start where the reference angle times the speed ratio passes a
-    whole number (the tacho's spline, :meth:`~gearsim.signals.speed.SpeedProfile.times_at`),
-    so that they follow a changing speed."""
+    whole number (the tacho's smoothing spline, :func:`_times_at`), so that they follow
+    a changing speed."""
     from gearsim.signals.analysis import analyze
 
     kw: dict[str, Any] = {"settings": settings}
@@ -848,7 +855,7 @@ def _gear_tier(a, fs, f_r, teeth, pulses_tacho, settings, rests, skipped,
                 k = np.arange(math.ceil(profile.angle[0] * ratio),
                               math.floor(profile.angle[-1] * ratio) + 1)
                 t = tsa(a, fs, samples_per_rev=_samples_per_rev(fs, f_j),
-                        pulses=profile.times_at(k / ratio))
+                        pulses=_times_at(profile, fs)(k / ratio))
             else:
                 t = tsa(a, fs, samples_per_rev=_samples_per_rev(fs, f_j), shaft_frequency=f_j)
             ind, _, _ = condition_indicators(t, teeth=int(z),

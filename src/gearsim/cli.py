@@ -157,8 +157,7 @@ def _say(line: str) -> None:
 def _verb(args: list[str]) -> str | None:
     """The verb of the command line, if it names one."""
     first = next((a for a in args if not a.startswith("-")), None)
-    names = {c.name for c in _APP.registered_commands} if _APP is not None else set()
-    return first if first in names else None
+    return first if first in VERB_MODULES else None
 
 
 def _interrupted() -> int:

@@ -476,11 +476,11 @@ def test_spectraquest_batch_of_four_has_stage_2(tmp_path, gearsim_here):
     """A batch of the four 30 Hz records (healthy and broken tooth, loads 0 and 90 %),
     rate 12.8 kHz, speed searched in 20-40 Hz, stages 32/80,48/64: the table has stage-2
     columns, and in every file and channel the stage-2 fundamental lies within 1 % of
-    the speed estimate x 32/80 x 48 (measured: within 0.3 %). Stage-2 / stage-1
-    fundamental amplitude over the 8 channels of each: healthy 0.07-0.55 (median 0.26),
-    broken 0.05-0.47 (median 0.13); the broken tooth's records have the larger stage-1
-    fundamental (mean 1.01 against 0.78) and the smaller stage-2 one (0.14 against
-    0.18)."""
+    the speed estimate x 32/80 x 48 (measured: within 0.35 %; read in the order domain of
+    the tracked speed). Stage-2 / stage-1 fundamental amplitude over the 8 channels of
+    each: healthy 0.05-0.42 (median 0.21), broken 0.05-0.27 (median 0.13); the broken
+    tooth's records have the larger stage-1 fundamental (mean 1.35 against 1.04) and the
+    smaller stage-2 one (0.175 against 0.195)."""
     paths = _four_records()
     table = tmp_path / "table.csv"
     code, out, err = _cli(gearsim_here, "analyze", *paths, "--fs", 12800,

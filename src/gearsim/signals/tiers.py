@@ -81,6 +81,20 @@ SHAFT_ORDERS = (1, 2, 3)
 ORDER_LINES = 8
 
 CPS = "cycles/sample"
+#: A steady speed estimated from the signal (first and last pieces within
+#: :data:`~gearsim.signals.speed.GIVEN_SPEED_TOLERANCE`) is still tracked, within this
+#: fraction of the estimate on either side, and the record read in the order domain: a
+#: wander of a few tenths of a percent spreads a mesh line over many bins (the
+#: SpectraQuest record b30hz90: stage-1 mesh line 1.333 read in time, 2.150 in the order
+#: domain, its 8 pieces read alone as steady records agree with the latter). 2 % holds the
+#: wander and keeps the neighbouring lines of the strongest one out of the band.
+STEADY_TRACK_SPAN = 0.02
+#: Band of the phase demodulation of a steady estimated speed, as a fraction of the
+#: slowest shaft's frequency (of the train the teeth or stages give, else the measured
+#: shaft's): the filter's stopband starts at 0.75 of the band, so every shaft's first
+#: sidebands (the gears' own modulation, what the gear tier looks for) stay out of the
+#: tracked phase and only the slow wander of the speed is followed (Combet & Gelman 2007).
+STEADY_TRACK_BAND = 0.5
 
 
 def _f(v: Any) -> float | None:
@@ -578,9 +592,11 @@ def _kurtogram(a: np.ndarray, fs: float | None, skipped: list) -> dict | None:
             "kurtosis": _f(best.kurtosis), "level": _f(best.level)}
 
 
-def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warnings):
+def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warnings,
+                   slowest=1.0):
     """(speed Hz, provenance, profile or None, SpeedEstimate or None); speed None with a
-    skip reason when it cannot be had."""
+    skip reason when it cannot be had. ``slowest``: the slowest shaft's frequency over the
+    measured one's (:data:`STEADY_TRACK_BAND`)."""
     from gearsim.signals import speed as sp
 
     if speed is not None:
@@ -639,7 +655,19 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warni
     if est is None:
         skipped.append({"tier": "shaft", "reason": why})
         return None, None, None, None
-    return est.frequency, "estimate", None, est
+    # a steady speed's wander, followed within STEADY_TRACK_SPAN of the estimate on the
+    # measured gear's mesh line (the highest order known to be strong: the narrowest band)
+    q = order if order > 1 else est.teeth or est.order
+    try:
+        prof = sp.estimate_speed(a, fs, order=q,
+                                 search=(est.frequency * (1.0 - STEADY_TRACK_SPAN),
+                                         est.frequency * (1.0 + STEADY_TRACK_SPAN)),
+                                 bandwidth=STEADY_TRACK_BAND * slowest * est.frequency)
+    except InputError as exc:
+        skipped.append({"tier": "shaft.tracking", "reason": "steady speed not tracked (lines "
+                        f"read at the estimate): {_first_line(exc)}"})
+        prof = None
+    return est.frequency, "estimate", prof, est
 
 
 def _order_domain(tier: dict) -> str:
@@ -736,7 +764,14 @@ def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
                            "shaft_rpm": 60.0 * f_r}
     if profile is not None:
         fr = np.asarray(profile.frequency, dtype=float)
-        out["speed_range_hz"] = [float(fr.min()), float(fr.max())]
+        # the range of the speed over each whole revolution outside the tracking filter's
+        # edges: a tracked phase's derivative wobbles where its line fades (b30hz0: 32.5 Hz
+        # for 0.04 s, a tenth of a tooth, at a steady 29.76 Hz)
+        lo, hi = profile.angle_at(np.array([profile.time[0] + profile.edge,
+                                            profile.time[-1] - profile.edge]))
+        revs = np.arange(math.ceil(lo), math.floor(hi) + 1, dtype=float)
+        per_rev = 1.0 / np.diff(_times_at(profile, fs)(revs)) if revs.size > 2 else fr
+        out["speed_range_hz"] = [float(per_rev.min()), float(per_rev.max())]
         try:
             t, q = tracked_tsa(a, fs, profile, teeth=int(teeth[0]) if teeth else 1)
             out["tracked_tsa"] = {"n_averages": int(t.n_averages),
@@ -1094,9 +1129,10 @@ def analyze_record(
                             "file that stores it)"})
     else:
         order = zs[0] if zs else 1
+        slowest = min([1.0, *_other_orders(1.0, zs, pairs, 1.0)])
         f_r, prov_speed, profile, est_speed = _resolve_speed(a, fs, speed, tacho, ppr, speed_search,
                                                              order, skipped, speed_provenance,
-                                                             rec.warnings)
+                                                             rec.warnings, slowest)
         if est_speed is not None:
             rec.tiers.setdefault("estimates", {})["speed"] = est_speed.to_dict()
         if f_r is not None:
@@ -1112,11 +1148,15 @@ def analyze_record(
                 f_r = None
             else:
                 fr = None if profile is None else profile.frequency
-                if fr is not None and np.ptp(fr) > RUN_UP_TOL * (fr.max() + fr.min()) / 2:
-                    # a changing speed (the run-up rule): the lines of the shaft and gear
-                    # tiers read in the order domain, at the mean speed
+                if fr is not None and (profile.source == "estimate" or np.ptp(fr) >
+                                       RUN_UP_TOL * (fr.max() + fr.min()) / 2):
+                    # a tracked speed, or a tacho's that changes (the run-up rule): the
+                    # lines of the shaft and gear tiers read in the order domain, at the
+                    # mean speed
                     steady = _at_mean_speed(a, fs, profile)
-                    if steady is None:
+                    if steady is not None:  # the speed every line is read at
+                        f_r = rec.speed = steady[1]
+                    else:
                         skipped.append({"tier": "shaft.order_domain", "reason": "fewer "
                                         f"than {MIN_REVOLUTIONS:g} whole revolutions outside "
                                         "the tracking filter's edges: lines read at the mean "

@@ -301,7 +301,7 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain | None,
                                  "mesh_frequency": train.mesh_frequency},)
     for k, nxt in enumerate(stages, 1):
         model = _join_stage(model, trains[k - 1], prefix[k - 1], nxt, prefix[k], settings,
-                            f"stages[{k + 1}]")
+                            f"stages[{k}]")
     if chain is not None:
         at = -1 if side == "output" else 0
         model = _join_chain(model, trains[at], prefix[at], chain, side, shaft_stiffness,

@@ -80,6 +80,34 @@ def test_fe_pair_source_refuses_what_it_cannot_model(spur, table1):
                             stiffness=dataclasses.replace(table1.stiffness, source="fe-pair"))
 
 
+#: The reducer with a 0.5 mm crack over half the face width of its output gear (mesh 1).
+HALF_CRACK = '\n[[cracks]]\ngear = "output-gear"\ntooth = 2\ndepth = "0.5 mm"\nextent = 0.5\n'
+
+
+@pytest.mark.parametrize(("mesh", "refused"), [(1, "meshes[1].stiffness.source"), (0, None)])
+def test_a_mesh_own_fe_pair_source_is_named_by_its_mesh(mesh, refused):
+    """A mesh's own ``stiffness = {source = "fe-pair"}`` refused a crack that is not
+    uniform over the face as ``stiffness.source`` (the file's [stiffness], which does not
+    say it); it names the mesh's key. A mesh reads only its own gears' cracks (mesh
+    0's FE pair never sees the output gear's), so there it is not refused."""
+    from importlib.resources import files
+
+    from gearsim.model import loads
+
+    base = (files("gearsim.data") / "two-stage-reducer.toml").read_text()
+    pair = ('gears = ["input-pinion", "intermediate-gear"]',
+            'gears = ["intermediate-pinion", "output-gear"]')[mesh]
+    text = base.replace(pair, pair + '\nstiffness = {source = "fe-pair"}') + HALF_CRACK
+    if refused is None:
+        assert loads(text).train.cracks[0].extent == 0.5
+        return
+    with pytest.raises(InputError) as err:
+        loads(text)
+    assert str(err.value) == (
+        f"{refused} = fe-pair: models one transverse section: the crack on output-gear must "
+        "be uniform over the face width (extent 0.5, profile 'uniform')")
+
+
 #: Mean dynamic transmission error at the low speed of the 19/48 example against the FE
 #: pair's own loaded TE (mean over the cycle): the dynamic part averages out; the
 #: table is interpolated linearly between the 20 FE positions per cycle.

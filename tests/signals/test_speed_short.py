@@ -163,6 +163,30 @@ def test_speed_search_bad_units_refused(text):
     assert problems[0].startswith(f"--speed-search = {text}: ")
 
 
+@pytest.mark.parametrize(("text", "fs", "top"), [
+    ("20,1e300", None, "1.667e+08"),  # 1e9 Hz, the highest rate read: 1e9 / 2 / 3
+    ("20, 1e300 Hz", None, "1.667e+08"), ("20,700", 4000.0, "666.7")])  # 4000 / 2 / 3
+def test_speed_search_no_record_resolves_is_refused_as_written(text, fs, top):
+    """HI above what 3 harmonics below Nyquist allow, at --fs or at any rate read: refused
+    with the option as written (20,1e300 reached the analysis as 20-1e+300 Hz)."""
+    problems = []
+    assert _speed_search(text, problems, fs=fs) is None
+    assert problems == [f"--speed-search = {text}: must end below {top} Hz (3 harmonics of "
+                        "the top speed below the Nyquist frequency of "
+                        + (f"fs = {fs:g} Hz)" if fs else "the highest sampling rate read, "
+                           "1e+09 Hz)")]
+
+
+def test_cli_speed_search_beyond_any_record_one_line_exit_2(tmp_path, capsys):
+    rec = tmp_path / "rec.csv"
+    rec.write_text("# fs = 4000\nacc\n" + "0.0\n" * 100)
+    assert cli.run(["analyze", str(rec), "--teeth", "20", "--speed-search", "20,1e300"]) == 2
+    assert capsys.readouterr().err.strip() == (
+        "gearsim: error: --speed-search = 20,1e300: must end below 1.667e+08 Hz (3 harmonics "
+        "of the top speed below the Nyquist frequency of the highest sampling rate read, "
+        "1e+09 Hz)")
+
+
 def test_issue_example_cli(tmp_path, capsys):
     """11.04 s of a 23-tooth pinion at a steady 2000 rpm, --speed-search 10,60 (bare: Hz),
     once refused as needing 87 s."""

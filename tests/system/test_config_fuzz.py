@@ -107,5 +107,5 @@ def test_one_bad_value_is_read_or_refused_as_written(base, data):
         # a section of the file as written
         assert exc.parameter.split(".")[0].split("[")[0] in doc, (path, value, line)
         if "shafts" in doc and "stages" in doc:  # a graph of stages: not the stage form
-            beyond = f"stages[{len(doc['stages']) + 1}]"
+            beyond = f"stages[{len(doc['stages'])}]"
             assert not any(line.startswith(f) for f in (*FOREIGN, beyond)), (path, value, line)

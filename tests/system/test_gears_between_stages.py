@@ -394,7 +394,8 @@ def test_a_crack_on_a_gear_between_the_stages(box):
 def test_records_and_their_kinematics(box, run):
     """Every record of Gearbox.signals is one record; the gears' records are analysed at
     their first shaft (20 Hz, 23/57), the shaft driving stage 2 and stage 2's meshes on
-    stage 2's carrier, the shaft leaving stage 1 on stage 1's, by hand."""
+    stage 2's carrier, the shaft leaving stage 1 (driving the gears) at the gears', by
+    hand."""
     for spec in box.signals():
         assert box.select(run, spec).shape == (run.sizes["time"],), spec
     assert [s for s in box.signals() if s.startswith("stage_shaft")] == [
@@ -406,7 +407,8 @@ def test_records_and_their_kinematics(box, run):
             ("chain_acceleration[mid,y]", "sun-shaft", F_S1, [23, 57]),
             ("mesh_force[stage2-sun-planet-1]", "out", F_C2, [100, 20, 40]),
             ("stage_shaft_torque[shaft-g57-stage2-sun]", "out", F_C2, [100, 20, 40]),
-            ("stage_shaft_torque[shaft-stage1-sun-g23]", "rotor", F_C1, [72, 24, 24]),
+            # the shaft leaving stage 1 drives the gears: their kinematics, its own speed
+            ("stage_shaft_torque[shaft-stage1-sun-g23]", "sun-shaft", F_S1, [23, 57]),
             ("sensor", "rotor", F_C1, [72, 24, 24])):
         member, freq, z = box.reference(signal=signal)
         assert (member, z) == (shaft, teeth), signal
@@ -418,6 +420,7 @@ def test_records_and_their_kinematics(box, run):
     ("mesh_force[mesh=stage2-sun-planet-1]", F_C2, [100, 20, 40], F_M2),
     ("mesh_force[mesh=stage1-ring-planet-2]", F_C1, [72, 24, 24], F_M1),
     ("stage_shaft_torque[stage_shaft=shaft-g57-stage2-sun]", F_C2, [100, 20, 40], F_M2),
+    ("stage_shaft_torque[stage_shaft=shaft-stage1-sun-g23]", F_S1, [23, 57], None),
     # a chain shaft's coordinate is the chain's (it took stage 1's carrier and teeth:
     # probe round 9), a stage member's its stage's
     ("q[dof=mid.y]", F_S1, [23, 57], None),
@@ -510,8 +513,10 @@ def test_five_parts_records_and_their_chains():
     # gears between, whichever end is missing
     assert gb.reference(signal="shaft_torque")[0] == "out"
     assert gb.reference(signal="input_shaft_torque")[0] == "in"
-    assert gb.reference(signal="chain_mesh_force[II]")[:2] == (
-        "between", pytest.approx(1500 / 60 / 3 / 4, rel=KIN_RTOL))
+    # the gears between and the shaft driving them (on stage 1's carrier): the gears' 30/20
+    for signal in ("chain_mesh_force[II]", "stage_shaft_torque[shaft-stage1-carrier-mid-gear]"):
+        assert gb.reference(signal=signal) == (
+            "between", pytest.approx(1500 / 60 / 3 / 4, rel=KIN_RTOL), [30, 20]), signal
     shafts, meshes = [["a"], ["b"], ["c"]], [["I"], ["II"], ["III"]]
     assert chain_of_record("shaft_torque", None, shafts[:2], meshes[:2], [False, True]) == 0
     assert chain_of_record("shaft_torque", None, shafts, meshes, [False, True, False]) == 2
@@ -550,21 +555,21 @@ def test_five_parts_records_and_their_chains():
                                'gears = ["sun-drive-gear", "pto-pinion"]\n'
                                'angle = "90 deg"\n[operating]'),
      "shafts[1]", "branching power beside a planetary stage"),
-    # a key of a shaft named as written (was stages[2].input_chain.shafts.mid.power_share)
+    # a key of a shaft named as written (was stages[1].input_chain.shafts.mid.power_share)
     (BOX.replace('name = "mid"\n', 'name = "mid"\npower_share = 0.5\n'),
      "shafts[2].power_share", "the only output takes all the power"),
     (BOX.replace('"3e6 N*m/rad"', '"-3e6 N*m/rad"'), "shafts[2].torsional_stiffness",
      "-3e6"),
     (BOX.replace('name = "g57"', 'name = "g23"'), "gears[1].name", "unique"),
     (STAGE_FORM.replace("[stages.input_chain]\n", "[stages.input_chain]\nspeed = 3\n"),
-     "stages[2].input_chain.speed", "unknown key"),
-    (STAGE_FORM.replace('"3e6 N*m/rad"', '"0 N*m/rad"'), "stages[2].input_chain."
+     "stages[1].input_chain.speed", "unknown key"),
+    (STAGE_FORM.replace('"3e6 N*m/rad"', '"0 N*m/rad"'), "stages[1].input_chain."
      "shaft_stiffness", "N*m/rad"),
     (STAGE_FORM.replace('name = "g57"', 'name = "sun"').replace('"g57"]', '"sun"]'),
-     "stages[2].input_chain.gears", "unique"),
+     "stages[1].input_chain.gears", "unique"),
     (STAGE_FORM.replace("ring_addendum_coefficient = 0.8\n[[stages]]",
                         "ring_addendum_coefficient = 0.8\ninput_chain = {}\n[[stages]]", 1),
-     "stages[1].input_chain", "[input_chain]"),
+     "stages[0].input_chain", "[input_chain]"),
 ])
 def test_what_stays_out_is_one_line(tmp_path, capsys, text, parameter, words):
     line = refused_in_one_line(text, tmp_path, capsys, parameter)

@@ -190,10 +190,10 @@ STAGE1_END = 'ring_addendum_coefficient = 0.8\n[[stages]]'
 
 
 @pytest.mark.parametrize(("edit", "parameter", "value"), [
-    (lambda t: t.replace('sun = "between"', 'sun = "nowhere"'), "stages[2].sun", "nowhere"),
-    (lambda t: t.replace('carrier = "out"', 'carrier = "housing"'), "stages[2]", None),
+    (lambda t: t.replace('sun = "between"', 'sun = "nowhere"'), "stages[1].sun", "nowhere"),
+    (lambda t: t.replace('carrier = "out"', 'carrier = "housing"'), "stages[1]", None),
     (lambda t: t.replace('sun = "between"', 'sun = "between"\nfixed = "ring"'),
-     "stages[2].fixed", "ring"),
+     "stages[1].fixed", "ring"),
     (lambda t: t.replace('torque = "200 N*m"', 'torque = "200 N*m"\ninput = "sun"'),
      "operating.input", "sun"),
     (lambda t: t + '[[shafts]]\nname = "spare"\n', "shafts[5]", "spare"),
@@ -208,17 +208,17 @@ STAGE1_END = 'ring_addendum_coefficient = 0.8\n[[stages]]'
      "-5 N*m/rad"),
     (lambda t: t.replace('"2e6 N*m/rad"', '"1e300 N*m/rad"'),
      "shafts[1].torsional_stiffness", "1e300 N*m/rad"),
-    (lambda t: t.replace("sun_teeth = 20", "sun_teeth = 0"), "stages[2].sun_teeth", "0"),
+    (lambda t: t.replace("sun_teeth = 20", "sun_teeth = 0"), "stages[1].sun_teeth", "0"),
     (lambda t: t.replace('face_width = "40 mm"', 'face_width = "nan mm"'),
-     "stages[2].face_width", "nan mm"),
+     "stages[1].face_width", "nan mm"),
     (lambda t: t.replace(STAGE1_END, 'ring_addendum_coefficient = 0.8\n[[stages.cracks]]\n'
                          'gear = "planet-9"\ntooth = 0\nflank = "working"\ndepth = "1 mm"\n'
-                         '[[stages]]', 1), "stages[1].cracks[0].gear", "planet-9"),
+                         '[[stages]]', 1), "stages[0].cracks[0].gear", "planet-9"),
     (lambda t: t.replace("[operating]", '[[stages.cracks]]\ngear = "sun"\ntooth = 0\n'
                          'flank = "working"\ndepth = "inf mm"\n[operating]'),
-     "stages[2].cracks[0].depth", "inf mm"),
+     "stages[1].cracks[0].depth", "inf mm"),
     (lambda t: t.replace(STAGE1_END, 'ring_addendum_coefficient = 0.8\n[stages.members]\n'
-                         'sun_mass = "-1 kg"\n[[stages]]', 1), "stages[1].members.sun_mass",
+                         'sun_mass = "-1 kg"\n[[stages]]', 1), "stages[0].members.sun_mass",
      "-1 kg"),
     (lambda t: t + PTO.format(on="between"), "shafts[2]", "between"),  # branching power
     (lambda t: t + '[[shafts]]\nname = "x"\n' + PTO.format(on="x"), "gears[4]", "pto-gear"),
@@ -236,7 +236,7 @@ def test_stage_form_geometry_refusal_names_the_key_as_written():
     staged = CHAINS_STAGE_FORM.replace('normal_module = "4 mm"', 'normal_module = "-4 mm"')
     with pytest.raises(gs.InputError) as err:
         loads(staged)
-    assert (err.value.parameter, err.value.value) == ("stages[2].normal_module", "-4 mm")
+    assert (err.value.parameter, err.value.value) == ("stages[1].normal_module", "-4 mm")
 
 
 def test_layout_names_the_shaft_of_each_member(capsys):

@@ -143,7 +143,7 @@ def test_a_key_of_a_members_shaft_is_checked_as_any_shafts(tmp_path, capsys, sha
 def test_the_shaft_between_two_stages_takes_no_mass_of_its_own(tmp_path, capsys):
     line = refused_in_one_line(_on("between", 'mass = "500 kg"', TOML_CHAINS_GRAPH),
                                tmp_path, capsys, "shafts[2].mass")
-    assert "the carrier of stages[1] and the sun of stages[2]" in line
+    assert "the carrier of stages[0] and the sun of stages[1]" in line
 
 
 def test_a_shafts_bearing_stiffness_reaches_every_member_on_it_as_with_bearing():

@@ -34,7 +34,7 @@ def test_soft_shaft_of_a_train_refused(kt, twist, torque, tmp_path, capsys):
 
 @pytest.mark.parametrize("old,new,parameter,shaft,twist,torque", [
     # named as the graph writes them (before: input_chain.shaft_stiffness,
-    # stages[2].shaft_stiffness and shaft shaft-stage1-carrier-stage2-sun, and
+    # stages[1].shaft_stiffness and shaft shaft-stage1-carrier-stage2-sun, and
     # chain.shaft_stiffness: the translated form's; probe round 8 #6)
     ('"2e6 N*m/rad"', "500", "shafts[1].torsional_stiffness", "sun-shaft", "1.2", "600"),
     ('"3e6 N*m/rad"', "2000", "shafts[2].torsional_stiffness", "between", "1.2", "2400"),

@@ -234,22 +234,22 @@ SECOND = 'fixed = "ring"\ninput = "sun"\nshaft_stiffness = "3e6 N*m/rad"'
 
 
 @pytest.mark.parametrize(("edit", "parameter"), [
-    ((SECOND, SECOND.replace('fixed = "ring"', 'fixed = "moon"')), "stages[2].fixed"),
-    ((SECOND, SECOND.replace('input = "sun"', 'input = "planet"')), "stages[2].input"),
-    ((SECOND, SECOND.replace('input = "sun"', 'input = "ring"')), "stages[2].input"),
-    (('"3e6 N*m/rad"', '"0 N*m/rad"'), "stages[2].shaft_stiffness"),
-    (('"3e6 N*m/rad"', '"-3e6 N*m/rad"'), "stages[2].shaft_stiffness"),
-    (('"3e6 N*m/rad"', '"1e300 N*m/rad"'), "stages[2].shaft_stiffness"),
-    (('"3e6 N*m/rad"', '"3e6 mm"'), "stages[2].shaft_stiffness"),
-    (('"3e6 N*m/rad"', '"1e-300 N*m/rad"'), "stages[2].shaft_stiffness"),
-    (('"3e6 N*m/rad"', '"inf N*m/rad"'), "stages[2].shaft_stiffness"),
-    (('"3e6 N*m/rad"', '"nan N*m/rad"'), "stages[2].shaft_stiffness"),
-    ((SECOND, SECOND + '\nmembers = {moon_mass = "3 kg"}'), "stages[2].members.moon_mass"),
-    ((SECOND, SECOND + '\nmembers = {sun_mass = "-3 kg"}'), "stages[2].members.sun_mass"),
-    ((SECOND, SECOND + '\nspeed = "3 rpm"'), "stages[2].speed"),
-    (("sun_teeth = 20", "sun_teeth = 21"), "stages[2].ring_teeth"),
+    ((SECOND, SECOND.replace('fixed = "ring"', 'fixed = "moon"')), "stages[1].fixed"),
+    ((SECOND, SECOND.replace('input = "sun"', 'input = "planet"')), "stages[1].input"),
+    ((SECOND, SECOND.replace('input = "sun"', 'input = "ring"')), "stages[1].input"),
+    (('"3e6 N*m/rad"', '"0 N*m/rad"'), "stages[1].shaft_stiffness"),
+    (('"3e6 N*m/rad"', '"-3e6 N*m/rad"'), "stages[1].shaft_stiffness"),
+    (('"3e6 N*m/rad"', '"1e300 N*m/rad"'), "stages[1].shaft_stiffness"),
+    (('"3e6 N*m/rad"', '"3e6 mm"'), "stages[1].shaft_stiffness"),
+    (('"3e6 N*m/rad"', '"1e-300 N*m/rad"'), "stages[1].shaft_stiffness"),
+    (('"3e6 N*m/rad"', '"inf N*m/rad"'), "stages[1].shaft_stiffness"),
+    (('"3e6 N*m/rad"', '"nan N*m/rad"'), "stages[1].shaft_stiffness"),
+    ((SECOND, SECOND + '\nmembers = {moon_mass = "3 kg"}'), "stages[1].members.moon_mass"),
+    ((SECOND, SECOND + '\nmembers = {sun_mass = "-3 kg"}'), "stages[1].members.sun_mass"),
+    ((SECOND, SECOND + '\nspeed = "3 rpm"'), "stages[1].speed"),
+    (("sun_teeth = 20", "sun_teeth = 21"), "stages[1].ring_teeth"),
     (("[[stages]]\nsun_teeth = 24", '[[stages]]\nshaft_stiffness = "3e6 N*m/rad"\n'
-      "sun_teeth = 24"), "stages[1].shaft_stiffness"),
+      "sun_teeth = 24"), "stages[0].shaft_stiffness"),
     (("[operating]", "[stage]\nsun_teeth = 30\n[operating]"), "stages"),
 ])
 def test_bad_second_stage_is_one_line(tmp_path, capsys, edit, parameter):
@@ -377,19 +377,19 @@ def test_stage_two_fault_is_its_own():
 
 
 @pytest.mark.parametrize(("edit", "parameter"), [
-    (STAGE2_CRACK.replace('"sun"', '"planet-9"'), "stages[2].cracks[0].gear"),
-    (STAGE2_CRACK.replace('"sun"', '"moon"'), "stages[2].cracks[0].gear"),
-    (STAGE2_CRACK.replace("tooth = 3", "tooth = 20"), "stages[2].cracks[0].tooth"),
-    (STAGE2_CRACK.replace('"2 mm"', '"30 mm"'), "stages[2].cracks[0].depth"),
-    (STAGE2_CRACK.replace('"2 mm"', '"-2 mm"'), "stages[2].cracks[0].depth"),
-    (STAGE2_CRACK.replace('"2 mm"', '"inf mm"'), "stages[2].cracks[0].depth"),
-    (STAGE2_CRACK.replace('"2 mm"', '"nan mm"'), "stages[2].cracks[0].depth"),
-    (STAGE2_CRACK.replace('"2 mm"', '"1e300 mm"'), "stages[2].cracks[0].depth"),
-    (STAGE2_CRACK + STAGE2_CRACK.replace("tooth = 3", "tooth = 4"), "stages[2].cracks[1].gear"),
-    (STAGE2_CRACK + STAGE2_CRACK.replace('"sun"', '"planet-1"'), "stages[2].cracks"),
-    (STAGE2_CRACK.replace("depth", "deep"), "stages[2].cracks[0].deep"),
-    (SPALL.format("ring"), "stages[2].faults[0].gear"),
-    (SPALL.format("planet-5"), "stages[2].faults[0].gear"),
+    (STAGE2_CRACK.replace('"sun"', '"planet-9"'), "stages[1].cracks[0].gear"),
+    (STAGE2_CRACK.replace('"sun"', '"moon"'), "stages[1].cracks[0].gear"),
+    (STAGE2_CRACK.replace("tooth = 3", "tooth = 20"), "stages[1].cracks[0].tooth"),
+    (STAGE2_CRACK.replace('"2 mm"', '"30 mm"'), "stages[1].cracks[0].depth"),
+    (STAGE2_CRACK.replace('"2 mm"', '"-2 mm"'), "stages[1].cracks[0].depth"),
+    (STAGE2_CRACK.replace('"2 mm"', '"inf mm"'), "stages[1].cracks[0].depth"),
+    (STAGE2_CRACK.replace('"2 mm"', '"nan mm"'), "stages[1].cracks[0].depth"),
+    (STAGE2_CRACK.replace('"2 mm"', '"1e300 mm"'), "stages[1].cracks[0].depth"),
+    (STAGE2_CRACK + STAGE2_CRACK.replace("tooth = 3", "tooth = 4"), "stages[1].cracks[1].gear"),
+    (STAGE2_CRACK + STAGE2_CRACK.replace('"sun"', '"planet-1"'), "stages[1].cracks"),
+    (STAGE2_CRACK.replace("depth", "deep"), "stages[1].cracks[0].deep"),
+    (SPALL.format("ring"), "stages[1].faults[0].gear"),
+    (SPALL.format("planet-5"), "stages[1].faults[0].gear"),
     (STAGE2_CRACK.replace("[[stages.", "[[") .replace('"sun"', '"planet-4"'),
      "cracks[0].gear"),  # the first stage's: three planets
 ])
@@ -405,7 +405,7 @@ def test_first_stage_damage_is_top_level(tmp_path, capsys):
     path.write_text(text)
     assert cli_run(["simulate", str(path), "--out", str(tmp_path / "x.nc")]) == 2
     err = capsys.readouterr().err.strip()
-    assert err.startswith("gearsim: error: stages[1].cracks = ...") and "[[cracks]]" in err
+    assert err.startswith("gearsim: error: stages[0].cracks = ...") and "[[cracks]]" in err
 
 
 def test_lta_modes_are_the_whole_assembly(box):

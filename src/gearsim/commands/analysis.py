@@ -127,13 +127,18 @@ def _stages(text: str | None, problems: list[str]) -> tuple[tuple[int, int], ...
     return tuple(pairs)
 
 
-def _speed_search(text: str | None, problems: list[str],
-                  name: str = "--speed-search") -> tuple[float, float] | None:
+def _speed_search(text: str | None, problems: list[str], name: str = "--speed-search",
+                  fs: float | None = None) -> tuple[float, float] | None:
     """``LO,HI`` with an optional unit to ``(lo, hi)`` in Hz: bare numbers are Hz (the unit
     of the API); ``Hz`` (``hertz``, ``1/s``) or ``rpm`` (``r/min``, ``rev/min``,
     ``revolutions_per_minute``, as pint spells them) after HI applies to both, after
-    each to each: ``20,40``, ``20,40Hz``, ``1200,2400rpm``, ``20 Hz, 2400 rpm``."""
+    each to each: ``20,40``, ``20,40Hz``, ``1200,2400rpm``, ``20 Hz, 2400 rpm``. An HI
+    that no record of the sampling rate ``fs`` (the option's; else the highest read)
+    resolves is refused here, before any file is read, as written."""
     import re
+
+    from gearsim.io.record import MAX_SAMPLING_RATE
+    from gearsim.signals.speed import MIN_HARMONICS
 
     if text is None:
         return None
@@ -157,6 +162,13 @@ def _speed_search(text: str | None, problems: list[str],
     if not MIN_SEARCH_HZ <= lo < hi < float("inf"):  # LO 5e-324 Hz overflowed the estimator
         problems.append(f"{name} = {text}: must be {MIN_SEARCH_HZ:g} Hz <= LO < HI "
                         f"({lo:g}, {hi:g} Hz)")
+        return None
+    top = 0.5 * (fs or MAX_SAMPLING_RATE) / MIN_HARMONICS  # as check_speed_search's
+    if hi >= top:
+        problems.append(f"{name} = {text}: must end below {top:.4g} Hz ({MIN_HARMONICS} "
+                        "harmonics of the top speed below the Nyquist frequency of "
+                        + (f"fs = {fs:g} Hz)" if fs else "the highest sampling rate "
+                           f"read, {MAX_SAMPLING_RATE:g} Hz)"))
         return None
     return lo, hi
 
@@ -410,7 +422,8 @@ def analyze(
     if stage_z is not None and shaft_rpm is None:
         problems.append(f"--stage = {stage}: needs the carrier speed --shaft-rpm (the "
                         "measured shaft is the carrier)")
-    search = _speed_search(speed_search, problems)
+    search = _speed_search(speed_search, problems,
+                           fs=fs if fs is not None and 0 < fs < float("inf") else None)
     threshold = _collect(problems, _emd_threshold, emd, emd_threshold)
     settings = None
     if 1 <= max_order <= MAX_ORDER and threshold is not None:
@@ -667,7 +680,8 @@ def compare(
     if shaft_rpm_meas is not None:
         _rpm("--shaft-rpm-meas", shaft_rpm_meas)
     problems: list[str] = []
-    search = _speed_search(speed_search_meas, problems, "--speed-search-meas")
+    search = _speed_search(speed_search_meas, problems, "--speed-search-meas", fs=fs_meas
+                           if fs_meas is not None and 0 < fs_meas < float("inf") else None)
     if problems:
         raise problems_error(problems)
     if teeth is not None and teeth < 1:

@@ -301,7 +301,7 @@ def build_stage_chain_model(train: PlanetaryTrain, chain: GearTrain | None,
                                  "mesh_frequency": train.mesh_frequency},)
     for k, nxt in enumerate(stages, 1):
         model = _join_stage(model, trains[k - 1], prefix[k - 1], nxt, prefix[k], settings,
-                            f"stages[{k + 1}]")
+                            f"stages[{k}]")
     if chain is not None:
         at = -1 if side == "output" else 0
         model = _join_chain(model, trains[at], prefix[at], chain, side, shaft_stiffness,
@@ -360,15 +360,17 @@ def stage_of_label(label: str, n: int) -> int:
 
 
 def chain_of_record(variable: str, label: str | None, shafts: list[list[str]],
-                    meshes: list[list[str]], between: Sequence[bool] = ()) -> int | None:
+                    meshes: list[list[str]], between: Sequence[str | bool] = ()) -> int | None:
     """Index of the gear chain beside the stages that a record of a stage result belongs
     to, or None for a record of the stages.
 
     ``input_shaft_torque`` is the first chain's at an end (the gears driving the
     stages), ``shaft_torque`` the last one's (the shaft between the stages and the gears
-    they drive, or those driving them when there is no other); ``chain_acceleration``
-    the chain holding its shaft, ``chain_mesh_force`` the chain holding its mesh, ``q``
-    (``shaft.axis``) the chain holding its shaft (a stage member's coordinate: None).
+    they drive, or those driving them when there is no other); ``stage_shaft_torque``
+    of the shaft from a stage to the gears between two stages those gears' (as a shaft
+    driving a stage is the stage's); ``chain_acceleration`` the chain holding its shaft,
+    ``chain_mesh_force`` the chain holding its mesh, ``q`` (``shaft.axis``) the chain
+    holding its shaft (a stage member's coordinate: None).
 
     Parameters
     ----------
@@ -378,8 +380,10 @@ def chain_of_record(variable: str, label: str | None, shafts: list[list[str]],
         Its label (a mesh ``II`` or a shaft name).
     shafts, meshes : list of list of str
         Each chain's shaft and mesh names, in power-flow order.
-    between : sequence of bool, optional
-        Of each chain, whether it sits between two stages (default: none does).
+    between : sequence of str or bool, optional
+        Of each chain sitting between two stages, the name of the shaft from the stage
+        driving it (``shaft-stage1-sun-g23``; True: not known), else False (default:
+        none sits between).
 
     Returns
     -------
@@ -391,10 +395,15 @@ def chain_of_record(variable: str, label: str | None, shafts: list[list[str]],
     1
     >>> chain_of_record("mesh_force", "sun-planet-1", [["a", "b"]], [["I"]]) is None
     True
+    >>> chain_of_record("stage_shaft_torque", "shaft-stage1-sun-g23", [["a", "b"]], [["I"]],
+    ...                 ["shaft-stage1-sun-g23"])
+    0
     """
     ends = [k for k in range(len(shafts)) if not (between and between[k])]
     if variable in ("input_shaft_torque", "shaft_torque"):
         return (ends[0] if variable == "input_shaft_torque" else ends[-1]) if ends else None
+    if variable == "stage_shaft_torque":
+        return next((k for k, name in enumerate(between) if name == label), None)
     held = {"chain_acceleration": shafts, "chain_mesh_force": meshes, "q": shafts}.get(variable)
     if held is None or label is None:
         return None

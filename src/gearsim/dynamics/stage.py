@@ -683,7 +683,8 @@ def simulate_stage(train: PlanetaryTrain, dyn: StageDynamics | None = None,
     extra_attrs["analysis_parts"] = analysis_parts(
         [e["train"] for e in parts], [e["chain"] for e in chains],
         float(tau[0]), prefixes=[e["prefix"] for e in parts],
-        between=[e["side"] == "between" for e in chains])
+        between=[e["side"] == "between" and model.info["row_names"][e["shaft_row"]]
+                 for e in chains])
     shafts = [(e["prefix"] + m, abs(e["train"].speeds[m]))
               for e in parts
               for m in ("carrier", "sun", "ring") if e["train"].speeds[m] != 0.0]
@@ -734,7 +735,7 @@ def _analysis_teeth(chain) -> list[int]:
 
 
 def analysis_parts(stages, chains, tau0: float, prefixes: list[str] | None = None,
-                   between: list[bool] | None = None) -> str:
+                   between: list[str | bool] | None = None) -> str:
     """What the analysis of a stage result's records needs, part by part, as JSON (the
     result's ``analysis_parts`` attribute).
 
@@ -755,8 +756,10 @@ def analysis_parts(stages, chains, tau0: float, prefixes: list[str] | None = Non
     prefixes : sequence of str, optional
         Each stage's prefix of its members' names in the result (``"stage2-"``; default
         none).
-    between : sequence of bool, optional
-        Of each chain, whether it sits between two stages (default none does).
+    between : sequence of str or bool, optional
+        Of each chain sitting between two stages, the name of the shaft from the stage
+        driving it (its ``stage_shaft_torque``, analysed with the chain's kinematics),
+        else False (default none sits between).
 
     Returns
     -------
@@ -768,8 +771,7 @@ def analysis_parts(stages, chains, tau0: float, prefixes: list[str] | None = Non
         ``frequency`` [Hz] and ``teeth`` of
         :meth:`~gearsim.system.planetary.PlanetaryTrain.analysis_reference`; per chain
         its shafts and meshes (the result's names), the first shaft's frequency [Hz], the
-        tooth counts, for a compound train its stages, and ``between`` (whether it sits
-        between two stages).
+        tooth counts, for a compound train its stages, and ``between`` (``between`` above).
     """
     import json
 

@@ -1041,8 +1041,9 @@ class Gearbox:
         ``mesh_force[stage<k>-...]``, and the shaft driving it, ``stage_shaft_torque``:
         stage k's member, named ``stage<k>-carrier`` as its tacho, teeth and speeds; the
         sensor and the ring's acceleration: the first stage's). A record of the gears
-        beside a stage (``chain_...``, ``shaft_torque``): the gears' first shaft and
-        teeth. Of gears whose power branches, the teeth on the path from the input to
+        beside a stage (``chain_...``, ``shaft_torque``, and the ``stage_shaft_torque``
+        of the shaft from a stage to gears between two stages, which drives them): the
+        gears' first shaft and teeth. Of gears whose power branches, the teeth on the path from the input to
         the record's shaft (:meth:`GearTrain.path_kinematics`).
 
         Parameters
@@ -1112,7 +1113,9 @@ class Gearbox:
     def _gears_record(self, signal: str | None) -> GearTrain | None:
         """The gears beside a stage that ``signal`` is a record of, else None: the chain
         holding the shaft or mesh it names; ``shaft_torque`` the stage's output shaft's
-        (else its input's), ``input_shaft_torque`` the input chain's."""
+        (else its input's), ``input_shaft_torque`` the input chain's, the
+        ``stage_shaft_torque`` of the shaft from a stage to gears between two stages
+        theirs (:func:`~gearsim.dynamics.compose.chain_of_record`)."""
         if self.stage is None or not self.chains or signal is None:
             return None
         m = _SIGNAL.fullmatch(signal)
@@ -1122,7 +1125,11 @@ class Gearbox:
         for t in self.chains:
             meshes.append(list(names[k:k + len(t.pairs)]))
             k += len(t.pairs)
-        between = [t is not self.input_train and t is not self.train for t in self.chains]
+        n = len(self.stages)  # a chain between two stages: the shaft driving it
+        between = [False] * (self.input_train is not None) + [
+            stage_shaft_names(stage_prefix(k, n), self.stages[k], stage_prefix(k + 1, n), s)[0]
+            for k, s in enumerate(self.next_stages) if s.input_train is not None
+        ] + [False] * (self.train is not None)
         j = chain_of_record(m.group(1), m.group(2),
                             [[sh.name for sh in t.flow.shafts] for t in self.chains], meshes,
                             between)

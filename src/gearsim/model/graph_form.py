@@ -181,7 +181,7 @@ def _translate(doc: dict[str, Any]
     # where each stage's members sit
     members: dict[str, list[tuple[int, str]]] = {n: [] for n in names}
     held = []
-    for k, st in enumerate(stages, 1):
+    for k, st in enumerate(stages):
         for key in ("fixed", "input", "shaft_stiffness"):
             if key in st:
                 raise InputError(f"stages[{k}].{key}", st[key], "follows from the shafts "
@@ -225,10 +225,10 @@ def _translate(doc: dict[str, Any]
         step = ahead[0]
         if step[0] == "stage":
             _, k, m = step
-            out = next(x for x in MEMBERS if x not in (m, held[k - 1]))
+            out = next(x for x in MEMBERS if x not in (m, held[k]))
             path.append(("stage", k, m, cur))
             used_stages.add(k)
-            cur = stages[k - 1][out]
+            cur = stages[k][out]
             continue
         used_parts.add(step[1])
         part = [n for n in names if root(n) == step[1]]
@@ -241,7 +241,7 @@ def _translate(doc: dict[str, Any]
         if not exits:
             break
         cur = exits[0][0]
-    for k in range(1, len(stages) + 1):
+    for k in range(len(stages)):
         if k not in used_stages:
             raise InputError(f"stages[{k}]", "...", f"is not on the power path from the "
                              f"input shaft {names[0]!r}")
@@ -265,9 +265,9 @@ def _translate(doc: dict[str, Any]
                                      "beside a planetary stage is not read (a gearbox of "
                                      "parallel shafts may branch)")
     order = [p[1] for p in path if p[0] == "stage"]
-    placed = tuple((stage_prefix(n, len(order)) + m, stages[k - 1][m])
+    placed = tuple((stage_prefix(n, len(order)) + m, stages[k][m])
                    for n, k in enumerate(order) for m in MEMBERS
-                   if stages[k - 1][m] != HOUSING)
+                   if stages[k][m] != HOUSING)
     g = _Graph(doc, shafts, names, index, gears, gear_names, on, meshes, mesh_shafts,
                stages, held)
     return (*_stage_form(g, path), placed)
@@ -331,13 +331,13 @@ def _stage_form(g: _Graph, path: list[tuple]
             continue
         _, k, m, shaft = step
         n = len(stage_tabs)
-        raw = {key: v for key, v in stages[k - 1].items() if key not in MEMBERS}
+        raw = {key: v for key, v in stages[k].items() if key not in MEMBERS}
         own = {f"{x}_bearing": g.shafts[index[s]]["bearing_stiffness"] for x in MEMBERS
-               if (s := stages[k - 1][x]) != HOUSING
+               if (s := stages[k][x]) != HOUSING
                and "bearing_stiffness" in g.shafts[index[s]]}
         if own and isinstance(raw.get("members", {}), dict):  # a shaft's bearing is its
             raw["members"] = {**own, **raw.get("members", {})}  # members' (their own wins)
-        where = f"stages[{n + 1}]"
+        where = f"stages[{n}]"
         back[where] = f"stages[{k}]"
         if n == 0:  # the first stage's own tables are the document's
             for key in ("fixed", "input"):
@@ -348,11 +348,11 @@ def _stage_form(g: _Graph, path: list[tuple]
                 if key in raw:
                     out[key] = raw.pop(key)
                     back[key] = f"stages[{k}].{key}"
-            out["operating"] = {**doc.get("operating", {}), "fixed": held[k - 1], "input": m}
-            back["operating.fixed"] = f"stages[{k}].{held[k - 1]}"
+            out["operating"] = {**doc.get("operating", {}), "fixed": held[k], "input": m}
+            back["operating.fixed"] = f"stages[{k}].{held[k]}"
             back["operating.input"] = f"stages[{k}].{m}"
         else:  # its shaft from the previous stage's output member: the one its input
-            raw |= {"fixed": held[k - 1], "input": m}  # member sits on, or the gears' first
+            raw |= {"fixed": held[k], "input": m}  # member sits on, or the gears' first
             src = path[i - 1][2] if path[i - 1][0] == "gears" else shaft
             t = g.shafts[index[src]]
             if "torsional_stiffness" in t:
@@ -363,7 +363,7 @@ def _stage_form(g: _Graph, path: list[tuple]
     for i, (_, _, entry, leave) in ((i, x) for i, x in enumerate(path) if x[0] == "gears"):
         n = sum(x[0] == "stage" for x in path[:i])  # the stages before the gears
         table = ("input_chain" if n == 0 else "chain" if i == len(path) - 1
-                 else f"stages[{n + 1}].input_chain")
+                 else f"stages[{n}].input_chain")
         chain, ren = _chain(g, entry)
         chain["name"] = ("input gears" if n == 0 else "output gears" if table == "chain"
                          else f"gears before stage {n + 1}")

@@ -47,7 +47,7 @@ its gears), and ``[stages.input_chain]``: gears between the previous stage and t
 (the keys of ``[chain]``; at the previous stage output's speed and torque, their last
 gear driving this stage's ``input``; the entry's ``shaft_stiffness`` is then the shaft
 from the previous stage to their first gear, theirs the shaft to this stage). A bad
-value of entry k is named ``stages[k].<key>`` (k from 1), a refused crack
+value of entry k is named ``stages[k].<key>`` (k from 0), a refused crack
 ``stages[k].cracks[i].<key>`` (i from 0, as ``cracks[i]``). ``[input_chain]`` drives the
 first stage, ``[chain]`` is driven by the last.
 
@@ -59,7 +59,8 @@ made: a bad value gives one line naming it, the numbers and the condition.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from typing import Any
 
 from gearsim.dynamics.compose import NextStage, chain_operating, next_operating, stage_operating
@@ -142,8 +143,8 @@ def parse_planetary(doc: dict[str, Any], material: Material,
             raise InputError(key, "...", f"unknown section for a planetary stage{graph}; "
                              "allowed: " + ", ".join(PLANETARY_TOP_KEYS))
     raw, more = _stage_tables(doc)
-    stage, consts = _stage_geometry(raw, "stages[1]" if more or "stages" in doc else "stage",
-                                    material)
+    first = "stages[0]" if more or "stages" in doc else "stage"
+    stage, consts = _stage_geometry(raw, first, material)
     op_raw = doc.get("operating", {})
     with as_written(op_raw, "operating"):
         operating = StageOperating(**convert(op_raw, STAGE_OPERATING_KEYS, "operating"))
@@ -163,8 +164,9 @@ def parse_planetary(doc: dict[str, Any], material: Material,
     name = doc.get("name", "planetary stage")
     if not isinstance(name, str):
         raise InputError("name", name, "must be a string")
-    train = _stage_train(doc, "", stage=stage, operating=operating, settings=stiffness,
-                         name=name, **consts)
+    with _as_stage(raw, first):
+        train = _stage_train(doc, "", stage=stage, operating=operating, settings=stiffness,
+                             name=name, **consts)
     sen_raw = doc.get("sensor", {})
     sen = convert(sen_raw, SENSOR_KEYS, "sensor")
     with as_written(sen_raw, "sensor", SENSOR_KEYS):  # its checks, as [sensor] holds them
@@ -172,9 +174,9 @@ def parse_planetary(doc: dict[str, Any], material: Material,
                            sensor_angle=sen.get("angle", 0.0),
                            sensor_width=sen.get("width", math.pi))
     nexts: list[NextStage] = []
-    for k, entry in enumerate(more, 2):  # each driven by the previous stage's output
+    for k, entry in enumerate(more, 1):  # each driven by the previous stage's output
         nexts.append(_next_stage(entry, f"stages[{k}]", material, nexts[-1].train
-                                 if nexts else train, stiffness, f"{name}, stage {k}",
+                                 if nexts else train, stiffness, f"{name}, stage {k + 1}",
                                  lambda raw, op, table: _parse_chain(
                                      raw, doc.get("material", {}), op, parse_train, table)))
     dynamics = parse_dynamics(doc.get("dynamics", {}), "dynamics")
@@ -184,7 +186,7 @@ def parse_planetary(doc: dict[str, Any], material: Material,
                                  chain_operating(last), parse_train, "chain")
                     if "chain" in doc else (None, None))
     _unique_names([("input_chain", inp), *((f"stages[{k}].input_chain", ns.input_train)
-                                           for k, ns in enumerate(nexts, 2)), ("chain", chain)])
+                                           for k, ns in enumerate(nexts, 1)), ("chain", chain)])
     return Gearbox(train=chain, stage=train, members=members, dynamics=dynamics,
                    analysis=analysis, shaft_stiffness=shaft, input_train=inp,
                    input_shaft_stiffness=inp_shaft, next_stages=tuple(nexts))
@@ -208,7 +210,7 @@ def _stage_tables(doc: dict[str, Any]) -> tuple[dict[str, Any], list[Any]]:
              "input_chain": "[input_chain]"}
     for key in tables[0]:
         if key in where:
-            raise InputError(f"stages[1].{key}", tables[0][key] if isinstance(
+            raise InputError(f"stages[0].{key}", tables[0][key] if isinstance(
                 tables[0][key], (str, int, float)) else "...", f"the first stage's is {where[key]}"
                              if key != "shaft_stiffness" else f"the first stage has "
                              f"{where[key]}")
@@ -227,12 +229,10 @@ def _stage_geometry(raw: Any, section: str, material: Material
     if "planet_angles" in kw and not isinstance(kw["planet_angles"], tuple):
         kw["planet_angles"] = (kw["planet_angles"],)
     try:
-        with as_written(raw, "stage", sources=[(section, raw)]):
+        with _as_stage(raw, section):
             check_face_width(kw.get("face_width"), "stage.face_width")
             return PlanetaryStage(material=material, **kw), consts
     except InputError as exc:  # a member gear's own check: the stage's key as written
-        if exc.parameter == "stage":  # the stage as a whole (its contact ratios)
-            raise InputError(section, exc.value, exc.limit) from None
         member, _, key = exc.parameter.partition(".")
         if member not in ("sun", "planet", "ring") or not key:
             raise
@@ -241,6 +241,20 @@ def _stage_geometry(raw: Any, section: str, material: Material
             raise
         raise InputError(f"{section}.{key}", raw.get(key, exc.value),
                          f"{exc.limit} (the {member})") from None
+
+
+@contextmanager
+def _as_stage(raw: dict[str, Any], section: str) -> Iterator[None]:
+    """A stage's own refusals (``stage.<key>``, ``stage: ring-planet mesh``, ``stage``)
+    under its table as written, ``section`` (``stages[1].ring_teeth``, ``stages[1]:
+    ring-planet mesh``), a key of ``raw`` with its value as written."""
+    try:
+        with as_written(raw, "stage", sources=[(section, raw)], default=section):
+            yield
+    except InputError as exc:
+        if exc.parameter != "stage" and not exc.parameter.startswith("stage:"):
+            raise
+        raise InputError(section + exc.parameter[5:], exc.value, exc.limit) from None
 
 
 def _members(raw: Any, section: str, **sensor: float) -> StageDynamics:
@@ -278,7 +292,7 @@ def _next_stage(raw: dict[str, Any], section: str, material: Material,
     own = raw.get("name", name)
     if not isinstance(own, str):
         raise InputError(f"{section}.name", own, "must be a string")
-    with as_written(raw, "stage", sources=[(section, raw)]):
+    with _as_stage(raw, section):
         train = _stage_train(raw, f"{section}.", stage=stage, operating=operating,
                              settings=stiffness, name=own, **consts)
     return NextStage(train=train, members=_members(raw.get("members", {}),

@@ -250,7 +250,7 @@ def _part(channel: str, parts: Mapping) -> tuple[str, Mapping]:
     chains = parts["chains"]
     k = chain_of_record(channel.partition("[")[0], values[0] if values else None,
                         [c["shafts"] for c in chains], [c["meshes"] for c in chains],
-                        [bool(c.get("between")) for c in chains])
+                        [c.get("between", False) for c in chains])
     if k is not None:
         return "chain", chains[k]
     return "stage", parts["stages"][stage_of_label(values[0] if values else "",

@@ -240,15 +240,18 @@ class GearTrain:
         for c in self.cracks:  # every crack fits its tooth, checked once, here
             crack_geometry(ToothProfile(self.gear(c.gear)), c)
         check_faults(self)
-        if "fe-pair" in {self.settings_of(i).source for i in range(len(flow.meshes))}:
-            for c in self.cracks:
-                require(c.extent == 1.0 and c.profile == "uniform", "stiffness.source",
-                        "fe-pair", f"models one transverse section: the crack on {c.gear} "
-                        f"must be uniform over the face width (extent {c.extent:g}, "
-                        f"profile {c.profile!r})")
-            require(not self.faults and not self.modifications, "stiffness.source", "fe-pair",
-                    "gives whole-mesh tables: faults other than cracks and modifications "
-                    'need the mesh of contacts and a tooth model ("pe" or "fe")')
+        fe = [("stiffness.source" if m.stiffness is None else f"meshes[{j}].stiffness.source",
+               m.gears) for j, m in enumerate(self.meshes)
+              if (m.stiffness or self.stiffness).source == "fe-pair"]  # a mesh's own: its key
+        for key, pair in fe:  # the cracks it reads (mesh_cracks)
+            for c in (c for c in self.cracks if c.gear in pair):
+                require(c.extent == 1.0 and c.profile == "uniform", key, "fe-pair",
+                        f"models one transverse section: the crack on {c.gear} must be "
+                        f"uniform over the face width (extent {c.extent:g}, profile "
+                        f"{c.profile!r})")
+        require(not (fe and (self.faults or self.modifications)), fe[0][0] if fe else "",
+                "fe-pair", "gives whole-mesh tables: faults other than cracks and "
+                'modifications need the mesh of contacts and a tooth model ("pe" or "fe")')
 
     def gear(self, name: str) -> Gear:
         """The gear called ``name``.

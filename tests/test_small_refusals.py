@@ -165,3 +165,15 @@ def test_an_integer_written_as_a_string_keeps_its_quotes():
         gs.loads(text)
     assert str(exc.value) == ("gears[0].teeth = '32': must be an integer (written as a "
                               "string: leave out the quotes)")
+
+
+def test_written_name_renames_whole_names_only():
+    # a refusal of the translated form is named as the graph wrote it, by whole names:
+    # "fixed" is not the start of "fixed_x", "stages[1]" not of "stages[10]"
+    from gearsim.sections import written_name
+
+    back = {"stages[1]": "stages[3]", "stage.": "stages[0].", "fixed": "stages[0].sun"}
+    assert [written_name(p, back) for p in ("stages[1].ring_teeth", "stages[10].x",
+                                            "stage.ring_teeth", "fixed_x", "fixed")] == [
+        "stages[3].ring_teeth", "stages[10].x", "stages[0].ring_teeth", "fixed_x",
+        "stages[0].sun"]

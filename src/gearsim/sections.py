@@ -247,6 +247,8 @@ def written_name(parameter: str, back: dict[str, str]) -> str:
     str
     """
     for a in sorted(back, key=len, reverse=True):
-        if parameter.startswith(a):
-            return back[a] + parameter[len(a):]
+        rest = parameter[len(a):]  # whole names only: fixed is not a prefix of fixed_x
+        whole = a[-1:] in ".[" or not (rest[:1].isalnum() or rest[:1] == "_")
+        if parameter.startswith(a) and whole:
+            return back[a] + rest
     return parameter

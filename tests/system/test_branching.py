@@ -238,7 +238,7 @@ def test_one_output_takes_all_the_power(tmp_path, capsys):
         1.0, 1.0)
 
 
-def test_branching_gears_beside_a_stage_are_refused(tmp_path, capsys):
+def test_branching_gears_the_last_stage_drives_are_read():
     from two_stage_boxes import TOML_CHAINS
 
     head, chain = TOML_CHAINS.split("[chain]\n")
@@ -269,11 +269,15 @@ gears = ["carrier-gear", "output-pinion"]
 gears = ["carrier-gear", "output-b"]
 angle = "120 deg"
 """
-    line = refused_in_one_line(branched, tmp_path, capsys, "chain.shafts")
-    assert "branching power is read in a gearbox of parallel shafts only" in line
+    # (refused before: the gears beside a stage passed the power in one path)
+    tr = loads(branched).train
+    assert tr.flow.share == (1.0, 0.5, 0.5)
+    t_c2 = 200 * 60 / 20 * 4 * 6  # stage 2's carrier: 14400 N m
+    assert [tr.torque(i) for i in range(3)] == pytest.approx(
+        [t_c2, 0.5 * t_c2 * 25 / 50, 0.5 * t_c2 * 30 / 50], rel=1e-12)
 
 
-def test_branching_beside_a_stage_in_the_graph_form_is_refused_as_written(tmp_path, capsys):
+def test_branching_after_the_stage_in_the_graph_form_is_read():
     text = example_text("wind-turbine-grc").replace(
         '[[shafts]]\nname = "high-speed"', '[[shafts]]\nname = "pto"\npower_share = 0.1\n'
         '[[shafts]]\nname = "high-speed"\npower_share = 0.9', 1) + """
@@ -288,8 +292,14 @@ gears = ["intermediate-gear", "pto-gear"]
 angle = "120 deg"
 """
     assert 'name = "pto"' in text
-    line = refused_in_one_line(text, tmp_path, capsys, "shafts[2]")
-    assert "intermediate: meshes with high-speed, low-speed, pto: branching power" in line
+    # by hand: 750 kW ... at 22.1 rpm; the intermediate shaft at 22.1 (1 + 99/21) 82/23
+    # rpm, the take-off (0.1 of the power) at that x 88/40 (refused before: branching)
+    tr = loads(text).train
+    p = 324e3 * 22.1 * math.pi / 30
+    n_pto = 22.1 * (1 + 99 / 21) * 82 / 23 * 88 / 40
+    assert tr.torque(tr.gear_index("pto-gear")) == pytest.approx(
+        0.1 * p / (n_pto * math.pi / 30), rel=1e-12)
+    assert tr.flow.share[tr.flow.shaft_of["pto-gear"]] == 0.1
 
 
 def test_branching_box_round_trips_through_the_effective_configuration(split, shaft_split):

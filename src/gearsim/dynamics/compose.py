@@ -15,8 +15,10 @@ radius r_o: base radius of the sun or ring, planet-centre radius of the carrier)
 theta_1 the chain's first gear (positive in its sense of rotation) and s = +-1 the sense
 of the output's physical rotation in the stage's model frame (opposite to the load torque
 there). The shaft torque replaces the stage's load torque on u_o and the chain's input
-torque on theta_1; the chain keeps its load on the last gear, T_o r_b,N / r_b,1, so
-the static torques balance and the static shaft torque is the stage's output torque T_o.
+torque on theta_1; the chain keeps its loads, on the last gear T_o r_b,N / r_b,1 (on
+each output shaft of a chain whose power branches its share, sigma_k T_o omega_o /
+omega_k: :func:`gearsim.dynamics.lta.build_lta`), so the static torques balance and the
+static shaft torque is the stage's output torque T_o.
 Shaft damping c_t = 2 zeta sqrt(k_t J_eq), J_eq = 1 / (1/J_o + 1/J_1) (the bearing
 damping ratio; J_o = m_uo r_o^2).
 

@@ -62,7 +62,7 @@ from gearsim.system import graph as bounds
 from gearsim.system.planetary import PlanetaryTrain, planet_name
 
 __all__ = ["StageDynamics", "analysis_parts", "build_stage_model", "chain_mesh_names",
-           "lin_parker_of", "model_radii",
+           "chain_record_paths", "lin_parker_of", "model_radii",
            "nominal_velocity", "sensor_window", "check_stage_settings", "simulate_stage",
            "stage_summary"]
 
@@ -734,6 +734,36 @@ def _analysis_teeth(chain) -> list[int]:
                                    (chain.pairs[0].driver, chain.pairs[0].driven))]
 
 
+def chain_record_paths(chain, meshes) -> dict[str, dict[str, list]]:
+    """Of gears beside a stage whose power branches, the kinematics each record of them
+    is analysed with: the power path from their first shaft to the record's shaft.
+
+    Parameters
+    ----------
+    chain : GearTrain
+        The gears.
+    meshes : sequence of str
+        Their meshes' names in the result (:func:`chain_mesh_names`).
+
+    Returns
+    -------
+    dict
+        Shaft name (``chain_acceleration[shaft,...]``) or mesh name
+        (``chain_mesh_force[mesh]``, the shaft of its driven gear) -> ``{"teeth": [...]}``
+        or ``{"stages": [[z_d, z_n], ...]}``
+        (:meth:`~gearsim.system.GearTrain.path_kinematics`); empty for gears whose power
+        does not branch.
+    """
+    fl = chain.flow
+    if len(fl.outputs) < 2:
+        return {}
+    path = [{k: [list(x) if isinstance(x, tuple) else x for x in v]
+             for k, v in chain.path_kinematics(i).items()} for i in range(len(fl.shafts))]
+    return {**{sh.name: path[i] for i, sh in enumerate(fl.shafts)},
+            **{name: path[fl.shaft_of[b]] for name, (_, b) in zip(meshes, fl.meshes,
+                                                                   strict=True)}}
+
+
 def analysis_parts(stages, chains, tau0: float, prefixes: list[str] | None = None,
                    between: list[str | bool] | None = None) -> str:
     """What the analysis of a stage result's records needs, part by part, as JSON (the
@@ -771,7 +801,9 @@ def analysis_parts(stages, chains, tau0: float, prefixes: list[str] | None = Non
         ``frequency`` [Hz] and ``teeth`` of
         :meth:`~gearsim.system.planetary.PlanetaryTrain.analysis_reference`; per chain
         its shafts and meshes (the result's names), the first shaft's frequency [Hz], the
-        tooth counts, for a compound train its stages, and ``between`` (``between`` above).
+        tooth counts, for a compound train its stages, and ``between`` (``between`` above);
+        of gears whose power branches also ``paths``, each record's path
+        (:func:`chain_record_paths`).
     """
     import json
 
@@ -789,13 +821,13 @@ def analysis_parts(stages, chains, tau0: float, prefixes: list[str] | None = Non
             "frequency": freq, "teeth": [int(z) for z in teeth]})
     names, k, out_chains = chain_mesh_names(chains), 0, []
     for ch, mid in zip(chains, between or [False] * len(chains), strict=True):
-        stg = ch.compound_stages()
-        out_chains.append({"shafts": [sh.name for sh in ch.flow.shafts],
-                           "meshes": list(names[k:k + len(ch.pairs)]),
+        stg, own = ch.compound_stages(), list(names[k:k + len(ch.pairs)])
+        paths = chain_record_paths(ch, own)
+        out_chains.append({"shafts": [sh.name for sh in ch.flow.shafts], "meshes": own,
                            "frequency": float(ch.shaft_frequency(0)),
                            "teeth": _analysis_teeth(ch),
                            "stages": None if stg is None else [list(p) for p in stg],
-                           "between": mid})
+                           "between": mid, **({"paths": paths} if paths else {})})
         k += len(ch.pairs)
     return json.dumps({"stages": out_stages, "chains": out_chains})
 

@@ -42,7 +42,7 @@ from gearsim.dynamics.compose import (
 from gearsim.dynamics.lta import AXES as LTA_AXES
 from gearsim.dynamics.lta import dof_map
 from gearsim.dynamics.settings import DynamicsSettings
-from gearsim.dynamics.stage import StageDynamics, check_stage_settings
+from gearsim.dynamics.stage import StageDynamics, chain_record_paths, check_stage_settings
 from gearsim.errors import InputError, require
 from gearsim.model.graph_toml import stages_to_toml
 from gearsim.sections import written_name
@@ -1043,8 +1043,9 @@ class Gearbox:
         sensor and the ring's acceleration: the first stage's). A record of the gears
         beside a stage (``chain_...``, ``shaft_torque``, and the ``stage_shaft_torque``
         of the shaft from a stage to gears between two stages, which drives them): the
-        gears' first shaft and teeth. Of gears whose power branches, the teeth on the path from the input to
-        the record's shaft (:meth:`GearTrain.path_kinematics`).
+        gears' first shaft and teeth. Of gears whose power branches (alone, or after the
+        last stage), the teeth on the path from their first shaft to the record's shaft
+        (:meth:`GearTrain.path_kinematics`).
 
         Parameters
         ----------
@@ -1081,8 +1082,10 @@ class Gearbox:
         return member, freq, teeth[:1] if shafts == "reference" else teeth
 
     def record_path(self, signal: str | None) -> dict[str, tuple] | None:
-        """Of gears whose power branches, the kinematics of the path to the shaft
-        ``signal`` is a record of, else None.
+        """Of gears whose power branches (alone, or those the last stage drives), the
+        kinematics of the path to the shaft ``signal`` is a record of, else None (a
+        record of the gears beside a stage naming no shaft or mesh, ``shaft_torque``: their
+        first shaft).
 
         Parameters
         ----------
@@ -1095,11 +1098,19 @@ class Gearbox:
             ``stages`` or ``teeth`` of :meth:`gearsim.system.GearTrain.path_kinematics`;
             None for a gearbox whose power does not branch, or a name of no shaft.
         """
-        tr = self.train
-        if self.stage is not None or signal is None or len(tr.flow.outputs) < 2:
+        tr = self.train if self.stage is None else self._gears_record(signal)
+        if tr is None or signal is None or len(tr.flow.outputs) < 2:
             return None
-        k = tr.record_shaft(signal)
-        return None if k is None else tr.path_kinematics(k)
+        if self.stage is None:
+            k = tr.record_shaft(signal)
+            return None if k is None else tr.path_kinematics(k)
+        names, k = self._chain_mesh_names(), 0  # the gears the last stage drives
+        for t in self.chains[:-1]:
+            k += len(t.pairs)
+        m = _SIGNAL.fullmatch(signal)  # a record of them: the mesh or shaft it names
+        path = chain_record_paths(tr, names[k:]).get(m.group(2) or tr.flow.shafts[0].name)
+        return None if path is None else {key: tuple(map(tuple, v)) if key == "stages"
+                                          else tuple(v) for key, v in path.items()}
 
     def _stage_record(self, signal: str | None) -> int:
         """Index (from 0) of the stage ``signal`` is a record of: stage k for a mesh of

@@ -37,8 +37,10 @@ and ``[chain]`` of :mod:`gearsim.model.planetary` (the same
 :class:`~gearsim.model.Gearbox`, the same numbers); a refusal names the element as it is
 written here (``gears[3].shaft``, ``stages[2].sun``, ``shafts[1].torsional_stiffness``).
 
-Not read (one line naming the element): a shaft driving two parts or two meshes
-(branching power beside a stage; a gearbox of parallel shafts alone may branch), a
+The gears after the last stage may branch the power (each output shaft names its
+``power_share``, as in a gearbox of parallel shafts). Not read (one line naming the
+element): a shaft driving two parts, a shaft of gears that drive a stage meshing with
+two more (branching power ahead of a stage), a
 shaft carrying a member that meshes with two shafts, an element off the power path, a
 stage without exactly one member on the housing.
 """
@@ -256,14 +258,16 @@ def _translate(doc: dict[str, Any]
                                  "gear; gears: " + ", ".join(gear_names) + " (a stage's is "
                                  f"[[stages.{key}]])")
     near = {n: {b if a == n else a for a, b in mesh_shafts if n in (a, b)} for n in names}
-    for p in path:  # gears beside a stage pass the power on in one path (the shafts
-        if p[0] == "gears":  # it enters and leaves by mesh with one gear's shaft)
+    for i, p in enumerate(path):  # gears driving a stage pass the power on in one path
+        # (the shafts it enters and leaves by mesh with one gear's shaft); those the last
+        # stage drives may branch (their outputs' power_share)
+        if p[0] == "gears" and not (i == len(path) - 1 and i > 0):
             for n in (n for n in names if root(n) == p[1]):
                 if len(near[n]) > (1 if n in p[2:] else 2):
                     raise InputError(f"shafts[{index[n]}]", n, "meshes with "
                                      + ", ".join(sorted(near[n])) + ": branching power "
-                                     "beside a planetary stage is not read (a gearbox of "
-                                     "parallel shafts may branch)")
+                                     "beside a planetary stage is read in the gears after "
+                                     "the last stage only (not in gears driving a stage)")
     order = [p[1] for p in path if p[0] == "stage"]
     placed = tuple((stage_prefix(n, len(order)) + m, stages[k][m])
                    for n, k in enumerate(order) for m in MEMBERS

@@ -28,7 +28,10 @@ have ``[[gears]]`` instead). Values take units as strings like the gear trains'
                       # [[chain.shafts]] and [[chain.meshes]] for parallel stages
                       # (the first shaft is the one the stage drives)
 
-The chain runs at the stage output's speed and torque (no ``[operating]`` of its own).
+The chain runs at the stage output's speed and torque (no ``[operating]`` of its own);
+it may branch the power to several output shafts, each naming its ``power_share`` (as a
+gear train's ``[[shafts]]``); the gears that drive a stage (``[input_chain]``, a later
+stage's ``input_chain``) pass the power in one path.
 An ``[input_chain]`` (the same keys as ``[chain]``) is a chain whose last gear drives the
 stage's ``operating.input`` member: ``[operating]`` ``speed`` and ``torque`` are then its
 first gear's (the gearbox input), and the stage runs at its output's speed and torque.
@@ -391,9 +394,10 @@ def _parse_chain(raw: Any, material: Any, op: Operating, parse: Callable, table:
         box = parse(sub)
     except InputError as exc:  # name the table the value was written in
         raise InputError(f"{table}.{exc.parameter}", exc.value, exc.limit) from None
-    outputs = box.train.flow.outputs
-    require(len(outputs) == 1, f"{table}.shafts",
+    outputs = box.train.flow.outputs  # the gears the last stage drives may branch
+    require(len(outputs) == 1 or table == "chain", f"{table}.shafts",
             [box.train.flow.shafts[k].name for k in outputs],
-            "the gears beside a planetary stage pass the power in one path: branching power "
-            "is read in a gearbox of parallel shafts only")
+            "the gears driving a planetary stage pass the power in one path: branching "
+            "power is read in the gears the last stage drives ([chain]) and in a gearbox "
+            "of parallel shafts")
     return dataclasses.replace(box.train, operating=op), shaft

@@ -338,7 +338,8 @@ def part_of(channel: str, meta: Mapping) -> dict:
     (:func:`~gearsim.dynamics.compose.stage_of_label`) takes stage k's planetary
     description and reference member's speed and teeth, a record of a gear chain beside
     the stages (:func:`~gearsim.dynamics.compose.chain_of_record`) that chain's first
-    shaft, teeth and stages, as :meth:`gearsim.model.Gearbox.reference` chooses; any
+    shaft, teeth and stages (of gears whose power branches, those of the path to the
+    record's shaft, their ``paths``), as :meth:`gearsim.model.Gearbox.reference` chooses; any
     record of another result the file's speed and teeth.
 
     Parameters
@@ -361,14 +362,19 @@ def part_of(channel: str, meta: Mapping) -> dict:
                 "teeth": meta.get("teeth"), "stages": meta.get("stages"),
                 "config": meta.get("config")}
     kind, part = _part(channel, parts)
-    if kind == "chain":
+    teeth = part["teeth"]
+    if kind == "chain":  # of gears whose power branches, the record's path
         planetary = None
-        stages = tuple(map(tuple, part["stages"])) if part["stages"] else None
+        labels = _labels(channel)
+        path = part.get("paths", {}).get(labels[0] if labels else part["shafts"][0], {})
+        teeth = path.get("teeth", teeth)
+        stages = path.get("stages") if path else part["stages"]
+        stages = tuple(map(tuple, stages)) if stages else None
     else:
         planetary, stages = part, None
     f = float(part["frequency"])
     return {"planetary": planetary, "rpm": 60.0 * f if f > 0 else None,
-            "teeth": list(part["teeth"]), "stages": stages, "config": None}
+            "teeth": list(teeth), "stages": stages, "config": None}
 
 
 def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float | None = None,

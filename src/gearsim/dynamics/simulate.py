@@ -60,7 +60,13 @@ from gearsim.dynamics.model import DynamicModel
 from gearsim.dynamics.seed3dof import build_seed
 from gearsim.dynamics.settings import DynamicsSettings
 from gearsim.dynamics.tables import MeshTable, mesh_tables
-from gearsim.errors import InputError, SimulationError, warn_model_range
+from gearsim.errors import (  # noqa: F401  (FORCE_ENV, cost_bounds_lifted: re-exported)
+    FORCE_ENV,
+    InputError,
+    SimulationError,
+    cost_bounds_lifted,
+    warn_model_range,
+)
 from gearsim.system.toml import train_to_toml
 from gearsim.system.train import GearTrain
 
@@ -105,9 +111,6 @@ MAX_STEPS = 1e9
 #: Largest share of the machine's physical memory the estimated peak of a run's arrays
 #: may take without ``force`` (the rest is for the system, the analysis, the writer).
 MEMORY_FRACTION = 0.5
-#: Environment variable that lifts the cost bounds (like ``force=True``) when set to
-#: 1, yes or true.
-FORCE_ENV = "GEARSIM_FORCE"
 _OVERRIDE = f"or override with --force ({FORCE_ENV}=1)"
 
 
@@ -453,24 +456,6 @@ def physical_memory() -> int | None:
         return int(os.sysconf("SC_PHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
     except (AttributeError, ValueError, OSError):
         return None
-
-
-def cost_bounds_lifted(force: bool | None = None) -> bool:
-    """Whether the cost bounds of :func:`check_cost` are lifted.
-
-    Parameters
-    ----------
-    force : bool, optional
-        An explicit choice (``--force``); default: the environment variable
-        :data:`FORCE_ENV` set to 1, yes, true or on.
-
-    Returns
-    -------
-    bool
-    """
-    if force is not None:
-        return bool(force)
-    return os.environ.get(FORCE_ENV, "").strip().lower() in ("1", "yes", "true", "on")
 
 
 def _gigabytes(n: float) -> str:

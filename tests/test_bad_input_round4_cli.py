@@ -131,3 +131,32 @@ def test_fe_check_above_its_cost_bound_is_refused_with_the_estimate(capsys, tmp_
     monkeypatch.setattr(check, "compare_gear", solved)
     res = run_here(capsys, "fe-check", "two-stage-reducer", "--level", "5", "--force")
     assert res.returncode == 1 and "FE started" in res.stderr
+
+
+# --- 3. one RMS: about the mean -----------------------------------------------------------
+
+@pytest.mark.parametrize("config, extra", [("two-stage-reducer", ()),
+                                           ("lin-parker-1999", ("--duration", "0.2"))])
+def test_simulate_rms_is_about_the_mean_for_every_kind(config, extra, capsys, tmp_path):
+    """The summary's ``rms`` beside the mean is the standard deviation of the written mesh
+    force (numpy on the file), for a gear train as for a planetary stage, and the text
+    says "RMS about the mean"."""
+    import json
+
+    import xarray as xr
+
+    out = tmp_path / "r.nc"
+    res = run_here(capsys, "simulate", config, "--out", out, "--json", *extra)
+    assert res.returncode == 0, res.stderr
+    meshes = json.loads(res.stdout)["meshes"]
+    with xr.open_dataset(out) as ds:
+        f = (np.stack([ds[f"mesh_force_{m['mesh']}"].values for m in meshes], axis=1)
+             if "mesh_force_1" in ds else ds["mesh_force"].values)
+    for i, m in enumerate(meshes):
+        x = f[:, i]
+        dev = np.sqrt(np.mean((x - x.mean()) ** 2))
+        assert m["rms"] == pytest.approx(dev, rel=1e-9, abs=1e-9 * abs(x.mean()))
+    res = run_here(capsys, "simulate", config, "--out", out, *extra)
+    first = res.stdout.splitlines()[0]
+    assert "RMS about the mean" in first and ", RMS " not in first.replace(
+        ", RMS about the mean", "")

@@ -1326,8 +1326,9 @@ def summary(ds) -> dict:
     -------
     dict
         ``model``, ``fs`` [Hz], ``step`` [s], ``duration`` (samples / fs) [s], ``cracks``
-        and ``meshes``: per mesh ``mesh`` (1-based), ``mean``, ``rms`` (of the force
-        itself), ``peak`` (max abs), ``rms_fluctuation`` (standard deviation),
+        and ``meshes``: per mesh ``mesh`` (1-based), ``mean``, ``rms`` (the RMS about the
+        mean, the standard deviation: the fluctuation, as for every kind of gearbox,
+        :func:`gearsim.dynamics.stage.stage_summary`), ``peak`` (max abs),
         ``static_force`` [N] (at the operating load), ``load_factor`` (the load profile's
         lambda(t) averaged over the record, 1 without one: the mean force it loads) and
         ``mean_error`` = (mean - lambda static) / (lambda static) [-] (left out when
@@ -1343,9 +1344,8 @@ def summary(ds) -> dict:
         fs_ = float(ds[f"mesh_force_{i}"].attrs["static_force"])
         mean = float(np.mean(x))
         meshes.append({
-            "mesh": i, "mean": mean, "rms": float(np.sqrt(np.mean(x ** 2))),
+            "mesh": i, "mean": mean, "rms": float(np.std(x)),  # about the mean
             "peak": float(np.max(np.abs(x))),
-            "rms_fluctuation": float(np.std(x)),
             "static_force": fs_, "load_factor": lam,
             # no load over the record (a profile of zeros): no relative error
             **({"mean_error": (mean - lam * fs_) / (lam * fs_)} if lam * fs_ != 0 else {}),

@@ -160,3 +160,17 @@ def test_simulate_rms_is_about_the_mean_for_every_kind(config, extra, capsys, tm
     first = res.stdout.splitlines()[0]
     assert "RMS about the mean" in first and ", RMS " not in first.replace(
         ", RMS about the mean", "")
+
+
+# --- 4. a gear's own helix range before its mates' equality --------------------------------
+
+def test_helix_angle_out_of_range_names_its_own_gear(capsys, tmp_path):
+    """89 deg on input-pinion alone: the mesh's equality check would blame its mate
+    (gears[1] = 0 deg); the gear's own range |beta| < 45 deg comes first."""
+    res = run_here(capsys, "example", "two-stage-reducer")
+    text = res.stdout.replace('name = "input-pinion"\n',
+                              'name = "input-pinion"\nhelix_angle = "89 deg"\n', 1)
+    assert text != res.stdout
+    (tmp_path / "x.toml").write_text(text)
+    line = _refused(run_here(capsys, "layout", tmp_path / "x.toml"), "")
+    assert line == "gearsim: error: gears[0].helix_angle = 89 deg: must satisfy |beta| < 45 deg"

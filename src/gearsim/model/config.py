@@ -187,6 +187,13 @@ def parse(doc: dict[str, Any]) -> Gearbox:
                              "every gear names its shaft in a gearbox with [[shafts]] and "
                              "[[meshes]]; a chain has neither")
         kw["helix_angle"] = abs(kw.get("helix_angle", 0.0))
+        if not kw["helix_angle"] < math.radians(45):  # its own range before its mates'
+            where = f"gears[{i}]" if "helix_angle" in table else "common"
+            raise InputError(f"{where}.helix_angle", (table if "helix_angle" in table
+                                                      else raw_common)["helix_angle"],
+                             "must satisfy |beta| < 45 deg" + ("" if where != "common" else
+                                                                f" (for gears[{i}], "
+                                                                f"{kw['name']!r})"))
         kws.append(kw)
     _unique([kw["name"] for kw in kws], "gears")
     stiffness = _stiffness(doc.get("stiffness", {}), "stiffness")

@@ -174,3 +174,25 @@ def test_helix_angle_out_of_range_names_its_own_gear(capsys, tmp_path):
     (tmp_path / "x.toml").write_text(text)
     line = _refused(run_here(capsys, "layout", tmp_path / "x.toml"), "")
     assert line == "gearsim: error: gears[0].helix_angle = 89 deg: must satisfy |beta| < 45 deg"
+
+
+# --- 6. the cost refusal states the run's numbers ----------------------------------------
+
+def test_simulate_cost_refusal_states_the_transient_and_step_the_run_uses(capsys, tmp_path,
+                                                                          monkeypatch):
+    """The refusal of 1e4 s names the default transient and the step a real (short) run of
+    the same config records in its file, not 0 s."""
+    import xarray as xr
+
+    monkeypatch.delenv("GEARSIM_FORCE", raising=False)
+    out = tmp_path / "r.nc"
+    assert run_here(capsys, "simulate", "two-stage-reducer", "--duration", "0.2", "--out",
+                    out).returncode == 0
+    with xr.open_dataset(out) as ds:
+        transient, dt = float(ds.attrs["transient"]), float(ds.attrs["step"])
+    assert transient > 0.0
+    line = _refused(run_here(capsys, "simulate", "two-stage-reducer", "--duration", "10000",
+                             "--out", tmp_path / "big.nc"), "--duration = 10000: the run needs ")
+    assert f"(transient {transient:.4g} s + duration 1e+04 s at dt = {dt:.4g} s" in line
+    assert "the largest step 1e-05 s" in line
+    assert not (tmp_path / "big.nc").exists()

@@ -196,3 +196,43 @@ def test_simulate_cost_refusal_states_the_transient_and_step_the_run_uses(capsys
     assert f"(transient {transient:.4g} s + duration 1e+04 s at dt = {dt:.4g} s" in line
     assert "the largest step 1e-05 s" in line
     assert not (tmp_path / "big.nc").exists()
+
+
+# --- 5. messages: the path, the empty name, a quoted number, a count's limit, all problems -
+
+def test_invalid_toml_names_the_file_and_the_line(capsys, tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('name = "x"\n[common\n')
+    line = _refused(run_here(capsys, "layout", bad), f"config = {bad}: is not valid TOML")
+    assert "line 2" in line
+    study = tmp_path / "s.toml"
+    study.write_text("[study\n")
+    line = _refused(run_here(capsys, "sweep", study, "--out", tmp_path / "s.nc"),
+                    f"study = {study}: is not valid TOML")
+    assert "line 1" in line
+
+
+def test_an_empty_config_path_is_called_empty(capsys):
+    _refused(run_here(capsys, "stiffness", ""), "config = '': is empty: give a file or a "
+             "built-in example: idler-table1")
+
+
+def test_a_quoted_number_in_a_study_is_called_a_string(capsys, tmp_path):
+    study = tmp_path / "s.toml"
+    study.write_text('[study]\nconfig = "spur-19-48"\nreplicates = "3"\n[parameters]\n'
+                     "crack_depth = [0.0, 1e-3]\n")
+    line = _refused(run_here(capsys, "sweep", study, "--out", tmp_path / "s.nc"),
+                    'study.replicates = "3": must be an integer >= 1')
+    assert "not a string" in line
+
+
+def test_fe_pair_position_count_states_its_limit(capsys):
+    _refused(run_here(capsys, "fe-pair", "spur-19-48", "--positions", "100000"),
+             "--positions = 100000: a count must be in [1, 200]")
+
+
+def test_reproduce_reports_every_problem(capsys, tmp_path):
+    line = _refused(run_here(capsys, "reproduce", "--out", tmp_path / "rep", "--revolutions",
+                             "2", "--model", "xyz"), "input = 2 problems: ")
+    assert "--revolutions = 2: " in line and "--model = xyz: " in line
+    assert not any(tmp_path.iterdir())

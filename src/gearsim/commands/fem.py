@@ -140,15 +140,15 @@ def _positions(text: str) -> list[float]:
 
     text = text.strip()
     try:
-        if "," not in text and "." not in text:
-            n = int(text)
-            if not 1 <= n <= 200:
-                raise InputError("--positions", text, "a count must be in [1, 200]")
-            return [(i + 0.5) / n for i in range(n)]
-        values = [float(v) for v in text.split(",") if v.strip()]
+        n = int(text) if "," not in text and "." not in text else None
+        values = [float(v) for v in text.split(",") if v.strip()] if n is None else []
     except ValueError:
         raise InputError("--positions", text, "must be a count or a comma list of mesh-cycle "
                          "fractions in [0, 1)") from None
+    if n is not None:  # outside the try: an InputError is a ValueError too
+        if not 1 <= n <= 200:
+            raise InputError("--positions", text, "a count must be in [1, 200]")
+        return [(i + 0.5) / n for i in range(n)]
     if not values or len(values) > 200:
         raise InputError("--positions", text, "must give 1 to 200 positions")
     for v in values:

@@ -40,8 +40,8 @@ MAX_POINTS = 201
 #: work). The sector's sparse factorization grows faster than its unknowns: level 3 of
 #: the two-stage reducer's pinion (68 472 dofs) takes 1.3 s per contact position, level 4
 #: (245 126 dofs) 23 s for the default 11 positions and 1.2 GB, and level 5 (about 1.1
-#: million) ran for more than 10 minutes. 5e5 admits level 4 of every example and refuses level 5, as ``fe-pair`` caps
-#: its pair at level 4.
+#: million) ran for more than 10 minutes. 5e5 admits level 4 of every example and refuses
+#: level 5, as ``fe-pair`` caps its pair at level 4.
 MAX_DOFS = 5e5
 
 

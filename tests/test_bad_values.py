@@ -322,7 +322,7 @@ def test_tiny_crack_names_the_smallest_depth_the_fe_mesh_resolves(spur):
 def test_transient_minus_one_says_at_least_zero(capsys, tmp_path):
     line = _one_line(*_cli(["simulate", "spur-19-48", "--transient", "-1", "--out",
                             str(tmp_path / "run.nc")], capsys))
-    assert "--transient = -1.0: must be a finite number >= 0 s" in line
+    assert "--transient = -1: must be a finite number >= 0 s" in line
     assert DynamicsSettings(transient=0.0).transient == 0.0
 
 

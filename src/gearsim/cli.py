@@ -211,6 +211,30 @@ def _interrupt_inside(exc: BaseException) -> bool:
     return False
 
 
+def _as_written(exc: InputError, args: list[str]) -> str:
+    """The refusal's line with an option's number as the user wrote it.
+
+    Typer hands a verb ``--fs 1e300`` as the float 1e+300 and ``--shaft-rpm 0`` as 0.0;
+    when the refused parameter is an option whose last text on the command line reads as
+    that same number, that text is shown. A value the verb converted (a unit, mm to m)
+    differs from the text and is kept.
+    """
+    p, line = exc.parameter, _one_line(exc)
+    if not (p.startswith("--") and isinstance(exc.value, (int, float))
+            and not isinstance(exc.value, bool)):
+        return line
+    texts = [b if a == p else a[len(p) + 1:] for a, b in zip(args, [*args[1:], ""], strict=True)
+             if a == p or a.startswith(p + "=")]
+    if not texts:  # the option's value came from elsewhere (a config, a default)
+        return line
+    text = texts[-1]
+    try:
+        same = float(text) == float(exc.value) or text.strip().lower() == str(exc.value)
+    except ValueError:
+        return line
+    return _one_line(InputError(p, text, exc.limit)) if same else line
+
+
 def _finish(exc: BaseException, debug: bool, args: list[str]) -> int:
     """Print the one line for ``exc`` (with the traceback if ``debug``); the exit status."""
     if debug and not isinstance(exc, SystemExit) and not _is_a(exc, "Exit"):
@@ -218,7 +242,7 @@ def _finish(exc: BaseException, debug: bool, args: list[str]) -> int:
     if isinstance(exc, KeyboardInterrupt) or _is_a(exc, "Abort") or _interrupt_inside(exc):
         return _interrupted()
     if isinstance(exc, InputError):
-        _say(f"gearsim: error: {_one_line(exc)}")
+        _say(f"gearsim: error: {_as_written(exc, args)}")
         return 2
     if isinstance(exc, SimulationError):
         _say(f"gearsim: failed: {_one_line(exc)}")

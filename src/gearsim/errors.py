@@ -13,7 +13,8 @@ import sys
 import warnings
 from typing import Any
 
-__all__ = ["InputError", "ModelRangeWarning", "SimulationError", "require", "warn_model_range"]
+__all__ = ["FORCE_ENV", "InputError", "ModelRangeWarning", "SimulationError",
+           "cost_bounds_lifted", "require", "warn_model_range"]
 
 #: Files whose frames :func:`warn_model_range` skips to reach the caller's line: the
 #: package's and functools' (``cached_property``).
@@ -99,3 +100,28 @@ def require(ok: bool, parameter: str, value: Any, limit: str) -> None:
     """
     if not ok:
         raise InputError(parameter, value, limit)
+
+
+#: Environment variable that lifts the cost bounds of the runs (like ``--force``) when set
+#: to 1, yes, true or on.
+FORCE_ENV = "GEARSIM_FORCE"
+
+
+def cost_bounds_lifted(force: bool | None = None) -> bool:
+    """Whether the cost bounds of a run are lifted (a simulation's steps and memory,
+    :func:`gearsim.dynamics.simulate.check_cost`; an FE check's unknowns,
+    :func:`gearsim.fem.check.fe_check`).
+
+    Parameters
+    ----------
+    force : bool, optional
+        An explicit choice (``--force``); default: the environment variable
+        :data:`FORCE_ENV` set to 1, yes, true or on.
+
+    Returns
+    -------
+    bool
+    """
+    if force is not None:
+        return bool(force)
+    return os.environ.get(FORCE_ENV, "").strip().lower() in ("1", "yes", "true", "on")

@@ -36,7 +36,10 @@ def simulate(
         "--force", help="run even above the cost bounds (1e9 steps, half the memory); "
                         "or set GEARSIM_FORCE=1")] = False,
 ) -> None:
-    """Simulate the gearbox; write mesh forces, DTE, bearing forces, accelerations."""
+    """Simulate the gearbox; write mesh forces, DTE, bearing forces, accelerations.
+
+    The summary gives each mesh force's mean, its RMS about the mean (the fluctuation)
+    and its peak, for every kind of gearbox."""
     from gearsim.io.results import write_results
     from gearsim.io.targets import check_output_file
     from gearsim.model import load
@@ -73,10 +76,12 @@ def simulate(
                 err = f" x mean load factor {m['load_factor']:.4g}{err}"
             peak = f", peak {m['peak']:.6g} N" if "peak" in m else ""
             typer.echo(f"{'chain ' if key == 'chain_meshes' else ''}mesh {m['mesh']}: mean "
-                       f"{m['mean']:.6g} N (static {m['static_force']:.6g} N{err}), RMS "
+                       f"{m['mean']:.6g} N (static {m['static_force']:.6g} N{err}), RMS about "
+                       f"the mean "
                        f"{m['rms']:.6g} N{peak}")
     if "sensor_rms" in s:
-        typer.echo(f"sensor (ring, transfer-path window): RMS {s['sensor_rms']:.6g} N; f_m "
+        typer.echo(f"sensor (ring, transfer-path window): RMS about the mean "
+                   f"{s['sensor_rms']:.6g} N; f_m "
                    f"{s['mesh_frequency']:.6g} Hz")
     if s.get("modes"):
         top = max(m["frequency"] for m in s["modes"])
@@ -92,7 +97,7 @@ def simulate(
         typer.echo(f"{what} [Hz]{legend}: {modes}")
     for st in s.get("stages", []):  # stages in series: each stage's torques
         shaft = (f"; shaft {st['shaft']}: torque mean {st['shaft_torque_mean']:.6g} N m "
-                 f"(static {st['static_shaft_torque']:.6g}), RMS "
+                 f"(static {st['static_shaft_torque']:.6g}), RMS about the mean "
                  f"{st['shaft_torque_rms']:.6g} N m" if "shaft" in st else "")
         typer.echo(f"{st['stage']}: f_m {st['mesh_frequency']:.6g} Hz, sun torque "
                    f"{st['sun_torque']:.6g} N m, carrier torque {st['carrier_torque']:.6g} "
@@ -100,11 +105,12 @@ def simulate(
     if "shaft_torque_mean" in s:
         if "input_shaft_torque_mean" in s:
             typer.echo(f"input shaft ({s['input_member']}): torque mean "
-                       f"{s['input_shaft_torque_mean']:.6g} N m, RMS "
+                       f"{s['input_shaft_torque_mean']:.6g} N m, RMS about the mean "
                        f"{s['input_shaft_torque_rms']:.6g} N m")
         side = "output" if s["chain_side"] == "both" else s["chain_side"]
         typer.echo(f"{side} shaft ({s['shaft_member']}): torque mean "
-                   f"{s['shaft_torque_mean']:.6g} N m, RMS {s['shaft_torque_rms']:.6g} N m")
+                   f"{s['shaft_torque_mean']:.6g} N m, RMS about the mean "
+                   f"{s['shaft_torque_rms']:.6g} N m")
     if s.get("constant_meshes"):
         typer.echo("note: constant mesh stiffnesses: no parametric excitation, the response "
                    "stays at the static load")

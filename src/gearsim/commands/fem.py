@@ -46,6 +46,9 @@ def fe_check_command(
         help="folder for the PNG figures (fe_check_*.png only; replaced as a whole, "
              "keeping the other fe_check_*.png)")] = None,
     json_: Annotated[bool, typer.Option("--json", help="print a JSON report")] = False,
+    force: Annotated[bool, typer.Option(
+        "--force", help="run even above the cost bound (5e5 FE unknowns); or set "
+                        "GEARSIM_FORCE=1")] = False,
 ) -> None:
     """FE and potential-energy tooth compliance along the path of contact, with the
     max / min / mean differences (the seed's Figure 3) and the mesh level used.
@@ -80,12 +83,16 @@ def fe_check_command(
         swapped in).
     json_ : bool
         Print the JSON report instead of the table (option ``--json``).
+    force : bool
+        Lift the cost bound (:data:`gearsim.fem.check.MAX_DOFS` estimated unknowns;
+        option ``--force``, or ``GEARSIM_FORCE=1``).
 
     Raises
     ------
     InputError
-        An unknown gear, crack or closure, too many points, a bad config or an
-        unwritable ``--plot`` folder (exit status 2 in the CLI).
+        An unknown gear, crack or closure, too many points, a level whose mesh is
+        estimated above the cost bound, a bad config or an unwritable ``--plot`` folder
+        (exit status 2 in the CLI).
     """
     from gearsim.errors import InputError
     from gearsim.fem.check import fe_check
@@ -103,7 +110,7 @@ def fe_check_command(
                   or gear is None and t.cracks), chains[0])
     with as_options({"fem.level": "--level", "points": "--points"}):
         result = fe_check(train, gear, crack=crack, closure=closure, level=level,
-                          points=points)
+                          points=points, force=True if force else None)
     if folder is not None:
         name = f"fe_check_{result.gear.name}_{result.crack}_{result.closure}.png"
         with atomic_folder(folder, keep=_figure_file) as tmp:
@@ -133,15 +140,15 @@ def _positions(text: str) -> list[float]:
 
     text = text.strip()
     try:
-        if "," not in text and "." not in text:
-            n = int(text)
-            if not 1 <= n <= 200:
-                raise InputError("--positions", text, "a count must be in [1, 200]")
-            return [(i + 0.5) / n for i in range(n)]
-        values = [float(v) for v in text.split(",") if v.strip()]
+        n = int(text) if "," not in text and "." not in text else None
+        values = [float(v) for v in text.split(",") if v.strip()] if n is None else []
     except ValueError:
         raise InputError("--positions", text, "must be a count or a comma list of mesh-cycle "
                          "fractions in [0, 1)") from None
+    if n is not None:  # outside the try: an InputError is a ValueError too
+        if not 1 <= n <= 200:
+            raise InputError("--positions", text, "a count must be in [1, 200]")
+        return [(i + 0.5) / n for i in range(n)]
     if not values or len(values) > 200:
         raise InputError("--positions", text, "must give 1 to 200 positions")
     for v in values:

@@ -126,7 +126,8 @@ def life(
     torque: Annotated[str | None, typer.Option(
         help="input torque with unit, e.g. '19504 N*m' (default: the config's)")] = None,
     increment: Annotated[float | None, typer.Option(
-        help="crack increment in mm (default m_n / 12)")] = None,
+        help="crack increment in mm (default m_n / 12; from m_n / 1000 to half the distance "
+             "from the initial crack's tip to the outline ahead)")] = None,
     steps: Annotated[int, typer.Option(help="largest number of increments (1 to 500)")] = 20,
     steel: Annotated[str, typer.Option(
         help="Paris C, m of a steel class: martensitic, ferrite-pearlite, austenitic "
@@ -136,7 +137,7 @@ def life(
     toughness: Annotated[float, typer.Option(
         help="K_IC in MPa sqrt(m) (default 80, an assumed value: give the grade's)")] = 80.0,
     noise: Annotated[float, typer.Option(
-        help="noise RMS / record standard deviation (>= 0; 0.1 = SNR 20 dB)")] = 0.1,
+        help="noise RMS / record standard deviation (0 to 100; 0.1 = SNR 20 dB)")] = 0.1,
     duration: Annotated[float | None, typer.Option(
         help="record duration in s (default 4.2 revolutions of the slowest shaft)")] = None,
     loads: Annotated[str | None, typer.Option(
@@ -183,9 +184,10 @@ def life(
     fr = _fractions(fractions)
     require(seeds >= 1, "--seeds", seeds, "must be an integer >= 1")
     require(1 <= steps <= 500, "--steps", steps, "must be an integer in [1, 500]")
-    require(math.isfinite(noise) and noise >= 0.0, "--noise", noise, "must be >= 0")
-    require(increment is None or (math.isfinite(increment) and increment > 0.0),
-            "--increment", increment, "must be > 0 mm")
+    require(math.isfinite(noise) and 0.0 <= noise <= lf.MAX_NOISE, "--noise", noise,
+            f"must be in [0, {lf.MAX_NOISE:g}] (noise RMS / record standard deviation; "
+            f"{lf.MAX_NOISE:g}: SNR {-20 * math.log10(lf.MAX_NOISE):g} dB, past which every "
+            "record is its noise)")
     require(duration is None or (math.isfinite(duration) and duration > 0.0), "--duration",
             duration, "must be > 0 s")
     plan_workers(workers, 1)  # --workers: an integer >= 1
@@ -205,6 +207,13 @@ def life(
                                                                  "crack growth"), torque))
     with as_options({"gear": "--gear"}):
         lf._crack_of(gb, gear)  # a gear without a crack: refused here, before the FE
+        lo, hi = lf.increment_range(gb, gear)
+    require(increment is None or (math.isfinite(increment)
+                                  and lo * 1e3 <= increment <= hi * 1e3), "--increment",
+            increment, f"must be in [{lo * 1e3:.4g}, {hi * 1e3:.4g}] mm: at least m_n / "
+            f"{1 / lf.MIN_INCREMENT:.0f} (the FE's tip elements, da / 75, against its m_n / 4 "
+            "elements) and at most half the distance from the initial crack's tip to the "
+            "outline ahead of it")
     record_loads, record_speeds = _conditions(gb, loads, speeds, duration)
     # the records' simulations: each fraction (and the broken tooth after a fracture) at
     # each load and speed; more workers than that would have nothing to do
@@ -223,9 +232,15 @@ def life(
         if json_:
             typer.echo(json.dumps(summary, indent=2))
             return
+        a0, th = res.path.lengths[0] * 1e3, law.threshold / MPA_SQRT_M
+        if res.end == "arrest":  # dK fell to the threshold along the path
+            typer.echo(f"end: arrest: dK falls from {dk:.4g} MPa sqrt(m) at the initial "
+                       f"crack ({a0:.4g} mm) to the threshold {th:.4g} MPa sqrt(m) at "
+                       f"{res.life.a_end * 1e3:.4g} mm (DLF {res.dynamic_load_factor:.4f}); "
+                       "the crack stops growing, no store written")
+            return
         typer.echo(f"end: {res.end}: dK = {dk:.4g} MPa sqrt(m) at the initial crack "
-                   f"({res.path.lengths[0] * 1e3:.4g} mm) is below the threshold "
-                   f"{law.threshold / MPA_SQRT_M:.4g} MPa sqrt(m) (DLF "
+                   f"({a0:.4g} mm) is below the threshold {th:.4g} MPa sqrt(m) (DLF "
                    f"{res.dynamic_load_factor:.4f}); the crack does not grow, no store written")
         return
     ds = lf.life_records(gb, res, fr, seeds, duration=duration, noise=noise,

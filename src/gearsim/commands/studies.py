@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import sys
 import time
-from pathlib import Path
 from typing import Annotated
 
 import typer
@@ -86,15 +85,32 @@ def reproduce(
     non-working-flank crack; figures like its Figs. 3, 5-8; claims table; report.html."""
     from gearsim.studies.reproduce import ReproduceOptions, check_output, run_reproduction
 
-    folder: Path = check_output(out, "--out")  # every output target before any work
-    d = _depth(depth, "--depth")
     names = {"revolutions": "--revolutions", "model": "--model", "depth": "--depth",
              "depths": "--depths", "fault_severities": "--fault-severities", "config": "--config"}
-    sev = _severities(fault_severities)
-    with as_options(names):
-        opt = ReproduceOptions(config=config, depth=d, depths=_depths(depths),
-                               revolutions=revolutions, fe=fe, model=model,
-                               fault_severities=sev)
+    # every option is checked before any work, and every problem reported (as analyze)
+    problems: list[InputError] = []
+    given = {"revolutions": revolutions, "model": model}
+
+    def checked(fn, *args):
+        try:
+            with as_options(names):
+                return fn(*args)
+        except InputError as exc:
+            problems.append(exc)
+            return None
+
+    folder = checked(check_output, out, "--out")  # every output target before any work
+    given["depth"] = checked(_depth, depth, "--depth")
+    given["depths"] = checked(_depths, depths)
+    given["fault_severities"] = checked(_severities, fault_severities)
+    for field, value in given.items():  # each range alone, the others at their defaults
+        if value is not None:
+            checked(lambda f=field, v=value: ReproduceOptions(**{f: v}))
+    if len(problems) == 1:
+        raise problems[0]
+    if problems:  # as analyze: input = N problems: first; second
+        raise InputError("input", f"{len(problems)} problems", "; ".join(map(str, problems)))
+    opt = ReproduceOptions(config=config, fe=fe, **given)
     t0 = time.perf_counter()
 
     def progress(msg: str) -> None:

@@ -47,6 +47,7 @@ import json
 import math
 import os
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -60,7 +61,13 @@ from gearsim.dynamics.model import DynamicModel
 from gearsim.dynamics.seed3dof import build_seed
 from gearsim.dynamics.settings import DynamicsSettings
 from gearsim.dynamics.tables import MeshTable, mesh_tables
-from gearsim.errors import InputError, SimulationError, warn_model_range
+from gearsim.errors import (  # noqa: F401  (FORCE_ENV, cost_bounds_lifted: re-exported)
+    FORCE_ENV,
+    InputError,
+    SimulationError,
+    cost_bounds_lifted,
+    warn_model_range,
+)
 from gearsim.system.toml import train_to_toml
 from gearsim.system.train import GearTrain
 
@@ -105,9 +112,6 @@ MAX_STEPS = 1e9
 #: Largest share of the machine's physical memory the estimated peak of a run's arrays
 #: may take without ``force`` (the rest is for the system, the analysis, the writer).
 MEMORY_FRACTION = 0.5
-#: Environment variable that lifts the cost bounds (like ``force=True``) when set to
-#: 1, yes or true.
-FORCE_ENV = "GEARSIM_FORCE"
 _OVERRIDE = f"or override with --force ({FORCE_ENV}=1)"
 
 
@@ -455,30 +459,12 @@ def physical_memory() -> int | None:
         return None
 
 
-def cost_bounds_lifted(force: bool | None = None) -> bool:
-    """Whether the cost bounds of :func:`check_cost` are lifted.
-
-    Parameters
-    ----------
-    force : bool, optional
-        An explicit choice (``--force``); default: the environment variable
-        :data:`FORCE_ENV` set to 1, yes, true or on.
-
-    Returns
-    -------
-    bool
-    """
-    if force is not None:
-        return bool(force)
-    return os.environ.get(FORCE_ENV, "").strip().lower() in ("1", "yes", "true", "on")
-
-
 def _gigabytes(n: float) -> str:
     return f"{n / 1e9:.3g} GB"
 
 
 def check_cost(train: GearTrain, settings: DynamicsSettings | None = None, *,
-               harmonics: int = 1, transient: float | None = None,
+               harmonics: int = 1, transient: float | Callable[[], float] | None = None,
                force: bool | None = None) -> RunCost:
     """Refuse, before any work, a run that is too short, aliased or too costly.
 
@@ -494,9 +480,11 @@ def check_cost(train: GearTrain, settings: DynamicsSettings | None = None, *,
     harmonics : int
         Highest mesh harmonic n the record must hold: ``fs > 2 n f_m`` (1: the mesh
         frequency itself; the analysis of ``gearsim`` uses up to 4 by default).
-    transient : float, optional
+    transient : float or callable, optional
         Transient [s] to count; default ``settings.transient``, or 0 when that is the
-        default (known only with the model: :func:`simulate` checks again).
+        default (known only with the model: :func:`simulate` checks again). A callable
+        returns the default transient: called only when the run is refused for its
+        steps, so that the refusal states the transient the run would use.
     force : bool, optional
         Lift the step and memory bounds; default: the environment variable
         ``GEARSIM_FORCE`` (set to 1). The duration and aliasing checks always apply.
@@ -547,7 +535,8 @@ def check_cost(train: GearTrain, settings: DynamicsSettings | None = None, *,
         raise InputError("dynamics.fs", s.fs,
                          f"must be > {2 * n * f_m:.6g} Hz, twice {which} = {n * f_m:.6g} Hz, "
                          f"else the record is aliased: raise fs, lower the speed{fewer}")
-    if transient is None:
+    default = transient if callable(transient) and s.transient is None else None
+    if transient is None or callable(transient):
         transient = s.transient if s.transient is not None else 0.0
     if not math.isfinite(transient):
         raise InputError("dynamics.transient", transient,
@@ -571,7 +560,11 @@ def check_cost(train: GearTrain, settings: DynamicsSettings | None = None, *,
     t_int = 1.0 / (r * s.fs)
     n_out = float(round(s.duration * s.fs))
     n_rec = (n_out - 1) * r + 1 + 2 * half
-    steps = max(transient / t_int, half) * (t_int / dt) + (n_rec - 1 - half) * (t_int / dt)
+
+    def count(transient: float) -> float:
+        return (max(transient / t_int, half) + n_rec - 1 - half) * (t_int / dt)
+
+    steps = count(transient)
     g, n_mesh = len(train.gears), len(train.pairs)
     n_dof = 4 * g
     width = 2 * n_dof + n_mesh  # q, v, f records
@@ -582,6 +575,9 @@ def check_cost(train: GearTrain, settings: DynamicsSettings | None = None, *,
     if cost_bounds_lifted(force):
         return cost
     if steps > MAX_STEPS:
+        if default is not None:  # the transient the run would use (needs the model)
+            transient = float(default())
+            steps = count(transient) if math.isfinite(transient) else steps
         rate_ratio = (1.0 / dt) * 1e-5          # against the default 10 us step
         time_ratio = transient + s.duration     # against the default 1 s
         if rate_ratio >= time_ratio:
@@ -591,8 +587,11 @@ def check_cost(train: GearTrain, settings: DynamicsSettings | None = None, *,
         raise InputError(f"dynamics.{name}", getattr(s, name) if name != "transient"
                          else transient,
                          f"the run needs {steps:.3g} integration steps (transient "
-                         f"{transient:.4g} s + duration {s.duration:.4g} s at dt = {dt:.3g} "
-                         f"s), above the limit of {MAX_STEPS:.0e} (hours of computing): "
+                         f"{max(math.ceil(transient / t_int - 1e-9), half) * t_int:.4g} s "
+                         f"+ duration {s.duration:.4g} s at dt = {dt:.4g} "
+                         f"s, the largest step {s.step:.4g} s divided to fall on the "
+                         f"{1 / t_int:.6g} Hz internal samples), above the limit of "
+                         f"{MAX_STEPS:.0e} (hours of computing): "
                          "shorten the duration or transient, raise the step or lower fs "
                          f"(--duration, --transient, --step, --fs), {_OVERRIDE}")
     ram = physical_memory()
@@ -724,7 +723,13 @@ def _prepare(train: GearTrain, settings: DynamicsSettings | None,
     """Checks, model, step and transient of a run (:func:`simulate`, :func:`simulate_record`)."""
     settings = settings_of(train, settings)
     check_twists(train)
-    check_cost(train, settings, harmonics=harmonics, force=force)
+
+    def default_transient() -> float:  # the model, for a refusal to state the transient
+        nonlocal model
+        model = model or build_model(train, settings, tables=tables)
+        return max(12.0 * decay_time(model), 1.0 / model.mesh_frequency)
+
+    check_cost(train, settings, harmonics=harmonics, force=force, transient=default_transient)
     model = model or build_model(train, settings, tables=tables)
     if check_step:
         dt = check_inputs(train, settings, model)
@@ -733,7 +738,7 @@ def _prepare(train: GearTrain, settings: DynamicsSettings | None,
     _, m = integration_step(settings)
     transient = settings.transient
     if transient is None:
-        transient = max(12.0 * decay_time(model), 1.0 / model.mesh_frequency)
+        transient = default_transient()
         check_cost(train, settings, harmonics=harmonics, transient=transient, force=force)
     return settings, model, dt, m, transient
 
@@ -1341,8 +1346,9 @@ def summary(ds) -> dict:
     -------
     dict
         ``model``, ``fs`` [Hz], ``step`` [s], ``duration`` (samples / fs) [s], ``cracks``
-        and ``meshes``: per mesh ``mesh`` (1-based), ``mean``, ``rms`` (of the force
-        itself), ``peak`` (max abs), ``rms_fluctuation`` (standard deviation),
+        and ``meshes``: per mesh ``mesh`` (1-based), ``mean``, ``rms`` (the RMS about the
+        mean, the standard deviation: the fluctuation, as for every kind of gearbox,
+        :func:`gearsim.dynamics.stage.stage_summary`), ``peak`` (max abs),
         ``static_force`` [N] (at the operating load), ``load_factor`` (the load profile's
         lambda(t) averaged over the record, 1 without one: the mean force it loads) and
         ``mean_error`` = (mean - lambda static) / (lambda static) [-] (left out when
@@ -1358,9 +1364,8 @@ def summary(ds) -> dict:
         fs_ = float(ds[f"mesh_force_{i}"].attrs["static_force"])
         mean = float(np.mean(x))
         meshes.append({
-            "mesh": i, "mean": mean, "rms": float(np.sqrt(np.mean(x ** 2))),
+            "mesh": i, "mean": mean, "rms": float(np.std(x)),  # about the mean
             "peak": float(np.max(np.abs(x))),
-            "rms_fluctuation": float(np.std(x)),
             "static_force": fs_, "load_factor": lam,
             # no load over the record (a profile of zeros): no relative error
             **({"mean_error": (mean - lam * fs_) / (lam * fs_)} if lam * fs_ != 0 else {}),

@@ -843,7 +843,9 @@ def stage_summary(ds) -> dict:
     Returns
     -------
     dict
-        ``meshes`` (name, mean, rms, peak, static force), ``sensor_rms``,
+        ``meshes`` (name, mean, rms, peak, static force), ``sensor_rms``; every ``rms``
+        (``*_rms``) is the RMS about the mean, the standard deviation, as in
+        :func:`gearsim.dynamics.simulate.summary`;
         ``mesh_frequency``, ``modes`` (frequency [Hz], multiplicity, kind of each group of
         the mean-stiffness Lin & Parker model of a stage alone; each mode of the whole
         model, kind ``"torsional"`` or ``"coupled"``, of the torsional model or of stages

@@ -13,20 +13,22 @@ measures away from the contact (:mod:`gearsim.fem.tooth`).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from gearsim.errors import InputError
-from gearsim.fem.geometry import SectorOptions
+from gearsim.errors import FORCE_ENV, InputError, cost_bounds_lifted
+from gearsim.fem.geometry import SectorOptions, mesh_sector
 from gearsim.fem.tooth import FEToothResult, fe_tooth_compliance
 from gearsim.geometry.gear import Gear
 from gearsim.geometry.profile import ToothProfile
 from gearsim.stiffness.crack import Crack, crack_record
 from gearsim.stiffness.tooth import ToothModel
 
-__all__ = ["MAX_POINTS", "FECheck", "contact_radii", "fe_check", "compare_gear"]
+__all__ = ["MAX_DOFS", "MAX_POINTS", "FECheck", "contact_radii", "estimated_dofs", "fe_check",
+           "compare_gear"]
 
 CRACK_CHOICES = ("none", "working", "non-working")
 #: Most contact positions of one check. Each position is one FE solve of the tooth
@@ -34,6 +36,13 @@ CRACK_CHOICES = ("none", "working", "non-working")
 #: positions already space the points at 0.5 % of the path of contact, well below the
 #: element size, so more only costs time (100000 points would run for a day).
 MAX_POINTS = 201
+#: Most FE unknowns of one check without ``force`` (:func:`estimated_dofs`, before any
+#: work). The sector's sparse factorization grows faster than its unknowns: level 3 of
+#: the two-stage reducer's pinion (68 472 dofs) takes 1.3 s per contact position, level 4
+#: (245 126 dofs) 23 s for the default 11 positions and 1.2 GB, and level 5 (about 1.1
+#: million) ran for more than 10 minutes. 5e5 admits level 4 of every example and refuses
+#: level 5, as ``fe-pair`` caps its pair at level 4.
+MAX_DOFS = 5e5
 
 
 @dataclass
@@ -228,9 +237,36 @@ def compare_gear(gear: Gear, radii, *, crack: Crack | None = None, side: int = 0
                    pe_components=comps)
 
 
+def estimated_dofs(gear: Gear, options: SectorOptions) -> float:
+    """FE unknowns of a check of ``gear`` at ``options.level``, before any FE work.
+
+    The sector's linear mesh (:func:`gearsim.fem.geometry.mesh_sector`, gmsh only) at
+    level min(level, 3), counted exactly for P2 triangles (two unknowns per vertex and per
+    edge), times 4 per further level (each halves the element size). Level 3 to 4 of the
+    examples measured x 3.1 to x 3.4, so above level 3 it is an upper estimate.
+
+    Parameters
+    ----------
+    gear : Gear
+        The gear.
+    options : SectorOptions
+        Mesh options.
+
+    Returns
+    -------
+    float
+        Estimated displacement unknowns.
+    """
+    ref = min(options.level, 3)
+    m = mesh_sector(gear, options=dataclasses.replace(options, level=ref))
+    t = np.sort(np.asarray(m.t), axis=0)
+    edges = np.unique(np.concatenate([t[[0, 1]], t[[1, 2]], t[[0, 2]]], axis=1), axis=1)
+    return 2.0 * (m.p.shape[1] + edges.shape[1]) * 4.0 ** (options.level - ref)
+
+
 def fe_check(train, gear_name: str | None = None, *, crack: str = "none",
              closure: str | None = None, level: int = 2, points: int = 11,
-             options: SectorOptions | None = None) -> FECheck:
+             options: SectorOptions | None = None, force: bool | None = None) -> FECheck:
     """FE versus PE compliance of one gear of a train (the ``fe-check`` command).
 
     Parameters
@@ -252,6 +288,20 @@ def fe_check(train, gear_name: str | None = None, *, crack: str = "none",
         Contact positions along the path of contact, 3 to :data:`MAX_POINTS`.
     options
         Further mesh options (their ``level`` is replaced by ``level``).
+    force
+        Lift the cost bound (more than :data:`MAX_DOFS` estimated unknowns); default:
+        the environment variable ``GEARSIM_FORCE`` set to 1.
+
+    Returns
+    -------
+    FECheck
+
+    Raises
+    ------
+    InputError
+        An unknown crack, gear or closure, a level outside [0, 6], too many points, a
+        check estimated above :data:`MAX_DOFS` unknowns (``fem.level``, unless
+        ``force``), before any FE solve.
     """
     if crack not in CRACK_CHOICES:
         raise InputError("--crack", crack, 'must be "none", "working" or "non-working"')
@@ -268,6 +318,13 @@ def fe_check(train, gear_name: str | None = None, *, crack: str = "none",
     opt = SectorOptions(level=level) if options is None else SectorOptions(
         level=level, n_teeth=options.n_teeth, sides=options.sides, growth=options.growth,
         tip_refinement=options.tip_refinement)
+    if not cost_bounds_lifted(force):
+        dofs = estimated_dofs(gear, opt)
+        if dofs > MAX_DOFS:
+            raise InputError("fem.level", level, f"the check needs about {dofs:.3g} FE "
+                             f"unknowns (element size m_n / {4 * 2**level}), above the limit "
+                             f"of {MAX_DOFS:.0e}: lower the level, or override with --force "
+                             f"({FORCE_ENV}=1)")
     c = None
     side = 0
     if crack != "none":

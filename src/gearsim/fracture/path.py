@@ -43,7 +43,8 @@ from gearsim.fracture.tooth import (
 )
 from gearsim.geometry.gear import Gear
 
-__all__ = ["CyclePath", "GrowthPath", "grow_cycle_path", "grow_path", "path_life"]
+__all__ = ["CyclePath", "GrowthPath", "grow_cycle_path", "grow_path", "largest_increment",
+           "path_life"]
 
 
 @dataclass(frozen=True)
@@ -222,6 +223,30 @@ class CyclePath(GrowthPath):
     position: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     dofs: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     seconds_per_step: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+
+def largest_increment(gear: Gear, crack: CrackPath, *, n_teeth: int = 3,
+                      bore_radius: float | None = None, web=None) -> float:
+    """The largest first increment :func:`grow_cycle_path` accepts [m].
+
+    Half the distance from the crack's tip to the outline of the sector ahead of it
+    (:func:`gearsim.fracture.tooth.sector_polygon`): a larger increment is refused at
+    the first step. Geometry only, so a caller can check an increment before any work.
+
+    Parameters
+    ----------
+    gear, crack
+        As :func:`grow_path`.
+    n_teeth, bore_radius, web
+        The sector (:func:`gearsim.fracture.tooth.sector_polygon`).
+
+    Returns
+    -------
+    float
+        0.5 x the tip's clearance ahead [m].
+    """
+    poly, _ = sector_polygon(gear, n_teeth, bore_radius=bore_radius, web=web)
+    return 0.5 * _tip_clearance(poly, crack, ahead=True)
 
 
 def grow_cycle_path(gear: Gear, crack: CrackPath, radii, forces, increment: float, *,

@@ -187,6 +187,13 @@ def parse(doc: dict[str, Any]) -> Gearbox:
                              "every gear names its shaft in a gearbox with [[shafts]] and "
                              "[[meshes]]; a chain has neither")
         kw["helix_angle"] = abs(kw.get("helix_angle", 0.0))
+        if not kw["helix_angle"] < math.radians(45):  # its own range before its mates'
+            where = f"gears[{i}]" if "helix_angle" in table else "common"
+            raise InputError(f"{where}.helix_angle", (table if "helix_angle" in table
+                                                      else raw_common)["helix_angle"],
+                             "must satisfy |beta| < 45 deg" + ("" if where != "common" else
+                                                                f" (for gears[{i}], "
+                                                                f"{kw['name']!r})"))
         kws.append(kw)
     _unique([kw["name"] for kw in kws], "gears")
     stiffness = _stiffness(doc.get("stiffness", {}), "stiffness")
@@ -413,13 +420,15 @@ def parse_modifications(raw: Any) -> tuple[Modification, ...]:
     return tuple(out)
 
 
-def loads(text: str) -> Gearbox:
+def loads(text: str, *, source: str = "TOML") -> Gearbox:
     """Parse TOML text into a :class:`Gearbox`.
 
     Parameters
     ----------
     text : str
         A configuration (see module docstring).
+    source : str, optional
+        Where the text comes from (its path), shown when it is not valid TOML.
 
     Returns
     -------
@@ -440,7 +449,7 @@ def loads(text: str) -> Gearbox:
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise InputError("config", "TOML", f"is not valid TOML: {exc}") from None
+        raise InputError("config", source, f"is not valid TOML: {exc}") from None
     if text.startswith(EFFECTIVE_HEADER):  # written by gearsim, SI throughout
         with plain_numbers_are_si():
             return parse(doc)
@@ -479,6 +488,9 @@ def read_file_or_builtin(path: str | Path, builtins: Sequence[str],
         device, a directory), naming ``parameter`` and the built-in names. A leading
         UTF-8 byte order mark is dropped.
     """
+    if not str(path).strip():  # Path("") is the current folder
+        raise InputError(parameter, repr(str(path)), f"is empty: give a file or a built-in "
+                         f"{what}: " + ", ".join(builtins))
     p = Path(path)
     if not p.exists():
         if str(path) in builtins:
@@ -513,7 +525,7 @@ def load(path: str | Path) -> Gearbox:
     """
     text, _ = read_file_or_builtin(path, EXAMPLES, example_text, parameter="config",
                                    what="example")
-    return loads(text)
+    return loads(text, source=str(path))
 
 
 def example(name: str) -> Gearbox:

@@ -512,7 +512,8 @@ class Gearbox:
         return self.select(self.simulate(harmonics=harmonics, force=force, **dynamics), spec)
 
     def summary(self, ds) -> dict:
-        """Summary of a result of :meth:`simulate`: per mesh mean, RMS, peak force [N].
+        """Summary of a result of :meth:`simulate`: per mesh mean, RMS about the mean (the
+        standard deviation, for every kind of gearbox), peak force [N].
 
         Parameters
         ----------

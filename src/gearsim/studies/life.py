@@ -55,7 +55,7 @@ import numpy as np
 from gearsim.errors import InputError, require
 from gearsim.fracture.mesh import CrackPath
 from gearsim.fracture.paris import MPA_SQRT_M, LifeResult, ParisLaw, steel_class_law
-from gearsim.fracture.path import CyclePath, grow_cycle_path, path_life
+from gearsim.fracture.path import CyclePath, grow_cycle_path, largest_increment, path_life
 from gearsim.fracture.tooth import initial_crack
 from gearsim.geometry.profile import ToothProfile
 from gearsim.model.gearbox import Gearbox
@@ -66,7 +66,8 @@ __all__ = ["DEFAULT_THRESHOLD_MPA", "DEFAULT_TOUGHNESS_MPA", "ALARM_LEVELS", "Ge
            "LifeStiffness", "equivalent_crack", "stiffness_along_life",
            "DEFAULT_NOISE", "record_duration", "operating_conditions", "life_records",
            "write_store", "record_condition", "indicator_trends", "alarm_fractions",
-           "FRACTURE_ENDS", "sideband_feature"]
+           "FRACTURE_ENDS", "sideband_feature", "MIN_INCREMENT", "MAX_NOISE",
+           "increment_range"]
 
 #: dK_th of the default law [MPa sqrt(m)]: Barsom & Rolfe (1999, ch. 9), lower bound
 #: for steels at R < 0.1, 5.5 ksi sqrt(in).
@@ -84,6 +85,21 @@ ALARM_LEVELS: dict[str, tuple[float, str]] = {
     "sideband_energy": (2.0, "first-order sideband energy ratio twice its healthy value "
                              "(a relative alarm, this module's choice)"),
 }
+
+
+#: Smallest crack increment over the normal module [-]. The FE resolves an increment da
+#: with tip elements of da / 75 (ring 0.4 da, 30 divisions) graded to the sector's m_n / 4:
+#: at m_n / 1000 the ratio is 1 : 18 750, and K at the next tip has converged (Table-1
+#: input gear, 2 mm crack, HPSTC load: K_I = 1.7404 / 1.6726 / 1.6642 / 1.6629 MPa sqrt(m)
+#: per 1e5 N/m for da = m_n / 12, / 100, / 1000, / 10 000, at 26k / 61k / 185k / 360k
+#: dofs). A smaller increment only costs; at 1e-9 mm round-off gave K = 0.0005 MPa sqrt(m)
+#: at the second tip, an "arrest" of a growing crack.
+MIN_INCREMENT = 1e-3
+#: Largest noise RMS over the record's standard deviation of the run-to-failure records
+#: [-]: 100, SNR -40 dB. A synchronous average over the record's few revolutions gains
+#: 10 log10(revolutions) dB, far from 40 dB: above it every record is its noise (and at
+#: 1e300 the noisy record overflows).
+MAX_NOISE = 100.0
 
 
 def default_law() -> ParisLaw:
@@ -119,6 +135,29 @@ def _crack_of(gb: Gearbox, gear: str | None):
     require(c.start_radius is None, "crack.start_radius", c.start_radius,
             "must be the default (30 deg tangent point) for a life")
     return tr.gears[names.index(gear)], c
+
+
+def increment_range(gb: Gearbox, gear: str | None = None) -> tuple[float, float]:
+    """Range of the crack increment of :func:`gear_life` [m], from geometry only.
+
+    Parameters
+    ----------
+    gb : Gearbox
+        The gearbox.
+    gear : str, optional
+        The cracked gear (default: the gear of the first crack).
+
+    Returns
+    -------
+    lo, hi : float
+        :data:`MIN_INCREMENT` x m_n, and half the distance from the initial crack's tip
+        to the tooth outline ahead of it
+        (:func:`gearsim.fracture.path.largest_increment`; a larger first increment would
+        leave no ligament to grow in).
+    """
+    g, crack = _crack_of(gb, gear)
+    start = initial_crack(g, crack.depth, angle=crack.angle)
+    return MIN_INCREMENT * g.normal_module, largest_increment(g, start)
 
 
 def _mesh_of(gb: Gearbox, gear: str) -> tuple[int, int]:
@@ -320,7 +359,8 @@ def gear_life(gb: Gearbox, gear: str | None = None, *, increment: float | None =
     gear : str, optional
         The cracked gear (default: the gear of the first crack).
     increment : float, optional
-        Crack extension per increment [m]; default m_n / 12 (0.5 mm for m_n = 6 mm).
+        Crack extension per increment [m]; default m_n / 12 (0.5 mm for m_n = 6 mm);
+        in :func:`increment_range`.
     steps : int
         Largest number of increments (1 to 500).
     positions : int
@@ -347,7 +387,11 @@ def gear_life(gb: Gearbox, gear: str | None = None, *, increment: float | None =
     g, crack = _crack_of(gb, gear)
     law = default_law() if law is None else law
     da = g.normal_module / 12.0 if increment is None else float(increment)
-    require(math.isfinite(da) and da > 0.0, "increment", da, "must be > 0 m")
+    lo, hi = increment_range(gb, g.name)
+    require(math.isfinite(da) and lo <= da <= hi, "increment", da,
+            f"must be in [{lo:.4g}, {hi:.4g}] m: at least m_n / {1 / MIN_INCREMENT:.0f} (the "
+            "FE's tip elements, da / 75, against its m_n / 4 elements) and at most half the "
+            "distance from the initial crack's tip to the outline ahead of it")
     mesh, _ = _mesh_of(gb, g.name)
     radii, shares, width = mesh_cycle_loads(gb, g.name, positions)
     mean, peak = _dynamic_load(gb, mesh, duration)
@@ -955,7 +999,7 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
         Record duration [s]; default :func:`record_duration` at each speed (4.2
         revolutions of the slowest shaft).
     noise : float
-        Noise RMS over the record's standard deviation [-] (>= 0).
+        Noise RMS over the record's standard deviation [-], in [0, :data:`MAX_NOISE`].
     signal : str, optional
         Record to analyse (:meth:`Gearbox.signals`); default :attr:`Gearbox.default_signal`.
     broken : bool
@@ -1012,7 +1056,10 @@ def life_records(gb: Gearbox, result: GearLife, fractions: Sequence[float], seed
 
     require(isinstance(seeds, int) and not isinstance(seeds, bool) and seeds >= 1, "seeds",
             seeds, "must be an integer >= 1")
-    require(math.isfinite(noise) and noise >= 0.0, "noise", noise, "must be >= 0")
+    require(math.isfinite(noise) and 0.0 <= noise <= MAX_NOISE, "noise", noise,
+            f"must be in [0, {MAX_NOISE:g}] (noise RMS / record standard deviation; "
+            f"{MAX_NOISE:g}: SNR {-20 * math.log10(MAX_NOISE):g} dB, past which every record "
+            "is its noise)")
     plan_workers(workers, 1)  # the type and sign of workers, before any work
     if scheduler is not None:
         scheduler = check_scheduler(scheduler)

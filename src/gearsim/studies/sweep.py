@@ -356,7 +356,17 @@ def load_study(path: str | Path) -> Study:
     """
     text, folder = read_file_or_builtin(path, BUILTIN_STUDIES, builtin_study_text,
                                         parameter="study", what="study")
-    return loads_study(text, base_dir=folder)
+    return loads_study(text, base_dir=folder, source=str(path))
+
+
+def _toml(value: Any) -> Any:
+    """A TOML value as written: a string in its quotes (``"3"``, not 3)."""
+    return f'"{value}"' if isinstance(value, str) else value
+
+
+def _quoted(value: Any) -> str:
+    """The hint for a number given as a string."""
+    return " (a number, not a string: drop the quotes)" if isinstance(value, str) else ""
 
 
 def _kind_of(name: str) -> str:
@@ -422,7 +432,8 @@ def _values(name: str, raw: Any) -> tuple | dict:
     return tuple(out)
 
 
-def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
+def loads_study(text: str, *, base_dir: str | Path | None = None,
+                source: str = "TOML") -> Study:
     """Parse study TOML text into a :class:`Study` (``base_dir``: for a relative config).
 
     Values with units are converted to SI (:func:`gearsim.units.to_si`); plain numbers
@@ -435,6 +446,8 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
     base_dir : str or Path, optional
         Folder against which a relative ``study.config`` path is resolved; default the
         current directory.
+    source : str, optional
+        Where the text comes from (its path), shown when it is not valid TOML.
 
     Returns
     -------
@@ -451,7 +464,7 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise InputError("study", "TOML", f"is not valid TOML: {exc}") from None
+        raise InputError("study", source, f"is not valid TOML: {exc}") from None
     for key in doc:
         if key not in ("study", "parameters"):
             raise InputError(key, "...", "unknown section; allowed: study, parameters")
@@ -487,14 +500,15 @@ def loads_study(text: str, *, base_dir: str | Path | None = None) -> Study:
     samples = st.get("samples", 0 if sampling == "grid" else None)
     if sampling == "random":
         require(isinstance(samples, int) and not isinstance(samples, bool) and samples >= 1,
-                "study.samples", samples if samples is not None else "missing",
-                "random sampling needs an integer >= 1")
+                "study.samples", _toml(samples) if samples is not None else "missing",
+                "random sampling needs an integer >= 1" + _quoted(samples))
     seed = st.get("seed", 0)
     require(isinstance(seed, int) and not isinstance(seed, bool) and seed >= 0, "study.seed",
-            seed, "must be an integer >= 0")
+            _toml(seed), "must be an integer >= 0" + _quoted(seed))
     replicates = st.get("replicates", 1)
     require(isinstance(replicates, int) and not isinstance(replicates, bool)
-            and replicates >= 1, "study.replicates", replicates, "must be an integer >= 1")
+            and replicates >= 1, "study.replicates", _toml(replicates),
+            "must be an integer >= 1" + _quoted(replicates))
     shafts = st.get("shafts", "all")
     require(shafts in ("all", "reference"), "study.shafts", shafts,
             'must be "all" or "reference"')

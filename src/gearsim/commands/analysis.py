@@ -279,9 +279,12 @@ def analyze(
     channel: Annotated[list[str] | None, typer.Option(
         help="channel to analyse (repeat for several); default: every channel but the "
              "tacho")] = None,
-    fs: Annotated[float | None, typer.Option(help="sampling rate [Hz] if not in the file; "
-                                             "without one, frequencies are in "
-                                             "cycles/sample")] = None,
+    fs: Annotated[float | None, typer.Option(
+        help="sampling rate [Hz] if not in the file; without one, a speed given "
+             "(--shaft-rpm or --config) makes an estimate from the record's mesh lines "
+             "and sidebands (with teeth) or shaft lines (without), labelled estimate, or "
+             "a reason when several rates fit; with no speed, frequencies are in "
+             "cycles/sample")] = None,
     format_: Annotated[str | None, typer.Option(
         "--format", help="file format (csv, wav, mat, tdms, uff, netcdf) instead of the "
                          "extension")] = None,

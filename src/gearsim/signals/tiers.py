@@ -1090,7 +1090,8 @@ def analyze_record(
         else:
             fs, prov_fs = float(est.fs), "estimate"
             estimates["fs"] = {"value_hz": est.fs, "method": est.method, "snr": est.snr,
-                               "p_value": est.p_value, "estimate": True}
+                               "p_value": est.p_value, "comb_score": est.score,
+                               "runner_up_score": est.runner_up, "estimate": True}
 
     rec = RecordAnalysis(n_samples=int(a.size), fs=fs, fs_provenance=prov_fs if fs else None,
                          speed=None, speed_provenance=None, teeth=zs,

@@ -17,7 +17,7 @@ import xarray as xr
 
 import gearsim as gs
 from gearsim.io.results import write_results
-from gearsim.studies.batch import analyze_file
+from gearsim.studies.batch import _read_channels, analyze_file
 
 
 @pytest.fixture(scope="module")
@@ -183,3 +183,23 @@ def test_a_steady_speed_off_the_operating_one_is_read_from_the_tacho(tmp_path):
     assert not problems
     assert row["record"]["source"]["tacho"] == "tacho[shaft=input]"
     assert row["record"]["speed_hz"] == pytest.approx(36.0, rel=0.01)
+
+
+
+def test_default_channels_of_a_result_are_its_vibration_records(turbine):
+    """No channel named: the tachos (pulse trains, 0/5 V) and carrier_angle (rad) were
+    analysed as vibration (tacho[shaft=rotor]: kurtosis 1107); now one channel per time
+    series of every variable of the file but those two, the q[dof=...] displacements kept;
+    a named one is still read."""
+    with xr.open_dataset(turbine) as ds:
+        assert ds["carrier_angle"].attrs.get("units") == "rad"
+        expected = sum(ds[v].size // ds.sizes["time"] for v in ds.data_vars
+                       if "time" in ds[v].dims and v not in ("tacho", "carrier_angle"))
+        n_q = ds["q"].size // ds.sizes["time"]
+    names = [c["channel"] for c in _read_channels(turbine, None, None, None, False, None)]
+    assert len(names) == expected
+    assert not any(n.startswith("tacho") or n == "carrier_angle" for n in names)
+    assert sum(n.startswith("q[dof=") for n in names) == n_q
+    assert {"sensor", "shaft_torque"} <= set(names)
+    (row,) = _read_channels(turbine, ["carrier_angle"], None, None, False, None)
+    assert row["channel"] == "carrier_angle"

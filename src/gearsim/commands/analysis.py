@@ -1,6 +1,6 @@
 """CLI verbs ``analyze`` and ``compare``: signal analysis of measured or simulated records.
 
-``analyze`` takes any number of files and glob patterns, analyses every channel (or the
+``analyze`` takes any number of files and glob patterns, analyses every vibration channel (or the
 ``--channel`` ones) tier by tier (:mod:`gearsim.signals.tiers`: statistics need nothing,
 the spectrum a sampling rate, shaft orders a speed, gear quantities tooth counts), and
 prints what each value rests on; ``--out`` writes the table (rows = file x channel) and
@@ -277,8 +277,10 @@ def analyze(
         help="record files or glob patterns (CSV/TXT, WAV, MAT, TDMS, UFF, NetCDF; "
              "quote globs)", show_default=False)],
     channel: Annotated[list[str] | None, typer.Option(
-        help="channel to analyse (repeat for several); default: every channel but the "
-             "tacho")] = None,
+        help="channel to analyse (repeat for several; any channel); default: every "
+             "vibration channel: not the tachos (--tacho, a gearsim result's "
+             "tacho[shaft=...]) nor angles (carrier_angle); a gearsim result's "
+             "displacements q[dof=...] are included")] = None,
     fs: Annotated[float | None, typer.Option(
         help="sampling rate [Hz] if not in the file; without one, a speed given "
              "(--shaft-rpm or --config) makes an estimate from the record's mesh lines "

@@ -213,3 +213,23 @@ def test_analyze_without_a_rate_gives_their_rate_or_a_reason(capsys):
         else:
             assert r["fs_provenance"] == "estimate"
             assert r["fs_hz"] == pytest.approx(_hand_rate(_columns(name)["a1"]), rel=1e-3)
+
+
+def test_the_config_speed_is_named_as_such_when_the_record_disagrees(capsys):
+    """--config two-stage-reducer brings its operating speed, 30 Hz; h30hz0's mesh (32
+    teeth) says about 29.75 Hz. The warning called it the 'given speed'; it names the
+    configuration and the options that give the speed instead."""
+    x = _columns("h30hz0")["a1"]
+    amp = np.abs(np.fft.rfft((x - x.mean()) * np.hanning(x.size)))
+    f = np.fft.rfftfreq(x.size, 1 / 12_800.0)
+    band = np.abs(f / 960.0 - 1) < 0.03
+    hand = f[band][np.argmax(amp[band])] / 32  # the shaft speed from the mesh line [Hz]
+    assert cli.run(["analyze", str(DATA / "h30hz0.csv.gz"), "--fs", "12800", "--config",
+                    "two-stage-reducer", "--channel", "a1", "--json"]) == 0
+    (rec,) = json.loads(capsys.readouterr().out)["records"]
+    (warn,) = rec["warnings"]
+    assert warn.startswith("config speed 30 Hz (the operating speed of --config "
+                           "two-stage-reducer) disagrees with the speed estimated")
+    assert warn.endswith("every tier uses it: give --shaft-rpm or --speed-search")
+    pct = float(warn.split("(")[2].split(" %")[0])
+    assert pct == pytest.approx(100 * (hand / 30 - 1), abs=0.02)

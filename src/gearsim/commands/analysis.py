@@ -478,6 +478,7 @@ def analyze(
         options["provenance"] = {k: "config" for k, v in (
             ("speed", config_speed is not None and n_speed == 0), ("teeth", zs or stg),
             ("stage", stage_z)) if v}
+        options["provenance"]["config"] = config  # named in what rests on it
     with ExitStack() as stack:  # OUT's lock, from the first part to the table
         if out_path is not None:
             from gearsim.studies.sweep_run import store_lock

@@ -593,10 +593,11 @@ def _kurtogram(a: np.ndarray, fs: float | None, skipped: list) -> dict | None:
 
 
 def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warnings,
-                   slowest=1.0):
+                   slowest=1.0, config=None):
     """(speed Hz, provenance, profile or None, SpeedEstimate or None); speed None with a
     skip reason when it cannot be had. ``slowest``: the slowest shaft's frequency over the
-    measured one's (:data:`STEADY_TRACK_BAND`)."""
+    measured one's (:data:`STEADY_TRACK_BAND`); ``config``: the configuration a speed of
+    provenance ``config`` came from, as written."""
     from gearsim.signals import speed as sp
 
     if speed is not None:
@@ -609,6 +610,11 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warni
                 warn = f"not checked: {_first_line(exc)}"
             if warn and warn.startswith("not checked"):
                 skipped.append({"tier": "shaft.speed_check", "reason": warn})
+            elif warn and prov == "config":  # the configuration's speed, not the user's
+                warnings.append(warn.replace("given speed", "config speed", 1).replace(
+                    " disagrees", f" (the operating speed of --config {config}) disagrees"
+                    if config else " (the configuration's operating speed) disagrees", 1)
+                    + "; every tier uses it: give --shaft-rpm or --speed-search")
             elif warn:  # every tier uses the speed given: a warning, not a skip
                 warnings.append(f"{warn}; every tier uses the given speed")
         return float(speed), prov or "given", None, None
@@ -1133,7 +1139,8 @@ def analyze_record(
         slowest = min([1.0, *_other_orders(1.0, zs, pairs, 1.0)])
         f_r, prov_speed, profile, est_speed = _resolve_speed(a, fs, speed, tacho, ppr, speed_search,
                                                              order, skipped, speed_provenance,
-                                                             rec.warnings, slowest)
+                                                             rec.warnings, slowest,
+                                                             (source or {}).get("config"))
         if est_speed is not None:
             rec.tiers.setdefault("estimates", {})["speed"] = est_speed.to_dict()
         if f_r is not None:

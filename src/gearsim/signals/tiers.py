@@ -607,10 +607,18 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warni
             try:
                 warn = sp.check_given_speed(a, fs, float(speed), order=order)
             except InputError as exc:
-                warn = f"not checked: {_first_line(exc)}"
-            if warn and warn.startswith("not checked"):
-                skipped.append({"tier": "shaft.speed_check", "reason": warn})
-            elif warn and prov == "config":  # the configuration's speed, not the user's
+                whose = {"config": "the configuration's", "file": "the file's"}.get(
+                    prov, "the given")
+                why = {"x.length": f"the check needs {sp.MIN_PERIODS:g} shaft revolutions, "
+                                   f"{sp.MIN_PERIODS / speed:.4g} s at {speed:.4g} Hz, and the "
+                                   f"record lasts {a.size / fs:.4g} s: a longer record would "
+                                   "allow it",
+                       "x": f"the record has no line near the mesh order {order:g} of that "
+                            "speed to compare it with"}.get(exc.parameter, _first_line(exc))
+                skipped.append({"tier": "shaft.speed_check", "reason": f"{whose} speed is not "
+                                f"checked against the record: {why}"})
+                warn = None
+            if warn and prov == "config":  # the configuration's speed, not the user's
                 warnings.append(warn.replace("given speed", "config speed", 1).replace(
                     " disagrees", f" (the operating speed of --config {config}) disagrees"
                     if config else " (the configuration's operating speed) disagrees", 1)

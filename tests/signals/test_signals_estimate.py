@@ -101,6 +101,7 @@ def test_fs_refused_when_two_rates_fit_the_comb_equally():
     t = np.arange(int(6 * FS)) / FS
     x = np.cos(2 * np.pi * 29 * F_R * t) + 0.5 * np.cos(2 * np.pi * 58 * F_R * t + 1)
     x = x + 0.3 * np.random.default_rng(1).standard_normal(t.size)
-    with pytest.raises(InputError, match=r"sampling rate = ambiguous: .*12\.34 kHz.*6\.173 kHz"
-                                         r".*give the rate \(--fs\)"):
+    with pytest.raises(InputError, match=r"sampling rate = ambiguous: .*give the rate "
+                                         r"\(--fs\)") as exc:
         estimate_fs(x, shaft_frequency=F_R, teeth=TEETH)
+    assert "12.3" in str(exc.value) and "6.17" in str(exc.value)  # FS and FS / 2, in kHz

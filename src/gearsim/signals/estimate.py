@@ -34,7 +34,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.ndimage import maximum_filter1d, median_filter
+from scipy.ndimage import median_filter
 
 from gearsim.errors import InputError
 from gearsim.signals._checks import as_signal, check_fs, check_int, check_positive, check_probability
@@ -208,6 +208,11 @@ def _lowest_member(power: np.ndarray, k0: float, harmonics: int, alpha: float):
 COMB_SIDEBANDS = 3
 #: Strongest lines of the record each taken, in turn, for every comb line ``n Z + m``.
 COMB_SOURCE_LINES = 5
+#: Line evidence counts from this multiple of the local floor (mean noise power): a noise
+#: bin exceeds it with probability exp(-5) = 0.7 %, so empty comb positions add ~0.
+COMB_FLOOR = 5.0
+#: A line: at least this multiple of the local floor (10 dB).
+COMB_LINE = 10.0
 #: Fewest periodogram bins per shaft order for a candidate rate (finer combs cannot put
 #: their off-comb positions clear of their lines).
 COMB_MIN_BINS = 8
@@ -235,25 +240,32 @@ def _fs_bounds(fs_range):
     return lo_fs, hi_fs
 
 
+def _at(evidence: np.ndarray, pos: np.ndarray) -> np.ndarray:
+    """Evidence at fractional bins ``pos``: the largest of the bins within one bin of each
+    (a line smeared by the speed's wander peaks a bin away from its nominal position)."""
+    k = np.round(pos).astype(int)
+    return np.maximum(np.maximum(evidence[k - 1], evidence[k]), evidence[k + 1])
+
+
 def _comb_score(evidence: np.ndarray, n: int, spacing: float, teeth: int) -> float:
     """Mean line evidence on the comb ``(n Z + m) spacing`` (``n`` up to the highest mesh
-    harmonic that is a line: evidence >= 1, 10 dB) minus the largest mean on the comb
+    harmonic that is a line: :data:`COMB_LINE`) minus the largest mean on the comb
     shifted by a fraction of ``spacing`` (:data:`COMB_SHIFTS`); -inf if the mesh
-    fundamental ``Z spacing`` is no line."""
+    fundamental ``Z spacing`` is no line. Each position reads the two bins around it."""
     step = spacing * n  # bins per shaft order
-    mesh = np.round(np.arange(1, int(0.5 / (spacing * teeth)) + 1) * teeth * step).astype(int)
-    mesh = mesh[mesh < evidence.size]
-    if not mesh.size or evidence[mesh[0]] < 1.0:
+    mesh = np.arange(1, int(0.5 / (spacing * teeth)) + 1) * teeth * step
+    mesh = mesh[mesh < evidence.size - 2]
+    line = np.log10(COMB_LINE / COMB_FLOOR)
+    if not mesh.size or _at(evidence, mesh[:1])[0] < line:
         return -np.inf
-    orders = (np.arange(1, np.flatnonzero(evidence[mesh] >= 1.0)[-1] + 2)[:, None] * teeth
+    orders = (np.arange(1, np.flatnonzero(_at(evidence, mesh) >= line)[-1] + 2)[:, None] * teeth
               + np.arange(-COMB_SIDEBANDS, COMB_SIDEBANDS + 1)[None, :]).ravel()
     pos = orders * step
     pos = pos[(pos > _LOW_BINS) & (pos + step < evidence.size - 2)]
     if not pos.size:
         return -np.inf
-    on = evidence[np.round(pos).astype(int)].mean()
-    return float(on - max(evidence[np.round(pos + f * step).astype(int)].mean()
-                          for f in COMB_SHIFTS))
+    return float(_at(evidence, pos).mean()
+                 - max(_at(evidence, pos + f * step).mean() for f in COMB_SHIFTS))
 
 
 def _mesh_comb_fs(a, f_r, teeth, harmonics, bounds, alpha):
@@ -261,8 +273,10 @@ def _mesh_comb_fs(a, f_r, teeth, harmonics, bounds, alpha):
     n = a.size
     power = periodogram(a)
     floor = median_filter(power, size=101, mode="nearest") / np.log(2)
-    # line evidence: log10 of the largest of 3 bins over the local floor, in [0, 3]
-    evidence = np.clip(np.log10(maximum_filter1d(power, 3) / np.maximum(floor, 1e-300)), 0, 3)
+    # line evidence: log10 of a local maximum over COMB_FLOOR times the local floor, in
+    # [0, 3]; 0 off the maxima (a strong line's neighbours are its leakage, not lines)
+    evidence = np.clip(np.log10(power / np.maximum(COMB_FLOOR * floor, 1e-300)), 0, 3)
+    evidence[1:-1] *= (power[1:-1] >= power[:-2]) & (power[1:-1] >= power[2:])
     k = np.arange(_LOW_BINS + 2, power.size - 3)
     peak = ((power[k] >= power[k - 1]) & (power[k] > power[k + 1])
             & (power[k] >= power[k - 2]) & (power[k] > power[k + 2]))
@@ -331,19 +345,21 @@ def estimate_fs(
     :math:`f_s = q f_r / \nu`. Every such rate is a candidate, for each of the
     :data:`COMB_SOURCE_LINES` strongest lines, ``n = 1..harmonics`` and
     :math:`|m| \le` :data:`COMB_SIDEBANDS`; a candidate whose mesh fundamental is no line
-    (10 dB over the local floor) is dropped. Each is scored by its whole comb, the mesh
-    harmonics up to the highest that is a line and their shaft sidebands: the mean line evidence
-    (:math:`\log_{10}` of line to local median floor, clipped to [0, 3]) on the comb
-    minus the largest mean on the comb shifted by a half or a third of a shaft order (a
-    rate k times too high puts half its comb between the record's lines, one k times too
-    low leaves lines on the shifted comb). The best candidate is kept only when no other
-    scores more than :data:`COMB_DECISIVE` of it; otherwise the rate is refused, naming
-    the candidates. The rate kept is refined by its strongest mesh harmonic ``d``
-    (interpolated): :math:`\hat f_s = d Z f_r / \nu_d`. Without ("envelope"): the
-    strongest line of the squared envelope below half the frequency of the record's
-    strongest line is a shaft harmonic; its fundamental :math:`\nu_r = f_r / f_s` gives
-    :math:`\hat f_s = f_r / \nu_r`; the record's strongest line, synchronous with the shaft, then lies at an
-    integer order :math:`q \approx \nu_0/\nu_r` and, when the rounding is unambiguous,
+    (:data:`COMB_LINE` times the local floor) is dropped. Each is scored by its whole
+    comb, the mesh harmonics up to the highest that is a line and their shaft sidebands:
+    the mean line evidence (:math:`\log_{10}` of a local maximum of the periodogram
+    within a bin of the position over :data:`COMB_FLOOR` times the local median floor,
+    clipped to [0, 3]) on the comb minus the largest mean on the comb shifted by a half
+    or a third of a shaft order (a rate k times too high puts half its comb between the
+    record's lines, one k times too low leaves lines on the shifted comb). The best
+    candidate is kept only when no other scores more than :data:`COMB_DECISIVE` of it;
+    otherwise the rate is refused, naming the candidates. The rate kept is refined by
+    its strongest mesh harmonic ``d`` (interpolated): :math:`\hat f_s = d Z f_r /
+    \nu_d`. Without ("envelope"): the strongest line of the squared envelope below half
+    the frequency of the record's strongest line is a shaft harmonic; its fundamental
+    :math:`\nu_r = f_r / f_s` gives :math:`\hat f_s = f_r / \nu_r`; the record's
+    strongest line, synchronous with the shaft, then lies at an integer order
+    :math:`q \approx \nu_0/\nu_r` and, when the rounding is unambiguous,
     :math:`\hat f_s = \mathrm{round}(q) f_r / \nu_0` is ``q`` times more precise
     ("envelope+order"). The series rule is in the module docstring. With ``fs_range``
     the envelope's fundamental is the strongest line in the matching band of :math:`\nu`

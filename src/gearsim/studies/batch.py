@@ -491,7 +491,7 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
         else:
             train = {"stages": stages} if stages is not None else {"teeth": teeth}
         src = {"file": path, "channel": ch["channel"]}
-        if said.get("config"):  # the configuration given (--config), as written
+        if said.get("speed") == "config":  # the configuration whose speed is used, as written
             src["config"] = said["config"]
         if ch.get("own_tacho"):  # a run whose speed changes: the file's own tacho
             src["tacho"] = ch["own_tacho"]

@@ -448,7 +448,9 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
     provenance : mapping, optional
         Where ``speed`` (key ``"speed"``), ``teeth`` or ``stages`` (``"teeth"``) and
         ``stage`` (``"stage"``) come from when not from the file (``"config"``: a
-        gearbox's kinematics, ``gearsim analyze --config``); default: given.
+        gearbox's kinematics, ``gearsim analyze --config``); default: given. Key
+        ``"config"``: that gearbox as written, named in the record's ``source`` and in a
+        warning when the record disagrees with its speed.
 
     Returns
     -------
@@ -491,7 +493,7 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
         else:
             train = {"stages": stages} if stages is not None else {"teeth": teeth}
         src = {"file": path, "channel": ch["channel"]}
-        if said.get("speed") == "config":  # the configuration whose speed is used, as written
+        if said.get("speed") == "config" and said.get("config"):  # whose speed is used
             src["config"] = said["config"]
         if ch.get("own_tacho"):  # a run whose speed changes: the file's own tacho
             src["tacho"] = ch["own_tacho"]

@@ -11,6 +11,8 @@ import numpy as np
 import pytest
 
 from gearsim import cli
+from gearsim.errors import InputError
+from gearsim.signals.estimate import estimate_fs
 from gearsim.signals.tiers import analyze_record
 
 DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "spectraquest-gfd"
@@ -167,3 +169,67 @@ def test_steady_record_tracked_reads_the_mesh_line_of_its_pieces(name):
     assert r.speed == pytest.approx(r.tiers["estimates"]["speed"]["frequency"], rel=2e-3)
     amp = g["analysis"]["mesh_harmonics"][0]["amplitude"]
     assert amp == pytest.approx(np.mean(own), rel=PIECES)
+
+
+def _hand_rate(x: np.ndarray) -> float:
+    """The rate 1785 rpm and 32 teeth give if the record was sampled at 12.8 kHz (numpy
+    alone): the strongest bin within 2 % of 32 x 29.75 Hz is the mesh line, at f_m Hz
+    at 12.8 kHz, so a mesh at 32 x 29.75 Hz means 12.8 kHz x 952 / f_m."""
+    n = x.size
+    amp = np.abs(np.fft.rfft((x - x.mean()) * np.hanning(n)))
+    f = np.fft.rfftfreq(n, 1 / 12_800.0)
+    band = np.abs(f / 952.0 - 1) < 0.02
+    return 12_800.0 * 952.0 / f[band][np.argmax(amp[band])]
+
+
+def test_mesh_rate_estimate_of_the_twenty_records_is_their_rate_or_refused():
+    """Without --fs the rate from 32 teeth at 1785 rpm was 2, 4, 8 or 10.7 times 12.8 kHz on
+    14 of the 20 records (a shaft harmonic taken for the mesh fundamental); the whole comb
+    now gives their rate (within 1e-3 of the mesh line: the speed's wander splits
+    the mesh lines of b30hz80 and b30hz90 over 0.02 orders) or refuses, naming the
+    candidates."""
+    kept = 0
+    for path in sorted(DATA.glob("*30hz*.csv.gz")):
+        x = _columns(path.name.split(".")[0])["a1"]
+        try:
+            e = estimate_fs(x, shaft_frequency=1785 / 60, teeth=32)
+        except InputError as exc:
+            assert "kHz (score" in str(exc) and "give the rate (--fs)" in str(exc)
+            continue
+        kept += 1
+        assert e.fs == pytest.approx(_hand_rate(x), rel=1e-3), path.name
+        assert e.fs == pytest.approx(12_800.0, rel=0.01)  # the speed is 1785 rpm within 0.6 %
+    assert kept >= 15  # 16 of 20; b30hz70 (9.881 kHz), h30hz50, 60, 70 (4.28 kHz) refused
+
+
+def test_analyze_without_a_rate_gives_their_rate_or_a_reason(capsys):
+    files = [str(DATA / f"{n}.csv.gz") for n in FOUR]
+    assert cli.run(["analyze", *files, "--shaft-rpm", "1785", "--teeth", "32", "--channel",
+                    "a1", "--json"]) == 0
+    for r, name in zip(json.loads(capsys.readouterr().out)["records"], FOUR, strict=True):
+        if r["fs_hz"] is None:
+            reasons = {s["tier"]: s["reason"] for s in r["skipped"]}
+            assert "give the rate (--fs)" in reasons["estimate.fs"]
+        else:
+            assert r["fs_provenance"] == "estimate"
+            assert r["fs_hz"] == pytest.approx(_hand_rate(_columns(name)["a1"]), rel=1e-3)
+
+
+def test_the_config_speed_is_named_as_such_when_the_record_disagrees(capsys):
+    """--config two-stage-reducer brings its operating speed, 30 Hz; h30hz0's mesh (32
+    teeth) says about 29.75 Hz. The warning called it the 'given speed'; it names the
+    configuration and the options that give the speed instead."""
+    x = _columns("h30hz0")["a1"]
+    amp = np.abs(np.fft.rfft((x - x.mean()) * np.hanning(x.size)))
+    f = np.fft.rfftfreq(x.size, 1 / 12_800.0)
+    band = np.abs(f / 960.0 - 1) < 0.03
+    hand = f[band][np.argmax(amp[band])] / 32  # the shaft speed from the mesh line [Hz]
+    assert cli.run(["analyze", str(DATA / "h30hz0.csv.gz"), "--fs", "12800", "--config",
+                    "two-stage-reducer", "--channel", "a1", "--json"]) == 0
+    (rec,) = json.loads(capsys.readouterr().out)["records"]
+    (warn,) = rec["warnings"]
+    assert warn.startswith("config speed 30 Hz (the operating speed of --config "
+                           "two-stage-reducer) disagrees with the speed estimated")
+    assert warn.endswith("every tier uses it: give --shaft-rpm or --speed-search")
+    pct = float(warn.split("(")[2].split(" %")[0])
+    assert pct == pytest.approx(100 * (hand / 30 - 1), abs=0.02)

@@ -91,3 +91,17 @@ def test_refusals():
         estimate_fs(x, shaft_frequency=F_R, fs_range=(5.0, 4.0))
     with pytest.raises(InputError, match="shaft_frequency"):
         estimate_fs(x, shaft_frequency=-1.0)
+
+
+
+def test_fs_refused_when_two_rates_fit_the_comb_equally():
+    """Mesh lines at 29 and 58 shaft orders and no sideband: mesh harmonics 1 and 2 at FS,
+    or mesh harmonic 1 at FS / 2 (the line at 29 orders then from elsewhere); no sideband
+    ties either to the shaft, so no rate is guessed and both are named."""
+    t = np.arange(int(6 * FS)) / FS
+    x = np.cos(2 * np.pi * 29 * F_R * t) + 0.5 * np.cos(2 * np.pi * 58 * F_R * t + 1)
+    x = x + 0.3 * np.random.default_rng(1).standard_normal(t.size)
+    with pytest.raises(InputError, match=r"sampling rate = ambiguous: .*give the rate "
+                                         r"\(--fs\)") as exc:
+        estimate_fs(x, shaft_frequency=F_R, teeth=TEETH)
+    assert "12.3" in str(exc.value) and "6.17" in str(exc.value)  # FS and FS / 2, in kHz

@@ -95,14 +95,21 @@ def test_speed_estimate_is_labelled_estimate():
 
 
 def test_estimates_fill_a_missing_rate_or_tooth_count_and_are_labelled():
-    """fs from the known shaft speed and the mesh line; teeth from the dominant tone; both
+    """fs from the known shaft speed and the mesh comb; teeth from the dominant tone; both
     labelled "estimate" (fs 12345 Hz, f_r 17 Hz, Z 29: values recovered within the
-    estimator's resolution, 1e-5 relative for fs)."""
+    estimator's resolution, 1e-5 relative for fs). Without sidebands the two mesh lines fit
+    fs (harmonics 1 and 2) and fs / 2 (harmonic 1) alike: the rate is skipped, not
+    guessed."""
     fs, f_r, z = 12345.0, 17.0, 29
     t = np.arange(int(4 * fs)) / fs
     x = (np.cos(2 * np.pi * z * f_r * t) + 0.4 * np.cos(4 * np.pi * z * f_r * t)
          + 0.3 * np.random.default_rng(0).normal(size=t.size))
     d = analyze_record(x, None, speed=f_r, teeth=[z]).to_dict()
+    assert d["fs_hz"] is None
+    reason = {s["tier"]: s["reason"] for s in d["skipped"]}["estimate.fs"]
+    assert "12.3" in reason and "6.17" in reason and "(--fs)" in reason  # fs, fs / 2 in kHz
+    sidebands = sum(a * np.cos(2 * np.pi * (z + m) * f_r * t) for m, a in ((-1, 0.2), (1, 0.15)))
+    d = analyze_record(x + sidebands, None, speed=f_r, teeth=[z]).to_dict()
     assert d["fs_provenance"] == "estimate"
     assert d["fs_hz"] == pytest.approx(fs, rel=1e-5)
     assert d["tiers"]["estimates"]["fs"]["estimate"] is True

@@ -17,7 +17,7 @@ import xarray as xr
 
 import gearsim as gs
 from gearsim.io.results import write_results
-from gearsim.studies.batch import analyze_file
+from gearsim.studies.batch import _read_channels, analyze_file
 
 
 @pytest.fixture(scope="module")
@@ -183,3 +183,44 @@ def test_a_steady_speed_off_the_operating_one_is_read_from_the_tacho(tmp_path):
     assert not problems
     assert row["record"]["source"]["tacho"] == "tacho[shaft=input]"
     assert row["record"]["speed_hz"] == pytest.approx(36.0, rel=0.01)
+
+
+
+def test_default_channels_of_a_result_are_its_vibration_records(turbine):
+    """No channel named: the tachos (pulse trains, 0/5 V) and carrier_angle (rad) were
+    analysed as vibration (tacho[shaft=rotor]: kurtosis 1107); now one channel per time
+    series of every variable of the file but those two, the q[dof=...] displacements kept;
+    a named one is still read."""
+    with xr.open_dataset(turbine) as ds:
+        assert ds["carrier_angle"].attrs.get("units") == "rad"
+        expected = sum(ds[v].size // ds.sizes["time"] for v in ds.data_vars
+                       if "time" in ds[v].dims and v not in ("tacho", "carrier_angle"))
+        n_q = ds["q"].size // ds.sizes["time"]
+    names = [c["channel"] for c in _read_channels(turbine, None, None, None, False, None)]
+    assert len(names) == expected
+    assert not any(n.startswith("tacho") or n == "carrier_angle" for n in names)
+    assert sum(n.startswith("q[dof=") for n in names) == n_q
+    assert {"sensor", "shaft_torque"} <= set(names)
+    (row,) = _read_channels(turbine, ["carrier_angle"], None, None, False, None)
+    assert row["channel"] == "carrier_angle"
+
+
+def test_short_stage_record_skips_in_plain_words(turbine):
+    """The 3 s turbine record is too short to check the carrier speed (8 revolutions) and
+    holds one passage of the carrier at angle 0 (separation needs two): the reasons were
+    'x.length = 18000 samples (3 s)' and 'carrier_pulses = shape (1,)'."""
+    (row,), problems = analyze_file(turbine, channels=["sensor"])
+    assert not problems
+    reasons = {s["tier"]: s["reason"] for s in row["record"]["skipped"]}
+    with xr.open_dataset(turbine) as ds:
+        fc = float(ds.attrs["carrier_frequency"])  # 22.1 rpm / 60
+        angle = ds["carrier_angle"].values
+    marks = math.floor(angle[-1] / (2 * math.pi)) - math.ceil(angle[0] / (2 * math.pi)) + 1
+    assert marks == 1
+    assert reasons["shaft.speed_check"] == (
+        f"the file's speed is not checked against the record: the check needs 8 shaft "
+        f"revolutions, {8 / fc:.4g} s at {fc:.4g} Hz, and the record lasts 3 s: a longer "
+        "record would allow it")
+    assert f"({1 / fc:.4g} s apart at {fc:.4g} Hz); the record of 3 s holds 1 passage:" in \
+        reasons["planetary.separation"]
+    assert not any(w in r for r in reasons.values() for w in ("x.length", "carrier_pulses"))

@@ -1,6 +1,6 @@
 """CLI verbs ``analyze`` and ``compare``: signal analysis of measured or simulated records.
 
-``analyze`` takes any number of files and glob patterns, analyses every channel (or the
+``analyze`` takes any number of files and glob patterns, analyses every vibration channel (or the
 ``--channel`` ones) tier by tier (:mod:`gearsim.signals.tiers`: statistics need nothing,
 the spectrum a sampling rate, shaft orders a speed, gear quantities tooth counts), and
 prints what each value rests on; ``--out`` writes the table (rows = file x channel) and
@@ -283,11 +283,16 @@ def analyze(
         help="record files or glob patterns (CSV/TXT, WAV, MAT, TDMS, UFF, NetCDF; "
              "quote globs)", show_default=False)],
     channel: Annotated[list[str] | None, typer.Option(
-        help="channel to analyse (repeat for several); default: every channel but the "
-             "tacho")] = None,
-    fs: Annotated[float | None, typer.Option(help="sampling rate [Hz] if not in the file; "
-                                             "without one, frequencies are in "
-                                             "cycles/sample")] = None,
+        help="channel to analyse (repeat for several; any channel); default: every "
+             "vibration channel: not the tachos (--tacho, a gearsim result's "
+             "tacho[shaft=...]) nor angles (carrier_angle); a gearsim result's "
+             "displacements q[dof=...] are included")] = None,
+    fs: Annotated[float | None, typer.Option(
+        help="sampling rate [Hz] if not in the file; without one, a speed given "
+             "(--shaft-rpm or --config) makes an estimate from the record's mesh lines "
+             "and sidebands (with teeth) or shaft lines (without), labelled estimate, or "
+             "a reason when several rates fit; with no speed, frequencies are in "
+             "cycles/sample")] = None,
     format_: Annotated[str | None, typer.Option(
         "--format", help="file format (csv, wav, mat, tdms, uff, netcdf) instead of the "
                          "extension")] = None,
@@ -489,6 +494,7 @@ def analyze(
         options["provenance"] = {k: "config" for k, v in (
             ("speed", config_speed is not None and n_speed == 0), ("teeth", zs or stg),
             ("stage", stage_z)) if v}
+        options["provenance"]["config"] = config  # named in what rests on it
     with ExitStack() as stack:  # OUT's lock, from the first part to the table
         if out_path is not None:
             from gearsim.studies.sweep_run import store_lock

@@ -14,7 +14,11 @@ line (:func:`~gearsim.signals.periodicity.line_significance`, p-value below ``al
 for ``d > 2`` the line at :math:`2\nu_0/d` must be significant too, so that one noise
 bin cannot pass) is kept: the lowest member of the series present in the spectrum. The frequency of the
 strongest line is refined by the two-bin interpolation of Grandke (1983)
-(:func:`~gearsim.signals.spectrum.tone`) and divided by ``d``.
+(:func:`~gearsim.signals.spectrum.tone`) and divided by ``d``. The rule serves the
+envelope method and :func:`estimate_teeth`; the sampling rate from a mesh (``teeth``
+given) is chosen by the whole comb instead (:func:`estimate_fs`), since on a real gearbox
+record the shaft harmonics between mesh lines pass the rule for any ``d``: the
+SpectraQuest records gave 2, 4, 8 and 10.7 times their rate.
 
 References
 ----------
@@ -30,6 +34,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.ndimage import median_filter
 
 from gearsim.errors import InputError
 from gearsim.signals._checks import as_signal, check_fs, check_int, check_positive, check_probability
@@ -61,8 +66,8 @@ class FsEstimate:
         Shaft order of that line: ``teeth`` (mesh), 1 (envelope) or the integer order of
         the record's strongest line (envelope+order).
     divisor : int
-        ``d``: the strongest line of the searched spectrum was harmonic ``d`` of the
-        fundamental (mesh, or shaft in the envelope).
+        ``d``: the line that refined the rate was harmonic ``d`` of the fundamental (mesh:
+        the strongest mesh harmonic of the comb kept; envelope: of the shaft).
     snr : float
         Line-to-floor power ratio of that fundamental (linear).
     p_value : float
@@ -75,6 +80,11 @@ class FsEstimate:
         The known shaft frequency used (Hz).
     estimate : bool
         Always True: the value is inferred, not measured.
+    score : float or None
+        Mesh method: comb score of the rate kept (mean line evidence, log10 of line to
+        floor in [0, 3], on the comb minus off it); None for the envelope methods.
+    runner_up : float or None
+        Mesh method: the best score of any other candidate rate (None if there was none).
     """
 
     fs: float
@@ -87,6 +97,8 @@ class FsEstimate:
     relative_resolution: float
     shaft_frequency: float
     estimate: bool = field(default=True)
+    score: float | None = None
+    runner_up: float | None = None
 
     def to_dict(self) -> dict:
         """JSON-serialisable dict.
@@ -192,6 +204,131 @@ def _lowest_member(power: np.ndarray, k0: float, harmonics: int, alpha: float):
     return best
 
 
+#: Sideband orders ``|m| <= COMB_SIDEBANDS`` around each mesh harmonic in the comb test.
+COMB_SIDEBANDS = 3
+#: Strongest lines of the record each taken, in turn, for every comb line ``n Z + m``.
+COMB_SOURCE_LINES = 5
+#: Line evidence counts from this multiple of the local floor (mean noise power): a noise
+#: bin exceeds it with probability exp(-5) = 0.7 %, so empty comb positions add ~0.
+COMB_FLOOR = 5.0
+#: A line: at least this multiple of the local floor (10 dB).
+COMB_LINE = 10.0
+#: Fewest periodogram bins per shaft order for a candidate rate (finer combs cannot put
+#: their off-comb positions clear of their lines).
+COMB_MIN_BINS = 8
+#: Shifts (fractions of a shaft order) of the off-comb positions: half a shaft order
+#: refutes a rate 2, 4, ... times too high or too low, a third 3 or 6 times.
+COMB_SHIFTS = (1 / 2, 1 / 3, 2 / 3)
+#: Candidate rates closer than this (relative) are one hypothesis (the record's speed
+#: wander and the line used move a rate by up to about 1e-3; the nearest distinct
+#: hypotheses, mesh harmonic h with or without a sideband, differ by 1/(h Z)).
+COMB_SAME = 1e-3
+#: A rate is kept only if no other candidate scores more than this fraction of its score.
+COMB_DECISIVE = 2 / 3
+
+
+def _fs_bounds(fs_range):
+    """``(low, high)`` of ``fs_range`` checked, or None."""
+    if fs_range is None:
+        return None
+    try:
+        lo_fs, hi_fs = (check_positive("fs_range", v) for v in fs_range)
+    except TypeError:
+        raise InputError("fs_range", fs_range, "must be a pair (low, high) in Hz") from None
+    if lo_fs >= hi_fs:
+        raise InputError("fs_range", fs_range, "must satisfy low < high")
+    return lo_fs, hi_fs
+
+
+def _at(evidence: np.ndarray, pos: np.ndarray) -> np.ndarray:
+    """Evidence at fractional bins ``pos``: the largest of the bins within one bin of each
+    (a line smeared by the speed's wander peaks a bin away from its nominal position)."""
+    k = np.round(pos).astype(int)
+    return np.maximum(np.maximum(evidence[k - 1], evidence[k]), evidence[k + 1])
+
+
+def _comb_score(evidence: np.ndarray, n: int, spacing: float, teeth: int) -> float:
+    """Mean line evidence on the comb ``(n Z + m) spacing`` (``n`` up to the highest mesh
+    harmonic that is a line: :data:`COMB_LINE`) minus the largest mean on the comb
+    shifted by a fraction of ``spacing`` (:data:`COMB_SHIFTS`); -inf if the mesh
+    fundamental ``Z spacing`` is no line. Each position reads the two bins around it."""
+    step = spacing * n  # bins per shaft order
+    mesh = np.arange(1, int(0.5 / (spacing * teeth)) + 1) * teeth * step
+    mesh = mesh[mesh < evidence.size - 2]
+    line = np.log10(COMB_LINE / COMB_FLOOR)
+    if not mesh.size or _at(evidence, mesh[:1])[0] < line:
+        return -np.inf
+    orders = (np.arange(1, np.flatnonzero(_at(evidence, mesh) >= line)[-1] + 2)[:, None] * teeth
+              + np.arange(-COMB_SIDEBANDS, COMB_SIDEBANDS + 1)[None, :]).ravel()
+    pos = orders * step
+    pos = pos[(pos > _LOW_BINS) & (pos + step < evidence.size - 2)]
+    if not pos.size:
+        return -np.inf
+    return float(_at(evidence, pos).mean()
+                 - max(_at(evidence, pos + f * step).mean() for f in COMB_SHIFTS))
+
+
+def _mesh_comb_fs(a, f_r, teeth, harmonics, bounds, alpha):
+    """The mesh method of :func:`estimate_fs`: candidates, comb scores, decision."""
+    n = a.size
+    power = periodogram(a)
+    floor = median_filter(power, size=101, mode="nearest") / np.log(2)
+    # line evidence: log10 of a local maximum over COMB_FLOOR times the local floor, in
+    # [0, 3]; 0 off the maxima (a strong line's neighbours are its leakage, not lines)
+    evidence = np.clip(np.log10(power / np.maximum(COMB_FLOOR * floor, 1e-300)), 0, 3)
+    evidence[1:-1] *= (power[1:-1] >= power[:-2]) & (power[1:-1] >= power[2:])
+    k = np.arange(_LOW_BINS + 2, power.size - 3)
+    peak = ((power[k] >= power[k - 1]) & (power[k] > power[k + 1])
+            & (power[k] >= power[k - 2]) & (power[k] > power[k + 2]))
+    peaks = k[peak][np.argsort(power[k[peak]])[::-1][:COMB_SOURCE_LINES]]
+    spec = amplitude_spectrum(a, 1.0, window="hann")
+    cands: list[tuple[float, float]] = []  # (score, shaft frequency in cycles/sample)
+    for p in peaks:
+        nu_p = tone(spec, p / n, search=1.0 / n).frequency
+        for h in range(1, harmonics + 1):
+            for m in range(-COMB_SIDEBANDS, COMB_SIDEBANDS + 1):
+                spacing = nu_p / (h * teeth + m)
+                if spacing * n < COMB_MIN_BINS or (
+                        bounds is not None and not bounds[0] <= f_r / spacing <= bounds[1]):
+                    continue
+                cands.append((_comb_score(evidence, n, spacing, teeth), spacing))
+    kept: list[tuple[float, float]] = []  # the best of each hypothesis, best first
+    for c in sorted((c for c in cands if np.isfinite(c[0])), reverse=True):
+        if all(abs(c[1] / k[1] - 1) > COMB_SAME for k in kept):
+            kept.append(c)
+    cands = kept
+    where = f"the comb of {teeth} teeth at {f_r:g} Hz (mesh harmonics and their shaft sidebands)"
+    if not cands or cands[0][0] <= 0:
+        raise InputError("sampling rate", "not estimated",
+                         f"no candidate rate puts the record's lines on {where}: give the rate "
+                         "(--fs)")
+    best, spacing = cands[0]
+    rivals = [c for c in cands[1:] if c[0] > COMB_DECISIVE * best]
+    if rivals:
+        shown = ", ".join(f"{f_r / c[1] / 1e3:.4g} kHz (score {c[0]:.2f})"
+                          for c in [cands[0], *rivals[:3]])
+        raise InputError("sampling rate", "ambiguous",
+                         f"the record's lines fit {where} about as well at several rates: "
+                         f"{shown}; give the rate (--fs)")
+    # refine by the strongest mesh harmonic on the chosen comb (interpolated)
+    hs = np.arange(1, int(0.5 / (spacing * teeth)) + 1)
+    hs = hs[hs * teeth * spacing * n < power.size - 2]
+    d = int(hs[np.argmax([power[int(round(h * teeth * spacing * n))] for h in hs])])
+    nu_d = tone(spec, d * teeth * spacing, search=1.0 / n).frequency
+    test = line_significance(power, nu_d / d * n, search_bins=1)
+    if test.p_value >= alpha:
+        raise InputError("sampling rate", "not estimated",
+                         f"the mesh fundamental of the best fit of {where}, at "
+                         f"{f_r / spacing / 1e3:.4g} kHz, is not significant (p = "
+                         f"{test.p_value:.2g}): give the rate (--fs)")
+    return FsEstimate(
+        fs=float(d * teeth * f_r / nu_d), method="mesh", cycles_per_sample=float(nu_d / d),
+        order=teeth, divisor=d, snr=test.snr, p_value=test.p_value,
+        relative_resolution=float(0.5 / (n * nu_d)), shaft_frequency=f_r,
+        score=best, runner_up=float(cands[1][0]) if len(cands) > 1 else None,
+    )
+
+
 def estimate_fs(
     x: np.ndarray,
     *,
@@ -203,17 +340,30 @@ def estimate_fs(
 ) -> FsEstimate:
     r"""Estimate the sampling rate from a known shaft speed and the record's periodicity.
 
-    With ``teeth`` ("mesh"): the strongest line of the spectrum is a mesh harmonic; its
-    series' fundamental :math:`\nu_m` (cycles per sample) is :math:`Z f_r / f_s`, so
-    :math:`\hat f_s = Z f_r / \nu_m`. Without ("envelope"): the strongest line of the
-    squared envelope below half the frequency of the record's strongest line is a shaft
-    harmonic; its fundamental :math:`\nu_r = f_r / f_s` gives :math:`\hat f_s = f_r /
-    \nu_r`; the record's strongest line, synchronous with the shaft, then lies at an
-    integer order :math:`q \approx \nu_0/\nu_r` and, when the rounding is unambiguous,
+    With ``teeth`` ("mesh"): a line at :math:`\nu` cycles per sample taken for comb line
+    :math:`q = nZ + m` (mesh harmonic ``n``, shaft sideband ``m``) gives the rate
+    :math:`f_s = q f_r / \nu`. Every such rate is a candidate, for each of the
+    :data:`COMB_SOURCE_LINES` strongest lines, ``n = 1..harmonics`` and
+    :math:`|m| \le` :data:`COMB_SIDEBANDS`; a candidate whose mesh fundamental is no line
+    (:data:`COMB_LINE` times the local floor) is dropped. Each is scored by its whole
+    comb, the mesh harmonics up to the highest that is a line and their shaft sidebands:
+    the mean line evidence (:math:`\log_{10}` of a local maximum of the periodogram
+    within a bin of the position over :data:`COMB_FLOOR` times the local median floor,
+    clipped to [0, 3]) on the comb minus the largest mean on the comb shifted by a half
+    or a third of a shaft order (a rate k times too high puts half its comb between the
+    record's lines, one k times too low leaves lines on the shifted comb). The best
+    candidate is kept only when no other scores more than :data:`COMB_DECISIVE` of it;
+    otherwise the rate is refused, naming the candidates. The rate kept is refined by
+    its strongest mesh harmonic ``d`` (interpolated): :math:`\hat f_s = d Z f_r /
+    \nu_d`. Without ("envelope"): the strongest line of the squared envelope below half
+    the frequency of the record's strongest line is a shaft harmonic; its fundamental
+    :math:`\nu_r = f_r / f_s` gives :math:`\hat f_s = f_r / \nu_r`; the record's
+    strongest line, synchronous with the shaft, then lies at an integer order
+    :math:`q \approx \nu_0/\nu_r` and, when the rounding is unambiguous,
     :math:`\hat f_s = \mathrm{round}(q) f_r / \nu_0` is ``q`` times more precise
     ("envelope+order"). The series rule is in the module docstring. With ``fs_range``
-    the fundamental is the strongest line in the matching band of :math:`\nu` (no
-    series rule).
+    the envelope's fundamental is the strongest line in the matching band of :math:`\nu`
+    (no series rule).
 
     Parameters
     ----------
@@ -228,9 +378,11 @@ def estimate_fs(
         Largest harmonic number the strongest line may be taken for, >= 1 (impacts put
         a comb of shaft harmonics of similar height in the envelope).
     fs_range : tuple of float, optional
-        ``(low, high)`` bounds (Hz) on the sampling rate, if known.
+        ``(low, high)`` bounds (Hz) on the sampling rate, if known (mesh: only candidates
+        inside are scored).
     alpha : float, default 1e-3
-        Significance level for a candidate fundamental line.
+        Significance level for a candidate fundamental line (mesh: for the mesh
+        fundamental of the rate kept).
 
     Returns
     -------
@@ -240,8 +392,10 @@ def estimate_fs(
     Raises
     ------
     InputError
-        If an argument is out of range, ``fs_range`` selects no bin, or the record is too
-        short for a noise floor beside the line.
+        If an argument is out of range, ``fs_range`` selects no bin, the record is too
+        short for a noise floor beside the line, or (mesh) no candidate rate fits the comb
+        or several fit it about equally (``sampling rate = ambiguous``, the candidates
+        named).
 
     References
     ----------
@@ -252,32 +406,23 @@ def estimate_fs(
     harmonics = check_int("harmonics", harmonics, minimum=1)
     alpha = check_probability("alpha", alpha)
     n = a.size
-    if teeth is None:
-        order, method = 1, "envelope"
-        sig = squared_envelope(a - a.mean(), 1.0)
-    else:
-        order, method = check_int("teeth", teeth, minimum=1), "mesh"
-        sig = a
+    if teeth is not None:
+        return _mesh_comb_fs(a, f_r, check_int("teeth", teeth, minimum=1), harmonics,
+                             _fs_bounds(fs_range), alpha)
+    order, method = 1, "envelope"
+    sig = squared_envelope(a - a.mean(), 1.0)
     power = periodogram(sig)
-    raw_power = power if teeth is not None else periodogram(a)
-    raw_peak = int(np.argmax(raw_power[_LOW_BINS:])) + _LOW_BINS
+    raw_peak = int(np.argmax(periodogram(a)[_LOW_BINS:])) + _LOW_BINS
     top = power.size - 1 - _LOW_BINS
     if fs_range is not None:
-        try:
-            lo_fs, hi_fs = (check_positive("fs_range", v) for v in fs_range)
-        except TypeError:
-            raise InputError("fs_range", fs_range, "must be a pair (low, high) in Hz") from None
-        if lo_fs >= hi_fs:
-            raise InputError("fs_range", fs_range, "must satisfy low < high")
+        lo_fs, hi_fs = _fs_bounds(fs_range)
         k_lo = max(_LOW_BINS, int(np.floor(n * order * f_r / hi_fs)))
         k_hi = min(top, int(np.ceil(n * order * f_r / lo_fs)))
         harmonics = 1
     else:
-        k_lo, k_hi = _LOW_BINS, top
-        if teeth is None:
-            # Products of mesh harmonics put lines at multiples of the mesh fundamental,
-            # itself >= (strongest raw line) / harmonics: search below half of that.
-            k_hi = min(top, int(raw_peak // (2 * harmonics)))
+        # Products of mesh harmonics put lines at multiples of the mesh fundamental,
+        # itself >= (strongest raw line) / harmonics: search below half of that.
+        k_lo, k_hi = _LOW_BINS, min(top, int(raw_peak // (2 * harmonics)))
     if k_hi <= k_lo:
         raise InputError("fs_range" if fs_range is not None else "record length",
                          f"bins {k_lo}..{k_hi}", "selects no periodogram bin to search")
@@ -286,16 +431,15 @@ def estimate_fs(
     d, test = _lowest_member(power, nu0 * n, harmonics, alpha)
     nu = nu0 / d
     resolution = 0.5 / (n * nu0)
-    if teeth is None:
-        # Refine by the strongest line of the record: synchronous with the shaft, it lies
-        # at an integer order q; usable when the rounding of q is unambiguous.
-        nu_raw = tone(amplitude_spectrum(a, 1.0, window="hann"), raw_peak / n,
-                      search=1.0 / n).frequency
-        q = nu_raw / nu
-        q_int = int(round(q))
-        if q_int >= 2 and q * resolution < 0.5:
-            method, order, nu = "envelope+order", q_int, nu_raw
-            resolution = 0.5 / (n * nu_raw)
+    # Refine by the strongest line of the record: synchronous with the shaft, it lies
+    # at an integer order q; usable when the rounding of q is unambiguous.
+    nu_raw = tone(amplitude_spectrum(a, 1.0, window="hann"), raw_peak / n,
+                  search=1.0 / n).frequency
+    q = nu_raw / nu
+    q_int = int(round(q))
+    if q_int >= 2 and q * resolution < 0.5:
+        method, order, nu = "envelope+order", q_int, nu_raw
+        resolution = 0.5 / (n * nu_raw)
     return FsEstimate(
         fs=float(order * f_r / nu), method=method, cycles_per_sample=float(nu), order=order,
         divisor=d, snr=test.snr, p_value=test.p_value,

@@ -237,6 +237,14 @@ def _separated(a: np.ndarray, fs: float, spec: StageSpec, skipped: list) -> dict
     t_end = a.size / fs
     first = ((-spec.carrier_phase) % (2 * math.pi)) / (2 * math.pi * fc)
     pulses = np.arange(first, t_end, 1.0 / fc)
+    if pulses.size < 2:  # the averages need one whole carrier revolution between marks
+        skipped.append({"tier": "planetary.separation", "reason": f"the planets and the sun "
+                        f"are separated over whole carrier revolutions, from one passage of "
+                        f"the carrier at angle 0 to the next ({1 / fc:.4g} s apart at "
+                        f"{fc:.4g} Hz); the record of {t_end:.4g} s holds {pulses.size} "
+                        f"passage{'' if pulses.size == 1 else 's'}: one of "
+                        f"{first + 1 / fc:.4g} s or longer would hold two"})
+        return None
     common = dict(carrier_pulses=pulses, z_sun=spec.z_sun, z_planet=spec.z_planet,
                   z_ring=spec.z_ring, planets=spec.planets, sensor_angle=spec.sensor_angle,
                   window="hann", window_teeth=max(k, 1), samples_per_tooth=16)

@@ -593,10 +593,11 @@ def _kurtogram(a: np.ndarray, fs: float | None, skipped: list) -> dict | None:
 
 
 def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warnings,
-                   slowest=1.0):
+                   slowest=1.0, config=None):
     """(speed Hz, provenance, profile or None, SpeedEstimate or None); speed None with a
     skip reason when it cannot be had. ``slowest``: the slowest shaft's frequency over the
-    measured one's (:data:`STEADY_TRACK_BAND`)."""
+    measured one's (:data:`STEADY_TRACK_BAND`); ``config``: the configuration a speed of
+    provenance ``config`` came from, as written."""
     from gearsim.signals import speed as sp
 
     if speed is not None:
@@ -606,9 +607,22 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warni
             try:
                 warn = sp.check_given_speed(a, fs, float(speed), order=order)
             except InputError as exc:
-                warn = f"not checked: {_first_line(exc)}"
-            if warn and warn.startswith("not checked"):
-                skipped.append({"tier": "shaft.speed_check", "reason": warn})
+                whose = {"config": "the configuration's", "file": "the file's"}.get(
+                    prov, "the given")
+                why = {"x.length": f"the check needs {sp.MIN_PERIODS:g} shaft revolutions, "
+                                   f"{sp.MIN_PERIODS / speed:.4g} s at {speed:.4g} Hz, and the "
+                                   f"record lasts {a.size / fs:.4g} s: a longer record would "
+                                   "allow it",
+                       "x": f"the record has no line near the mesh order {order:g} of that "
+                            "speed to compare it with"}.get(exc.parameter, _first_line(exc))
+                skipped.append({"tier": "shaft.speed_check", "reason": f"{whose} speed is not "
+                                f"checked against the record: {why}"})
+                warn = None
+            if warn and prov == "config":  # the configuration's speed, not the user's
+                warnings.append(warn.replace("given speed", "config speed", 1).replace(
+                    " disagrees", f" (the operating speed of --config {config}) disagrees"
+                    if config else " (the configuration's operating speed) disagrees", 1)
+                    + "; every tier uses it: give --shaft-rpm or --speed-search")
             elif warn:  # every tier uses the speed given: a warning, not a skip
                 warnings.append(f"{warn}; every tier uses the given speed")
         return float(speed), prov or "given", None, None
@@ -1090,7 +1104,8 @@ def analyze_record(
         else:
             fs, prov_fs = float(est.fs), "estimate"
             estimates["fs"] = {"value_hz": est.fs, "method": est.method, "snr": est.snr,
-                               "p_value": est.p_value, "estimate": True}
+                               "p_value": est.p_value, "comb_score": est.score,
+                               "runner_up_score": est.runner_up, "estimate": True}
 
     rec = RecordAnalysis(n_samples=int(a.size), fs=fs, fs_provenance=prov_fs if fs else None,
                          speed=None, speed_provenance=None, teeth=zs,
@@ -1132,7 +1147,8 @@ def analyze_record(
         slowest = min([1.0, *_other_orders(1.0, zs, pairs, 1.0)])
         f_r, prov_speed, profile, est_speed = _resolve_speed(a, fs, speed, tacho, ppr, speed_search,
                                                              order, skipped, speed_provenance,
-                                                             rec.warnings, slowest)
+                                                             rec.warnings, slowest,
+                                                             (source or {}).get("config"))
         if est_speed is not None:
             rec.tiers.setdefault("estimates", {})["speed"] = est_speed.to_dict()
         if f_r is not None:

@@ -53,6 +53,7 @@ __all__ = [
     "problems_error",
     "Batch",
     "analyze_file",
+    "is_vibration",
     "expand_inputs",
     "labels_from_csv",
     "labels_from_pattern",
@@ -192,6 +193,25 @@ def _label_of(labels: Mapping | None, file: str, channel: str) -> str | None:
     return None
 
 
+def is_vibration(channel: str, units: str | None) -> bool:
+    """Whether a channel is analysed by default: not a tacho pulse train (``tacho``, a
+    gearsim result's ``tacho[shaft=...]``) nor an angle (units ``rad``: ``carrier_angle``).
+
+    Parameters
+    ----------
+    channel : str
+        Channel name as in the file.
+    units : str or None
+        Its units, if the file gives them.
+
+    Returns
+    -------
+    bool
+        True for a vibration record (accelerations, forces, torques, displacements).
+    """
+    return not (channel == "tacho" or channel.startswith("tacho[") or units == "rad")
+
+
 def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho,
                    own_tachos: bool = True) -> list[dict]:
     """Channels of one file (one :func:`~gearsim.io.measured.read_record`): per channel
@@ -216,11 +236,16 @@ def _read_channels(path: str, channels, fs, fmt, drop_nonfinite, tacho,
     data, meta, name = rec.data, rec.metadata, Path(path).name
     if tacho is not None and tacho not in data:
         raise InputError("tacho", tacho, f"not in {name}; available: {list(data)}")
-    chosen = list(channels) if channels is not None else [n for n in data if n != tacho]
-    if tacho is not None and (tacho in chosen or not chosen):
+    chosen = list(channels) if channels is not None else \
+        [n for n in data if n != tacho and is_vibration(n, rec.units.get(n))]
+    if tacho is not None and (tacho in chosen or len(data) == 1):
         raise InputError("tacho", tacho, "is also a channel to analyse: a tacho is not "
                          "analysed as vibration" if chosen else f"is the only channel of "
                          f"{name}: no vibration channel is left to analyse")
+    if not chosen:
+        raise InputError("channel", "default", f"{name} holds no vibration channel (a tacho "
+                         f"or an angle is analysed only when named): give --channel, one of "
+                         f"{list(data)}")
     for c in chosen:
         _check_tacho_shaft(tacho, c, meta)
     own = _own_tachos(path, chosen, meta, fs, fmt) if tacho is None and own_tachos else {}
@@ -395,7 +420,8 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
     path : str
         The record file.
     channels : sequence of str, optional
-        Channels to analyse; default all but the tacho.
+        Channels to analyse; default the vibration channels (:func:`is_vibration`: not
+        ``tacho``, the tachos nor the angles).
     fs : float, optional
         Sampling rate [Hz] when the file stores none (checked against it otherwise).
     fmt : str, optional
@@ -430,7 +456,9 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
     provenance : mapping, optional
         Where ``speed`` (key ``"speed"``), ``teeth`` or ``stages`` (``"teeth"``) and
         ``stage`` (``"stage"``) come from when not from the file (``"config"``: a
-        gearbox's kinematics, ``gearsim analyze --config``); default: given.
+        gearbox's kinematics, ``gearsim analyze --config``); default: given. Key
+        ``"config"``: that gearbox as written, named in the record's ``source`` and in a
+        warning when the record disagrees with its speed.
 
     Returns
     -------
@@ -473,6 +501,8 @@ def analyze_file(path: str, *, channels: Sequence[str] | None = None, fs: float 
         else:
             train = {"stages": stages} if stages is not None else {"teeth": teeth}
         src = {"file": path, "channel": ch["channel"]}
+        if said.get("speed") == "config" and said.get("config"):  # whose speed is used
+            src["config"] = said["config"]
         if ch.get("own_tacho"):  # a run whose speed changes: the file's own tacho
             src["tacho"] = ch["own_tacho"]
         if ch.get("dropped"):
@@ -1076,7 +1106,8 @@ def run_batch(files: Sequence[str | Path], *, channels: Sequence[str] | None = N
     files : sequence of str or Path
         Files or glob patterns.
     channels : sequence of str, optional
-        Channels to analyse in every file; default all (but the tacho).
+        Channels to analyse in every file; default the vibration channels
+        (:func:`is_vibration`: not ``tacho``, the tachos nor the angles).
     fs : float, optional
         Sampling rate [Hz] for files that store none.
     fmt : str, optional

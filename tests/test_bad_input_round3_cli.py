@@ -117,21 +117,25 @@ def test_sweep_report_of_a_too_small_study_refused_before_the_sweep(tmp_path, ca
     (tmp_path / "s.toml").write_text(SHORT.replace("0.3 s", "0.6 s"))
     line = refused(capsys, "sweep", "s.toml", "--out", "s.nc", "--report", "rep", cwd=tmp_path)
     assert line == ("gearsim: error: --report = rep: the study is too small to cross-validate: "
-                    "every noise level has a class of < 2 cases (at noise 0: none 1, working 1);"
-                    " add replicates, depths or loads")
+                    "the folds are grouped by simulation and every noise level has a class of "
+                    "< 2 simulations (at noise 0: none 1, working 1; noise realisations, and a "
+                    "healthy case's nominal depths or severities, share one simulation); add "
+                    "torques or speeds")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
 
 
 def _store(path, noise=(0.0,), depths=(1e-3,)):
-    """A synthetic store: one case per flank, noise level and depth; features that separate
-    the flanks in every feature group."""
+    """A synthetic store: one case per flank, noise level and depth, the depths at their own
+    torque (as random sampling draws them: one simulation per depth, the healthy one
+    included); features that separate the flanks in every feature group."""
     grid = np.array([(f, z, d) for f in ("none", "working") for z in noise for d in depths])
     flank, nz, depth = grid[:, 0], grid[:, 1].astype(float), grid[:, 2].astype(float)
     x = np.where(flank == "none", 0.0, 5.0) + np.random.default_rng(0).normal(size=flank.size)
     xr.Dataset({"status": ("case", ["ok"] * flank.size), "error": ("case", [""] * flank.size),
                 **{f"{g}_x": ("case", x + i) for i, g in enumerate(("td", "sb", "tsa", "band"))}},
                coords={"case": np.arange(flank.size), "flank": ("case", flank),
-                       "noise": ("case", nz), "crack_depth": ("case", depth)},
+                       "noise": ("case", nz), "crack_depth": ("case", depth),
+                       "torque": ("case", 1e6 * depth)},
                attrs={"title": "synthetic", "study": "[parameters]", "n_cases": flank.size}
                ).to_netcdf(path, engine="h5netcdf")
     return path
@@ -140,18 +144,21 @@ def _store(path, noise=(0.0,), depths=(1e-3,)):
 def test_sweep_report_too_small_store_says_why(tmp_path, capsys):
     store = _store(tmp_path / "one.nc", noise=(0.0, 0.1))
     line = refused(capsys, "sweep-report", store, "--out", tmp_path / "rep")
-    assert line == (f"gearsim: error: store = {store}: too small to cross-validate: every noise "
-                    "level has a class of < 2 successful cases (at noise 0: none 1, working 1);"
-                    " add replicates, depths or loads")
+    assert line == (f"gearsim: error: store = {store}: too small to cross-validate: the folds "
+                    "are grouped by simulation and every noise level has a class of < 2 "
+                    "simulations (at noise 0: none 1, working 1; noise realisations, and a "
+                    "healthy case's nominal depths or severities, share one simulation); add "
+                    "torques or speeds")
     assert not (tmp_path / "rep").exists()
-    # rows pooling the two depths can be scored, those of one depth (1 case per class)
-    # cannot: said in one warning line
+    # rows pooling the two depths can be scored, those of one depth (1 simulation per
+    # class) cannot: said in one warning line
     r = run_here(capsys, "sweep-report", _store(tmp_path / "two.nc", depths=(1e-3, 2e-3)), "--out",
             tmp_path / "rep")
     assert r.returncode == 0, r.stderr
     assert r.stderr.strip().splitlines() == [
-        "gearsim: warning: 10 of 15 rows of the report are n/a (accuracy and AUC NaN): their "
-        "subset has < 2 successful cases of a class; add replicates to score them"]
+        "gearsim: warning: 10 of 15 rows of the report are n/a (accuracy and AUC NaN, folds < "
+        "2): their subset has < 2 simulations of a class (the folds are grouped by "
+        "simulation); add torques or speeds to score them"]
 
 
 STAGE = """

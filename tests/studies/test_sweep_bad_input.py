@@ -259,7 +259,8 @@ def test_case_failing_at_run_time_is_recorded():
 # -- sweep-report ------------------------------------------------------------------------
 
 def _store(path: Path, flanks=("none", "working", "non-working"), n=12) -> Path:
-    """A synthetic sweep store: one feature that separates the flanks."""
+    """A synthetic sweep store: one feature that separates the flanks; every case at its
+    own torque (its own simulation: the report's folds are grouped by simulation)."""
     rng = np.random.default_rng(0)
     flank = np.repeat(np.array(flanks), n)
     centre = {"none": 0.0, "working": 5.0, "non-working": -5.0}
@@ -270,6 +271,7 @@ def _store(path: Path, flanks=("none", "working", "non-working"), n=12) -> Path:
                      "td_kurtosis": ("case", rng.normal(size=flank.size))},
                     coords={"case": np.arange(flank.size), "flank": ("case", flank),
                             "noise": ("case", np.zeros(flank.size)),
+                            "torque": ("case", 1000.0 + 10.0 * np.arange(flank.size)),
                             "crack_depth": ("case", np.full(flank.size, 1e-3))},
                     attrs={"title": "synthetic", "study": "[parameters]",
                            "n_cases": flank.size})

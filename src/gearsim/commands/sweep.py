@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-from collections import Counter
 from pathlib import Path
 from typing import Annotated
 
@@ -38,7 +37,12 @@ def sweep(
     speed, torque, bearing stiffness, noise) on Dask; resumes from OUT.parts/ after an
     interruption."""
     from gearsim.io.targets import check_output_file, check_output_folder
-    from gearsim.studies.diagnostic import CLASSES, FAULT_CLASSES, REPORT_NAMES
+    from gearsim.studies.diagnostic import (
+        CLASSES,
+        FAULT_CLASSES,
+        REPORT_NAMES,
+        require_simulations,
+    )
     from gearsim.studies.sweep import expand, load_study
     from gearsim.studies.sweep_run import (
         check_batch,
@@ -61,18 +65,16 @@ def sweep(
         check_output_folder(report, "--report", owned=REPORT_NAMES.__contains__)
         what, order = ("fault", FAULT_CLASSES) if "fault" in st.parameters else ("flank",
                                                                                 CLASSES)
-        n = Counter((getattr(c, what), c.noise) for c in expand(st))
-        classes = sorted({k for k, _ in n}, key=order.index)
+        cases = expand(st)
+        labels = [getattr(c, what) for c in cases]
+        classes = sorted(set(labels), key=order.index)
         if len(classes) < 2:
             raise InputError("--report", str(report), f"the study has {len(classes)} {what} "
                              f"class ({', '.join(classes)}); the diagnostic report compares "
                              "at least two of " + ", ".join(order))
-        z = max({z for _, z in n}, key=lambda z: min(n[c, z] for c in classes))
-        if min(n[c, z] for c in classes) < 2:  # the report's rows are per noise level
-            raise InputError("--report", str(report), "the study is too small to cross-"
-                             "validate: every noise level has a class of < 2 cases (at noise "
-                             f"{z:g}: " + ", ".join(f"{c} {n[c, z]}" for c in classes)
-                             + "); add replicates, depths or loads")
+        require_simulations(labels, [c.noise for c in cases],  # folds grouped by simulation
+                            [st.simulation_key(c) for c in cases], classes, "--report",
+                            str(report), "the study is ")
     res = run_study(st, out, scheduler=scheduler, workers=workers, progress=progress,
                     note=lambda line: typer.echo(line, err=True), batch=batch)
     typer.echo(f"gearsim: {res.n_cases} cases ({res.computed} computed, {res.skipped} resumed,"
@@ -86,8 +88,21 @@ def _report(store: Path, out: Path) -> None:
     from gearsim.studies.diagnostic import diagnostic_report
 
     paths = diagnostic_report(store, out, out_parameter="--report")
+    typer.echo(_folds_line(json.loads(paths[1].read_text())))
     for p in paths:
         typer.echo(f"gearsim: report written to {p}")
+
+
+def _folds_line(doc: dict) -> str:
+    """One line on the report's cross-validation: grouped by simulation, the simulations
+    of each class, the folds used and the rows left unscored."""
+    folds = sorted({r["folds"] for r in doc["rows"]})
+    n_na = sum(1 for r in doc["rows"] if r["folds"] < 2)
+    return ("gearsim: folds grouped by simulation ("
+            + ", ".join(f"{c} {n}" for c, n in doc["simulations"].items()) + " simulations); "
+            + "/".join(map(str, folds)) + " folds"
+            + (f"; {n_na} of {len(doc['rows'])} rows n/a (< 2 simulations of a class)"
+               if n_na else ""))
 
 
 def sweep_report(
@@ -102,8 +117,8 @@ def sweep_report(
 
 
     paths = diagnostic_report(store, out)
-    if json_:
-        typer.echo(json.dumps(json.loads(paths[1].read_text()), indent=2))
+    doc = json.loads(paths[1].read_text())
+    typer.echo(json.dumps(doc, indent=2) if json_ else _folds_line(doc))
     for p in paths:
         typer.echo(f"gearsim: report written to {p}")
 

@@ -9,14 +9,18 @@ non-working-flank crack). For each feature group (time-domain, sideband, STFT ba
 energy, TSA indicators, all together) and each subset of the store (per noise level with
 every depth or severity pooled, and per noise level and crack depth or severity) a
 multinomial logistic regression on standardised features is scored by stratified k-fold
-cross-validation: accuracy (chance 1 / number of classes), the macro-averaged one-vs-rest
-ROC AUC (chance 0.5) of the out-of-fold probabilities, and the confusion matrix of the
-out-of-fold predictions (rows: true class, columns: predicted class).
+cross-validation grouped by simulation (:func:`simulation_groups`: the cases of one
+simulated record, its noise realisations and the healthy record shared by every nominal
+depth or severity, stay in one fold, so no record is predicted by a model trained on a
+noisy copy of itself): accuracy (chance 1 / number of classes), the macro-averaged
+one-vs-rest ROC AUC (chance 0.5) of the out-of-fold probabilities, and the confusion
+matrix of the out-of-fold predictions (rows: true class, columns: predicted class).
 
 References
 ----------
 Pedregosa, F. et al. (2011). Scikit-learn: machine learning in Python. *JMLR* 12,
-2825-2830 (``LogisticRegression``, ``StandardScaler``, ``StratifiedKFold``).
+2825-2830 (``LogisticRegression``, ``StandardScaler``, ``StratifiedKFold``,
+``StratifiedGroupKFold``).
 Hastie, T., Tibshirani, R. & Friedman, J. (2009). *The Elements of Statistical
 Learning*, 2nd ed., Springer: sec. 4.4 (logistic regression), sec. 7.10 (cross-validation).
 Fawcett, T. (2006). An introduction to ROC analysis. *Pattern Recognit. Lett.* 27,
@@ -39,6 +43,7 @@ from gearsim._version import __version__
 from gearsim.errors import InputError, require
 from gearsim.io.targets import atomic_folder, check_output_folder
 from gearsim.model.variants import FAULT_CLASSES
+from gearsim.studies.sweep import simulation_params
 from gearsim.studies.sweep_case import FEATURE_GROUPS
 from gearsim.viz import save
 from gearsim.viz.sweep import plot_diagnostic
@@ -46,15 +51,21 @@ from gearsim.viz.sweep import plot_diagnostic
 __all__ = ["CLASSES", "FAULT_CLASSES", "FOLDS", "REPORT_NAMES", "STORE_ATTRS", "STORE_VARIABLES",
            "HEALTHY_LABELS", "class_labels", "columns_matrix", "diagnostic_report",
            "feature_matrix", "indicator_auc", "not_indicators", "open_store",
-           "reference_class", "separability", "separability_report", "separability_table"]
+           "reference_class", "require_simulations", "separability", "separability_report",
+           "separability_table", "simulation_groups"]
 
 #: The files of a separability report (its folder holds these only).
 REPORT_NAMES = ("separability.csv", "separability.json", "separability.png")
 
 #: Class labels of a store without faults: its ``flank`` coordinate.
 CLASSES = ("none", "working", "non-working")
-#: Folds of the stratified cross-validation.
+#: Folds of the stratified cross-validation (at most: fewer where a class has fewer
+#: simulations, or rows, than this).
 FOLDS = 5
+#: How the diagnostic report's folds are grouped, and why (the JSON's ``grouped_by``,
+#: ``method``).
+SIMULATION_GROUPS = ("the cases of one simulated record stay in one fold: its noise "
+                     "realisations, and a healthy record's every nominal depth or severity")
 #: Labels that name a healthy state (whole label, any case): such a label is the reference
 #: (negative) class of a separability report, the other class the positive one, so an
 #: AUC's direction reads as "the faulty rows have the higher (lower) values". Kept
@@ -403,7 +414,7 @@ def separability(x: np.ndarray, y: np.ndarray, *, folds: int = FOLDS, seed: int 
         Order of the rows and columns of the confusion matrix (classes absent from
         ``y`` give rows of zeros); default: no confusion matrix.
     groups : sequence of str, optional
-        Group of each row (a source file): every group's rows stay in one fold
+        Group of each row (a source file, a simulation): every group's rows stay in one fold
         (``StratifiedGroupKFold``), so no row is predicted by a model trained on another
         row of its group.
 
@@ -461,7 +472,79 @@ def separability(x: np.ndarray, y: np.ndarray, *, folds: int = FOLDS, seed: int 
     return out
 
 
-def separability_table(ds, *, groups: Sequence[str] | None = None) -> list[dict]:
+def simulation_groups(ds) -> np.ndarray:
+    """The simulated record of each case of a store: cases of equal number share one.
+
+    A case's simulation is given by its parameters (the store's coordinates along
+    ``case``) other than its noise level and noise realisation (``replicate``), with the
+    crack depth of an uncracked case and the severity and gear of a healthy one not
+    counted (:func:`gearsim.studies.sweep.simulation_params`): the rule by which
+    :func:`gearsim.studies.sweep_run.run_study` simulates each group once
+    (:meth:`gearsim.studies.sweep.Study.simulation_key`).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A sweep store or a subset of its cases.
+
+    Returns
+    -------
+    ndarray of int, shape (n_cases,)
+        Simulation number of each case (0, 1, ... in sorted order of the parameters).
+
+    Examples
+    --------
+    >>> import xarray as xr
+    >>> ds = xr.Dataset(coords={"flank": ("case", ["none", "none", "working", "working"]),
+    ...                         "crack_depth": ("case", [1e-3, 2e-3, 1e-3, 2e-3]),
+    ...                         "noise": ("case", [0.0, 0.1, 0.0, 0.1])})
+    >>> simulation_groups(ds).tolist()  # one healthy record, two cracked ones
+    [0, 0, 1, 2]
+    """
+    names = [str(c) for c in ds.coords if ds[c].dims == ("case",)
+             and c not in ("case", "case_key")]
+    values = {n: ds[n].values.tolist() for n in names}
+    keys = [json.dumps(simulation_params({n: values[n][i] for n in names}), sort_keys=True)
+            for i in range(ds.sizes["case"])]
+    return np.unique(np.asarray(keys, dtype=str), return_inverse=True)[1].ravel()
+
+
+def require_simulations(labels: Sequence[str], noise: Sequence[float],
+                        simulations: Sequence, classes: Sequence[str], parameter: str,
+                        value: str, subject: str = "") -> None:
+    """Refuse a study or store whose report could score no row: the folds are grouped by
+    simulation, so some noise level must have two simulations of every class.
+
+    Parameters
+    ----------
+    labels, noise, simulations : sequence
+        Class, noise level and simulation (any hashable key) of each case.
+    classes : sequence of str
+        The classes present, in report order.
+    parameter, value : str
+        Named in the message (``store``, ``--report``).
+    subject : str
+        Start of the reason (``"the study is "``).
+
+    Raises
+    ------
+    InputError
+        Every noise level has a class with fewer than 2 simulations.
+    """
+    seen: dict = {}
+    for c, z, g in zip(labels, noise, simulations, strict=True):
+        seen.setdefault((float(z), str(c)), set()).add(g)
+    counts = {z: {c: len(seen.get((z, c), ())) for c in classes} for z, _ in seen}
+    z, most = max(counts.items(), key=lambda zc: min(zc[1].values()))
+    require(min(most.values()) >= 2, parameter, value, f"{subject}too small to cross-validate:"
+            " the folds are grouped by simulation and every noise level has a class of < 2 "
+            f"simulations (at noise {z:g}: " + ", ".join(f"{c} {n}" for c, n in most.items())
+            + "; noise realisations, and a healthy case's nominal depths or severities, share "
+            "one simulation); add torques or speeds")
+
+
+def separability_table(ds, *, groups: Sequence[str] | None = None,
+                       by_simulation: bool = True) -> list[dict]:
     """Separability of the classes per feature group, noise level and depth or severity.
 
     Parameters
@@ -471,15 +554,21 @@ def separability_table(ds, *, groups: Sequence[str] | None = None) -> list[dict]
         is not ``"ok"`` are left out. Classes: :func:`class_labels`.
     groups : sequence of str, optional
         Feature groups; default: every group of :data:`FEATURE_GROUPS` and ``"all"``.
+    by_simulation : bool
+        Group the folds by simulation (:func:`simulation_groups`; the report's way);
+        ``False``: fold the cases (rows of one simulation then fall on both sides of a
+        split, which inflates the scores: for comparison only).
 
     Returns
     -------
     list of dict
-        Rows ``{group, noise, snr_db, crack_depth_mm, n, n_features, accuracy, auc,
-        confusion}`` for a store of flank classes, with ``severity`` (fraction of the
-        reference size) in place of ``crack_depth_mm`` for a store of fault classes;
-        the depth or severity is ``None`` for rows that pool every depth or severity
-        (healthy cases are counted at their nominal depth or severity).
+        Rows ``{group, noise, snr_db, crack_depth_mm, n, n_features, folds, accuracy,
+        auc, simulations, confusion}`` for a store of flank classes, with ``severity``
+        (fraction of the reference size) in place of ``crack_depth_mm`` for a store of
+        fault classes; the depth or severity is ``None`` for rows that pool every depth
+        or severity (healthy cases are counted at their nominal depth or severity).
+        ``folds``: the folds used (:func:`separability`; < 2: not scored, accuracy and
+        AUC NaN); ``simulations``: class -> its simulations in the subset.
         ``confusion``: counts of the out-of-fold predictions, rows true class, columns
         predicted, in the order of the classes present among the successful cases
         (:func:`class_labels` order); ``None`` when no classifier could be scored.
@@ -490,6 +579,7 @@ def separability_table(ds, *, groups: Sequence[str] | None = None) -> list[dict]
     groups = list(groups) if groups is not None else [*FEATURE_GROUPS.values(), "all"]
     coord, order = class_labels(ok)
     labels = np.asarray(ok[coord].values, dtype=str)
+    sims = simulation_groups(ok)
     classes = [c for c in order if c in set(labels)]
     if coord == "fault":
         level, key, scale = "severity", "severity", 1.0
@@ -506,16 +596,18 @@ def separability_table(ds, *, groups: Sequence[str] | None = None) -> list[dict]
             idx = np.flatnonzero(sel)
             sub = ok.isel(case=idx)
             y = labels[idx]
+            count = {c: int(np.unique(sims[idx][y == c]).size) for c in classes}
             for g in groups:
                 x, names = feature_matrix(sub, g)
-                r = separability(x, y, classes=classes)
+                r = separability(x, y, classes=classes,
+                                 groups=sims[idx] if by_simulation else None)
                 rows.append({
                     "group": g, "noise": float(noise),
                     "snr_db": 0.0 - 20 * math.log10(noise) if noise > 0 else math.inf,
                     key: None if value is None else round(scale * float(value), 6),
-                    "n": r["n"], "n_features": len(names),
+                    "n": r["n"], "n_features": len(names), "folds": r["folds"],
                     "accuracy": r["accuracy"], "auc": r["auc"],
-                    "confusion": r["confusion"],
+                    "simulations": count, "confusion": r["confusion"],
                 })
     return rows
 
@@ -569,11 +661,14 @@ def diagnostic_report(store: str | Path, out: str | Path, *,
     """Write ``separability.csv``, ``separability.json`` and ``separability.png``.
 
     The CSV has one row per feature group, noise level and depth or severity (pooled:
-    ``all``) with accuracy and AUC; the JSON the same rows with their confusion matrices
-    (``confusion``: rows true class, columns predicted class, in the order of
-    ``classes``), the class counts and the method; the figure the accuracy and AUC
-    against noise and depth or severity (top) and the confusion matrices of all feature
-    groups together at each noise level (bottom, :func:`gearsim.viz.sweep.plot_diagnostic`).
+    ``all``) with the folds used, accuracy and AUC; the JSON the same rows with their
+    confusion matrices (``confusion``: rows true class, columns predicted class, in the
+    order of ``classes``) and each class's simulations in the row's subset
+    (``simulations``), the class counts and simulations of the store, ``grouped_by``
+    (``"simulation"``: the folds are grouped by simulation, :func:`simulation_groups`)
+    and the method; the figure the accuracy and AUC against noise and depth or severity
+    (top) and the confusion matrices of all feature groups together at each noise level
+    (bottom, :func:`gearsim.viz.sweep.plot_diagnostic`).
     The folder is checked first and written as a whole
     (:func:`gearsim.io.targets.atomic_folder`): a killed run leaves an earlier report whole.
 
@@ -597,12 +692,14 @@ def diagnostic_report(store: str | Path, out: str | Path, *,
     InputError
         An output folder that cannot be written, a file that is not a sweep store, no
         successful case, fewer than two classes among the successful cases, or no noise
-        level with two successful cases of every class (too few to cross-validate).
+        level with two simulations of every class among the successful cases (too few to
+        cross-validate with grouped folds, :func:`require_simulations`).
 
     Warns
     -----
     UserWarning
-        When some rows cannot be scored (a subset with fewer than two cases of a class).
+        When some rows cannot be scored (a subset with fewer than two simulations of a
+        class).
     """
     # a folder holding anything else, or the working folder, is refused: it is replaced
     # whole (before: sweep-report --out DIR deleted DIR's files, the store reported on too)
@@ -621,19 +718,18 @@ def diagnostic_report(store: str | Path, out: str | Path, *,
                          f"({', '.join(present) or 'none'}); the report compares at least two"
                          " of " + ", ".join(order))
     counts = {c: int(np.sum(labels == c)) for c in present}
-    noise = ds["noise"].values[ok]  # rows are per noise level: one must have 2 of each class
-    z, most = max(((z, {c: int(np.sum((labels == c) & (noise == z))) for c in present})
-                   for z in np.unique(noise)), key=lambda zc: min(zc[1].values()))
-    require(min(most.values()) >= 2, "store", str(store), "too small to cross-validate: every "
-            f"noise level has a class of < 2 successful cases (at noise {z:g}: " + ", ".join(
-                f"{c} {n}" for c, n in most.items()) + "); add replicates, depths or loads")
+    sims = simulation_groups(ds.isel(case=np.flatnonzero(ok)))
+    # rows are per noise level, folds grouped by simulation: one level must have 2
+    # simulations of each class
+    require_simulations(labels, ds["noise"].values[ok], sims, present, "store", str(store))
     rows = separability_table(ds)
-    n_na = sum(1 for r in rows if r["accuracy"] != r["accuracy"] and r["n_features"])
-    if n_na:  # subsets (a noise level, a depth) with a class of < 2 cases: n/a, said why
+    n_na = sum(1 for r in rows if r["folds"] < 2 and r["n_features"])
+    if n_na:  # subsets (a noise level, a depth) with a class of < 2 simulations: said why
         warnings.warn(f"{n_na} of {len(rows)} rows of the report are n/a (accuracy and AUC "
-                      "NaN): their subset has < 2 successful cases of a class; add replicates "
-                      "to score them", UserWarning, stacklevel=2)
-    keys = [k for k in rows[0] if k != "confusion"]
+                      "NaN, folds < 2): their subset has < 2 simulations of a class (the folds"
+                      " are grouped by simulation); add torques or speeds to score them",
+                      UserWarning, stacklevel=2)
+    keys = [k for k in rows[0] if k not in ("confusion", "simulations")]
 
     def fmt(v) -> str:
         if v is None:
@@ -644,8 +740,12 @@ def diagnostic_report(store: str | Path, out: str | Path, *,
     doc = {"store": str(store), "study": ds.attrs.get("title", ""),
            "gearsim_version": __version__, "class_coordinate": coord, "classes": present,
            "counts": counts,
-           "method": f"StandardScaler + LogisticRegression, stratified {FOLDS}-fold CV; "
-                     "accuracy, macro one-vs-rest ROC AUC and confusion matrix of "
+           "simulations": {c: int(np.unique(sims[labels == c]).size) for c in present},
+           "grouped_by": "simulation",
+           "method": f"StandardScaler + LogisticRegression, stratified {FOLDS}-fold CV "
+                     f"grouped by simulation ({SIMULATION_GROUPS}); fewer folds where a "
+                     "class has fewer simulations in a row's subset (the row's folds; n/a "
+                     "below 2); accuracy, macro one-vs-rest ROC AUC and confusion matrix of "
                      "out-of-fold predictions",
            "confusion": "rows: true class, columns: predicted class, both in the order of "
                         "classes; counts of out-of-fold predictions (a row sums to the "
@@ -654,7 +754,8 @@ def diagnostic_report(store: str | Path, out: str | Path, *,
            "n_cases": int(ds.sizes["case"]), "n_ok": int(np.sum(ok)),
            "rows": [{k: (None if isinstance(v, float) and not math.isfinite(v) else v)
                      for k, v in r.items()} for r in rows]}
-    fig = plot_diagnostic(rows, present, title=ds.attrs.get("title", "parameter study"))
+    fig = plot_diagnostic(rows, present, title=ds.attrs.get("title", "parameter study"),
+                          method=f"stratified {FOLDS}-fold CV grouped by simulation")
     names = REPORT_NAMES
     with atomic_folder(out) as tmp:
         (tmp / names[0]).write_text(csv)

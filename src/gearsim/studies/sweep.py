@@ -92,7 +92,8 @@ from gearsim.system.train import CRACK_CHOICES
 from gearsim.units import to_si
 
 __all__ = ["BUILTIN_STUDIES", "MAX_CASES", "PARAMETERS", "Case", "Study", "builtin_study_text",
-           "case_count", "check_study", "expand", "load_study", "loads_study"]
+           "case_count", "check_study", "expand", "load_study", "loads_study",
+           "simulation_params"]
 
 #: Built-in studies in ``gearsim/data/studies``.
 BUILTIN_STUDIES = ("diagnostic", "faults")
@@ -209,15 +210,39 @@ class Case:
         gear of a healthy case (``fault == "none"``) count as 0 and none: such cases share
         one simulation whatever their nominal depth, severity or gear.
         """
-        d = self.params()
-        d.pop("noise")
-        d.pop("replicate")
-        if self.flank == "none":
-            d["crack_depth"] = 0.0
-        if self.fault == "none":
-            d["severity"] = 0.0
-            d.pop("gear", None)
-        return d
+        return simulation_params(self.params())
+
+
+def simulation_params(params: dict[str, Any]) -> dict[str, Any]:
+    """The parameters of one case (:meth:`Case.params`, or a row of a store's coordinates)
+    that change its simulation: cases with equal results share one simulated record.
+
+    Parameters
+    ----------
+    params : dict
+        Parameter name -> value of one case; ``noise`` and ``replicate`` (either may be
+        missing) are dropped, the crack depth of an uncracked case (``flank == "none"``)
+        and the severity of a healthy case (``fault == "none"``) count as 0, the gear of
+        a healthy case is dropped.
+
+    Returns
+    -------
+    dict
+        A new dict.
+
+    Examples
+    --------
+    >>> simulation_params({"flank": "none", "crack_depth": 2e-3, "noise": 0.1,
+    ...                    "replicate": 2, "torque": 2000.0})
+    {'flank': 'none', 'crack_depth': 0.0, 'torque': 2000.0}
+    """
+    d = {k: v for k, v in params.items() if k not in ("noise", "replicate")}
+    if d.get("flank") == "none":
+        d["crack_depth"] = 0.0
+    if d.get("fault") == "none":
+        d["severity"] = 0.0
+        d.pop("gear", None)
+    return d
 
 
 @dataclass(frozen=True)

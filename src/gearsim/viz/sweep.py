@@ -40,6 +40,7 @@ def _class_text(classes: Sequence[str] | None) -> str:
 @styled
 def plot_separability(rows: Sequence[dict], *, title: str = "",
                       classes: Sequence[str] | None = None,
+                      method: str = "stratified 5-fold CV",
                       fig: Figure | None = None) -> Figure:
     """Cross-validated accuracy and ROC AUC per feature group against noise and depth.
 
@@ -54,6 +55,8 @@ def plot_separability(rows: Sequence[dict], *, title: str = "",
     classes : sequence of str, optional
         The classes compared (named in the title; chance accuracy 1 / their number);
         default the three flank classes.
+    method : str
+        The cross-validation, named in the title.
     fig : matplotlib.figure.Figure, optional
         Figure (or sub-figure) to draw into (three panels); default a new one.
 
@@ -97,7 +100,7 @@ def plot_separability(rows: Sequence[dict], *, title: str = "",
     axes[2].set_ylim(0, 1.02)
     axes[2].legend(fontsize=8)
     fig.suptitle(f"{title}\nclasses: {_class_text(classes)}; "
-                 "standardised logistic regression, stratified 5-fold CV", fontsize=10)
+                 f"standardised logistic regression, {method}", fontsize=10)
     return fig
 
 
@@ -170,7 +173,7 @@ def plot_confusion(rows: Sequence[dict], classes: Sequence[str], *, group: str =
 
 @styled
 def plot_diagnostic(rows: Sequence[dict], classes: Sequence[str], *, title: str = "",
-                    fig: Figure | None = None) -> Figure:
+                    method: str = "stratified 5-fold CV", fig: Figure | None = None) -> Figure:
     """The diagnostic report's figure: separability (top) and confusion matrices (bottom).
 
     Parameters
@@ -181,6 +184,8 @@ def plot_diagnostic(rows: Sequence[dict], classes: Sequence[str], *, title: str 
         The classes of the store, in the order of the confusion matrices.
     title : str
         Figure title (the study's).
+    method : str
+        The cross-validation, named in the title.
     fig : matplotlib.figure.Figure, optional
         Figure to draw into (two sub-figures); default a new one.
 
@@ -195,6 +200,6 @@ def plot_diagnostic(rows: Sequence[dict], classes: Sequence[str], *, title: str 
     bottom_h = 3.6 + 0.18 * k
     fig = figure_or_new(fig, max(15.0, 3.4 * n), 4.8 + bottom_h)
     top, bottom = fig.subfigures(2, 1, height_ratios=[4.8, bottom_h])
-    plot_separability(rows, title=title, classes=classes, fig=top)
+    plot_separability(rows, title=title, classes=classes, method=method, fig=top)
     plot_confusion(rows, classes, group="all", fig=bottom)
     return fig

@@ -302,9 +302,10 @@ def analyze(
                                               "(speed read from the file)")] = None,
     pulses_per_rev: Annotated[int, typer.Option(help="tacho pulses per revolution [-]")] = 1,
     speed_search: Annotated[str | None, typer.Option(
-        help="estimate the measured shaft's constant speed from the signal within LO,HI: "
-             "Hz when bare, or with a unit, 20,40Hz or 1200,2400rpm (labelled estimate, "
-             "with the dominant mesh family's tooth count)")] = None,
+        help="estimate the measured shaft's speed from the signal within LO,HI: Hz when "
+             "bare, or with a unit, 20,40Hz or 1200,2400rpm (labelled estimate, with the "
+             "dominant mesh family's tooth count); the speed is tracked over the record "
+             "and the shaft and gear lines read in the order domain")] = None,
     teeth: Annotated[list[str] | None, typer.Option(
         help="tooth counts [-], gear on the measured shaft first: --teeth 32 80, "
              "--teeth 32,80 or --teeth 32 --teeth 80")] = None,

@@ -43,6 +43,7 @@ statistics-only call costs numpy only.
 from __future__ import annotations
 
 import math
+import re
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -594,8 +595,10 @@ def _kurtogram(a: np.ndarray, fs: float | None, skipped: list) -> dict | None:
 
 def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warnings,
                    slowest=1.0, config=None):
-    """(speed Hz, provenance, profile or None, SpeedEstimate or None); speed None with a
-    skip reason when it cannot be had. ``slowest``: the slowest shaft's frequency over the
+    """(speed Hz, provenance, profile or None, SpeedEstimate or None, tracked); speed None
+    with a skip reason when it cannot be had; ``tracked`` when the profile follows a speed
+    estimated as steady (:data:`STEADY_TRACK_SPAN`: the record is read in the order
+    domain). ``slowest``: the slowest shaft's frequency over the
     measured one's (:data:`STEADY_TRACK_BAND`); ``config``: the configuration a speed of
     provenance ``config`` came from, as written."""
     from gearsim.signals import speed as sp
@@ -625,7 +628,7 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warni
                     + "; every tier uses it: give --shaft-rpm or --speed-search")
             elif warn:  # every tier uses the speed given: a warning, not a skip
                 warnings.append(f"{warn}; every tier uses the given speed")
-        return float(speed), prov or "given", None, None
+        return float(speed), prov or "given", None, None, False
     if tacho is not None:
         tach = as_signal(tacho, name="tacho")
         if tach.size != a.size:
@@ -634,13 +637,13 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warni
             prof = sp.speed_from_tacho(tach, fs, pulses_per_rev=ppr)
         except InputError as exc:
             skipped.append({"tier": "shaft", "reason": f"tacho unusable: {_first_line(exc)}"})
-            return None, None, None, None
-        return prof.mean_frequency, "file", prof, None
+            return None, None, None, None, False
+        return prof.mean_frequency, "file", prof, None, False
     if search is None:
         skipped.append({"tier": "shaft", "reason": "needs a shaft speed: give one (--shaft-rpm), "
                         "a tacho channel (--tacho) or a search range to estimate it "
                         "(--speed-search)"})
-        return None, None, None, None
+        return None, None, None, None, False
     # constant speed from the line families; where the first and last pieces of the record
     # disagree, the constant model holds on a short central piece, whose dominant line (or
     # the given tooth count's mesh line when no line family is found) is tracked by the
@@ -662,13 +665,13 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warni
     if (varies and est is not None) or (est is None and order > 1):
         try:
             prof = sp.estimate_speed(a, fs, order=est.order if est else order, search=search)
-            return prof.mean_frequency, "estimate", prof, est
+            return prof.mean_frequency, "estimate", prof, est, False
         except InputError as exc:
             skipped.append({"tier": "shaft.tracking", "reason": f"speed not tracked: "
                             f"{_first_line(exc)}"})
     if est is None:
         skipped.append({"tier": "shaft", "reason": why})
-        return None, None, None, None
+        return None, None, None, None, False
     # a steady speed's wander, followed within STEADY_TRACK_SPAN of the estimate on the
     # measured gear's mesh line (the highest order known to be strong: the narrowest band)
     q = order if order > 1 else est.teeth or est.order
@@ -678,10 +681,22 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warni
                                          est.frequency * (1.0 + STEADY_TRACK_SPAN)),
                                  bandwidth=STEADY_TRACK_BAND * slowest * est.frequency)
     except InputError as exc:
-        skipped.append({"tier": "shaft.tracking", "reason": "steady speed not tracked (lines "
-                        f"read at the estimate): {_first_line(exc)}"})
-        prof = None
-    return est.frequency, "estimate", prof, est
+        need = (re.search(r"\(([^()]* s)\)", str(exc.limit))
+                if exc.parameter == "x.length" else None)
+        why = (f"the record ({a.size / fs:.4g} s) is shorter than the {need.group(1)} its "
+               "tracking filter needs" if need else _first_line(exc))
+        skipped.append({"tier": "shaft.tracking", "reason": "steady speed not tracked, lines "
+                        f"read at the estimate: {why}"})
+        return est.frequency, "estimate", None, est, False
+    lo, hi = _per_revolution(prof, fs)
+    if not ((1.0 - STEADY_TRACK_SPAN) * est.frequency <= lo <= hi
+            <= (1.0 + STEADY_TRACK_SPAN) * est.frequency):
+        skipped.append({"tier": "shaft.tracking", "reason": "steady speed not tracked, lines "
+                        f"read at the estimate: the tracked speed ({lo:.5g} to {hi:.5g} Hz a "
+                        f"revolution) leaves {100 * STEADY_TRACK_SPAN:g} % of the estimate "
+                        f"{est.frequency:.6g} Hz: its line is too weak to follow"})
+        return est.frequency, "estimate", None, est, False
+    return est.frequency, "estimate", prof, est, True
 
 
 def _order_domain(tier: dict) -> str:
@@ -703,6 +718,19 @@ def _times_at(profile, fs: float):
 
     return UnivariateSpline(profile.angle, profile.time, k=3,
                             s=profile.time.size / (12.0 * fs**2))
+
+
+def _per_revolution(profile, fs: float) -> tuple[float, float]:
+    """Lowest and highest speed [Hz] over a whole revolution of ``profile`` outside the
+    tracking filter's edges (a tracked phase's derivative wobbles where its line fades:
+    b30hz0 reaches 32.5 Hz for 0.04 s, a tenth of a tooth, at a steady 29.76 Hz); the
+    profile's own range when fewer than two revolutions remain."""
+    lo, hi = profile.angle_at(np.array([profile.time[0] + profile.edge,
+                                        profile.time[-1] - profile.edge]))
+    revs = np.arange(math.ceil(lo), math.floor(hi) + 1, dtype=float)
+    f = (1.0 / np.diff(_times_at(profile, fs)(revs)) if revs.size > 2
+         else np.asarray(profile.frequency, dtype=float))
+    return float(f.min()), float(f.max())
 
 
 def _at_mean_speed(a, fs, profile) -> tuple[np.ndarray, float] | None:
@@ -778,14 +806,7 @@ def _shaft_tier(a, fs, f_r, rests, skipped, profile=None, teeth=None,
                            "shaft_rpm": 60.0 * f_r}
     if profile is not None:
         fr = np.asarray(profile.frequency, dtype=float)
-        # the range of the speed over each whole revolution outside the tracking filter's
-        # edges: a tracked phase's derivative wobbles where its line fades (b30hz0: 32.5 Hz
-        # for 0.04 s, a tenth of a tooth, at a steady 29.76 Hz)
-        lo, hi = profile.angle_at(np.array([profile.time[0] + profile.edge,
-                                            profile.time[-1] - profile.edge]))
-        revs = np.arange(math.ceil(lo), math.floor(hi) + 1, dtype=float)
-        per_rev = 1.0 / np.diff(_times_at(profile, fs)(revs)) if revs.size > 2 else fr
-        out["speed_range_hz"] = [float(per_rev.min()), float(per_rev.max())]
+        out["speed_range_hz"] = list(_per_revolution(profile, fs))
         try:
             t, q = tracked_tsa(a, fs, profile, teeth=int(teeth[0]) if teeth else 1)
             out["tracked_tsa"] = {"n_averages": int(t.n_averages),
@@ -1145,10 +1166,9 @@ def analyze_record(
     else:
         order = zs[0] if zs else 1
         slowest = min([1.0, *_other_orders(1.0, zs, pairs, 1.0)])
-        f_r, prov_speed, profile, est_speed = _resolve_speed(a, fs, speed, tacho, ppr, speed_search,
-                                                             order, skipped, speed_provenance,
-                                                             rec.warnings, slowest,
-                                                             (source or {}).get("config"))
+        f_r, prov_speed, profile, est_speed, tracked = _resolve_speed(
+            a, fs, speed, tacho, ppr, speed_search, order, skipped, speed_provenance,
+            rec.warnings, slowest, (source or {}).get("config"))
         if est_speed is not None:
             rec.tiers.setdefault("estimates", {})["speed"] = est_speed.to_dict()
         if f_r is not None:
@@ -1164,9 +1184,9 @@ def analyze_record(
                 f_r = None
             else:
                 fr = None if profile is None else profile.frequency
-                if fr is not None and (profile.source == "estimate" or np.ptp(fr) >
+                if fr is not None and (tracked or np.ptp(fr) >
                                        RUN_UP_TOL * (fr.max() + fr.min()) / 2):
-                    # a tracked speed, or a tacho's that changes (the run-up rule): the
+                    # a steady speed tracked, or one that changes (the run-up rule): the
                     # lines of the shaft and gear tiers read in the order domain, at the
                     # mean speed
                     steady = _at_mean_speed(a, fs, profile)

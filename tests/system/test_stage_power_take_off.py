@@ -302,6 +302,7 @@ def result(box, tmp_path_factory):
     ("chain_mesh_force[chain_mesh=II]", "chain_mesh_force[II]", [25, 75]),
     ("chain_mesh_force[chain_mesh=I]", "chain_mesh_force[I]", [25, 50]),
     ("shaft_torque", "shaft_torque", [25, 50]),
+    ("q[dof=out-b.theta]", "q[out-b.theta]", [25, 75]),  # a coordinate: its shaft's path
 ])
 def test_a_result_files_record_is_analysed_with_its_path(result, box, channel, signal,
                                                          teeth):

@@ -1109,7 +1109,9 @@ class Gearbox:
         for t in self.chains[:-1]:
             k += len(t.pairs)
         m = _SIGNAL.fullmatch(signal)  # a record of them: the mesh or shaft it names
-        path = chain_record_paths(tr, names[k:]).get(m.group(2) or tr.flow.shafts[0].name)
+        label = m.group(2) or tr.flow.shafts[0].name  # q[shaft.axis]: its shaft's
+        path = chain_record_paths(tr, names[k:]).get(
+            label.rpartition(".")[0] if m.group(1) == "q" else label)
         return None if path is None else {key: tuple(map(tuple, v)) if key == "stages"
                                           else tuple(v) for key, v in path.items()}
 

@@ -393,7 +393,9 @@ def part_of(channel: str, meta: Mapping) -> dict:
     if kind == "chain":  # of gears whose power branches, the record's path
         planetary = None
         labels = _labels(channel)
-        path = part.get("paths", {}).get(labels[0] if labels else part["shafts"][0], {})
+        shaft = (labels[0].rpartition(".")[0] if channel.startswith("q[") else labels[0]
+                 ) if labels else part["shafts"][0]  # q[dof=shaft.axis]: its shaft's
+        path = part.get("paths", {}).get(shaft, {})
         teeth = path.get("teeth", teeth)
         stages = path.get("stages") if path else part["stages"]
         stages = tuple(map(tuple, stages)) if stages else None

@@ -202,6 +202,40 @@ def test_mesh_rate_estimate_of_the_twenty_records_is_their_rate_or_refused():
     assert kept >= 15  # 16 of 20; b30hz70 (9.881 kHz), h30hz50, 60, 70 (4.28 kHz) refused
 
 
+def test_envelope_rate_estimate_of_the_twenty_records_is_their_rate_or_refused():
+    """Without --fs and without teeth the shaft line of the squared envelope gave 0.34 to
+    10 times 12.8 kHz on all 20 records (b30hz0 32.0, b30hz90 64.3, h30hz50 127.9,
+    h30hz0 21.3, h30hz40 4.31 kHz), then tooth counts of 40 or 160. The pair 32/80 repeats every 5
+    revolutions of the shaft: the comb of shaft orders is the denser, but a comb 5 times
+    finer (64 kHz) holds the lines it leaves out (shaft 2 at 0.4 orders, shaft 3 at 0.3):
+    two readings, so the rate is refused on all 20 (a kept rate would have to be theirs,
+    within the estimator's resolution: the rate that puts their order-32 line at 32 x
+    29.75 Hz)."""
+    for path in sorted(DATA.glob("*30hz*.csv.gz")):
+        x = _columns(path.name.split(".")[0])["a1"]
+        try:
+            e = estimate_fs(x, shaft_frequency=1785 / 60)
+        except InputError as exc:
+            assert "give the rate (--fs)" in str(exc), path.name
+            continue
+        assert e.fs == pytest.approx(_hand_rate(x), rel=max(e.relative_resolution, 1e-4))
+
+
+def test_analyze_with_a_speed_alone_refuses_the_rate_and_so_the_teeth(capsys):
+    """b30hz90 with 1785 rpm and nothing else: the rate was estimated at 64.3 kHz and the
+    tooth count at 160 from it; the rate is refused with its reason, so no tooth count is
+    estimated and the tiers that need a rate say so."""
+    assert cli.run(["analyze", str(DATA / "b30hz90.csv.gz"), "--shaft-rpm", "1785",
+                    "--channel", "a1", "--json"]) == 0
+    (r,) = json.loads(capsys.readouterr().out)["records"]
+    reasons = {s["tier"]: s["reason"] for s in r["skipped"]}
+    assert r["fs_hz"] is None and r["teeth"] is None
+    assert "estimates" not in r["tiers"]
+    assert reasons["estimate.fs"].startswith("sampling rate = ")
+    assert reasons["estimate.fs"].endswith("give the rate (--fs)")
+    assert "needs a sampling rate" in reasons["gear"]
+
+
 def test_analyze_without_a_rate_gives_their_rate_or_a_reason(capsys):
     files = [str(DATA / f"{n}.csv.gz") for n in FOUR]
     assert cli.run(["analyze", *files, "--shaft-rpm", "1785", "--teeth", "32", "--channel",

@@ -10,15 +10,12 @@ so that a report can never show the result as a measured value.
 line of a series need not be its fundamental. The strongest line (frequency
 :math:`\nu_0`) is taken as harmonic ``d`` of the series, and the largest ``d`` in
 ``1..harmonics`` whose candidate fundamental :math:`\nu_0 / d` is itself a significant
-line (:func:`~gearsim.signals.periodicity.line_significance`, p-value below ``alpha``;
-for ``d > 2`` the line at :math:`2\nu_0/d` must be significant too, so that one noise
-bin cannot pass) is kept: the lowest member of the series present in the spectrum. The frequency of the
-strongest line is refined by the two-bin interpolation of Grandke (1983)
-(:func:`~gearsim.signals.spectrum.tone`) and divided by ``d``. The rule serves the
-envelope method and :func:`estimate_teeth`; the sampling rate from a mesh (``teeth``
-given) is chosen by the whole comb instead (:func:`estimate_fs`), since on a real gearbox
-record the shaft harmonics between mesh lines pass the rule for any ``d``: the
-SpectraQuest records gave 2, 4, 8 and 10.7 times their rate.
+line (:func:`~gearsim.signals.periodicity.line_significance`, p-value below ``alpha``)
+and strong enough (:data:`MIN_FUNDAMENTAL_POWER`) is kept: the lowest member of the
+series present in the spectrum. The rule serves :func:`estimate_teeth`; the sampling rate
+is chosen by whole combs instead (:func:`estimate_fs`): on a real gearbox record the
+lines of the other shafts pass the rule for many ``d`` (the SpectraQuest records gave
+2, 4, 8 and 10.7 times their rate from the mesh, 0.34 to 10 times from the envelope).
 
 References
 ----------
@@ -67,11 +64,13 @@ class FsEstimate:
         the record's strongest line (envelope+order).
     divisor : int
         ``d``: the line that refined the rate was harmonic ``d`` of the fundamental (mesh:
-        the strongest mesh harmonic of the comb kept; envelope: of the shaft).
+        the strongest mesh harmonic of the comb kept; envelope: the strongest shaft
+        harmonic of the squared envelope on the comb kept).
     snr : float
-        Line-to-floor power ratio of that fundamental (linear).
+        Line-to-floor power ratio of the fundamental (mesh) or of that harmonic
+        (envelope), linear.
     p_value : float
-        False-alarm probability of that fundamental line.
+        False-alarm probability of that line.
     relative_resolution : float
         Half a bin relative to the measured line, ``1 / (2 N nu_0)``: a bound on the
         relative error without interpolation (the interpolated error is usually well
@@ -81,10 +80,10 @@ class FsEstimate:
     estimate : bool
         Always True: the value is inferred, not measured.
     score : float or None
-        Mesh method: comb score of the rate kept (mean line evidence, log10 of line to
-        floor in [0, 3], on the comb minus off it); None for the envelope methods.
+        Comb score of the rate kept (mean line evidence, log10 of line to floor in
+        [0, 3], on the comb minus off it).
     runner_up : float or None
-        Mesh method: the best score of any other candidate rate (None if there was none).
+        The best score of any other candidate rate (None if there was none).
     """
 
     fs: float
@@ -185,25 +184,6 @@ def _strong_enough(power: np.ndarray, k: float, k0: float) -> bool:
     return lo < hi and float(power[lo:hi].max()) >= MIN_FUNDAMENTAL_POWER * top
 
 
-def _lowest_member(power: np.ndarray, k0: float, harmonics: int, alpha: float):
-    """Largest divisor d whose lines at k0/d (and 2 k0/d when d > 2) are significant and
-    at least :data:`MIN_FUNDAMENTAL_POWER` of the dominant line."""
-    best = (1, line_significance(power, k0, search_bins=1))
-    for d in range(2, harmonics + 1):
-        pos = k0 / d
-        if pos < _LOW_BINS + 4:
-            break
-        try:
-            tests = [line_significance(power, j * pos, search_bins=1,
-                                       max_half_width=max(12, int(pos // 2)))
-                     for j in ((1, 2) if d > 2 else (1,))]
-        except InputError:
-            continue
-        if all(t.p_value < alpha for t in tests) and _strong_enough(power, pos, k0):
-            best = (d, tests[0])
-    return best
-
-
 #: Sideband orders ``|m| <= COMB_SIDEBANDS`` around each mesh harmonic in the comb test.
 COMB_SIDEBANDS = 3
 #: Strongest lines of the record each taken, in turn, for every comb line ``n Z + m``.
@@ -225,6 +205,15 @@ COMB_SHIFTS = (1 / 2, 1 / 3, 2 / 3)
 COMB_SAME = 1e-3
 #: A rate is kept only if no other candidate scores more than this fraction of its score.
 COMB_DECISIVE = 2 / 3
+#: The envelope rate is refined by the record's strongest line only when it lies within
+#: this many shaft orders of an integer order (its uncertainty included): the lines of a
+#: gearbox's other shafts lie at fractions of an order (SpectraQuest: multiples of 0.1).
+ORDER_TOLERANCE = 0.05
+#: The envelope comb kept must keep more than ``1 / COMB_COMPLETE`` times the mean line
+#: evidence of any copy of it displaced by a fraction of an order.
+COMB_COMPLETE = 1 / 3
+#: Fewest lines (:data:`COMB_LINE`) on an envelope comb: one line does not set its order.
+COMB_MIN_LINES = 3
 
 
 def _fs_bounds(fs_range):
@@ -247,19 +236,10 @@ def _at(evidence: np.ndarray, pos: np.ndarray) -> np.ndarray:
     return np.maximum(np.maximum(evidence[k - 1], evidence[k]), evidence[k + 1])
 
 
-def _comb_score(evidence: np.ndarray, n: int, spacing: float, teeth: int) -> float:
-    """Mean line evidence on the comb ``(n Z + m) spacing`` (``n`` up to the highest mesh
-    harmonic that is a line: :data:`COMB_LINE`) minus the largest mean on the comb
-    shifted by a fraction of ``spacing`` (:data:`COMB_SHIFTS`); -inf if the mesh
-    fundamental ``Z spacing`` is no line. Each position reads the two bins around it."""
-    step = spacing * n  # bins per shaft order
-    mesh = np.arange(1, int(0.5 / (spacing * teeth)) + 1) * teeth * step
-    mesh = mesh[mesh < evidence.size - 2]
-    line = np.log10(COMB_LINE / COMB_FLOOR)
-    if not mesh.size or _at(evidence, mesh[:1])[0] < line:
-        return -np.inf
-    orders = (np.arange(1, np.flatnonzero(_at(evidence, mesh) >= line)[-1] + 2)[:, None] * teeth
-              + np.arange(-COMB_SIDEBANDS, COMB_SIDEBANDS + 1)[None, :]).ravel()
+def _comb_score(evidence: np.ndarray, orders: np.ndarray, step: float) -> float:
+    """Mean line evidence at shaft ``orders`` (``step`` bins per order) minus the largest
+    mean on the same comb shifted by a fraction of an order (:data:`COMB_SHIFTS`); -inf if
+    no position is inside the spectrum. Each position reads the two bins around it."""
     pos = orders * step
     pos = pos[(pos > _LOW_BINS) & (pos + step < evidence.size - 2)]
     if not pos.size:
@@ -268,10 +248,61 @@ def _comb_score(evidence: np.ndarray, n: int, spacing: float, teeth: int) -> flo
                  - max(_at(evidence, pos + f * step).mean() for f in COMB_SHIFTS))
 
 
-def _mesh_comb_fs(a, f_r, teeth, harmonics, bounds, alpha):
-    """The mesh method of :func:`estimate_fs`: candidates, comb scores, decision."""
-    n = a.size
-    power = periodogram(a)
+def _mesh_orders(evidence: np.ndarray, step: float, teeth: int) -> np.ndarray | None:
+    """The mesh comb's shaft orders ``n Z + m`` (``|m| <=`` :data:`COMB_SIDEBANDS`, ``n`` up
+    to the highest mesh harmonic that is a line); None if the mesh fundamental is none."""
+    mesh = np.arange(1, int((evidence.size - 1) / (step * teeth)) + 1) * teeth * step
+    mesh = mesh[mesh < evidence.size - 2]
+    line = np.log10(COMB_LINE / COMB_FLOOR)
+    if not mesh.size or _at(evidence, mesh[:1])[0] < line:
+        return None
+    return (np.arange(1, np.flatnonzero(_at(evidence, mesh) >= line)[-1] + 2)[:, None] * teeth
+            + np.arange(-COMB_SIDEBANDS, COMB_SIDEBANDS + 1)[None, :]).ravel()
+
+
+def _shaft_orders(evidence: np.ndarray, step: float, _teeth: object = None) -> np.ndarray | None:
+    """Every shaft order ``1, 2, ...`` of the spectrum; None if fewer than
+    :data:`COMB_MIN_LINES` of them are lines (:data:`COMB_LINE`)."""
+    orders = np.arange(1, int((evidence.size - 3) / step) + 1)
+    pos = orders * step
+    on = _at(evidence, pos[(pos > _LOW_BINS) & (pos + 1 < evidence.size)])
+    lines = np.count_nonzero(on >= np.log10(COMB_LINE / COMB_FLOOR))
+    return orders if lines >= COMB_MIN_LINES else None
+
+
+def _incomplete(evidence: np.ndarray, step: float) -> str | None:
+    """Why the shaft comb of ``step`` bins per order cannot be the rate, or None: displaced
+    by any whole number of bins (3 or more from its teeth, so that no position reads a
+    tooth's bins) it keeps
+    more than :data:`COMB_COMPLETE` of its mean line evidence (lines off the comb: a finer
+    comb, a higher rate, holds them)."""
+    pos = np.arange(1, int((evidence.size - 3) / step) + 1) * step
+    pos = pos[(pos > _LOW_BINS) & (pos + step < evidence.size - 2)]
+    on = _at(evidence, pos)
+    shifts = np.arange(3, step - 3 + 1e-9)  # windows of three bins clear of the teeth's
+    off = _at(evidence, pos[None, :] + shifts[:, None]).mean(axis=1)
+    j = int(np.argmax(off))
+    if off[j] <= COMB_COMPLETE * on.mean():
+        return None
+    return (f"leaves lines off its comb: displaced by {shifts[j] / step:.3f} of an order it "
+            f"keeps {off[j] / on.mean():.0%} of its line evidence")
+
+
+def _comb_fit(sig, f_r, line_orders, comb_orders, teeth, bounds, where, refute=None):
+    """The decision shared by the comb methods of :func:`estimate_fs`.
+
+    Each of the :data:`COMB_SOURCE_LINES` strongest lines of ``sig``'s periodogram,
+    taken for every shaft order ``q`` in ``line_orders(nu)``, gives a candidate shaft
+    frequency ``nu / q`` (cycles per sample); each is scored by :func:`_comb_score` on
+    ``comb_orders(evidence, step, teeth)`` (dropped when that is None). ``refute(evidence,
+    step)``, if given, returns why a candidate cannot be the rate (None if it can); the
+    best candidate it admits is kept, unless a refuted one scored better. Returns the
+    periodogram, the line evidence, the Hann amplitude spectrum, the shaft frequency kept
+    (cycles/sample), its score and the runner-up's; raises ``sampling rate = not
+    estimated`` or ``ambiguous`` (the candidates named, ``where`` saying what was fitted).
+    """
+    n = sig.size
+    power = periodogram(sig)
     floor = median_filter(power, size=101, mode="nearest") / np.log(2)
     # line evidence: log10 of a local maximum over COMB_FLOOR times the local floor, in
     # [0, 3]; 0 off the maxima (a strong line's neighbours are its leakage, not lines)
@@ -281,35 +312,56 @@ def _mesh_comb_fs(a, f_r, teeth, harmonics, bounds, alpha):
     peak = ((power[k] >= power[k - 1]) & (power[k] > power[k + 1])
             & (power[k] >= power[k - 2]) & (power[k] > power[k + 2]))
     peaks = k[peak][np.argsort(power[k[peak]])[::-1][:COMB_SOURCE_LINES]]
-    spec = amplitude_spectrum(a, 1.0, window="hann")
+    spec = amplitude_spectrum(sig, 1.0, window="hann")
     cands: list[tuple[float, float]] = []  # (score, shaft frequency in cycles/sample)
     for p in peaks:
         nu_p = tone(spec, p / n, search=1.0 / n).frequency
-        for h in range(1, harmonics + 1):
-            for m in range(-COMB_SIDEBANDS, COMB_SIDEBANDS + 1):
-                spacing = nu_p / (h * teeth + m)
-                if spacing * n < COMB_MIN_BINS or (
-                        bounds is not None and not bounds[0] <= f_r / spacing <= bounds[1]):
-                    continue
-                cands.append((_comb_score(evidence, n, spacing, teeth), spacing))
+        for q in line_orders(nu_p * n):
+            spacing = nu_p / q
+            if spacing * n < COMB_MIN_BINS or (
+                    bounds is not None and not bounds[0] <= f_r / spacing <= bounds[1]):
+                continue
+            orders = comb_orders(evidence, spacing * n, teeth)
+            if orders is not None:
+                cands.append((_comb_score(evidence, orders, spacing * n), spacing))
     kept: list[tuple[float, float]] = []  # the best of each hypothesis, best first
     for c in sorted((c for c in cands if np.isfinite(c[0])), reverse=True):
         if all(abs(c[1] / k[1] - 1) > COMB_SAME for k in kept):
             kept.append(c)
-    cands = kept
-    where = f"the comb of {teeth} teeth at {f_r:g} Hz (mesh harmonics and their shaft sidebands)"
-    if not cands or cands[0][0] <= 0:
+    why: dict[int, str | None] = {}  # refute's verdict on the candidates that matter
+    win = None
+    for i, c in enumerate(kept):
+        if win is not None and c[0] <= COMB_DECISIVE * kept[win][0]:
+            break
+        why[i] = refute(evidence, c[1] * n) if refute is not None else None
+        if why[i] is None and win is None:
+            win = i
+    if win is None or kept[win][0] <= 0:
+        first = f": the best, {f_r / kept[0][1] / 1e3:.4g} kHz, {why[0]}" if why.get(0) else ""
         raise InputError("sampling rate", "not estimated",
-                         f"no candidate rate puts the record's lines on {where}: give the rate "
-                         "(--fs)")
-    best, spacing = cands[0]
-    rivals = [c for c in cands[1:] if c[0] > COMB_DECISIVE * best]
-    if rivals:
+                         f"no candidate rate puts the record's lines on {where}{first}: give "
+                         "the rate (--fs)")
+    best, spacing = kept[win]
+    rivals = [kept[i] for i in why if i > win and why[i] is None]
+    if win or rivals:
         shown = ", ".join(f"{f_r / c[1] / 1e3:.4g} kHz (score {c[0]:.2f})"
-                          for c in [cands[0], *rivals[:3]])
+                          for c in [kept[win], *rivals[:3]])
+        better = (f"; {f_r / kept[0][1] / 1e3:.4g} kHz scores better ({kept[0][0]:.2f}) but "
+                  f"{why[0]}" if win else "")
         raise InputError("sampling rate", "ambiguous",
                          f"the record's lines fit {where} about as well at several rates: "
-                         f"{shown}; give the rate (--fs)")
+                         f"{shown}{better}; give the rate (--fs)")
+    return power, evidence, spec, spacing, best, float(kept[1][0]) if len(kept) > 1 else None
+
+
+def _mesh_comb_fs(a, f_r, teeth, harmonics, bounds, alpha):
+    """The mesh method of :func:`estimate_fs`: candidates, comb scores, decision."""
+    n = a.size
+    where = f"the comb of {teeth} teeth at {f_r:g} Hz (mesh harmonics and their shaft sidebands)"
+    power, _, spec, spacing, best, runner_up = _comb_fit(
+        a, f_r, lambda _k: [h * teeth + m for h in range(1, harmonics + 1)
+                            for m in range(-COMB_SIDEBANDS, COMB_SIDEBANDS + 1)],
+        _mesh_orders, teeth, bounds, where)
     # refine by the strongest mesh harmonic on the chosen comb (interpolated)
     hs = np.arange(1, int(0.5 / (spacing * teeth)) + 1)
     hs = hs[hs * teeth * spacing * n < power.size - 2]
@@ -325,7 +377,44 @@ def _mesh_comb_fs(a, f_r, teeth, harmonics, bounds, alpha):
         fs=float(d * teeth * f_r / nu_d), method="mesh", cycles_per_sample=float(nu_d / d),
         order=teeth, divisor=d, snr=test.snr, p_value=test.p_value,
         relative_resolution=float(0.5 / (n * nu_d)), shaft_frequency=f_r,
-        score=best, runner_up=float(cands[1][0]) if len(cands) > 1 else None,
+        score=best, runner_up=runner_up,
+    )
+
+
+def _envelope_comb_fs(a, f_r, bounds, alpha):
+    """The envelope methods of :func:`estimate_fs`: candidates, comb scores, decision,
+    refinement by the strongest comb line and then by the record's strongest line."""
+    n = a.size
+    where = (f"the shaft orders of {f_r:g} Hz in the squared envelope (no tooth count: "
+             "--teeth scores the mesh comb instead)")
+    sig = squared_envelope(a - a.mean(), 1.0)
+    power, _, spec, spacing, best, runner_up = _comb_fit(
+        sig, f_r, lambda k: range(1, int(k / COMB_MIN_BINS) + 1), _shaft_orders, None,
+        bounds, where, _incomplete)
+    # refine by the strongest line on the chosen comb (interpolated)
+    hs = np.arange(1, int((power.size - 3) / (spacing * n)) + 1)
+    d = int(hs[np.argmax(_at(power, hs * spacing * n))])
+    nu_d = tone(spec, d * spacing, search=1.0 / n).frequency
+    test = line_significance(power, nu_d * n, search_bins=1)
+    if test.p_value >= alpha:
+        raise InputError("sampling rate", "not estimated",
+                         f"the strongest line of the best fit of {where}, at "
+                         f"{f_r / spacing / 1e3:.4g} kHz, is not significant (p = "
+                         f"{test.p_value:.2g}): give the rate (--fs)")
+    method, order, nu, resolution = "envelope", 1, nu_d / d, 0.5 / (n * nu_d)
+    # then by the strongest line of the record when it lies at an integer order q (a
+    # line of another shaft lies at a fraction of an order: ORDER_TOLERANCE)
+    raw_peak = int(np.argmax(periodogram(a)[_LOW_BINS:])) + _LOW_BINS
+    nu_raw = tone(amplitude_spectrum(a, 1.0, window="hann"), raw_peak / n,
+                  search=1.0 / n).frequency
+    q = nu_raw / nu
+    q_int = int(round(q))
+    if q_int >= 2 and abs(q - q_int) + q * resolution < ORDER_TOLERANCE:
+        method, order, nu, resolution = "envelope+order", q_int, nu_raw, 0.5 / (n * nu_raw)
+    return FsEstimate(
+        fs=float(order * f_r / nu), method=method, cycles_per_sample=float(nu), order=order,
+        divisor=d, snr=test.snr, p_value=test.p_value, relative_resolution=float(resolution),
+        shaft_frequency=f_r, score=best, runner_up=runner_up,
     )
 
 
@@ -355,15 +444,26 @@ def estimate_fs(
     candidate is kept only when no other scores more than :data:`COMB_DECISIVE` of it;
     otherwise the rate is refused, naming the candidates. The rate kept is refined by
     its strongest mesh harmonic ``d`` (interpolated): :math:`\hat f_s = d Z f_r /
-    \nu_d`. Without ("envelope"): the strongest line of the squared envelope below half
-    the frequency of the record's strongest line is a shaft harmonic; its fundamental
-    :math:`\nu_r = f_r / f_s` gives :math:`\hat f_s = f_r / \nu_r`; the record's
-    strongest line, synchronous with the shaft, then lies at an integer order
-    :math:`q \approx \nu_0/\nu_r` and, when the rounding is unambiguous,
-    :math:`\hat f_s = \mathrm{round}(q) f_r / \nu_0` is ``q`` times more precise
-    ("envelope+order"). The series rule is in the module docstring. With ``fs_range``
-    the envelope's fundamental is the strongest line in the matching band of :math:`\nu`
-    (no series rule).
+    \nu_d`.
+
+    Without ("envelope"): the same candidates and scores on the squared envelope's
+    periodogram, for the comb of every shaft order: a line at :math:`\nu` taken for
+    shaft harmonic ``q`` (any ``q`` leaving :data:`COMB_MIN_BINS` bins per order) gives
+    :math:`f_s = q f_r / \nu`; a comb holding fewer than :data:`COMB_MIN_LINES` lines is
+    dropped. A rate k times too high puts the record's lines on every k-th order of its
+    comb (a lower mean); one k times too low leaves lines between its teeth, which the
+    shifts of a half or a third of an order see only for k = 2 or 3, so a candidate is
+    also refuted when its comb displaced by any whole number of bins (3 or more from its
+    teeth) keeps more than :data:`COMB_COMPLETE` of its mean evidence. The best
+    candidate not refuted is kept if no refuted candidate scores better (a denser comb
+    that leaves lines out against a finer one that holds them: two readings) and no
+    other scores more than :data:`COMB_DECISIVE` of it; it is refined by its strongest
+    harmonic ``d`` in the envelope (:math:`\hat f_s = d f_r / \nu_d`) and then, when the
+    record's strongest line lies within :data:`ORDER_TOLERANCE` of an integer order
+    ``q``, by that line (:math:`\hat f_s = q f_r / \nu_0`, "envelope+order"). On a
+    gearbox whose pairs repeat after several revolutions (SpectraQuest 32/80: every 5)
+    the lines of the other shafts make a comb 5 times finer fit as well, and the rate is
+    refused: give ``teeth`` or ``fs_range``.
 
     Parameters
     ----------
@@ -375,14 +475,14 @@ def estimate_fs(
     teeth : int, optional
         Tooth count ``Z`` of that gear; enables the (more precise) mesh method.
     harmonics : int, default 10
-        Largest harmonic number the strongest line may be taken for, >= 1 (impacts put
-        a comb of shaft harmonics of similar height in the envelope).
+        Mesh method: largest mesh harmonic a line may be taken for, >= 1 (the envelope
+        method takes a line for any shaft harmonic).
     fs_range : tuple of float, optional
-        ``(low, high)`` bounds (Hz) on the sampling rate, if known (mesh: only candidates
-        inside are scored).
+        ``(low, high)`` bounds (Hz) on the sampling rate, if known: only candidates
+        inside are scored.
     alpha : float, default 1e-3
-        Significance level for a candidate fundamental line (mesh: for the mesh
-        fundamental of the rate kept).
+        Significance level for the line that refines the rate kept (mesh: the mesh
+        fundamental; envelope: the strongest envelope harmonic on the comb).
 
     Returns
     -------
@@ -392,9 +492,9 @@ def estimate_fs(
     Raises
     ------
     InputError
-        If an argument is out of range, ``fs_range`` selects no bin, the record is too
-        short for a noise floor beside the line, or (mesh) no candidate rate fits the comb
-        or several fit it about equally (``sampling rate = ambiguous``, the candidates
+        If an argument is out of range, the record is too short for a noise floor beside
+        the line, no candidate rate fits the comb (``sampling rate = not estimated``) or
+        several fit it about equally (``sampling rate = ambiguous``, the candidates
         named).
 
     References
@@ -405,46 +505,10 @@ def estimate_fs(
     f_r = check_positive("shaft_frequency", shaft_frequency)
     harmonics = check_int("harmonics", harmonics, minimum=1)
     alpha = check_probability("alpha", alpha)
-    n = a.size
     if teeth is not None:
         return _mesh_comb_fs(a, f_r, check_int("teeth", teeth, minimum=1), harmonics,
                              _fs_bounds(fs_range), alpha)
-    order, method = 1, "envelope"
-    sig = squared_envelope(a - a.mean(), 1.0)
-    power = periodogram(sig)
-    raw_peak = int(np.argmax(periodogram(a)[_LOW_BINS:])) + _LOW_BINS
-    top = power.size - 1 - _LOW_BINS
-    if fs_range is not None:
-        lo_fs, hi_fs = _fs_bounds(fs_range)
-        k_lo = max(_LOW_BINS, int(np.floor(n * order * f_r / hi_fs)))
-        k_hi = min(top, int(np.ceil(n * order * f_r / lo_fs)))
-        harmonics = 1
-    else:
-        # Products of mesh harmonics put lines at multiples of the mesh fundamental,
-        # itself >= (strongest raw line) / harmonics: search below half of that.
-        k_lo, k_hi = _LOW_BINS, min(top, int(raw_peak // (2 * harmonics)))
-    if k_hi <= k_lo:
-        raise InputError("fs_range" if fs_range is not None else "record length",
-                         f"bins {k_lo}..{k_hi}", "selects no periodogram bin to search")
-    k0 = k_lo + int(np.argmax(power[k_lo : k_hi + 1]))
-    nu0 = tone(amplitude_spectrum(sig, 1.0, window="hann"), k0 / n, search=1.0 / n).frequency
-    d, test = _lowest_member(power, nu0 * n, harmonics, alpha)
-    nu = nu0 / d
-    resolution = 0.5 / (n * nu0)
-    # Refine by the strongest line of the record: synchronous with the shaft, it lies
-    # at an integer order q; usable when the rounding of q is unambiguous.
-    nu_raw = tone(amplitude_spectrum(a, 1.0, window="hann"), raw_peak / n,
-                  search=1.0 / n).frequency
-    q = nu_raw / nu
-    q_int = int(round(q))
-    if q_int >= 2 and q * resolution < 0.5:
-        method, order, nu = "envelope+order", q_int, nu_raw
-        resolution = 0.5 / (n * nu_raw)
-    return FsEstimate(
-        fs=float(order * f_r / nu), method=method, cycles_per_sample=float(nu), order=order,
-        divisor=d, snr=test.snr, p_value=test.p_value,
-        relative_resolution=float(resolution), shaft_frequency=f_r,
-    )
+    return _envelope_comb_fs(a, f_r, _fs_bounds(fs_range), alpha)
 
 
 def estimate_teeth(

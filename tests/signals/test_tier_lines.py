@@ -163,3 +163,18 @@ def test_a_speed_tracked_without_a_steady_estimate_keeps_the_gears_phase_modulat
     (sb,) = [s for s in st["sidebands"] if s["shaft"] == "shaft2" and s["order"] == 1]
     assert [sb["amplitude"][sb["k"].index(k)] for k in (-1, 1)] == [
         pytest.approx(jv(1, 0.3), rel=0.05)] * 2
+
+
+def test_noise_given_teeth_and_a_search_gets_no_speed():
+    # white noise with teeth and a search range: no line family, so no constant estimate;
+    # the given mesh order tracked over the range as for a run-up followed the noise (a
+    # speed of 28.15 Hz, "mesh line" 0.137 about 7 x the floor). Its ridge stands 7 dB over
+    # the band's median (white noise: about 5, 7 dB), under RIDGE_SNR's 12 dB: no speed
+    from gearsim.signals.tiers import RIDGE_SNR
+
+    fs = 12800.0
+    x = np.random.default_rng(5).standard_normal(int(8 * fs))
+    r = analyze_record(x, fs, speed_search=(20.0, 40.0), stages=[(32, 80), (48, 64)])
+    assert r.speed is None and "gear" not in r.tiers and "shaft" not in r.tiers
+    (why,) = [s["reason"] for s in r.skipped if s["tier"] == "shaft.tracking"]
+    assert f"must stand {10 * np.log10(RIDGE_SNR):.3g} dB" in why

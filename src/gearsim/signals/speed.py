@@ -528,8 +528,9 @@ def _search_band(rough: float | None, search: tuple[float, float] | None) -> tup
 
 
 def _ridge(a: np.ndarray, fs: float, f_lo: float, f_hi: float,
-           window_s: float) -> tuple[np.ndarray, np.ndarray]:
-    """STFT ridge in ``[f_lo, f_hi]`` [Hz]: frame times [s] and ridge frequencies [Hz]."""
+           window_s: float) -> tuple[np.ndarray, np.ndarray, float]:
+    """STFT ridge in ``[f_lo, f_hi]`` [Hz]: frame times [s], ridge frequencies [Hz] and the
+    median over frames of the ridge's power over the band's median power [-]."""
     nperseg = max(16, int(round(window_s * fs)))
     hop = max(1, nperseg // _HOP_FRACTION)
     mfft = scipy.fft.next_fast_len(_ZERO_PAD * nperseg)
@@ -580,7 +581,9 @@ def _ridge(a: np.ndarray, fs: float, f_lo: float, f_hi: float,
     with np.errstate(invalid="ignore", divide="ignore"):
         delta = np.where(den < 0.0, 0.5 * (y0 - y2) / den, 0.0)
     delta = np.clip(delta, -0.5, 0.5)
-    return t_frames, f[lo_i + i] + delta * df
+    band_mag = mag[sel]
+    snr = float(np.median((band_mag[path, cols] / np.median(band_mag, axis=0)) ** 2))
+    return t_frames, f[lo_i + i] + delta * df, snr
 
 
 def _lowpass(cutoff: float, fs: float) -> np.ndarray:
@@ -598,6 +601,7 @@ def estimate_speed(
     rough: float | None = None,
     search: tuple[float, float] | None = None,
     bandwidth: float | None = None,
+    min_ridge_snr: float | None = None,
 ) -> SpeedProfile:
     r"""Tacholess instantaneous shaft speed from a harmonic of known order.
 
@@ -636,6 +640,10 @@ def estimate_speed(
         around the ridge; a narrower band lowers the noise but lengthens the filter
         (``edge`` grows as ``1 / bandwidth``), a wider one shortens it but lets
         neighbours in.
+    min_ridge_snr : float, optional
+        Least median, over the STFT frames, of the ridge's power over the median power
+        of the searched band [-]: below it the harmonic is refused as noise (white noise
+        alone gives about 5 in a band of 257 bins). Default: not checked.
 
     Returns
     -------
@@ -695,7 +703,12 @@ def estimate_speed(
             f"must be >= {2 * taps.size} samples ({2 * taps.size / fs:.4g} s), twice the "
             f"demodulation filter for bandwidth {bw:g} Hz (a wider bandwidth shortens it)",
         )
-    t_frames, f_frames = _ridge(a, fs, q * lo, q * hi, STFT_PERIODS / lo)
+    t_frames, f_frames, snr = _ridge(a, fs, q * lo, q * hi, STFT_PERIODS / lo)
+    if min_ridge_snr is not None and not snr >= min_ridge_snr:
+        got, need = (10.0 * math.log10(max(v, 1e-30)) for v in (snr, min_ridge_snr))
+        raise InputError("x", f"ridge of order {q:g} {got:.3g} dB over the band's median",
+                         f"must stand {need:.3g} dB over it to be tracked: the harmonic does "
+                         "not stand out of the noise")
     t = np.arange(a.size) / fs
     # the reference must be smooth: components of its phase above the pass band would
     # pass unchanged into the estimate (estimate = LP(true phase) + HP(reference phase))

@@ -96,6 +96,14 @@ STEADY_TRACK_SPAN = 0.02
 #: sidebands (the gears' own modulation, what the gear tier looks for) stay out of the
 #: tracked phase and only the slow wander of the speed is followed (Combet & Gelman 2007).
 STEADY_TRACK_BAND = 0.5
+#: Least median ridge-to-band power ratio of a speed tracked over the search range (a
+#: run-up, or a record with no confident constant estimate): 16, 12 dB. White noise alone
+#: gives 4.8 (the largest of a few neighbouring bins over the median), a steady 29.7 Hz
+#: mesh line of 0.05 under noise of 0.3 9.6 (tracked, it wandered from 28.4 to 30.4 Hz
+#: and halved another stage's line), 0.1 32; the SpectraQuest records 29-38 (mesh order
+#: 32 over 20-40 Hz), a 10 -> 30 Hz run-up at -10 dB 147: below it the search's harmonic
+#: does not stand out of the noise and is not tracked.
+RIDGE_SNR = 16.0
 
 
 def _f(v: Any) -> float | None:
@@ -664,7 +672,8 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warni
         est = None
     if (varies and est is not None) or (est is None and order > 1):
         try:
-            prof = sp.estimate_speed(a, fs, order=est.order if est else order, search=search)
+            prof = sp.estimate_speed(a, fs, order=est.order if est else order, search=search,
+                                     min_ridge_snr=RIDGE_SNR)
             return prof.mean_frequency, "estimate", prof, est, False
         except InputError as exc:
             skipped.append({"tier": "shaft.tracking", "reason": f"speed not tracked: "

@@ -586,6 +586,25 @@ def _ridge(a: np.ndarray, fs: float, f_lo: float, f_hi: float,
     return t_frames, f[lo_i + i] + delta * df, snr
 
 
+def tracking_samples(fs: float, bandwidth: float) -> int:
+    """Shortest record :func:`estimate_speed` tracks with ``bandwidth`` [samples].
+
+    Parameters
+    ----------
+    fs : float
+        Sampling rate [Hz].
+    bandwidth : float
+        Full width of the demodulation band [Hz] (:func:`estimate_speed`).
+
+    Returns
+    -------
+    int
+        Twice the length of the demodulation low-pass (Kaiser FIR, -6 dB at
+        ``bandwidth / 2``, :data:`STOPBAND_DB` stopband).
+    """
+    return 2 * _lowpass(0.5 * bandwidth, fs).size
+
+
 def _lowpass(cutoff: float, fs: float) -> np.ndarray:
     """Odd-length Kaiser-window FIR low-pass, -6 dB at ``cutoff``, transition ``cutoff``."""
     numtaps, beta = kaiserord(STOPBAND_DB, cutoff / (0.5 * fs))
@@ -697,7 +716,7 @@ def estimate_speed(
         raise InputError("bandwidth", bw, f"must be < {q * lo / 0.75:g} Hz so that the band "
                          f"stays above 0 Hz (harmonic at >= {q * lo:g} Hz)")
     taps = _lowpass(0.5 * bw, fs)
-    if a.size < 2 * taps.size:
+    if a.size < 2 * taps.size:  # tracking_samples
         raise InputError(
             "x.length", f"{a.size} samples ({a.size / fs:.4g} s)",
             f"must be >= {2 * taps.size} samples ({2 * taps.size / fs:.4g} s), twice the "
@@ -1073,6 +1092,7 @@ def check_given_speed(
     *,
     order: float,
     tolerance: float = GIVEN_SPEED_TOLERANCE,
+    label: str = "given speed {hz} Hz",
 ) -> str | None:
     """Warning text when a given constant shaft speed disagrees with the data.
 
@@ -1094,6 +1114,9 @@ def check_given_speed(
     tolerance : float
         Largest accepted relative disagreement (default 0.002 = 0.2 %,
         :data:`GIVEN_SPEED_TOLERANCE`).
+    label : str
+        How the warning names the speed, ``{hz}`` standing for it (``"config speed {hz} Hz
+        (the operating speed of --config two-stage-reducer)"`` for a configuration's).
 
     Returns
     -------
@@ -1141,6 +1164,6 @@ def check_given_speed(
     dev = f_est / given - 1.0
     if abs(dev) <= tol:
         return None
-    return (f"given speed {given:g} Hz disagrees with the speed estimated from order "
+    return (f"{label.format(hz=f'{given:g}')} disagrees with the speed estimated from order "
             f"{float(order):g} of the signal, {f_est:.6g} Hz ({100 * dev:+.3f} %, tolerance "
             f"{100 * tol:g} %)")

@@ -43,7 +43,6 @@ statistics-only call costs numpy only.
 from __future__ import annotations
 
 import math
-import re
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -616,7 +615,10 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warni
         # may be absent from a healthy gear signal, and a missing line is no disagreement
         if order > 1:
             try:
-                warn = sp.check_given_speed(a, fs, float(speed), order=order)
+                label = ("given speed {hz} Hz" if prov != "config" else "config speed "
+                         "{hz} Hz (" + (f"the operating speed of --config {config}" if config
+                                        else "the configuration's operating speed") + ")")
+                warn = sp.check_given_speed(a, fs, float(speed), order=order, label=label)
             except InputError as exc:
                 whose = {"config": "the configuration's", "file": "the file's"}.get(
                     prov, "the given")
@@ -630,10 +632,8 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warni
                                 f"checked against the record: {why}"})
                 warn = None
             if warn and prov == "config":  # the configuration's speed, not the user's
-                warnings.append(warn.replace("given speed", "config speed", 1).replace(
-                    " disagrees", f" (the operating speed of --config {config}) disagrees"
-                    if config else " (the configuration's operating speed) disagrees", 1)
-                    + "; every tier uses it: give --shaft-rpm or --speed-search")
+                warnings.append(f"{warn}; every tier uses it: give --shaft-rpm or "
+                                "--speed-search")
             elif warn:  # every tier uses the speed given: a warning, not a skip
                 warnings.append(f"{warn}; every tier uses the given speed")
         return float(speed), prov or "given", None, None, False
@@ -684,16 +684,19 @@ def _resolve_speed(a, fs, speed, tacho, ppr, search, order, skipped, prov, warni
     # a steady speed's wander, followed within STEADY_TRACK_SPAN of the estimate on the
     # measured gear's mesh line (the highest order known to be strong: the narrowest band)
     q = order if order > 1 else est.teeth or est.order
-    try:
-        prof = sp.estimate_speed(a, fs, order=q,
-                                 search=(est.frequency * (1.0 - STEADY_TRACK_SPAN),
-                                         est.frequency * (1.0 + STEADY_TRACK_SPAN)),
-                                 bandwidth=STEADY_TRACK_BAND * slowest * est.frequency)
-    except InputError as exc:
-        need = (re.search(r"\(([^()]* s)\)", str(exc.limit))
-                if exc.parameter == "x.length" else None)
-        why = (f"the record ({a.size / fs:.4g} s) is shorter than the {need.group(1)} its "
-               "tracking filter needs" if need else _first_line(exc))
+    band = STEADY_TRACK_BAND * slowest * est.frequency
+    need = sp.tracking_samples(fs, band)
+    why = (f"the record ({a.size / fs:.4g} s) is shorter than the {need / fs:.4g} s its "
+           "tracking filter needs" if a.size < need else None)
+    if why is None:
+        try:
+            prof = sp.estimate_speed(a, fs, order=q,
+                                     search=(est.frequency * (1.0 - STEADY_TRACK_SPAN),
+                                             est.frequency * (1.0 + STEADY_TRACK_SPAN)),
+                                     bandwidth=band)
+        except InputError as exc:
+            why = _first_line(exc)
+    if why is not None:
         skipped.append({"tier": "shaft.tracking", "reason": "steady speed not tracked, lines "
                         f"read at the estimate: {why}"})
         return est.frequency, "estimate", None, est, False

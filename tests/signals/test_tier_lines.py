@@ -178,3 +178,13 @@ def test_noise_given_teeth_and_a_search_gets_no_speed():
     assert r.speed is None and "gear" not in r.tiers and "shaft" not in r.tiers
     (why,) = [s["reason"] for s in r.skipped if s["tier"] == "shaft.tracking"]
     assert f"must stand {10 * np.log10(RIDGE_SNR):.3g} dB" in why
+
+
+@pytest.mark.parametrize("bad", [float("nan"), float("inf"), 0.0, -1.0, 1e300 * 1e10, -1e-300])
+def test_min_ridge_snr_refused_before_any_work(bad):
+    from gearsim.errors import InputError
+    from gearsim.signals.speed import estimate_speed
+
+    x = np.cos(2 * np.pi * 20 * 12.0 * np.arange(10000) / 5000.0)
+    with pytest.raises(InputError, match="min_ridge_snr"):
+        estimate_speed(x, 5000.0, order=20, search=(10.0, 18.0), min_ridge_snr=bad)

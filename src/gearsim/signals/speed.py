@@ -673,7 +673,8 @@ def estimate_speed(
     Raises
     ------
     InputError
-        If ``x``, ``fs``, ``order``, ``rough``, ``search`` or ``bandwidth`` is out of
+        If ``x``, ``fs``, ``order``, ``rough``, ``search``, ``bandwidth`` or
+        ``min_ridge_snr`` is out of
         range (``q f_hi`` must lie below Nyquist, the band must stay above 0 Hz), the
         record is shorter than twice the demodulation filter, or the harmonic is too
         weak to track (its demodulated phase does not increase).
@@ -712,6 +713,8 @@ def estimate_speed(
     lo, hi = _search_band(rough, search)
     check_below_nyquist(fs, q * hi, f"harmonic order {q:g} at the top of the search range")
     bw = lo if bandwidth is None else check_positive("bandwidth", bandwidth)
+    if min_ridge_snr is not None:
+        min_ridge_snr = check_positive("min_ridge_snr", min_ridge_snr)
     if not 0.75 * bw < q * lo:
         raise InputError("bandwidth", bw, f"must be < {q * lo / 0.75:g} Hz so that the band "
                          f"stays above 0 Hz (harmonic at >= {q * lo:g} Hz)")
